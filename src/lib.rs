@@ -1,0 +1,12 @@
+//! decohesion: explicit non-smooth dynamics (CD-Lagrange scheme) of a hyperelastic solid glued
+//! to rigid surfaces by the RCCM cohesive law (damageable adhesion, unilateral contact, friction
+//! growing with damage). See `PHYSICS.md` of the project for the model; every function that
+//! implements an equation names it.
+//!
+//! Usable as a library: `Scene -> Model -> Simulation::step()`. The physics modules know nothing
+//! of the command line or of any viewer.
+
+pub mod law;
+pub mod material;
+pub mod mesh;
+pub mod model;

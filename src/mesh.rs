@@ -1,0 +1,484 @@
+//! Hexahedral meshes: nodes, 8-node trilinear elements, named boundary face sets, and the
+//! reference-configuration quantities that the total Lagrangian formulation computes once
+//! (PHYSICS.md §2): shape-function gradients ∇ₓNₐ and weights w·det J₀ at the Gauss points,
+//! lumped masses, tributary areas of boundary faces.
+//!
+//! Node numbering of an element follows the usual convention: nodes 0–3 on the ζ = −1 face
+//! counter-clockwise seen from +ζ, nodes 4–7 above them.
+
+use std::collections::{BTreeMap, HashMap};
+
+/// Parent coordinates (ξ, η, ζ) of the 8 nodes of the reference hexahedron.
+pub const HEX_CORNERS: [[f64; 3]; 8] = [
+    [-1.0, -1.0, -1.0],
+    [1.0, -1.0, -1.0],
+    [1.0, 1.0, -1.0],
+    [-1.0, 1.0, -1.0],
+    [-1.0, -1.0, 1.0],
+    [1.0, -1.0, 1.0],
+    [1.0, 1.0, 1.0],
+    [-1.0, 1.0, 1.0],
+];
+
+/// A hexahedral mesh in its reference configuration. Lengths in metres.
+#[derive(Debug, Clone)]
+pub struct Mesh {
+    /// Reference positions X of the nodes [m].
+    pub nodes: Vec<[f64; 3]>,
+    /// Element connectivity (8 node indices, see module docs for the order).
+    pub elements: Vec<[u32; 8]>,
+    /// Named boundary face sets: quadrilaterals whose node order gives an outward normal.
+    pub face_sets: BTreeMap<String, Vec<[u32; 4]>>,
+}
+
+/// Trilinear shape functions Nₐ(ξ) of the hexahedron.
+#[inline]
+pub fn shape(xi: [f64; 3]) -> [f64; 8] {
+    let mut n = [0.0; 8];
+    for (a, c) in HEX_CORNERS.iter().enumerate() {
+        n[a] = 0.125 * (1.0 + c[0] * xi[0]) * (1.0 + c[1] * xi[1]) * (1.0 + c[2] * xi[2]);
+    }
+    n
+}
+
+/// Parent derivatives ∂Nₐ/∂ξⱼ of the hexahedron.
+#[inline]
+pub fn shape_derivatives(xi: [f64; 3]) -> [[f64; 3]; 8] {
+    let mut d = [[0.0; 3]; 8];
+    for (a, c) in HEX_CORNERS.iter().enumerate() {
+        let f = [1.0 + c[0] * xi[0], 1.0 + c[1] * xi[1], 1.0 + c[2] * xi[2]];
+        d[a] = [
+            0.125 * c[0] * f[1] * f[2],
+            0.125 * c[1] * f[0] * f[2],
+            0.125 * c[2] * f[0] * f[1],
+        ];
+    }
+    d
+}
+
+/// The 2×2×2 Gauss points (ξ = ±1/√3, weight 1 each), in the same order as `HEX_CORNERS`.
+pub fn gauss_points() -> [[f64; 3]; 8] {
+    let g = 1.0 / 3f64.sqrt();
+    HEX_CORNERS.map(|c| [c[0] * g, c[1] * g, c[2] * g])
+}
+
+/// Reference-configuration data of one element shape at its 8 Gauss points, laid out with the
+/// Gauss point index innermost so the per-step kernel runs over 8 lanes (SIMD-friendly).
+#[derive(Debug, Clone, PartialEq)]
+pub struct GaussData {
+    /// ∇ₓNₐ at each Gauss point: `grad[a][j][q]` = ∂Nₐ/∂Xⱼ (ξ_q) [1/m].
+    pub grad: [[[f64; 8]; 3]; 8],
+    /// The same gradient times the weight w_q det J₀(ξ_q): `wgrad[a][j][q]` [m²].
+    pub wgrad: [[[f64; 8]; 3]; 8],
+    /// Integration weight times reference Jacobian, w_q det J₀(ξ_q) [m³].
+    pub wdet: [f64; 8],
+}
+
+/// Error in the reference geometry of an element (inverted or degenerate hexahedron).
+#[derive(Debug, Clone, thiserror::Error)]
+#[error("element {element} is degenerate or inverted in the reference configuration (det J₀ = {det_j0:e} at a Gauss point); check the node order")]
+pub struct GeometryError {
+    pub element: usize,
+    pub det_j0: f64,
+}
+
+impl GaussData {
+    /// ∇ₓNₐ = J₀⁻ᵀ ∂Nₐ/∂ξ at the Gauss points, J₀ = ∂X/∂ξ (PHYSICS.md §2: computed once).
+    pub fn new(x: &[[f64; 3]; 8]) -> Result<Self, f64> {
+        let mut gd = GaussData {
+            grad: [[[0.0; 8]; 3]; 8],
+            wgrad: [[[0.0; 8]; 3]; 8],
+            wdet: [0.0; 8],
+        };
+        for (q, xi) in gauss_points().iter().enumerate() {
+            let dn = shape_derivatives(*xi);
+            let mut j = nalgebra::Matrix3::<f64>::zeros();
+            for a in 0..8 {
+                for r in 0..3 {
+                    for c in 0..3 {
+                        j[(r, c)] += x[a][r] * dn[a][c];
+                    }
+                }
+            }
+            let det = j.determinant();
+            if !(det > 0.0 && det.is_finite()) {
+                return Err(det);
+            }
+            let jinv = j.try_inverse().ok_or(det)?;
+            for a in 0..8 {
+                for jdir in 0..3 {
+                    // ∂N/∂X_j = Σ_c ∂N/∂ξ_c ∂ξ_c/∂X_j, ∂ξ/∂X = J⁻¹.
+                    let g: f64 = (0..3).map(|c| dn[a][c] * jinv[(c, jdir)]).sum();
+                    gd.grad[a][jdir][q] = g;
+                    gd.wgrad[a][jdir][q] = g * det;
+                }
+            }
+            gd.wdet[q] = det;
+        }
+        Ok(gd)
+    }
+
+    /// Reference volume of the element, Σ_q w_q det J₀ [m³].
+    pub fn volume(&self) -> f64 {
+        self.wdet.iter().sum()
+    }
+
+    /// Consistent-mass row sums per unit density, ∫ Nₐ dV (PHYSICS.md §2, lumped mass) [m³].
+    pub fn lumped_volumes(&self) -> [f64; 8] {
+        let mut m = [0.0; 8];
+        for (q, xi) in gauss_points().iter().enumerate() {
+            let n = shape(*xi);
+            for a in 0..8 {
+                m[a] += n[a] * self.wdet[q];
+            }
+        }
+        m
+    }
+}
+
+/// Element shapes deduplicated: elements that are translates of each other share their
+/// Gauss data (a structured box has a single class), which keeps memory per element small and
+/// the gradients hot in cache.
+#[derive(Debug, Clone)]
+pub struct ElementClasses {
+    pub data: Vec<GaussData>,
+    /// Class index of each element.
+    pub class_of: Vec<u32>,
+}
+
+impl Mesh {
+    /// A structured box [origin, origin + size] with `cells` hexahedra per axis, and the six face
+    /// sets `x-`, `x+`, `y-`, `y+`, `z-`, `z+`.
+    pub fn boxed(origin: [f64; 3], size: [f64; 3], cells: [usize; 3]) -> Mesh {
+        let [nx, ny, nz] = cells;
+        let nid = |i: usize, j: usize, k: usize| (i + (nx + 1) * (j + (ny + 1) * k)) as u32;
+        let mut nodes = Vec::with_capacity((nx + 1) * (ny + 1) * (nz + 1));
+        for k in 0..=nz {
+            for j in 0..=ny {
+                for i in 0..=nx {
+                    nodes.push([
+                        origin[0] + size[0] * i as f64 / nx as f64,
+                        origin[1] + size[1] * j as f64 / ny as f64,
+                        origin[2] + size[2] * k as f64 / nz as f64,
+                    ]);
+                }
+            }
+        }
+        let mut elements = Vec::with_capacity(nx * ny * nz);
+        for k in 0..nz {
+            for j in 0..ny {
+                for i in 0..nx {
+                    elements.push([
+                        nid(i, j, k),
+                        nid(i + 1, j, k),
+                        nid(i + 1, j + 1, k),
+                        nid(i, j + 1, k),
+                        nid(i, j, k + 1),
+                        nid(i + 1, j, k + 1),
+                        nid(i + 1, j + 1, k + 1),
+                        nid(i, j + 1, k + 1),
+                    ]);
+                }
+            }
+        }
+        let mut face_sets = BTreeMap::new();
+        // Each quad is ordered counter-clockwise seen from outside (outward normal).
+        let mut xm = vec![];
+        let mut xp = vec![];
+        for k in 0..nz {
+            for j in 0..ny {
+                xm.push([
+                    nid(0, j, k),
+                    nid(0, j, k + 1),
+                    nid(0, j + 1, k + 1),
+                    nid(0, j + 1, k),
+                ]);
+                xp.push([
+                    nid(nx, j, k),
+                    nid(nx, j + 1, k),
+                    nid(nx, j + 1, k + 1),
+                    nid(nx, j, k + 1),
+                ]);
+            }
+        }
+        let mut ym = vec![];
+        let mut yp = vec![];
+        for k in 0..nz {
+            for i in 0..nx {
+                ym.push([
+                    nid(i, 0, k),
+                    nid(i + 1, 0, k),
+                    nid(i + 1, 0, k + 1),
+                    nid(i, 0, k + 1),
+                ]);
+                yp.push([
+                    nid(i, ny, k),
+                    nid(i, ny, k + 1),
+                    nid(i + 1, ny, k + 1),
+                    nid(i + 1, ny, k),
+                ]);
+            }
+        }
+        let mut zm = vec![];
+        let mut zp = vec![];
+        for j in 0..ny {
+            for i in 0..nx {
+                zm.push([
+                    nid(i, j, 0),
+                    nid(i, j + 1, 0),
+                    nid(i + 1, j + 1, 0),
+                    nid(i + 1, j, 0),
+                ]);
+                zp.push([
+                    nid(i, j, nz),
+                    nid(i + 1, j, nz),
+                    nid(i + 1, j + 1, nz),
+                    nid(i, j + 1, nz),
+                ]);
+            }
+        }
+        for (name, set) in [
+            ("x-", xm),
+            ("x+", xp),
+            ("y-", ym),
+            ("y+", yp),
+            ("z-", zm),
+            ("z+", zp),
+        ] {
+            face_sets.insert(name.to_string(), set);
+        }
+        Mesh {
+            nodes,
+            elements,
+            face_sets,
+        }
+    }
+
+    /// Reference coordinates of the nodes of element `e`.
+    pub fn element_coords(&self, e: usize) -> [[f64; 3]; 8] {
+        self.elements[e].map(|n| self.nodes[n as usize])
+    }
+
+    /// Groups elements by shape (translation-invariant, tolerance 1e-9 of the element size) and
+    /// computes the Gauss data of each class once.
+    pub fn element_classes(&self) -> Result<ElementClasses, GeometryError> {
+        let mut index: HashMap<[i64; 21], u32> = HashMap::new();
+        let mut data = Vec::new();
+        let mut class_of = Vec::with_capacity(self.elements.len());
+        for e in 0..self.elements.len() {
+            let x = self.element_coords(e);
+            let size = (1..8)
+                .flat_map(|a| (0..3).map(move |c| (a, c)))
+                .map(|(a, c)| (x[a][c] - x[0][c]).abs())
+                .fold(0.0, f64::max);
+            let tol = (size * 1e-9).max(f64::MIN_POSITIVE);
+            let mut key = [0i64; 21];
+            for a in 1..8 {
+                for c in 0..3 {
+                    key[(a - 1) * 3 + c] = ((x[a][c] - x[0][c]) / tol).round() as i64;
+                }
+            }
+            let next = data.len() as u32;
+            let class = *index.entry(key).or_insert(next);
+            if class == next {
+                let gd =
+                    GaussData::new(&x).map_err(|det_j0| GeometryError { element: e, det_j0 })?;
+                data.push(gd);
+            }
+            class_of.push(class);
+        }
+        Ok(ElementClasses { data, class_of })
+    }
+
+    /// Greedy colouring: elements of one colour share no node, so their forces can be scattered
+    /// in parallel without races. The colour order and the element order inside a colour are
+    /// fixed by the mesh, never by the thread count, so results are bit-identical for any number
+    /// of threads. A structured box gets the 8 parity colours.
+    pub fn colour_elements(&self) -> Vec<Vec<u32>> {
+        let mut node_colours: Vec<u64> = vec![0; self.nodes.len()];
+        let mut colours: Vec<Vec<u32>> = Vec::new();
+        for (e, conn) in self.elements.iter().enumerate() {
+            let used = conn.iter().fold(0u64, |m, &n| m | node_colours[n as usize]);
+            let c = (!used).trailing_zeros() as usize;
+            assert!(
+                c < 64,
+                "more than 64 colours needed: mesh connectivity is pathological"
+            );
+            if c == colours.len() {
+                colours.push(Vec::new());
+            }
+            colours[c].push(e as u32);
+            for &n in conn {
+                node_colours[n as usize] |= 1 << c;
+            }
+        }
+        colours
+    }
+
+    /// Distinct nodes of a face set, in increasing order.
+    pub fn face_set_nodes(&self, quads: &[[u32; 4]]) -> Vec<u32> {
+        let mut v: Vec<u32> = quads.iter().flatten().copied().collect();
+        v.sort_unstable();
+        v.dedup();
+        v
+    }
+
+    /// Tributary reference areas W_a = ∫ Nₐ dA over the quads of a face set (2×2 Gauss on each
+    /// bilinear quad), as (node, W) pairs sorted by node (PHYSICS.md §4, step 4: reference W).
+    pub fn nodal_areas(&self, quads: &[[u32; 4]]) -> Vec<(u32, f64)> {
+        let mut acc: BTreeMap<u32, f64> = BTreeMap::new();
+        let g = 1.0 / 3f64.sqrt();
+        for quad in quads {
+            let x = quad.map(|n| self.nodes[n as usize]);
+            for (s, t) in [(-g, -g), (g, -g), (g, g), (-g, g)] {
+                let n = [
+                    0.25 * (1.0 - s) * (1.0 - t),
+                    0.25 * (1.0 + s) * (1.0 - t),
+                    0.25 * (1.0 + s) * (1.0 + t),
+                    0.25 * (1.0 - s) * (1.0 + t),
+                ];
+                let ds = [-(1.0 - t), 1.0 - t, 1.0 + t, -(1.0 + t)].map(|v| 0.25 * v);
+                let dt = [-(1.0 - s), -(1.0 + s), 1.0 + s, 1.0 - s].map(|v| 0.25 * v);
+                let mut a = [0.0; 3];
+                let mut b = [0.0; 3];
+                for k in 0..4 {
+                    for c in 0..3 {
+                        a[c] += ds[k] * x[k][c];
+                        b[c] += dt[k] * x[k][c];
+                    }
+                }
+                let cr = cross(a, b);
+                let da = norm(cr);
+                for k in 0..4 {
+                    *acc.entry(quad[k]).or_insert(0.0) += n[k] * da;
+                }
+            }
+        }
+        acc.into_iter().collect()
+    }
+
+    /// Outward unit normal of a quad in the reference configuration (from its diagonals).
+    pub fn quad_normal(&self, quad: &[u32; 4]) -> [f64; 3] {
+        let x = quad.map(|n| self.nodes[n as usize]);
+        let d1 = sub(x[2], x[0]);
+        let d2 = sub(x[3], x[1]);
+        let c = cross(d1, d2);
+        let l = norm(c);
+        [c[0] / l, c[1] / l, c[2] / l]
+    }
+
+    /// Smallest edge length of the mesh [m] (for messages and scales).
+    pub fn min_edge(&self) -> f64 {
+        const EDGES: [(usize, usize); 12] = [
+            (0, 1),
+            (1, 2),
+            (2, 3),
+            (3, 0),
+            (4, 5),
+            (5, 6),
+            (6, 7),
+            (7, 4),
+            (0, 4),
+            (1, 5),
+            (2, 6),
+            (3, 7),
+        ];
+        let mut m = f64::INFINITY;
+        for conn in &self.elements {
+            for (a, b) in EDGES {
+                m = m.min(norm(sub(
+                    self.nodes[conn[a] as usize],
+                    self.nodes[conn[b] as usize],
+                )));
+            }
+        }
+        m
+    }
+}
+
+#[inline]
+pub(crate) fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+#[inline]
+pub(crate) fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+#[inline]
+pub(crate) fn norm(a: [f64; 3]) -> f64 {
+    dot(a, a).sqrt()
+}
+#[inline]
+pub(crate) fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn box_counts_classes_and_colours() {
+        let m = Mesh::boxed([0.0; 3], [1.0, 2.0, 3.0], [3, 4, 5]);
+        assert_eq!(m.nodes.len(), 4 * 5 * 6);
+        assert_eq!(m.elements.len(), 60);
+        let cls = m.element_classes().unwrap();
+        assert_eq!(cls.data.len(), 1);
+        let vol: f64 = cls
+            .class_of
+            .iter()
+            .map(|&c| cls.data[c as usize].volume())
+            .sum();
+        assert!((vol - 6.0).abs() < 1e-12);
+        let colours = m.colour_elements();
+        assert_eq!(colours.len(), 8);
+        for c in &colours {
+            let mut seen = std::collections::HashSet::new();
+            for &e in c {
+                for &n in &m.elements[e as usize] {
+                    assert!(seen.insert(n), "colour shares node {n}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn face_areas_and_normals() {
+        let m = Mesh::boxed([0.0; 3], [1.0, 2.0, 3.0], [3, 4, 5]);
+        let expect = [
+            ("x-", 6.0, [-1.0, 0.0, 0.0]),
+            ("y+", 3.0, [0.0, 1.0, 0.0]),
+            ("z-", 2.0, [0.0, 0.0, -1.0]),
+        ];
+        for (name, area, normal) in expect {
+            let quads = &m.face_sets[name];
+            let w: f64 = m.nodal_areas(quads).iter().map(|p| p.1).sum();
+            assert!((w - area).abs() < 1e-12, "{name}: {w}");
+            for q in quads {
+                let n = m.quad_normal(q);
+                assert!(norm(sub(n, normal)) < 1e-12, "{name}: {n:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn gradients_reproduce_linear_fields() {
+        // Σ_a X_a ⊗ ∇N_a = I at every Gauss point of a distorted element.
+        let mut x = HEX_CORNERS.map(|c| [c[0] * 0.5 + 1.0, c[1] * 0.3, c[2] * 0.7]);
+        x[6][0] += 0.1;
+        x[3][2] -= 0.05;
+        let gd = GaussData::new(&x).unwrap();
+        for q in 0..8 {
+            for i in 0..3 {
+                for j in 0..3 {
+                    let s: f64 = (0..8).map(|a| x[a][i] * gd.grad[a][j][q]).sum();
+                    assert!((s - if i == j { 1.0 } else { 0.0 }).abs() < 1e-12);
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,217 @@
+//! The validated physical model a simulation runs on: mesh, material, rigid planes, interfaces,
+//! contact faces, loads and scheme parameters. Built from a scene file by [`crate::scene`], or
+//! directly in code. Every quantity is SI.
+//!
+//! Sign conventions (stated once, used everywhere): a rigid plane's unit normal `n` points into
+//! the solid; the gap g = n·(x − p) is > 0 when open; contact impulses and cohesive tractions are
+//! per unit reference area and act on the solid; α is in metres.
+
+use crate::law::StiffnessLaw;
+use crate::material::Material;
+use crate::mesh::Mesh;
+use serde::Serialize;
+
+/// A piecewise-linear function of time with N components, constant beyond its end points.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PiecewiseLinear<const N: usize> {
+    /// (t [s], value) pairs with strictly increasing t.
+    pub points: Vec<(f64, [f64; N])>,
+}
+
+/// Serialised as rows `[t, v_0, …, v_{N-1}]`, the form scene files use.
+impl<const N: usize> Serialize for PiecewiseLinear<N> {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        let rows: Vec<Vec<f64>> = self
+            .points
+            .iter()
+            .map(|(t, v)| std::iter::once(*t).chain(v.iter().copied()).collect())
+            .collect();
+        rows.serialize(s)
+    }
+}
+
+impl<const N: usize> PiecewiseLinear<N> {
+    /// Value at time t (linear interpolation, constant extrapolation).
+    pub fn value(&self, t: f64) -> [f64; N] {
+        let p = &self.points;
+        if t <= p[0].0 {
+            return p[0].1;
+        }
+        let last = p[p.len() - 1];
+        if t >= last.0 {
+            return last.1;
+        }
+        let i = p.partition_point(|q| q.0 <= t);
+        let (a, b) = (p[i - 1], p[i]);
+        let s = (t - a.0) / (b.0 - a.0);
+        std::array::from_fn(|c| a.1[c] + s * (b.1[c] - a.1[c]))
+    }
+
+    /// Exact integral ∫₀ᵗ value dτ (trapezoid on each linear piece; the value before the first
+    /// point is the first value). Used to turn a velocity history into a displacement.
+    pub fn integral(&self, t: f64) -> [f64; N] {
+        let p = &self.points;
+        let mut acc = [0.0; N];
+        let add = |t0: f64, t1: f64, acc: &mut [f64; N]| {
+            if t1 > t0 {
+                let (v0, v1) = (self.value(t0), self.value(t1));
+                for c in 0..N {
+                    acc[c] += 0.5 * (v0[c] + v1[c]) * (t1 - t0);
+                }
+            }
+        };
+        let mut prev = 0.0f64;
+        for q in p.iter() {
+            if q.0 >= t {
+                break;
+            }
+            if q.0 > prev {
+                add(prev, q.0, &mut acc);
+                prev = q.0;
+            }
+        }
+        add(prev, t, &mut acc);
+        acc
+    }
+
+    /// A constant function.
+    pub fn constant(v: [f64; N]) -> Self {
+        PiecewiseLinear {
+            points: vec![(0.0, v)],
+        }
+    }
+}
+
+/// A rigid plane: the mould. Points x with n·(x − p(t)) > 0 are on the solid's side.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct RigidPlane {
+    pub name: String,
+    /// A point of the plane at t = 0 [m].
+    pub point: [f64; 3],
+    /// Unit normal pointing into the solid.
+    pub normal: [f64; 3],
+    /// Prescribed velocity history [m/s]; `None` for a fixed plane.
+    pub velocity: Option<PiecewiseLinear<3>>,
+}
+
+impl RigidPlane {
+    /// Rigid displacement of the plane since t = 0 [m].
+    pub fn displacement(&self, t: f64) -> [f64; 3] {
+        match &self.velocity {
+            None => [0.0; 3],
+            Some(v) => v.integral(t),
+        }
+    }
+}
+
+/// A face set glued to a rigid plane by the RCCM cohesive law (PHYSICS.md §3).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Interface {
+    /// Name of the face set of the mesh.
+    pub faces: String,
+    /// Index into `Model::planes`.
+    pub plane: usize,
+    pub law: StiffnessLaw,
+    /// Friction coefficient of the fully ruptured interface, μ_inf ≥ 0 (paper eq. 21).
+    pub mu_inf: f64,
+}
+
+/// A face set in unilateral contact with Coulomb friction (constant μ) against a rigid plane,
+/// without cohesion.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ContactFaces {
+    pub faces: String,
+    pub plane: usize,
+    /// Coulomb friction coefficient μ ≥ 0.
+    pub mu: f64,
+}
+
+/// A prescribed displacement history of one component on the nodes of a face set.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct PrescribedDisplacement {
+    pub faces: String,
+    /// 0 = x, 1 = y, 2 = z.
+    pub component: usize,
+    /// Ū(t) [m].
+    pub history: PiecewiseLinear<1>,
+}
+
+/// A dead-load surface traction on a face set, per unit reference area.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Traction {
+    pub faces: String,
+    /// Traction vector [Pa] at amplitude 1.
+    pub vector: [f64; 3],
+    /// Amplitude history (dimensionless).
+    pub amplitude: PiecewiseLinear<1>,
+}
+
+/// Parameters of the CD-Lagrange scheme. Every field has its meaning, unit and range here;
+/// `Default` gives the values used when a scene does not set them.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SchemeParams {
+    /// Time step as a fraction of the estimated critical step h_crit = 2/ω_max, in (0, 2).
+    /// Default 0.5. Above 1 the scheme is unstable (and the run stops with a diagnostic).
+    pub time_step_factor: f64,
+    /// Re-estimate h_crit every this many steps (large strains stiffen or soften the body);
+    /// 0 = only at the start. Default 500.
+    pub h_crit_update_interval: usize,
+    /// Relative tolerance on ω_max² of the Lanczos estimate (PHYSICS.md §6). Default 1e-6.
+    pub h_crit_tolerance: f64,
+    /// The run is declared unstable when the mechanical energy exceeds this factor times the
+    /// energy that entered the system (initial energy plus |external work|). Default 10.
+    pub energy_growth_limit: f64,
+}
+
+impl Default for SchemeParams {
+    fn default() -> Self {
+        SchemeParams {
+            time_step_factor: 0.5,
+            h_crit_update_interval: 500,
+            h_crit_tolerance: 1e-6,
+            energy_growth_limit: 10.0,
+        }
+    }
+}
+
+/// Everything a [`crate::solver::Simulation`] needs.
+#[derive(Debug, Clone)]
+pub struct Model {
+    pub name: String,
+    pub description: String,
+    pub mesh: Mesh,
+    pub material: Material,
+    /// Body force per unit mass [m/s²].
+    pub gravity: [f64; 3],
+    /// Uniform initial velocity [m/s].
+    pub initial_velocity: [f64; 3],
+    pub planes: Vec<RigidPlane>,
+    pub interfaces: Vec<Interface>,
+    pub contacts: Vec<ContactFaces>,
+    pub displacements: Vec<PrescribedDisplacement>,
+    pub tractions: Vec<Traction>,
+    pub scheme: SchemeParams,
+    /// Simulated duration [s].
+    pub end_time: f64,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn piecewise_linear_integral_is_exact() {
+        let v = PiecewiseLinear::<1> {
+            points: vec![(0.0, [0.0]), (1.0, [2.0]), (3.0, [2.0])],
+        };
+        assert_eq!(v.value(0.5), [1.0]);
+        assert_eq!(v.integral(1.0), [1.0]);
+        assert_eq!(v.integral(2.0), [3.0]);
+        assert_eq!(v.integral(5.0), [9.0]);
+        let late = PiecewiseLinear::<1> {
+            points: vec![(1.0, [1.0]), (2.0, [3.0])],
+        };
+        assert_eq!(late.integral(1.0), [1.0]);
+        assert_eq!(late.integral(2.0), [3.0]);
+    }
+}
