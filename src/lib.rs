@@ -6,7 +6,9 @@
 //! Usable as a library: `Scene -> Model -> Simulation::step()`. The physics modules know nothing
 //! of the command line or of any viewer.
 
+pub mod energy;
 pub mod law;
 pub mod material;
 pub mod mesh;
 pub mod model;
+pub mod solver;

@@ -83,6 +83,17 @@ impl Material {
     }
 }
 
+/// a·b + c, fused when `FMA` (one rounding) — the choice is fixed per CPU, so results stay
+/// bit-identical across thread counts.
+#[inline(always)]
+fn fmadd<const FMA: bool>(a: f64, b: f64, c: f64) -> f64 {
+    if FMA {
+        a.mul_add(b, c)
+    } else {
+        a * b + c
+    }
+}
+
 /// Per-lane 3×3 tensors: `t[i][j][q]` is component (i, j) at Gauss point q.
 type Lanes = [[[f64; 8]; 3]; 3];
 
@@ -91,8 +102,9 @@ type Lanes = [[[f64; 8]; 3]; 3];
 ///
 /// `u` holds the displacements of the 8 nodes. Writes the forces into `f` and returns
 /// (strain energy Σ_q w_q det J₀ ψ_q if `ENERGY`, else 0; min_q J_q).
+/// `FMA` selects fused multiply–adds (used only in code compiled for CPUs that have them).
 #[inline(always)]
-pub fn element_forces<const ENERGY: bool>(
+pub fn element_forces<const ENERGY: bool, const FMA: bool>(
     mat: &Material,
     gd: &GaussData,
     u: &[[f64; 3]; 8],
@@ -110,7 +122,7 @@ pub fn element_forces<const ENERGY: bool>(
             let ua = u[a][i];
             for j in 0..3 {
                 for q in 0..8 {
-                    ff[i][j][q] += ua * gd.grad[a][j][q];
+                    ff[i][j][q] = fmadd::<FMA>(ua, gd.grad[a][j][q], ff[i][j][q]);
                 }
             }
         }
@@ -259,7 +271,7 @@ mod tests {
                 u[a] = [ua[0], ua[1], ua[2]];
             }
             let mut f = [[0.0; 3]; 8];
-            let (energy, min_j) = element_forces::<true>(&mat, &gd, &u, &mut f);
+            let (energy, min_j) = element_forces::<true, false>(&mat, &gd, &u, &mut f);
             let (s, psi) = mat.stress_energy(&f_def);
             let p = f_def * s;
             let vol = gd.volume();

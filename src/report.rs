@@ -1,0 +1,147 @@
+//! Run summaries (table and JSON) and derived quantities of a model. No physics here: this
+//! reads a [`Simulation`] and formats it.
+
+use crate::energy::EnergySnapshot;
+use crate::solver::{PeakReaction, Simulation, StageTimes, StateCounts};
+use serde::Serialize;
+
+/// What a run produced, as printed at the end and written by `--summary`.
+#[derive(Debug, Clone, Serialize)]
+pub struct RunSummary {
+    pub scene: String,
+    /// "completed", "failed" or "cancelled".
+    pub status: String,
+    /// The error message when the run did not complete.
+    pub error: Option<String>,
+    pub nodes: usize,
+    pub elements: usize,
+    pub interface_nodes: usize,
+    pub threads: usize,
+    pub steps: u64,
+    /// Last time step h [s].
+    pub time_step: f64,
+    pub h_crit_initial: f64,
+    pub h_crit_min: f64,
+    pub time_step_factor: f64,
+    /// Simulated time reached [s].
+    pub simulated_time: f64,
+    /// Wall time of the whole run, set-up included [s].
+    pub wall_seconds: f64,
+    /// Wall time inside `step()` only [s].
+    pub step_wall_seconds: f64,
+    pub element_steps_per_second: f64,
+    pub ns_per_element_step: f64,
+    pub peak_reactions: Vec<PeakReaction>,
+    pub time_first_damage: Option<f64>,
+    pub time_full_rupture: Option<f64>,
+    pub final_counts: StateCounts,
+    pub energies: EnergySnapshot,
+    pub max_relative_residual: f64,
+    pub stage_seconds: StageTimes,
+}
+
+impl RunSummary {
+    /// Collects the summary of `sim` after a run that took `wall_seconds` in all.
+    pub fn new(sim: &Simulation, wall_seconds: f64, error: Option<&crate::solver::SolverError>) -> Self {
+        let step_wall = sim.stats.steps_wall.as_secs_f64();
+        let el_steps = sim.element_steps() as f64;
+        let status = match error {
+            None => "completed",
+            Some(crate::solver::SolverError::Cancelled { .. }) => "cancelled",
+            Some(_) => "failed",
+        };
+        RunSummary {
+            scene: sim.model.name.clone(),
+            status: status.into(),
+            error: error.map(|e| e.to_string()),
+            nodes: sim.model.mesh.nodes.len(),
+            elements: sim.model.mesh.elements.len(),
+            interface_nodes: sim.interface_nodes.len(),
+            threads: rayon::current_num_threads(),
+            steps: sim.step_count,
+            time_step: sim.h,
+            h_crit_initial: sim.stats.h_crit_initial,
+            h_crit_min: sim.stats.h_crit_min,
+            time_step_factor: sim.model.scheme.time_step_factor,
+            simulated_time: sim.time,
+            wall_seconds,
+            step_wall_seconds: step_wall,
+            element_steps_per_second: if step_wall > 0.0 { el_steps / step_wall } else { 0.0 },
+            ns_per_element_step: if el_steps > 0.0 { step_wall * 1e9 / el_steps } else { 0.0 },
+            peak_reactions: sim.stats.peaks.clone(),
+            time_first_damage: sim.stats.time_first_damage,
+            time_full_rupture: sim.stats.time_full_rupture,
+            final_counts: sim.state_counts(),
+            energies: sim.energies(),
+            max_relative_residual: sim.ledger.max_relative_residual,
+            stage_seconds: sim.stats.stage_times.clone(),
+        }
+    }
+
+    /// A short human-readable table.
+    pub fn table(&self) -> String {
+        let opt = |t: Option<f64>| t.map_or("never".to_string(), |t| format!("{t:.5} s"));
+        let mut s = String::new();
+        let mut row = |k: &str, v: String| s.push_str(&format!("  {k:<28} {v}\n"));
+        row("scene", self.scene.clone());
+        row("status", self.status.clone());
+        row("mesh", format!("{} nodes, {} hex8, {} interface nodes", self.nodes, self.elements, self.interface_nodes));
+        row("steps", format!("{} to t = {:.5} s", self.steps, self.simulated_time));
+        row(
+            "time step",
+            format!(
+                "h = {:.4e} s (factor {} × h_crit; h_crit {:.4e} s initial, {:.4e} s min)",
+                self.time_step, self.time_step_factor, self.h_crit_initial, self.h_crit_min
+            ),
+        );
+        row(
+            "speed",
+            format!(
+                "{:.1} ns/element-step, {:.3e} element-steps/s, {} threads, {:.3} s wall",
+                self.ns_per_element_step, self.element_steps_per_second, self.threads, self.wall_seconds
+            ),
+        );
+        for p in &self.peak_reactions {
+            row(
+                &format!("peak reaction {} {}", p.faces, p.component),
+                format!("{:.5e} N at U = {:.5e} m (t = {:.5} s)", p.force, p.imposed_displacement, p.time),
+            );
+        }
+        row("first damage", opt(self.time_first_damage));
+        row("full rupture", opt(self.time_full_rupture));
+        let c = &self.final_counts;
+        row("interface nodes", format!("{} elastic, {} transition, {} ruptured", c.elastic, c.transition, c.ruptured));
+        let e = &self.energies;
+        row("kinetic / strain", format!("{:.6e} J / {:.6e} J", e.kinetic, e.strain));
+        row("interface stored", format!("{:.6e} J", e.interface_stored));
+        row(
+            "dissipated",
+            format!(
+                "damage {:.6e} J, contact {:.6e} J, friction {:.6e} J",
+                e.damage_dissipated, e.contact_normal_dissipated, e.friction_dissipated
+            ),
+        );
+        row("external work", format!("{:.6e} J", e.external_work));
+        row(
+            "balance residual",
+            format!("{:.3e} J now, max relative {:.3e}", e.residual, self.max_relative_residual),
+        );
+        if let Some(err) = &self.error {
+            row("error", err.clone());
+        }
+        s
+    }
+}
+
+/// Rough memory of the solver state per element [bytes]: nodal arrays, connectivity, colours,
+/// element classes, boundary entries (what the time loop touches; not the allocator's view).
+pub fn state_bytes(sim: &Simulation) -> usize {
+    let m = &sim.model.mesh;
+    let nodes = m.nodes.len();
+    // X, U, V, F_int (3 f64 each), mass and inverse mass.
+    let nodal = nodes * (4 * 24 + 2 * 8);
+    let elements = m.elements.len() * (32 + 4 + 4);
+    let classes = sim.element_class_count() * std::mem::size_of::<crate::mesh::GaussData>();
+    let iface = sim.interface_nodes.len() * std::mem::size_of::<crate::solver::InterfaceNode>();
+    nodal + elements + classes + iface
+}

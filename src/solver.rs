@@ -1,0 +1,1563 @@
+//! The CD-Lagrange time step (PHYSICS.md §4) with the RCCM interface, contact, friction,
+//! prescribed displacements, the energy ledger (§5) and the stable-step estimate (§6).
+//!
+//! State at integer times tₙ: displacements U, damage α; at half times: velocities V. One call of
+//! [`Simulation::step`] goes from tₙ to tₙ₊₁ through the numbered stages of PHYSICS.md §4.
+//! Nothing is solved globally: every stage is a loop of local computations, the element loop in
+//! parallel (rayon) and deterministic whatever the thread count (element colouring, fixed-size
+//! chunks, fixed-order reductions).
+
+use crate::energy::{EnergySnapshot, Ledger};
+use crate::law::InterfaceState;
+use crate::material::{element_forces, Material};
+use crate::mesh::{dot, norm, ElementClasses, GaussData, Mesh};
+use crate::model::Model;
+use rayon::prelude::*;
+use serde::Serialize;
+use std::time::{Duration, Instant};
+
+/// Elements per parallel task inside a colour, and nodes per task in node loops. Fixed, so the
+/// reduction order never depends on the thread count.
+const ELEMENT_GRAIN: usize = 256;
+const NODE_GRAIN: usize = 4096;
+/// Below this many elements the loops run on the calling thread (rayon overhead dominates).
+const PARALLEL_MIN_ELEMENTS: usize = 2048;
+
+/// Why a simulation could not be built or could not go on.
+#[derive(Debug, Clone, thiserror::Error)]
+pub enum SolverError {
+    #[error("cannot set up the model: {0}")]
+    Setup(String),
+    #[error("the run became unstable at step {step} (t = {time:.6e} s): {reason}. Current time step h = {h:.4e} s, estimated h_crit = {h_crit:.4e} s (factor {factor:.3}). {advice}")]
+    Unstable {
+        step: u64,
+        time: f64,
+        h: f64,
+        h_crit: f64,
+        factor: f64,
+        reason: String,
+        advice: String,
+    },
+    #[error("element {element} inverted (J = {j:.3e} ≤ 0) at step {step} (t = {time:.6e} s), h = {h:.4e} s, h_crit = {h_crit:.4e} s. The mesh is too coarse for this deformation, the load too fast, or the step too large: refine the mesh, slow the loading, lower scheme.time_step_factor, or use material.model = \"neo_hookean\" (SVK softens and collapses under strong compression)")]
+    Inverted {
+        element: usize,
+        j: f64,
+        step: u64,
+        time: f64,
+        h: f64,
+        h_crit: f64,
+    },
+    #[error("cancelled at step {step} (t = {time:.6e} s)")]
+    Cancelled { step: u64, time: f64 },
+}
+
+/// Contact status of a node against a plane, for output and debugging.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum ContactStatus {
+    /// Gap > 0, or approaching velocity ≥ 0: no impulse.
+    #[default]
+    Open,
+    /// |r_T| ≤ μ r_N: no sliding.
+    Stick,
+    /// |r_T| = μ r_N opposing the sliding velocity.
+    Slip,
+}
+
+/// An interface node: a node of the solid bonded to a material point of a rigid plane.
+#[derive(Debug, Clone)]
+pub struct InterfaceNode {
+    pub node: u32,
+    /// Index of the interface in `Model::interfaces`.
+    pub interface: u32,
+    /// Tributary reference area W [m²].
+    pub area: f64,
+    /// Bonded point of the plane at t = 0 (projection of the node on the plane) [m].
+    pub bonded_point: [f64; 3],
+    /// Damage αₙ [m].
+    pub alpha: f64,
+    /// αₙ₊₁, predicted by stage 8 [m].
+    pub alpha_next: f64,
+    /// Displacement jump [u]ₙ [m].
+    pub jump: [f64; 3],
+    /// Normal gap gₙ [m].
+    pub gap: f64,
+    /// g_N(αₙ) [Pa/m].
+    pub stiffness: f64,
+    /// Cohesive traction R_d = g_N(α)[u] [Pa] (acting on the solid as −R_d).
+    pub cohesive_traction: [f64; 3],
+    /// Contact impulse per unit area R_c of the last step [Pa·s].
+    pub contact_impulse: [f64; 3],
+    pub contact: ContactStatus,
+    /// [u]ₙ₋₁ and g_N(αₙ₋₁), for the damage dissipation increment.
+    prev_jump: [f64; 3],
+    prev_stiffness: f64,
+}
+
+/// A node of a contact face set (no glue) against a plane.
+#[derive(Debug, Clone)]
+pub struct ContactNode {
+    pub node: u32,
+    pub plane: u32,
+    /// Coulomb coefficient μ.
+    pub mu: f64,
+    /// Tributary reference area W [m²].
+    pub area: f64,
+    pub gap: f64,
+    pub contact_impulse: [f64; 3],
+    pub contact: ContactStatus,
+}
+
+/// Per boundary node: which interface entries, contact entries, traction entries and prescribed
+/// components act on it.
+#[derive(Debug, Clone)]
+struct BoundaryNode {
+    node: u32,
+    interfaces: std::ops::Range<u32>,
+    contacts: std::ops::Range<u32>,
+    tractions: std::ops::Range<u32>,
+    /// Index of the prescribed-displacement condition of each component (`NONE` if free).
+    prescribed: [u16; 3],
+}
+const NONE: u16 = u16::MAX;
+
+/// Wall time spent in each stage of the step (rapier-style counters).
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct StageTimes {
+    /// Stage 1: positions and damage update [s].
+    pub positions: f64,
+    /// Stage 3: element loop [s].
+    pub internal_forces: f64,
+    /// Stages 4–8 on the boundary: cohesion, prescribed displacements, contact, damage [s].
+    pub interface_contact: f64,
+    /// Stage 5 on all nodes: free velocity and the ledger dot products [s].
+    pub free_velocity: f64,
+    /// Stage 9: ledger closing and checks [s].
+    pub bookkeeping: f64,
+    /// Stable-step estimates [s].
+    pub h_crit: f64,
+}
+
+/// Peak of the reaction force of one prescribed-displacement condition.
+#[derive(Debug, Clone, Serialize)]
+pub struct PeakReaction {
+    pub faces: String,
+    pub component: String,
+    /// Largest |reaction| (signed) along the prescribed component, excluding steps where the
+    /// prescribed velocity jumps (their impulse is the jump itself) [N].
+    pub force: f64,
+    /// Imposed displacement at that step [m].
+    pub imposed_displacement: f64,
+    /// Time of the peak [s].
+    pub time: f64,
+}
+
+/// Counts of interface nodes per state (paper fig. 6, right).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize)]
+pub struct StateCounts {
+    pub elastic: usize,
+    pub transition: usize,
+    pub ruptured: usize,
+}
+
+/// Running statistics of a simulation, kept as it steps.
+#[derive(Debug, Clone, Default)]
+pub struct RunStats {
+    pub h_crit_initial: f64,
+    pub h_crit_min: f64,
+    pub time_first_damage: Option<f64>,
+    pub time_full_rupture: Option<f64>,
+    pub peaks: Vec<PeakReaction>,
+    /// Current reaction force of each prescribed condition [N].
+    pub reactions: Vec<f64>,
+    pub stage_times: StageTimes,
+    pub steps_wall: Duration,
+}
+
+/// Result of a stable-step estimate (PHYSICS.md §6).
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct StableStep {
+    /// Upper estimate of ω_max² = λ_max(M⁻¹K) [1/s²]: Ritz value θ plus its residual bound.
+    pub omega_max_sq: f64,
+    /// Largest Ritz value θ alone [1/s²].
+    pub ritz_value: f64,
+    /// h_crit = 2/ω_max [s].
+    pub h_crit: f64,
+    pub iterations: usize,
+}
+
+/// A simulation in progress. Build it with [`Simulation::new`], advance it with
+/// [`Simulation::step`] or [`Simulation::run`].
+pub struct Simulation {
+    pub model: Model,
+    classes: ElementClasses,
+    colours: Vec<Vec<u32>>,
+    parallel: bool,
+    /// Lumped nodal masses [kg] and their inverses.
+    pub mass: Vec<f64>,
+    inv_mass: Vec<f64>,
+    /// Displacements Uₙ [m].
+    pub u: Vec<[f64; 3]>,
+    /// Velocities V_{n+½} [m/s].
+    pub v: Vec<[f64; 3]>,
+    /// Internal forces F_int(Uₙ) [N].
+    pub f_int: Vec<[f64; 3]>,
+    pub interface_nodes: Vec<InterfaceNode>,
+    pub contact_nodes: Vec<ContactNode>,
+    boundary: Vec<BoundaryNode>,
+    boundary_interfaces: Vec<u32>,
+    boundary_contacts: Vec<u32>,
+    /// (traction index, nodal force at amplitude 1 [N]).
+    boundary_tractions: Vec<(u16, [f64; 3])>,
+    /// Boundary velocity before the step V_{n−½}, kept for the ledger.
+    scratch_v_old: Vec<[f64; 3]>,
+    /// Current time tₙ [s] and step count n.
+    pub time: f64,
+    pub step_count: u64,
+    /// h_{n+½} = tₙ₊₁ − tₙ, the interval about to be taken [s].
+    pub h: f64,
+    pub h_crit: f64,
+    pub ledger: Ledger,
+    pub stats: RunStats,
+    /// Smallest Jacobian seen at the last force evaluation.
+    pub min_jacobian: f64,
+    /// Ritz vector of the last stable-step estimate (warm start of the next one).
+    ritz_vector: Vec<f64>,
+    /// ½ V_{n+½}ᵀ M V_{n+½}, for the energy-growth check.
+    pub kinetic_half: f64,
+    /// Initial energy plus Σ|ΔW_ext|: what may have entered the system [J].
+    energy_budget: f64,
+    last_external_work: f64,
+    /// Energy below which growth is round-off, E·V·1e-14 [J].
+    energy_floor: f64,
+}
+
+#[derive(Clone, Copy)]
+struct SendPtr(*mut [f64; 3]);
+unsafe impl Send for SendPtr {}
+unsafe impl Sync for SendPtr {}
+
+/// Partial sums of the node loop (stage 5), reduced in a fixed order.
+#[derive(Default, Clone, Copy)]
+struct NodeSums {
+    kinetic: f64,
+    kinetic_half: f64,
+    int_b: f64,
+    int_a: f64,
+    grav_b: f64,
+    grav_a: f64,
+}
+impl NodeSums {
+    fn add(self, o: NodeSums) -> NodeSums {
+        NodeSums {
+            kinetic: self.kinetic + o.kinetic,
+            kinetic_half: self.kinetic_half + o.kinetic_half,
+            int_b: self.int_b + o.int_b,
+            int_a: self.int_a + o.int_a,
+            grav_b: self.grav_b + o.grav_b,
+            grav_a: self.grav_a + o.grav_a,
+        }
+    }
+}
+
+/// Internal forces of a whole mesh: F_int(U) = Σ_e fₑ(U) (PHYSICS.md §2 and §4 stage 3).
+/// `f` must be zeroed. Returns (strain energy if `energy`, min J, element of min J).
+#[allow(clippy::too_many_arguments)]
+pub fn assemble_internal_forces(
+    mesh: &Mesh,
+    classes: &ElementClasses,
+    colours: &[Vec<u32>],
+    mat: &Material,
+    u: &[[f64; 3]],
+    f: &mut [[f64; 3]],
+    energy: bool,
+    parallel: bool,
+) -> (f64, f64, usize) {
+    assert_eq!(u.len(), f.len());
+    let ptr = SendPtr(f.as_mut_ptr());
+    let mut total_energy = 0.0;
+    let mut min_j = f64::INFINITY;
+    let mut min_e = 0;
+    for colour in colours {
+        let run = |chunk: &[u32]| -> (f64, f64, usize) {
+            // SAFETY: elements of one colour share no node, so the nodal rows written by
+            // different chunks of this colour are disjoint; `f` outlives the loop.
+            unsafe { chunk_forces(mesh, classes, mat, u, ptr, chunk, energy) }
+        };
+        let partials: Vec<(f64, f64, usize)> = if parallel {
+            colour.par_chunks(ELEMENT_GRAIN).map(run).collect()
+        } else {
+            colour.chunks(ELEMENT_GRAIN).map(run).collect()
+        };
+        for (e, j, el) in partials {
+            total_energy += e;
+            if j < min_j {
+                min_j = j;
+                min_e = el;
+            }
+        }
+    }
+    (total_energy, min_j, min_e)
+}
+
+/// One chunk of a colour: gathers the 8 nodal displacements, runs the kernel, scatters forces.
+/// Dispatches to an AVX-512 or AVX2 build of the same code, with fused multiply–adds, when the
+/// CPU has them (detected once per process, so a given machine always takes the same path and
+/// results stay bit-identical whatever the thread count).
+unsafe fn chunk_forces(
+    mesh: &Mesh,
+    classes: &ElementClasses,
+    mat: &Material,
+    u: &[[f64; 3]],
+    f: SendPtr,
+    chunk: &[u32],
+    energy: bool,
+) -> (f64, f64, usize) {
+    #[cfg(target_arch = "x86_64")]
+    {
+        if std::is_x86_feature_detected!("avx512f") && std::is_x86_feature_detected!("fma") {
+            return chunk_forces_avx512(mesh, classes, mat, u, f, chunk, energy);
+        }
+        if std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma") {
+            return chunk_forces_avx2(mesh, classes, mat, u, f, chunk, energy);
+        }
+    }
+    chunk_forces_impl::<false>(mesh, classes, mat, u, f, chunk, energy)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+unsafe fn chunk_forces_avx2(
+    mesh: &Mesh,
+    classes: &ElementClasses,
+    mat: &Material,
+    u: &[[f64; 3]],
+    f: SendPtr,
+    chunk: &[u32],
+    energy: bool,
+) -> (f64, f64, usize) {
+    chunk_forces_impl::<true>(mesh, classes, mat, u, f, chunk, energy)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f,avx2,fma")]
+unsafe fn chunk_forces_avx512(
+    mesh: &Mesh,
+    classes: &ElementClasses,
+    mat: &Material,
+    u: &[[f64; 3]],
+    f: SendPtr,
+    chunk: &[u32],
+    energy: bool,
+) -> (f64, f64, usize) {
+    chunk_forces_impl::<true>(mesh, classes, mat, u, f, chunk, energy)
+}
+
+#[inline(always)]
+unsafe fn chunk_forces_impl<const FMA: bool>(
+    mesh: &Mesh,
+    classes: &ElementClasses,
+    mat: &Material,
+    u: &[[f64; 3]],
+    f: SendPtr,
+    chunk: &[u32],
+    energy: bool,
+) -> (f64, f64, usize) {
+    let mut e_sum = 0.0;
+    let mut min_j = f64::INFINITY;
+    let mut min_e = 0usize;
+    let mut fe = [[0.0; 3]; 8];
+    for &e in chunk {
+        let conn = mesh.elements.get_unchecked(e as usize);
+        let gd: &GaussData = classes
+            .data
+            .get_unchecked(*classes.class_of.get_unchecked(e as usize) as usize);
+        let ue: [[f64; 3]; 8] = std::array::from_fn(|a| *u.get_unchecked(conn[a] as usize));
+        let (en, j) = if energy {
+            element_forces::<true, FMA>(mat, gd, &ue, &mut fe)
+        } else {
+            element_forces::<false, FMA>(mat, gd, &ue, &mut fe)
+        };
+        e_sum += en;
+        // `!(j >= min_j)` also catches NaN.
+        if !(j >= min_j) {
+            min_j = j;
+            min_e = e as usize;
+        }
+        for a in 0..8 {
+            let row = &mut *f.0.add(conn[a] as usize);
+            row[0] += fe[a][0];
+            row[1] += fe[a][1];
+            row[2] += fe[a][2];
+        }
+    }
+    (e_sum, min_j, min_e)
+}
+
+impl Simulation {
+    /// Builds the simulation: reference gradients, colours, lumped masses, boundary bookkeeping,
+    /// the first stable-step estimate, and the start of the leapfrog (V_{−½}, V_{½}).
+    pub fn new(model: Model) -> Result<Simulation, SolverError> {
+        let v0 = model.initial_velocity;
+        let n = model.mesh.nodes.len();
+        Self::with_initial_state(model, vec![[0.0; 3]; n], vec![v0; n])
+    }
+
+    /// As [`Simulation::new`], from given initial displacements U₀ and velocities V₀ per node
+    /// (prescribed components of U₀ are overwritten by their histories at t = 0).
+    pub fn with_initial_state(
+        model: Model,
+        u0: Vec<[f64; 3]>,
+        v0: Vec<[f64; 3]>,
+    ) -> Result<Simulation, SolverError> {
+        if u0.len() != model.mesh.nodes.len() || v0.len() != model.mesh.nodes.len() {
+            return Err(SolverError::Setup(format!(
+                "initial state has {} displacements and {} velocities for {} nodes",
+                u0.len(),
+                v0.len(),
+                model.mesh.nodes.len()
+            )));
+        }
+        let mesh = &model.mesh;
+        let classes = mesh
+            .element_classes()
+            .map_err(|e| SolverError::Setup(e.to_string()))?;
+        let colours = mesh.colour_elements();
+        let n_nodes = mesh.nodes.len();
+        let rho = model.material.density;
+        let mut mass = vec![0.0; n_nodes];
+        for (e, conn) in mesh.elements.iter().enumerate() {
+            let lv = classes.data[classes.class_of[e] as usize].lumped_volumes();
+            for a in 0..8 {
+                mass[conn[a] as usize] += rho * lv[a];
+            }
+        }
+        if let Some(i) = mass.iter().position(|&m| !(m > 0.0)) {
+            return Err(SolverError::Setup(format!(
+                "node {i} belongs to no element (zero mass)"
+            )));
+        }
+        let inv_mass = mass.iter().map(|m| 1.0 / m).collect();
+
+        // Boundary entries, gathered per node.
+        let face = |name: &str| -> Result<&Vec<[u32; 4]>, SolverError> {
+            mesh.face_sets
+                .get(name)
+                .ok_or_else(|| SolverError::Setup(format!("no face set named `{name}`")))
+        };
+        let mut interface_nodes = Vec::new();
+        for (k, itf) in model.interfaces.iter().enumerate() {
+            let plane = &model.planes[itf.plane];
+            for (node, area) in mesh.nodal_areas(face(&itf.faces)?) {
+                let x = mesh.nodes[node as usize];
+                let gap0 = dot(plane.normal, crate::mesh::sub(x, plane.point));
+                let y0 = [
+                    x[0] - gap0 * plane.normal[0],
+                    x[1] - gap0 * plane.normal[1],
+                    x[2] - gap0 * plane.normal[2],
+                ];
+                interface_nodes.push(InterfaceNode {
+                    node,
+                    interface: k as u32,
+                    area,
+                    bonded_point: y0,
+                    alpha: 0.0,
+                    alpha_next: 0.0,
+                    jump: [0.0; 3],
+                    gap: gap0,
+                    stiffness: itf.law.g_n0,
+                    cohesive_traction: [0.0; 3],
+                    contact_impulse: [0.0; 3],
+                    contact: ContactStatus::Open,
+                    prev_jump: [0.0; 3],
+                    prev_stiffness: itf.law.g_n0,
+                });
+            }
+        }
+        let mut contact_nodes = Vec::new();
+        for c in &model.contacts {
+            for (node, area) in mesh.nodal_areas(face(&c.faces)?) {
+                contact_nodes.push(ContactNode {
+                    node,
+                    plane: c.plane as u32,
+                    mu: c.mu,
+                    area,
+                    gap: 0.0,
+                    contact_impulse: [0.0; 3],
+                    contact: ContactStatus::Open,
+                });
+            }
+        }
+        let mut trac_entries: Vec<(u32, u16, [f64; 3])> = Vec::new();
+        for (k, t) in model.tractions.iter().enumerate() {
+            for (node, area) in mesh.nodal_areas(face(&t.faces)?) {
+                trac_entries.push((node, k as u16, t.vector.map(|c| c * area)));
+            }
+        }
+        let mut prescribed: std::collections::BTreeMap<u32, [u16; 3]> = Default::default();
+        for (k, d) in model.displacements.iter().enumerate() {
+            for node in mesh.face_set_nodes(face(&d.faces)?) {
+                let slot = &mut prescribed.entry(node).or_insert([NONE; 3])[d.component];
+                if *slot != NONE && model.displacements[*slot as usize].history != d.history {
+                    return Err(SolverError::Setup(format!(
+                        "node {node} has component {} prescribed twice with different histories (displacement[{}] on `{}` and displacement[{k}] on `{}`)",
+                        ["x", "y", "z"][d.component],
+                        *slot,
+                        model.displacements[*slot as usize].faces,
+                        d.faces
+                    )));
+                }
+                if *slot == NONE {
+                    *slot = k as u16;
+                }
+            }
+        }
+        let mut nodes_touched: Vec<u32> = interface_nodes
+            .iter()
+            .map(|i| i.node)
+            .chain(contact_nodes.iter().map(|c| c.node))
+            .chain(trac_entries.iter().map(|t| t.0))
+            .chain(prescribed.keys().copied())
+            .collect();
+        nodes_touched.sort_unstable();
+        nodes_touched.dedup();
+        let mut by_node_i: Vec<(u32, u32)> = interface_nodes
+            .iter()
+            .enumerate()
+            .map(|(k, i)| (i.node, k as u32))
+            .collect();
+        by_node_i.sort_unstable();
+        let mut by_node_c: Vec<(u32, u32)> = contact_nodes
+            .iter()
+            .enumerate()
+            .map(|(k, c)| (c.node, k as u32))
+            .collect();
+        by_node_c.sort_unstable();
+        trac_entries.sort_by_key(|t| (t.0, t.1));
+        let (mut pi, mut pc, mut pt) = (0usize, 0usize, 0usize);
+        let mut boundary = Vec::with_capacity(nodes_touched.len());
+        let mut boundary_interfaces = Vec::new();
+        let mut boundary_contacts = Vec::new();
+        let mut boundary_tractions = Vec::new();
+        for &node in &nodes_touched {
+            let i0 = boundary_interfaces.len() as u32;
+            while pi < by_node_i.len() && by_node_i[pi].0 == node {
+                boundary_interfaces.push(by_node_i[pi].1);
+                pi += 1;
+            }
+            let c0 = boundary_contacts.len() as u32;
+            while pc < by_node_c.len() && by_node_c[pc].0 == node {
+                boundary_contacts.push(by_node_c[pc].1);
+                pc += 1;
+            }
+            let t0 = boundary_tractions.len() as u32;
+            while pt < trac_entries.len() && trac_entries[pt].0 == node {
+                boundary_tractions.push((trac_entries[pt].1, trac_entries[pt].2));
+                pt += 1;
+            }
+            boundary.push(BoundaryNode {
+                node,
+                interfaces: i0..boundary_interfaces.len() as u32,
+                contacts: c0..boundary_contacts.len() as u32,
+                tractions: t0..boundary_tractions.len() as u32,
+                prescribed: prescribed.get(&node).copied().unwrap_or([NONE; 3]),
+            });
+        }
+
+        let volume: f64 = classes
+            .class_of
+            .iter()
+            .map(|&c| classes.data[c as usize].volume())
+            .sum();
+        let parallel = mesh.elements.len() >= PARALLEL_MIN_ELEMENTS;
+        let n_bc = model.displacements.len();
+        let mut sim = Simulation {
+            classes,
+            colours,
+            parallel,
+            mass,
+            inv_mass,
+            u: u0,
+            v: v0,
+            f_int: vec![[0.0; 3]; n_nodes],
+            interface_nodes,
+            contact_nodes,
+            scratch_v_old: vec![[0.0; 3]; boundary.len()],
+            boundary,
+            boundary_interfaces,
+            boundary_contacts,
+            boundary_tractions,
+            time: 0.0,
+            step_count: 0,
+            h: 0.0,
+            h_crit: 0.0,
+            ledger: Ledger::default(),
+            stats: RunStats {
+                peaks: model
+                    .displacements
+                    .iter()
+                    .map(|d| PeakReaction {
+                        faces: d.faces.clone(),
+                        component: ["x", "y", "z"][d.component].into(),
+                        force: 0.0,
+                        imposed_displacement: d.history.value(0.0)[0],
+                        time: 0.0,
+                    })
+                    .collect(),
+                reactions: vec![0.0; n_bc],
+                ..Default::default()
+            },
+            min_jacobian: 1.0,
+            ritz_vector: Vec::new(),
+            kinetic_half: 0.0,
+            energy_budget: 0.0,
+            last_external_work: 0.0,
+            energy_floor: model.material.young * volume * 1e-14,
+            model,
+        };
+        sim.start()?;
+        Ok(sim)
+    }
+
+    /// Number of elements times steps done.
+    pub fn element_steps(&self) -> u64 {
+        self.model.mesh.elements.len() as u64 * self.step_count
+    }
+
+    /// t = 0: U₀ (prescribed values), α₀, first h_crit, V_{−½} = V₀ − ½h M⁻¹F₀, then the usual
+    /// impulse stages give V_{½} (so K₀ = ½V_{−½}ᵀMV_{½}).
+    fn start(&mut self) -> Result<(), SolverError> {
+        for b in &self.boundary {
+            for c in 0..3 {
+                if b.prescribed[c] != NONE {
+                    self.u[b.node as usize][c] = self.model.displacements[b.prescribed[c] as usize]
+                        .history
+                        .value(0.0)[0];
+                }
+            }
+        }
+        self.update_interface_kinematics();
+        for itf in self.interface_nodes.iter_mut() {
+            let law = &self.model.interfaces[itf.interface as usize].law;
+            let n = self.model.planes[self.model.interfaces[itf.interface as usize].plane].normal;
+            itf.alpha = law.u_r.min(damage_measure(itf.jump, n));
+            itf.alpha_next = itf.alpha;
+            itf.stiffness = law.g_n(itf.alpha);
+            itf.prev_stiffness = itf.stiffness;
+            itf.prev_jump = itf.jump;
+        }
+        let est = self.estimate_stable_step(None);
+        self.h_crit = est.h_crit;
+        self.stats.h_crit_initial = est.h_crit;
+        self.stats.h_crit_min = est.h_crit;
+        self.h = self.model.scheme.time_step_factor * est.h_crit;
+        if !(self.h.is_finite() && self.h > 0.0) {
+            return Err(SolverError::Setup(format!(
+                "the stable time step estimate is not usable (ω_max² = {:e}); check the material and interface stiffness",
+                est.omega_max_sq
+            )));
+        }
+        self.compute_internal_forces(true)?;
+        // V_{−½} = V₀ − ½h M⁻¹F₀ with the smooth forces (internal, gravity, tractions, glue).
+        let (h, g) = (self.h, self.model.gravity);
+        for i in 0..self.v.len() {
+            for c in 0..3 {
+                self.v[i][c] -= 0.5 * h * (g[c] - self.f_int[i][c] * self.inv_mass[i]);
+            }
+        }
+        for bi in 0..self.boundary.len() {
+            let b = self.boundary[bi].clone();
+            let i = b.node as usize;
+            let mut force = [0.0; 3];
+            for k in b.tractions.clone() {
+                let (t, fv) = self.boundary_tractions[k as usize];
+                let amp = self.model.tractions[t as usize].amplitude.value(0.0)[0];
+                for c in 0..3 {
+                    force[c] += amp * fv[c];
+                }
+            }
+            for k in b.interfaces.clone() {
+                let itf = &self.interface_nodes[self.boundary_interfaces[k as usize] as usize];
+                for c in 0..3 {
+                    force[c] -= itf.area * itf.stiffness * itf.jump[c];
+                }
+            }
+            for c in 0..3 {
+                self.v[i][c] -= 0.5 * h * force[c] * self.inv_mass[i];
+            }
+        }
+        self.impulses(h, h, true);
+        self.bookkeeping(true)?;
+        Ok(())
+    }
+
+    /// One CD-Lagrange step tₙ → tₙ₊₁ (PHYSICS.md §4, stages 1–9).
+    pub fn step(&mut self) -> Result<(), SolverError> {
+        let t0 = Instant::now();
+        let h = self.h;
+        // 1. Uₙ₊₁ = Uₙ + h V_{n+½}; αₙ₊₁ = αₙ + h α̇_{n+½} (stored as the predicted αₙ₊₁).
+        self.advance_positions(h);
+        // 2. Rigid surfaces and prescribed displacements to tₙ₊₁ (evaluated from their
+        //    histories where used), interface kinematics [u]ₙ₊₁, gₙ₊₁.
+        self.update_interface_kinematics();
+        let t1 = Instant::now();
+        // 3. F_int,ₙ₊₁ from Uₙ₊₁ (parallel element loop); F_ext is applied in stage 5.
+        self.compute_internal_forces(true)?;
+        let t2 = Instant::now();
+        // (§6) Re-estimate h_crit as the stiffness changes; fixes h_{n+3/2}.
+        let h_next = self.next_time_step();
+        let t3 = Instant::now();
+        // 4–8. Free velocity with cohesion, prescribed components, contact, damage rate.
+        self.impulses(0.5 * (h + h_next), h_next, false);
+        let t4 = Instant::now();
+        // 9. Energy bookkeeping and blow-up checks.
+        self.bookkeeping(false)?;
+        self.h = h_next;
+        let t5 = Instant::now();
+        let st = &mut self.stats.stage_times;
+        st.positions += (t1 - t0).as_secs_f64();
+        st.internal_forces += (t2 - t1).as_secs_f64();
+        st.h_crit += (t3 - t2).as_secs_f64();
+        st.interface_contact += (t4 - t3).as_secs_f64();
+        st.bookkeeping += (t5 - t4).as_secs_f64();
+        self.stats.steps_wall += t5 - t0;
+        Ok(())
+    }
+
+    /// Steps until `model.end_time`, calling `on_step` after each step; `on_step` returning
+    /// `false` cancels the run.
+    pub fn run(&mut self, mut on_step: impl FnMut(&Simulation) -> bool) -> Result<(), SolverError> {
+        while !self.finished() {
+            self.step()?;
+            if !on_step(self) {
+                return Err(SolverError::Cancelled {
+                    step: self.step_count,
+                    time: self.time,
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// True once tₙ has reached the end time (to within a millionth of a step).
+    pub fn finished(&self) -> bool {
+        self.time >= self.model.end_time - 1e-6 * self.h
+    }
+
+    /// Stage 1.
+    fn advance_positions(&mut self, h: f64) {
+        let grain = NODE_GRAIN;
+        let body = |(u, v): (&mut [[f64; 3]], &[[f64; 3]])| {
+            for (ui, vi) in u.iter_mut().zip(v) {
+                ui[0] += h * vi[0];
+                ui[1] += h * vi[1];
+                ui[2] += h * vi[2];
+            }
+        };
+        if self.parallel {
+            self.u
+                .par_chunks_mut(grain)
+                .zip(self.v.par_chunks(grain))
+                .for_each(body);
+        } else {
+            self.u
+                .chunks_mut(grain)
+                .zip(self.v.chunks(grain))
+                .for_each(body);
+        }
+        for itf in self.interface_nodes.iter_mut() {
+            itf.alpha = itf.alpha_next;
+        }
+        self.time += h;
+        self.step_count += 1;
+    }
+
+    /// Stage 2/4 kinematics: [u] = x − y(t), g = n·(x − p(t)) at every interface node, and the
+    /// gap of every contact node.
+    fn update_interface_kinematics(&mut self) {
+        let t = self.time;
+        let planes = &self.model.planes;
+        let disp: Vec<[f64; 3]> = planes.iter().map(|p| p.displacement(t)).collect();
+        let nodes = &self.model.mesh.nodes;
+        for itf in self.interface_nodes.iter_mut() {
+            let k = self.model.interfaces[itf.interface as usize].plane;
+            let (p, d) = (&planes[k], disp[k]);
+            let i = itf.node as usize;
+            let x: [f64; 3] = std::array::from_fn(|c| nodes[i][c] + self.u[i][c]);
+            itf.jump = std::array::from_fn(|c| x[c] - (itf.bonded_point[c] + d[c]));
+            itf.gap = (0..3)
+                .map(|c| p.normal[c] * (x[c] - p.point[c] - d[c]))
+                .sum();
+        }
+        for cn in self.contact_nodes.iter_mut() {
+            let (p, d) = (&planes[cn.plane as usize], disp[cn.plane as usize]);
+            let i = cn.node as usize;
+            cn.gap = (0..3)
+                .map(|c| p.normal[c] * (nodes[i][c] + self.u[i][c] - p.point[c] - d[c]))
+                .sum();
+        }
+    }
+
+    /// Stage 3: F_int(Uₙ₊₁) and Ψₙ₊₁; an inverted element stops the run.
+    fn compute_internal_forces(&mut self, energy: bool) -> Result<(), SolverError> {
+        let grain = NODE_GRAIN;
+        if self.parallel {
+            self.f_int
+                .par_chunks_mut(grain)
+                .for_each(|c| c.fill([0.0; 3]));
+        } else {
+            self.f_int.fill([0.0; 3]);
+        }
+        let (psi, min_j, min_e) = assemble_internal_forces(
+            &self.model.mesh,
+            &self.classes,
+            &self.colours,
+            &self.model.material,
+            &self.u,
+            &mut self.f_int,
+            energy,
+            self.parallel,
+        );
+        self.min_jacobian = min_j;
+        if energy {
+            self.ledger.strain = psi;
+        }
+        if !(min_j > 0.0) {
+            if min_j.is_nan() {
+                return Err(
+                    self.unstable("non-finite displacements (NaN) in the element loop".into())
+                );
+            }
+            return Err(SolverError::Inverted {
+                element: min_e,
+                j: min_j,
+                step: self.step_count,
+                time: self.time,
+                h: self.h,
+                h_crit: self.h_crit,
+            });
+        }
+        Ok(())
+    }
+
+    /// Stages 4–8 (PHYSICS.md §4). `h_bar` = (h_{n+½} + h_{n+3/2})/2 scales forces into impulses,
+    /// `h_next` = h_{n+3/2} is the interval the new velocities will act over.
+    fn impulses(&mut self, h_bar: f64, h_next: f64, first: bool) {
+        // Keep V_{n+½} of boundary nodes for the ledger's backward halves.
+        for (k, b) in self.boundary.iter().enumerate() {
+            self.scratch_v_old[k] = self.v[b.node as usize];
+        }
+        // 5. Free velocity on every node: V_free = V + h̄ M⁻¹(m g − F_int), with the ledger's
+        //    halves b = ½V_old·P and a = ½V_free·P for the internal and gravity impulses.
+        let g = self.model.gravity;
+        let t5 = Instant::now();
+        let body =
+            |((v, f), (m, im)): ((&mut [[f64; 3]], &[[f64; 3]]), (&[f64], &[f64]))| -> NodeSums {
+                let mut s = NodeSums::default();
+                for i in 0..v.len() {
+                    let vo = v[i];
+                    let pi = [-h_bar * f[i][0], -h_bar * f[i][1], -h_bar * f[i][2]];
+                    let pg = [
+                        h_bar * m[i] * g[0],
+                        h_bar * m[i] * g[1],
+                        h_bar * m[i] * g[2],
+                    ];
+                    let vn = [
+                        vo[0] + (pi[0] + pg[0]) * im[i],
+                        vo[1] + (pi[1] + pg[1]) * im[i],
+                        vo[2] + (pi[2] + pg[2]) * im[i],
+                    ];
+                    s.kinetic += 0.5 * m[i] * dot(vo, vn);
+                    s.kinetic_half += 0.5 * m[i] * dot(vn, vn);
+                    s.int_b += 0.5 * dot(vo, pi);
+                    s.int_a += 0.5 * dot(vn, pi);
+                    s.grav_b += 0.5 * dot(vo, pg);
+                    s.grav_a += 0.5 * dot(vn, pg);
+                    v[i] = vn;
+                }
+                s
+            };
+        let grain = NODE_GRAIN;
+        let parts: Vec<NodeSums> = if self.parallel {
+            self.v
+                .par_chunks_mut(grain)
+                .zip(self.f_int.par_chunks(grain))
+                .zip(
+                    self.mass
+                        .par_chunks(grain)
+                        .zip(self.inv_mass.par_chunks(grain)),
+                )
+                .map(body)
+                .collect()
+        } else {
+            self.v
+                .chunks_mut(grain)
+                .zip(self.f_int.chunks(grain))
+                .zip(self.mass.chunks(grain).zip(self.inv_mass.chunks(grain)))
+                .map(body)
+                .collect()
+        };
+        let mut s = parts.into_iter().fold(NodeSums::default(), NodeSums::add);
+        self.stats.stage_times.free_velocity += t5.elapsed().as_secs_f64();
+
+        // Boundary nodes: tractions, cohesion (4–5), prescribed components (6), contact (7),
+        // their ledger halves, and the damage prediction (8).
+        let t = self.time;
+        let t_next = t + h_next;
+        let planes = &self.model.planes;
+        let plane_v_old: Vec<[f64; 3]> = planes
+            .iter()
+            .map(|p| {
+                let h = self.h;
+                if first || h <= 0.0 {
+                    [0.0; 3]
+                } else {
+                    let (a, b) = (p.displacement(t - h), p.displacement(t));
+                    std::array::from_fn(|c| (b[c] - a[c]) / h)
+                }
+            })
+            .collect();
+        let plane_v_new: Vec<[f64; 3]> = planes
+            .iter()
+            .map(|p| {
+                let (a, b) = (p.displacement(t), p.displacement(t_next));
+                std::array::from_fn(|c| (b[c] - a[c]) / h_next)
+            })
+            .collect();
+        let (mut trac_b, mut trac_a, mut reac_b, mut reac_a, mut plane_b, mut plane_a) =
+            (0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
+        let (mut cn_b, mut cn_a, mut ct_b, mut ct_a) = (0.0, 0.0, 0.0, 0.0);
+        let mut reactions = vec![0.0; self.model.displacements.len()];
+        let mut jump_bc = vec![false; self.model.displacements.len()];
+        let amps: Vec<f64> = self
+            .model
+            .tractions
+            .iter()
+            .map(|tr| tr.amplitude.value(t)[0])
+            .collect();
+        for (k, b) in self.boundary.iter().enumerate() {
+            let i = b.node as usize;
+            let (m, im) = (self.mass[i], self.inv_mass[i]);
+            let vo = self.scratch_v_old[k];
+            let v_free0 = self.v[i];
+            let mut v = v_free0;
+            // Tractions (dead load on the reference area).
+            for e in b.tractions.clone() {
+                let (tk, fv) = self.boundary_tractions[e as usize];
+                let p: [f64; 3] = fv.map(|c| h_bar * amps[tk as usize] * c);
+                // v is updated after all smooth impulses; the forward half uses the final v.
+                trac_b += 0.5 * dot(vo, p);
+                for c in 0..3 {
+                    v[c] += p[c] * im;
+                }
+            }
+            // Cohesion: P_coh = −h̄ W g_N(αₙ₊₁)[u]ₙ₊₁ (stage 4–5).
+            let mut coh: [[f64; 3]; 4] = [[0.0; 3]; 4];
+            for (slot, e) in b.interfaces.clone().enumerate() {
+                let itf = &mut self.interface_nodes[self.boundary_interfaces[e as usize] as usize];
+                let law = &self.model.interfaces[itf.interface as usize].law;
+                itf.stiffness = law.g_n(itf.alpha);
+                itf.cohesive_traction = itf.jump.map(|c| itf.stiffness * c);
+                let p = itf.cohesive_traction.map(|c| -h_bar * itf.area * c);
+                if slot < 4 {
+                    coh[slot] = p;
+                }
+                for c in 0..3 {
+                    v[c] += p[c] * im;
+                }
+            }
+            let v_free = v;
+            // 6. Prescribed components: V_{n+3/2} = (Ū(tₙ₊₂) − Ū(tₙ₊₁))/h.
+            let mut any_prescribed = false;
+            for c in 0..3 {
+                let bc = b.prescribed[c];
+                if bc != NONE {
+                    any_prescribed = true;
+                    let hist = &self.model.displacements[bc as usize].history;
+                    let target = (hist.value(t_next)[0] - hist.value(t)[0]) / h_next;
+                    v[c] = target;
+                    let p = m * (v[c] - v_free[c]);
+                    reactions[bc as usize] += p / h_bar;
+                    reac_b += 0.5 * vo[c] * p;
+                    // The prescribed velocity jumps here when it differs from the previous one.
+                    if !first
+                        && (target - vo[c]).abs() > 1e-9 * (target.abs() + vo[c].abs()) + 1e-300
+                    {
+                        let prev_target = (hist.value(t)[0] - hist.value(t - self.h)[0]) / self.h;
+                        if (target - prev_target).abs() > 1e-9 * (target.abs() + prev_target.abs())
+                        {
+                            jump_bc[bc as usize] = true;
+                        }
+                    }
+                    if first {
+                        jump_bc[bc as usize] = true;
+                    }
+                }
+            }
+            // 7. Contact, node by node in closed form (only on fully free nodes).
+            let mut contact_p: [[f64; 3]; 4] = [[0.0; 3]; 4];
+            let mut contact_plane: [usize; 4] = [usize::MAX; 4];
+            let mut nc = 0;
+            if !any_prescribed {
+                for e in b.interfaces.clone() {
+                    let itf =
+                        &mut self.interface_nodes[self.boundary_interfaces[e as usize] as usize];
+                    let spec = &self.model.interfaces[itf.interface as usize];
+                    let plane = &planes[spec.plane];
+                    let mu = spec.law.mu(itf.alpha, spec.mu_inf);
+                    let (impulse, status) = contact_impulse(
+                        &mut v,
+                        itf.gap,
+                        plane.normal,
+                        plane_v_new[spec.plane],
+                        mu,
+                        m,
+                        itf.area,
+                    );
+                    itf.contact_impulse = impulse.map(|c| c / itf.area.max(f64::MIN_POSITIVE));
+                    itf.contact = status;
+                    if nc < 4 {
+                        contact_p[nc] = impulse;
+                        contact_plane[nc] = spec.plane;
+                        nc += 1;
+                    }
+                }
+                for e in b.contacts.clone() {
+                    let cn = &mut self.contact_nodes[self.boundary_contacts[e as usize] as usize];
+                    let plane = &planes[cn.plane as usize];
+                    let (impulse, status) = contact_impulse(
+                        &mut v,
+                        cn.gap,
+                        plane.normal,
+                        plane_v_new[cn.plane as usize],
+                        cn.mu,
+                        m,
+                        cn.area,
+                    );
+                    cn.contact_impulse = impulse.map(|c| c / cn.area.max(f64::MIN_POSITIVE));
+                    cn.contact = status;
+                    if nc < 4 {
+                        contact_p[nc] = impulse;
+                        contact_plane[nc] = cn.plane as usize;
+                        nc += 1;
+                    }
+                }
+            }
+            self.v[i] = v;
+            // Ledger: forward halves with the final velocity, corrections of the node loop.
+            let dv = [v[0] - v_free0[0], v[1] - v_free0[1], v[2] - v_free0[2]];
+            let pint = [
+                -h_bar * self.f_int[i][0],
+                -h_bar * self.f_int[i][1],
+                -h_bar * self.f_int[i][2],
+            ];
+            let pg = [h_bar * m * g[0], h_bar * m * g[1], h_bar * m * g[2]];
+            s.int_a += 0.5 * dot(dv, pint);
+            s.grav_a += 0.5 * dot(dv, pg);
+            s.kinetic += 0.5 * m * dot(vo, dv);
+            s.kinetic_half += 0.5 * m * (dot(v, v) - dot(v_free0, v_free0));
+            for e in b.tractions.clone() {
+                let (tk, fv) = self.boundary_tractions[e as usize];
+                let p: [f64; 3] = fv.map(|c| h_bar * amps[tk as usize] * c);
+                trac_a += 0.5 * dot(v, p);
+            }
+            for c in 0..3 {
+                if b.prescribed[c] != NONE {
+                    reac_a += 0.5 * v[c] * m * (v[c] - v_free[c]);
+                }
+            }
+            // Glue of moving planes: the plane's share ½ v_plane·P_coh of the cohesive work.
+            for (slot, e) in b.interfaces.clone().enumerate().take(4) {
+                let itf = &self.interface_nodes[self.boundary_interfaces[e as usize] as usize];
+                let k = self.model.interfaces[itf.interface as usize].plane;
+                plane_b += 0.5 * dot(plane_v_old[k], coh[slot]);
+                plane_a += 0.5 * dot(plane_v_new[k], coh[slot]);
+            }
+            // Contact: split the work on the relative velocity (dissipation, normal and
+            // tangential) and on the plane's velocity (external work).
+            for j in 0..nc {
+                let k = contact_plane[j];
+                let n = planes[k].normal;
+                let p = contact_p[j];
+                let pn = dot(p, n);
+                let pt = [p[0] - pn * n[0], p[1] - pn * n[1], p[2] - pn * n[2]];
+                let rel_o = [
+                    vo[0] - plane_v_old[k][0],
+                    vo[1] - plane_v_old[k][1],
+                    vo[2] - plane_v_old[k][2],
+                ];
+                let rel_n = [
+                    v[0] - plane_v_new[k][0],
+                    v[1] - plane_v_new[k][1],
+                    v[2] - plane_v_new[k][2],
+                ];
+                cn_b += 0.5 * dot(rel_o, n) * pn;
+                cn_a += 0.5 * dot(rel_n, n) * pn;
+                ct_b += 0.5 * dot(rel_o, pt);
+                ct_a += 0.5 * dot(rel_n, pt);
+                plane_b += 0.5 * dot(plane_v_old[k], p);
+                plane_a += 0.5 * dot(plane_v_new[k], p);
+            }
+            // 8. Damage rate after the dynamics: αₙ₊₂ = min(u_r, max(αₙ₊₁, fₙ₊₂)),
+            //    fₙ₊₂ = |[u]ₙ₊₁ + h (V_{n+3/2} − v_plane)| (normal part counted when positive).
+            for e in b.interfaces.clone() {
+                let itf = &mut self.interface_nodes[self.boundary_interfaces[e as usize] as usize];
+                let spec = &self.model.interfaces[itf.interface as usize];
+                let vp = plane_v_new[spec.plane];
+                let next: [f64; 3] = std::array::from_fn(|c| itf.jump[c] + h_next * (v[c] - vp[c]));
+                let f = damage_measure(next, planes[spec.plane].normal);
+                itf.alpha_next = spec.law.u_r.min(itf.alpha.max(f));
+            }
+        }
+        // Reactions and their peaks (excluding steps where the prescribed velocity jumps).
+        for (k, r) in reactions.iter().enumerate() {
+            self.stats.reactions[k] = *r;
+            let peak = &mut self.stats.peaks[k];
+            // The pull-off peak: once every interface has ruptured the body is free and the
+            // reaction only measures its vibration.
+            let before_rupture =
+                self.interface_nodes.is_empty() || self.stats.time_full_rupture.is_none();
+            if before_rupture && !jump_bc[k] && r.abs() > peak.force.abs() {
+                peak.force = *r;
+                peak.time = t;
+                peak.imposed_displacement = self.model.displacements[k].history.value(t)[0];
+            }
+        }
+        let l = &mut self.ledger;
+        if first {
+            l.kinetic = s.kinetic;
+            l.internal_work.start(s.int_a);
+            l.gravity_work.start(s.grav_a);
+            l.traction_work.start(trac_a);
+            l.reaction_work.start(reac_a);
+            l.plane_work.start(plane_a);
+            l.contact_normal_work.start(cn_a);
+            l.contact_tangential_work.start(ct_a);
+        } else {
+            l.kinetic = s.kinetic;
+            l.internal_work.push(s.int_b, s.int_a);
+            l.gravity_work.push(s.grav_b, s.grav_a);
+            l.traction_work.push(trac_b, trac_a);
+            l.reaction_work.push(reac_b, reac_a);
+            l.plane_work.push(plane_b, plane_a);
+            l.contact_normal_work.push(cn_b, cn_a);
+            l.contact_tangential_work.push(ct_b, ct_a);
+        }
+        self.kinetic_half = s.kinetic_half;
+    }
+}
+
+/// Stage 7 for one node against one plane (PHYSICS.md §4, paper eqs. 19–20, 22): if gₙ₊₁ ≤ 0
+/// and the relative free velocity approaches (v_N < 0), r_N = −m v_N/W brings v_N to 0; the
+/// trial tangential impulse −m v_T/W sticks if |r_T| ≤ μ r_N, else r_T = −μ r_N v_T/|v_T|.
+/// Updates `v` in place and returns the impulse W R_c [N·s] and the status.
+#[inline]
+pub fn contact_impulse(
+    v: &mut [f64; 3],
+    gap: f64,
+    n: [f64; 3],
+    v_plane: [f64; 3],
+    mu: f64,
+    m: f64,
+    area: f64,
+) -> ([f64; 3], ContactStatus) {
+    if gap > 0.0 {
+        return ([0.0; 3], ContactStatus::Open);
+    }
+    let rel = [v[0] - v_plane[0], v[1] - v_plane[1], v[2] - v_plane[2]];
+    let vn = dot(rel, n);
+    if vn >= 0.0 {
+        return ([0.0; 3], ContactStatus::Open);
+    }
+    // Impulses (W R) rather than per-area values: W cancels (PHYSICS.md §4 step 7).
+    let pn = -m * vn;
+    let vt = [rel[0] - vn * n[0], rel[1] - vn * n[1], rel[2] - vn * n[2]];
+    let vt_norm = norm(vt);
+    let (pt, status) = if m * vt_norm <= mu * pn {
+        (vt.map(|c| -m * c), ContactStatus::Stick)
+    } else {
+        let s = mu * pn / vt_norm;
+        (vt.map(|c| -s * c), ContactStatus::Slip)
+    };
+    let _ = area;
+    let p = [pn * n[0] + pt[0], pn * n[1] + pt[1], pn * n[2] + pt[2]];
+    for c in 0..3 {
+        v[c] += p[c] / m;
+    }
+    (p, status)
+}
+
+/// Damage driving measure f = |[u]| with only the positive part of the normal jump counted:
+/// a negative normal jump can only come from the velocity-level contact's position drift
+/// (PHYSICS.md §3), and must not damage the glue.
+#[inline]
+pub fn damage_measure(jump: [f64; 3], n: [f64; 3]) -> f64 {
+    let un = dot(jump, n);
+    let t2 = dot(jump, jump) - un * un;
+    (un.max(0.0).powi(2) + t2.max(0.0)).sqrt()
+}
+
+impl Simulation {
+    /// Stage 9: interface energies, damage dissipation, ledger closing, statistics, and the
+    /// blow-up checks (non-finite values, negative damage dissipation, energy growing without
+    /// a source).
+    fn bookkeeping(&mut self, first: bool) -> Result<(), SolverError> {
+        let mut stored = 0.0;
+        let mut dissipated = 0.0;
+        let mut worst = 0.0f64;
+        let mut counts = StateCounts::default();
+        for itf in self.interface_nodes.iter_mut() {
+            let law = &self.model.interfaces[itf.interface as usize].law;
+            stored += 0.5 * itf.area * itf.stiffness * dot(itf.jump, itf.jump);
+            // ΔDₙ = W ½ (g_N(αₙ₋₁) − g_N(αₙ)) [u]ₙ₋₁·[u]ₙ (PHYSICS.md §5).
+            let dd = 0.5
+                * itf.area
+                * (itf.prev_stiffness - itf.stiffness)
+                * dot(itf.prev_jump, itf.jump);
+            worst = worst.min(dd);
+            dissipated += dd;
+            itf.prev_stiffness = itf.stiffness;
+            itf.prev_jump = itf.jump;
+            match law.state(itf.alpha) {
+                InterfaceState::Elastic => counts.elastic += 1,
+                InterfaceState::Transition => counts.transition += 1,
+                InterfaceState::Ruptured => counts.ruptured += 1,
+            }
+        }
+        let l = &mut self.ledger;
+        l.interface_stored = stored;
+        l.damage_dissipated += dissipated;
+        if first {
+            l.initial_kinetic = l.kinetic;
+            l.initial_strain = l.strain;
+            l.initial_interface_stored = l.interface_stored;
+            self.energy_budget = (self.kinetic_half + l.strain + l.interface_stored).abs();
+        }
+        l.close_step();
+        let ext = l.external_work();
+        self.energy_budget += (ext - self.last_external_work).abs();
+        self.last_external_work = ext;
+
+        if counts.elastic < self.interface_nodes.len() && self.stats.time_first_damage.is_none() {
+            self.stats.time_first_damage = Some(self.time);
+        }
+        if counts.ruptured == self.interface_nodes.len()
+            && !self.interface_nodes.is_empty()
+            && self.stats.time_full_rupture.is_none()
+        {
+            self.stats.time_full_rupture = Some(self.time);
+        }
+
+        let l = &self.ledger;
+        let mech = self.kinetic_half + l.strain + l.interface_stored;
+        if !(mech.is_finite() && l.residual().is_finite()) {
+            return Err(
+                self.unstable("non-finite energy (NaN or infinity in velocities or forces)".into())
+            );
+        }
+        if worst < -1e-9 * l.max_energy_seen.max(self.energy_floor) {
+            return Err(self.unstable(format!(
+                "negative damage dissipation increment ({worst:.3e} J): the jump turned by more than 90° in one step"
+            )));
+        }
+        let limit = self.model.scheme.energy_growth_limit * self.energy_budget + self.energy_floor;
+        if mech > limit {
+            return Err(self.unstable(format!(
+                "the mechanical energy ({mech:.4e} J) grew past {}× the energy supplied ({:.4e} J) with no source",
+                self.model.scheme.energy_growth_limit, self.energy_budget
+            )));
+        }
+        Ok(())
+    }
+
+    /// The blow-up diagnostic: where, with which h and h_crit, and what to change.
+    fn unstable(&self, reason: String) -> SolverError {
+        let factor = self.h / self.h_crit;
+        let advice = if factor > 0.95 {
+            format!("The time step factor {factor:.3} is at or above the stability limit 1: set scheme.time_step_factor ≤ 0.9 (default 0.5).")
+        } else {
+            "The step is below the estimated limit: stiffening under large strain may have lowered h_crit (lower scheme.h_crit_update_interval or scheme.time_step_factor), or the loading is too violent for the mesh (refine it or slow the load).".to_string()
+        };
+        SolverError::Unstable {
+            step: self.step_count,
+            time: self.time,
+            h: self.h,
+            h_crit: self.h_crit,
+            factor,
+            reason,
+            advice,
+        }
+    }
+
+    /// Re-estimates h_crit every `h_crit_update_interval` steps and returns h_{n+3/2}.
+    /// The step only ever decreases: when stiffening makes factor × h_crit smaller than the
+    /// current step, h becomes 0.95 × factor × h_crit (the margin avoids a change at every
+    /// estimate). A change of step breaks the exact trapezoid pairing of the ledger for that one
+    /// step (the work pairs velocities of two different intervals); growing h after a softening
+    /// would buy little speed for that cost, so it is not done.
+    fn next_time_step(&mut self) -> f64 {
+        let every = self.model.scheme.h_crit_update_interval as u64;
+        if every == 0 || self.step_count % every != 0 {
+            return self.h;
+        }
+        let warm = std::mem::take(&mut self.ritz_vector);
+        let est = self.estimate_stable_step(Some(warm));
+        self.h_crit = est.h_crit;
+        self.stats.h_crit_min = self.stats.h_crit_min.min(est.h_crit);
+        let target = self.model.scheme.time_step_factor * est.h_crit;
+        if target < self.h {
+            0.95 * target
+        } else {
+            self.h
+        }
+    }
+
+    /// Prescribed degrees of freedom (node·3 + component), true where prescribed.
+    fn prescribed_mask(&self) -> Vec<bool> {
+        let mut mask = vec![false; 3 * self.u.len()];
+        for b in &self.boundary {
+            for c in 0..3 {
+                if b.prescribed[c] != NONE {
+                    mask[3 * b.node as usize + c] = true;
+                }
+            }
+        }
+        mask
+    }
+
+    /// ω_max² of M⁻¹K at the current state by Lanczos on M^{-½}KM^{-½} (PHYSICS.md §6), K·x
+    /// matrix-free as the directional derivative of F_int (forward difference, relative step
+    /// 1e-6 of the smallest edge) plus the interface springs W g_N(α) of glued nodes;
+    /// prescribed components are removed. Lanczos Ritz values approach λ_max from below, so
+    /// the estimate is θ + ‖r‖ with ‖r‖ = β_j|s_j| the Ritz residual: an eigenvalue lies within
+    /// ‖r‖ of θ, which bounds λ_max once θ has converged to the top of the spectrum.
+    pub fn estimate_stable_step(&mut self, warm: Option<Vec<f64>>) -> StableStep {
+        let n = 3 * self.u.len();
+        let mask = self.prescribed_mask();
+        let sqrt_inv_m: Vec<f64> = (0..n).map(|k| self.inv_mass[k / 3].sqrt()).collect();
+        let mut f0 = vec![[0.0; 3]; self.u.len()];
+        assemble_internal_forces(
+            &self.model.mesh,
+            &self.classes,
+            &self.colours,
+            &self.model.material,
+            &self.u,
+            &mut f0,
+            false,
+            self.parallel,
+        );
+        let springs: Vec<(usize, f64)> = self
+            .interface_nodes
+            .iter()
+            .map(|itf| {
+                let law = &self.model.interfaces[itf.interface as usize].law;
+                (itf.node as usize, itf.area * law.g_n(itf.alpha))
+            })
+            .collect();
+        let eps_len = 1e-6 * self.model.mesh.min_edge();
+        let mut up = self.u.clone();
+        let mut fp = vec![[0.0; 3]; self.u.len()];
+        // y = M^{-½} K M^{-½} q.
+        let mut apply = |q: &[f64], y: &mut [f64]| {
+            let mut xmax = 0.0f64;
+            for k in 0..n {
+                if !mask[k] {
+                    xmax = xmax.max((q[k] * sqrt_inv_m[k]).abs());
+                }
+            }
+            if xmax == 0.0 {
+                y.fill(0.0);
+                return;
+            }
+            let eps = eps_len / xmax;
+            for i in 0..self.u.len() {
+                for c in 0..3 {
+                    let k = 3 * i + c;
+                    let x = if mask[k] { 0.0 } else { q[k] * sqrt_inv_m[k] };
+                    up[i][c] = self.u[i][c] + eps * x;
+                }
+            }
+            fp.fill([0.0; 3]);
+            assemble_internal_forces(
+                &self.model.mesh,
+                &self.classes,
+                &self.colours,
+                &self.model.material,
+                &up,
+                &mut fp,
+                false,
+                self.parallel,
+            );
+            for i in 0..self.u.len() {
+                for c in 0..3 {
+                    let k = 3 * i + c;
+                    y[k] = if mask[k] {
+                        0.0
+                    } else {
+                        (fp[i][c] - f0[i][c]) / eps
+                    };
+                }
+            }
+            for &(i, ks) in &springs {
+                for c in 0..3 {
+                    let k = 3 * i + c;
+                    if !mask[k] {
+                        y[k] += ks * q[k] * sqrt_inv_m[k];
+                    }
+                }
+            }
+            for k in 0..n {
+                y[k] *= sqrt_inv_m[k];
+            }
+        };
+        // Start vector: the previous Ritz vector (warm start) plus a deterministic pseudo-random
+        // vector so that every mode is represented.
+        let mut start: Vec<f64> = (0..n)
+            .map(|k| if mask[k] { 0.0 } else { splitmix(k as u64) })
+            .collect();
+        if let Some(w) = warm.filter(|w| w.len() == n) {
+            let nw = w.iter().map(|x| x * x).sum::<f64>().sqrt();
+            let ns = start.iter().map(|x| x * x).sum::<f64>().sqrt();
+            if nw > 0.0 {
+                for k in 0..n {
+                    start[k] = w[k] / nw + 1e-3 * start[k] / ns;
+                }
+            }
+        }
+        let tol = self.model.scheme.h_crit_tolerance;
+        let max_iter = 300.min(n);
+        let (alphas, betas, theta, resid, s) = lanczos(&mut apply, &start, max_iter, tol, None);
+        // Second pass: regenerate the same Lanczos vectors to form the Ritz vector y = Σ sⱼqⱼ.
+        let mut ritz = vec![0.0; n];
+        if n > 0 {
+            lanczos(&mut apply, &start, alphas.len(), 0.0, Some((&s, &mut ritz)));
+        }
+        drop(betas);
+        self.ritz_vector = ritz;
+        let omega_sq = theta + resid;
+        StableStep {
+            omega_max_sq: omega_sq,
+            ritz_value: theta,
+            h_crit: 2.0 / omega_sq.sqrt(),
+            iterations: alphas.len(),
+        }
+    }
+
+    /// Number of distinct element shapes (each has its own precomputed Gauss data).
+    pub fn element_class_count(&self) -> usize {
+        self.classes.data.len()
+    }
+
+    /// Interface state counts now.
+    pub fn state_counts(&self) -> StateCounts {
+        let mut c = StateCounts::default();
+        for itf in &self.interface_nodes {
+            match self.model.interfaces[itf.interface as usize]
+                .law
+                .state(itf.alpha)
+            {
+                InterfaceState::Elastic => c.elastic += 1,
+                InterfaceState::Transition => c.transition += 1,
+                InterfaceState::Ruptured => c.ruptured += 1,
+            }
+        }
+        c
+    }
+
+    /// The ledger's values now.
+    pub fn energies(&self) -> EnergySnapshot {
+        self.ledger.snapshot()
+    }
+}
+
+/// A deterministic pseudo-random number in [−1, 1) (splitmix64 of the index).
+fn splitmix(k: u64) -> f64 {
+    let mut z = k.wrapping_add(0x9E37_79B9_7F4A_7C15);
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^= z >> 31;
+    (z >> 11) as f64 / (1u64 << 52) as f64 - 1.0
+}
+
+type LanczosOut = (Vec<f64>, Vec<f64>, f64, f64, Vec<f64>);
+
+/// Lanczos tridiagonalisation of a symmetric operator from `start`, without
+/// reorthogonalisation (extreme Ritz values still converge). Stops when the largest Ritz value
+/// changes by less than `tol` (relative) over 5 iterations, or after `max_iter`. Returns
+/// (α, β, θ_max, Ritz residual β_j|s_j|, eigenvector s of T). With `accumulate = (s, y)`,
+/// runs exactly `max_iter` iterations and accumulates y = Σ sⱼ qⱼ instead.
+fn lanczos(
+    apply: &mut dyn FnMut(&[f64], &mut [f64]),
+    start: &[f64],
+    max_iter: usize,
+    tol: f64,
+    mut accumulate: Option<(&[f64], &mut [f64])>,
+) -> LanczosOut {
+    let n = start.len();
+    let nrm = start.iter().map(|x| x * x).sum::<f64>().sqrt();
+    let mut q: Vec<f64> = start
+        .iter()
+        .map(|x| x / nrm.max(f64::MIN_POSITIVE))
+        .collect();
+    let mut q_prev = vec![0.0; n];
+    let mut w = vec![0.0; n];
+    let (mut alphas, mut betas) = (Vec::new(), Vec::new());
+    let mut beta_prev = 0.0;
+    let mut last_theta = f64::NAN;
+    let mut result = (0.0, 0.0, vec![1.0]);
+    for j in 0..max_iter {
+        if let Some((s, y)) = accumulate.as_mut() {
+            for k in 0..n {
+                y[k] += s[j] * q[k];
+            }
+        }
+        apply(&q, &mut w);
+        let a: f64 = w.iter().zip(&q).map(|(x, y)| x * y).sum();
+        for k in 0..n {
+            w[k] -= a * q[k] + beta_prev * q_prev[k];
+        }
+        let b = w.iter().map(|x| x * x).sum::<f64>().sqrt();
+        alphas.push(a);
+        betas.push(b);
+        let done = j + 1 == max_iter || b <= 1e-14 * a.abs();
+        if accumulate.is_none() && ((j + 1) % 5 == 0 || done) {
+            let m = alphas.len();
+            let t = nalgebra::DMatrix::from_fn(m, m, |r, c| {
+                if r == c {
+                    alphas[r]
+                } else if r + 1 == c {
+                    betas[r]
+                } else if c + 1 == r {
+                    betas[c]
+                } else {
+                    0.0
+                }
+            });
+            let eig = nalgebra::SymmetricEigen::new(t);
+            let (imax, theta) =
+                eig.eigenvalues
+                    .iter()
+                    .enumerate()
+                    .fold(
+                        (0, f64::NEG_INFINITY),
+                        |acc, (i, &v)| if v > acc.1 { (i, v) } else { acc },
+                    );
+            let s: Vec<f64> = eig.eigenvectors.column(imax).iter().copied().collect();
+            let resid = (b * s[m - 1]).abs();
+            result = (theta, resid, s);
+            if (theta - last_theta).abs() <= tol * theta.abs() || done {
+                break;
+            }
+            last_theta = theta;
+        }
+        if b <= 1e-14 * a.abs() {
+            break;
+        }
+        for k in 0..n {
+            q_prev[k] = q[k];
+            q[k] = w[k] / b;
+        }
+        beta_prev = b;
+    }
+    (alphas, betas, result.0, result.1, result.2)
+}
