@@ -10,3 +10,4 @@ pub mod law;
 pub mod material;
 pub mod mesh;
 pub mod model;
+pub mod scene;
