@@ -28,8 +28,9 @@ pub struct Scene {
     pub model: Model,
     /// The scene file text as read.
     pub text: String,
-    /// The TOML document after the overrides were applied, pretty-printed: what the model was
-    /// built from.
+    /// The TOML document after the overrides were applied, what the model was built from: one
+    /// section per table, keys sorted, arrays on one line (toml's pretty printer puts every
+    /// array element on its own line, which makes tables of rows unreadable).
     pub resolved: String,
     /// The file name used in messages.
     pub file: String,
@@ -117,7 +118,7 @@ pub fn parse_scene(text: &str, file: &str, overrides: &[String]) -> Result<Scene
     } else {
         format!("{file} (after --set overrides)")
     };
-    let resolved = toml::to_string_pretty(&doc).map_err(|e| SceneError::Toml {
+    let resolved = toml::to_string(&doc).map_err(|e| SceneError::Toml {
         file: label.clone(),
         key: None,
         message: e.to_string(),
