@@ -354,3 +354,20 @@ fn ambiguous_override() {
         ],
     );
 }
+
+proptest::proptest! {
+    /// No input makes the loader panic: arbitrary edits of the valid scene, arbitrary overrides.
+    #[test]
+    fn never_panics(
+        at in 0..VALID.len(),
+        cut in 0usize..40,
+        insert in "[\\[\\]=\".,a-z0-9_ \\n+-]{0,30}",
+        set in proptest::collection::vec("[a-z_.0-9]{0,20}=?[\\[\\]0-9.,\"a-z-]{0,12}", 0..3),
+    ) {
+        let (start, end) = (at, (at + cut).min(VALID.len()));
+        if VALID.is_char_boundary(start) && VALID.is_char_boundary(end) {
+            let text = format!("{}{insert}{}", &VALID[..start], &VALID[end..]);
+            let _ = parse_scene(&text, FILE, &set);
+        }
+    }
+}
