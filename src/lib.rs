@@ -11,4 +11,6 @@ pub mod law;
 pub mod material;
 pub mod mesh;
 pub mod model;
+pub mod report;
+pub mod scene;
 pub mod solver;
