@@ -1,1 +1,306 @@
-fn main() {}
+//! The `decohesion` command: a thin shell over the library (scene → model → simulation).
+
+use anyhow::{bail, Context, Result};
+use clap::{Parser, Subcommand};
+use decohesion::report::{state_bytes, RunSummary};
+use decohesion::scene::load_scene;
+use decohesion::solver::Simulation;
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+#[derive(Parser)]
+#[command(
+    name = "decohesion",
+    version,
+    about = "Explicit non-smooth dynamics of a soft solid torn off a rigid mould (CD-Lagrange + RCCM cohesive law)"
+)]
+struct Cli {
+    /// Worker threads for the element loop (default: all cores). Results do not depend on it.
+    #[arg(long, global = true)]
+    threads: Option<usize>,
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Run a scene headless and print a summary.
+    Run {
+        /// Scene file (TOML), e.g. scenes/pull_off.toml.
+        scene: PathBuf,
+        /// Override a scene value, e.g. --set interface.law.u_r=0.02 (same validation as the file).
+        #[arg(long = "set", value_name = "KEY=VALUE")]
+        set: Vec<String>,
+        /// Write the summary as JSON to this file (also written when the run fails).
+        #[arg(long, value_name = "FILE")]
+        summary: Option<PathBuf>,
+        /// No progress output.
+        #[arg(long)]
+        quiet: bool,
+    },
+    /// Validate a scene without running it and print derived quantities.
+    Check {
+        scene: PathBuf,
+        #[arg(long = "set", value_name = "KEY=VALUE")]
+        set: Vec<String>,
+    },
+    /// Measure ns per element-step on cubes of n³ hex8 elements (full integration, interface on).
+    Bench {
+        /// Scene whose physics is used; only the mesh size changes.
+        #[arg(long, default_value = "scenes/pull_off.toml")]
+        scene: PathBuf,
+        /// Cells per side, comma-separated.
+        #[arg(long, default_value = "7,14,28,56", value_delimiter = ',')]
+        sizes: Vec<usize>,
+        /// Repetitions per size (the median is reported).
+        #[arg(long, default_value_t = 5)]
+        repeats: usize,
+        /// Element-steps per repetition (steps = this / elements, at least 10).
+        #[arg(long, default_value_t = 20_000_000)]
+        work: u64,
+    },
+}
+
+fn main() {
+    let cli = Cli::parse();
+    if let Some(n) = cli.threads {
+        if n == 0 {
+            eprintln!("error: --threads must be ≥ 1 (got 0)");
+            std::process::exit(2);
+        }
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build_global()
+            .ok();
+    }
+    let result = match cli.command {
+        Command::Run {
+            scene,
+            set,
+            summary,
+            quiet,
+        } => run(&scene, &set, summary.as_deref(), quiet),
+        Command::Check { scene, set } => check(&scene, &set),
+        Command::Bench {
+            scene,
+            sizes,
+            repeats,
+            work,
+        } => bench(&scene, &sizes, repeats, work),
+    };
+    if let Err(e) = result {
+        eprintln!("error: {e:#}");
+        std::process::exit(1);
+    }
+}
+
+fn run(path: &Path, set: &[String], summary_path: Option<&Path>, quiet: bool) -> Result<()> {
+    let wall = Instant::now();
+    let scene = load_scene(path, set)?;
+    let end_time = scene.model.end_time;
+    let mut sim =
+        Simulation::new(scene.model).with_context(|| format!("setting up {}", path.display()))?;
+    let expected = (end_time / sim.h).ceil() as u64;
+    let tty = std::io::stderr().is_terminal() && !quiet;
+    let bar = if tty {
+        let pb = indicatif::ProgressBar::new(expected);
+        pb.set_style(
+            indicatif::ProgressStyle::with_template(
+                "{spinner} [{elapsed_precise}] {bar:40} {pos}/{len} steps  {msg}  ETA {eta}",
+            )
+            .expect("static template"),
+        );
+        Some(pb)
+    } else {
+        None
+    };
+    if !quiet {
+        eprintln!(
+            "{}: {} elements, h = {:.4e} s (h_crit {:.4e} s), ~{} steps to t = {} s",
+            sim.model.name,
+            sim.model.mesh.elements.len(),
+            sim.h,
+            sim.h_crit,
+            expected,
+            end_time
+        );
+    }
+    let mut next_line = 0.1;
+    let outcome = sim.run(|s| {
+        if let Some(pb) = &bar {
+            if s.step_count % 16 == 0 {
+                pb.set_position(s.step_count);
+                let c = s.state_counts();
+                pb.set_message(format!(
+                    "t = {:.4} s, ruptured {}/{}",
+                    s.time,
+                    c.ruptured,
+                    s.interface_nodes.len()
+                ));
+            }
+        } else if !quiet && s.time >= next_line * end_time {
+            next_line += 0.1;
+            let c = s.state_counts();
+            eprintln!(
+                "  {:>3.0} %  t = {:.5} s  step {}  ruptured {}/{}  residual {:.2e}",
+                100.0 * s.time / end_time,
+                s.time,
+                s.step_count,
+                c.ruptured,
+                s.interface_nodes.len(),
+                s.ledger.relative_residual()
+            );
+        }
+        true
+    });
+    if let Some(pb) = bar {
+        pb.finish_and_clear();
+    }
+    let summary = RunSummary::new(&sim, wall.elapsed().as_secs_f64(), outcome.as_ref().err());
+    println!("{}", summary.table());
+    if let Some(p) = summary_path {
+        let json = serde_json::to_string_pretty(&summary)?;
+        std::fs::write(p, json)
+            .with_context(|| format!("writing the summary to {}", p.display()))?;
+    }
+    if let Err(e) = outcome {
+        bail!(e);
+    }
+    Ok(())
+}
+
+fn check(path: &Path, set: &[String]) -> Result<()> {
+    let scene = load_scene(path, set)?;
+    let m = &scene.model;
+    let mat = &m.material;
+    let le = m.mesh.min_edge();
+    let sim =
+        Simulation::new(m.clone()).with_context(|| format!("setting up {}", path.display()))?;
+    println!("{} is valid: {}", scene.file, m.description);
+    println!(
+        "  mesh                         {} nodes, {} hex8 elements, smallest edge {:.4e} m",
+        m.mesh.nodes.len(),
+        m.mesh.elements.len(),
+        le
+    );
+    println!(
+        "  material                     {:?}, E = {:.4e} Pa, ν = {}, ρ = {} kg/m³, λ = {:.4e} Pa, μ = {:.4e} Pa",
+        mat.model, mat.young, mat.poisson, mat.density, mat.lambda, mat.mu
+    );
+    println!("  wave speed c_d               {:.4} m/s", mat.wave_speed());
+    println!(
+        "  h_crit (Lanczos, §6)         {:.5e} s   (L_e/c_d = {:.5e} s would be {:+.1} % off)",
+        sim.h_crit,
+        le / mat.wave_speed(),
+        100.0 * (le / mat.wave_speed() / sim.h_crit - 1.0)
+    );
+    println!(
+        "  time step                    h = {:.5e} s (factor {})",
+        sim.h, m.scheme.time_step_factor
+    );
+    println!(
+        "  expected steps               {} to t = {} s",
+        (m.end_time / sim.h).ceil(),
+        m.end_time
+    );
+    for (k, itf) in m.interfaces.iter().enumerate() {
+        let (tmax, at) = itf.law.peak_traction();
+        let area: f64 = m
+            .mesh
+            .nodal_areas(&m.mesh.face_sets[&itf.faces])
+            .iter()
+            .map(|p| p.1)
+            .sum();
+        println!(
+            "  interface[{k}] on `{}`         {:?}, g_N(0) = {:.4e} Pa/m, α_e = {:.4e} m, u_r = {:.4e} m, μ_inf = {}",
+            itf.faces, itf.law.family, itf.law.g_n0, itf.law.alpha_e, itf.law.u_r, itf.mu_inf
+        );
+        println!(
+            "    peak traction              {:.5e} Pa at δ = {:.4e} m; G_c = {:.5e} J/m²; area {:.4e} m² → {:.5e} J to break",
+            tmax,
+            at,
+            itf.law.fracture_energy(),
+            area,
+            itf.law.fracture_energy() * area
+        );
+    }
+    println!(
+        "  state memory                 {:.0} bytes per element",
+        state_bytes(&sim) as f64 / m.mesh.elements.len() as f64
+    );
+    Ok(())
+}
+
+fn median(v: &mut [f64]) -> f64 {
+    v.sort_by(f64::total_cmp);
+    let n = v.len();
+    if n % 2 == 1 {
+        v[n / 2]
+    } else {
+        0.5 * (v[n / 2 - 1] + v[n / 2])
+    }
+}
+
+fn bench(path: &Path, sizes: &[usize], repeats: usize, work: u64) -> Result<()> {
+    if repeats == 0 {
+        bail!("--repeats must be ≥ 1");
+    }
+    println!(
+        "decohesion bench: {} on {} threads ({}), full 2×2×2 integration, interface on",
+        path.display(),
+        rayon::current_num_threads(),
+        std::env::consts::ARCH
+    );
+    println!(
+        "{:>4} {:>9} {:>9} {:>7} {:>14} {:>16} {:>18} {:>12} {:>10}",
+        "n",
+        "elements",
+        "nodes",
+        "steps",
+        "ns/elem-step",
+        "elem-steps/s",
+        "iface ns/node-step",
+        "bytes/elem",
+        "setup s"
+    );
+    for &n in sizes {
+        let set = vec![
+            format!("mesh.cells=[{n},{n},{n}]"),
+            "scheme.h_crit_update_interval=0".into(),
+        ];
+        let scene = load_scene(path, &set)?;
+        let t0 = Instant::now();
+        let mut sim = Simulation::new(scene.model)?;
+        let setup = t0.elapsed().as_secs_f64();
+        let elements = sim.model.mesh.elements.len() as u64;
+        let steps = (work / elements).max(10);
+        let mut ns = Vec::new();
+        let mut iface = Vec::new();
+        for _ in 0..repeats {
+            let before = sim.stats.clone();
+            let t = Instant::now();
+            for _ in 0..steps {
+                sim.step()?;
+            }
+            let dt = t.elapsed().as_secs_f64();
+            ns.push(dt * 1e9 / (steps * elements) as f64);
+            let di = sim.stats.stage_times.interface_contact - before.stage_times.interface_contact;
+            iface.push(di * 1e9 / (steps as f64 * sim.interface_nodes.len().max(1) as f64));
+        }
+        let med = median(&mut ns);
+        println!(
+            "{:>4} {:>9} {:>9} {:>7} {:>14.1} {:>16.3e} {:>18.1} {:>12.0} {:>10.2}",
+            n,
+            elements,
+            sim.model.mesh.nodes.len(),
+            steps,
+            med,
+            1e9 / med,
+            median(&mut iface),
+            state_bytes(&sim) as f64 / elements as f64,
+            setup
+        );
+    }
+    Ok(())
+}

@@ -42,7 +42,11 @@ pub struct RunSummary {
 
 impl RunSummary {
     /// Collects the summary of `sim` after a run that took `wall_seconds` in all.
-    pub fn new(sim: &Simulation, wall_seconds: f64, error: Option<&crate::solver::SolverError>) -> Self {
+    pub fn new(
+        sim: &Simulation,
+        wall_seconds: f64,
+        error: Option<&crate::solver::SolverError>,
+    ) -> Self {
         let step_wall = sim.stats.steps_wall.as_secs_f64();
         let el_steps = sim.element_steps() as f64;
         let status = match error {
@@ -66,8 +70,16 @@ impl RunSummary {
             simulated_time: sim.time,
             wall_seconds,
             step_wall_seconds: step_wall,
-            element_steps_per_second: if step_wall > 0.0 { el_steps / step_wall } else { 0.0 },
-            ns_per_element_step: if el_steps > 0.0 { step_wall * 1e9 / el_steps } else { 0.0 },
+            element_steps_per_second: if step_wall > 0.0 {
+                el_steps / step_wall
+            } else {
+                0.0
+            },
+            ns_per_element_step: if el_steps > 0.0 {
+                step_wall * 1e9 / el_steps
+            } else {
+                0.0
+            },
             peak_reactions: sim.stats.peaks.clone(),
             time_first_damage: sim.stats.time_first_damage,
             time_full_rupture: sim.stats.time_full_rupture,
@@ -85,8 +97,17 @@ impl RunSummary {
         let mut row = |k: &str, v: String| s.push_str(&format!("  {k:<28} {v}\n"));
         row("scene", self.scene.clone());
         row("status", self.status.clone());
-        row("mesh", format!("{} nodes, {} hex8, {} interface nodes", self.nodes, self.elements, self.interface_nodes));
-        row("steps", format!("{} to t = {:.5} s", self.steps, self.simulated_time));
+        row(
+            "mesh",
+            format!(
+                "{} nodes, {} hex8, {} interface nodes",
+                self.nodes, self.elements, self.interface_nodes
+            ),
+        );
+        row(
+            "steps",
+            format!("{} to t = {:.5} s", self.steps, self.simulated_time),
+        );
         row(
             "time step",
             format!(
@@ -98,21 +119,36 @@ impl RunSummary {
             "speed",
             format!(
                 "{:.1} ns/element-step, {:.3e} element-steps/s, {} threads, {:.3} s wall",
-                self.ns_per_element_step, self.element_steps_per_second, self.threads, self.wall_seconds
+                self.ns_per_element_step,
+                self.element_steps_per_second,
+                self.threads,
+                self.wall_seconds
             ),
         );
         for p in &self.peak_reactions {
             row(
                 &format!("peak reaction {} {}", p.faces, p.component),
-                format!("{:.5e} N at U = {:.5e} m (t = {:.5} s)", p.force, p.imposed_displacement, p.time),
+                format!(
+                    "{:.5e} N at U = {:.5e} m (t = {:.5} s)",
+                    p.force, p.imposed_displacement, p.time
+                ),
             );
         }
         row("first damage", opt(self.time_first_damage));
         row("full rupture", opt(self.time_full_rupture));
         let c = &self.final_counts;
-        row("interface nodes", format!("{} elastic, {} transition, {} ruptured", c.elastic, c.transition, c.ruptured));
+        row(
+            "interface nodes",
+            format!(
+                "{} elastic, {} transition, {} ruptured",
+                c.elastic, c.transition, c.ruptured
+            ),
+        );
         let e = &self.energies;
-        row("kinetic / strain", format!("{:.6e} J / {:.6e} J", e.kinetic, e.strain));
+        row(
+            "kinetic / strain",
+            format!("{:.6e} J / {:.6e} J", e.kinetic, e.strain),
+        );
         row("interface stored", format!("{:.6e} J", e.interface_stored));
         row(
             "dissipated",
@@ -124,7 +160,10 @@ impl RunSummary {
         row("external work", format!("{:.6e} J", e.external_work));
         row(
             "balance residual",
-            format!("{:.3e} J now, max relative {:.3e}", e.residual, self.max_relative_residual),
+            format!(
+                "{:.3e} J now, max relative {:.3e}",
+                e.residual, self.max_relative_residual
+            ),
         );
         if let Some(err) = &self.error {
             row("error", err.clone());

@@ -1,0 +1,66 @@
+//! Models built in code for the verification tests.
+#![allow(dead_code)]
+
+use decohesion::law::{LawFamily, StiffnessLaw};
+use decohesion::material::{Material, MaterialModel};
+use decohesion::mesh::Mesh;
+use decohesion::model::*;
+
+/// A box with no loads, no planes: the caller adds what the test needs.
+pub fn bare_box(size: [f64; 3], cells: [usize; 3], mat: Material, end_time: f64) -> Model {
+    Model {
+        name: "test".into(),
+        description: String::new(),
+        mesh: Mesh::boxed([0.0; 3], size, cells),
+        material: mat,
+        gravity: [0.0; 3],
+        initial_velocity: [0.0; 3],
+        planes: vec![],
+        interfaces: vec![],
+        contacts: vec![],
+        displacements: vec![],
+        tractions: vec![],
+        scheme: SchemeParams::default(),
+        end_time,
+    }
+}
+
+pub fn mould() -> RigidPlane {
+    RigidPlane {
+        name: "mould".into(),
+        point: [0.0; 3],
+        normal: [0.0, 0.0, 1.0],
+        velocity: None,
+    }
+}
+
+pub fn ramp(t_end: f64, u_end: f64) -> PiecewiseLinear<1> {
+    PiecewiseLinear {
+        points: vec![(0.0, [0.0]), (t_end, [u_end])],
+    }
+}
+
+/// The reference pull-off cube of PHYSICS.md §7 with `n` cells per side (same values as
+/// scenes/pull_off.toml).
+pub fn pull_off(n: usize, end_time: f64) -> Model {
+    let mut m = bare_box(
+        [1.0; 3],
+        [n, n, n],
+        Material::new(MaterialModel::Svk, 5e6, 0.45, 1100.0),
+        end_time,
+    );
+    m.gravity = [0.0, 0.0, -9.81];
+    m.planes.push(mould());
+    m.interfaces.push(Interface {
+        faces: "z-".into(),
+        plane: 0,
+        law: StiffnessLaw::new(LawFamily::PlateauLinear, 5e8, 2e-3, 4e-3).unwrap(),
+        mu_inf: 0.5,
+    });
+    m.displacements.push(PrescribedDisplacement {
+        faces: "z+".into(),
+        component: 2,
+        history: ramp(0.33, 0.33),
+    });
+    m
+}

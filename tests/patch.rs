@@ -1,0 +1,138 @@
+//! Patch tests (PHYSICS.md §2): a homogeneous deformation U = (F − I)X of a mesh with
+//! distorted elements must give the exact stress: zero force on interior nodes, and on the
+//! boundary the nodal forces of the constant first Piola stress P = F·S. A rigid rotation
+//! gives no force and no strain energy.
+
+use decohesion::material::{Material, MaterialModel};
+use decohesion::mesh::Mesh;
+use decohesion::solver::assemble_internal_forces;
+use nalgebra::{Matrix3, Rotation3, Vector3};
+
+/// A 3×3×3 box whose interior nodes are moved off the grid, so no two elements share a shape.
+fn distorted_mesh() -> Mesh {
+    let mut m = Mesh::boxed([0.0; 3], [1.0, 1.2, 0.9], [3, 3, 3]);
+    for (i, x) in m.nodes.iter_mut().enumerate() {
+        let interior = (1e-9..1.0 - 1e-9).contains(&x[0])
+            && (1e-9..1.2 - 1e-9).contains(&x[1])
+            && (1e-9..0.9 - 1e-9).contains(&x[2]);
+        if interior {
+            let s = (i as f64 * 0.7).sin();
+            x[0] += 0.06 * s;
+            x[1] -= 0.05 * (i as f64 * 1.3).cos();
+            x[2] += 0.04 * s * s;
+        }
+    }
+    m
+}
+
+fn forces(mesh: &Mesh, mat: &Material, f_def: &Matrix3<f64>) -> (Vec<[f64; 3]>, f64) {
+    let classes = mesh.element_classes().unwrap();
+    let colours = mesh.colour_elements();
+    let u: Vec<[f64; 3]> = mesh
+        .nodes
+        .iter()
+        .map(|x| {
+            let d = (f_def - Matrix3::identity()) * Vector3::from(*x);
+            [d[0], d[1], d[2]]
+        })
+        .collect();
+    let mut f = vec![[0.0; 3]; u.len()];
+    let (psi, min_j, _) =
+        assemble_internal_forces(mesh, &classes, &colours, mat, &u, &mut f, true, false);
+    assert!((min_j - f_def.determinant()).abs() < 1e-10);
+    (f, psi)
+}
+
+fn check_patch(f_def: Matrix3<f64>) {
+    let mesh = distorted_mesh();
+    let volume = 1.0 * 1.2 * 0.9;
+    for model in [MaterialModel::Svk, MaterialModel::NeoHookean] {
+        let mat = Material::new(model, 5e6, 0.45, 1100.0);
+        let (f, psi) = forces(&mesh, &mat, &f_def);
+        let (s, psi_exact) = mat.stress_energy(&f_def);
+        let p = f_def * s;
+        let scale = p.abs().max() * 1.0 + 1.0;
+        // Energy: ψ × volume, exact up to round-off (relative 1e-12).
+        assert!(
+            (psi - psi_exact * volume).abs() <= 1e-12 * (psi_exact * volume).abs().max(1.0),
+            "{model:?}"
+        );
+        // Interior nodes: Σ over the surrounding elements cancels exactly for a constant P.
+        // Round-off of a sum of ~8 forces of size |P|·area: 1e-9 relative is generous.
+        for (i, x) in mesh.nodes.iter().enumerate() {
+            let on_boundary = x[0].abs() < 1e-12
+                || (x[0] - 1.0).abs() < 1e-12
+                || x[1].abs() < 1e-12
+                || (x[1] - 1.2).abs() < 1e-12
+                || x[2].abs() < 1e-12
+                || (x[2] - 0.9).abs() < 1e-12;
+            if !on_boundary {
+                for c in 0..3 {
+                    assert!(
+                        f[i][c].abs() <= 1e-9 * scale,
+                        "{model:?}: interior node {i} force {:?}",
+                        f[i]
+                    );
+                }
+            }
+        }
+        // Virtual work of any homogeneous δu = G X: Σ_a f_a·(G X_a) = V P:G (exact for constant P).
+        let g = Matrix3::new(0.3, -1.0, 0.2, 0.5, 0.1, -0.7, 0.4, 0.9, -0.2);
+        let vw: f64 = mesh
+            .nodes
+            .iter()
+            .zip(&f)
+            .map(|(x, fa)| {
+                let d = g * Vector3::from(*x);
+                fa[0] * d[0] + fa[1] * d[1] + fa[2] * d[2]
+            })
+            .sum();
+        let expect = volume * p.component_mul(&g).sum();
+        assert!(
+            (vw - expect).abs() <= 1e-10 * expect.abs().max(scale),
+            "{model:?}: virtual work {vw} vs V P:G = {expect}"
+        );
+    }
+}
+
+#[test]
+fn homogeneous_stretch() {
+    check_patch(Matrix3::new(1.3, 0.0, 0.0, 0.0, 0.9, 0.0, 0.0, 0.0, 1.05));
+}
+
+#[test]
+fn homogeneous_shear() {
+    check_patch(Matrix3::new(1.0, 0.4, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0));
+}
+
+#[test]
+fn large_rotation_gives_no_stress() {
+    let r = Rotation3::from_axis_angle(
+        &nalgebra::Unit::new_normalize(Vector3::new(1.0, 2.0, -0.5)),
+        1.7,
+    );
+    let mesh = distorted_mesh();
+    for model in [MaterialModel::Svk, MaterialModel::NeoHookean] {
+        let mat = Material::new(model, 5e6, 0.45, 1100.0);
+        let (f, psi) = forces(&mesh, &mat, r.matrix());
+        // Objectivity: E = 0 up to round-off, so |f| ≲ 1e-15·E·area; ψ is a cancellation of
+        // O(1) terms (tr C − 3 for neo-Hookean): a few ulps times E·V, hence 1e-13·E·V.
+        let fmax = f.iter().flatten().fold(0.0f64, |m, v| m.max(v.abs()));
+        assert!(
+            fmax <= 1e-8 * mat.young * 0.1,
+            "{model:?}: max force {fmax}"
+        );
+        assert!(
+            psi.abs() <= 1e-13 * mat.young * 1.08,
+            "{model:?}: energy {psi}"
+        );
+        // A rotated stretch gives the rotated stress: P(RF) = R P(F).
+        let fs = Matrix3::new(1.2, 0.1, 0.0, 0.0, 0.95, 0.05, 0.0, 0.0, 1.1);
+        let (s1, _) = mat.stress_energy(&fs);
+        let (s2, _) = mat.stress_energy(&(r.matrix() * fs));
+        assert!(
+            (s1 - s2).abs().max() <= 1e-10 * s1.abs().max(),
+            "{model:?}: S not invariant"
+        );
+    }
+}

@@ -1,0 +1,114 @@
+//! The reference pull-off test (PHYSICS.md §7) from scenes/pull_off.toml: full rupture at about
+//! a third of the run, a free cube afterwards, a ledger that closes, and its residual falling as
+//! h² (PHYSICS.md §5).
+
+use decohesion::scene::load_scene;
+use decohesion::solver::Simulation;
+
+fn run(overrides: &[&str]) -> Simulation {
+    let set: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
+    let scene = load_scene("scenes/pull_off.toml".as_ref(), &set).unwrap();
+    let mut sim = Simulation::new(scene.model).unwrap();
+    sim.run(|_| true).unwrap();
+    sim
+}
+
+#[test]
+fn pull_off_tears_off_at_a_third_and_the_ledger_closes() {
+    let sim = run(&[]);
+    let end = sim.model.end_time;
+    let n_itf = sim.interface_nodes.len();
+    assert_eq!(n_itf, 64);
+    // Paper fig. 6: the whole interface is damaged at about a third of the simulated time.
+    let t_rupture = sim
+        .stats
+        .time_full_rupture
+        .expect("the interface must tear off");
+    assert!(
+        (0.25 * end..0.45 * end).contains(&t_rupture),
+        "full rupture at {t_rupture} s of {end} s"
+    );
+    let t_damage = sim.stats.time_first_damage.unwrap();
+    assert!(t_damage < t_rupture);
+    assert_eq!(sim.state_counts().ruptured, n_itf);
+    // The cube then moves freely: positive gap everywhere at the end.
+    for itf in &sim.interface_nodes {
+        assert!(
+            itf.gap > 0.0,
+            "node {} still touches the mould (gap {})",
+            itf.node,
+            itf.gap
+        );
+    }
+    // The pull-off force: the interface carries at most T_max × area = 1 MN; the edges tear
+    // first, so the peak is lower, and it must be far above gravity (ρ g V = 10.8 kN).
+    let peak = &sim.stats.peaks[0];
+    assert!(
+        peak.force > 1e5 && peak.force < 1.0e6,
+        "peak {}",
+        peak.force
+    );
+    assert!(peak.time < t_rupture);
+    // Dissipation by damage: every node ruptured, so Σ W G_c = 2333 J up to the discrete
+    // rupture steps (error O(h): 4.9 % at factor 0.5, 1.1 % at 0.25 measured).
+    let gc_area = sim.model.interfaces[0].law.fracture_energy() * 1.0;
+    let d = sim.ledger.damage_dissipated;
+    assert!(
+        d >= 0.99 * gc_area && d <= 1.08 * gc_area,
+        "damage dissipation {d} vs G_c·A {gc_area}"
+    );
+    // PHYSICS.md §5: an exact ledger is ~1e-5..1e-4 here; 0.5 % would be a bug.
+    assert!(
+        sim.ledger.max_relative_residual < 1e-3,
+        "residual {}",
+        sim.ledger.max_relative_residual
+    );
+}
+
+#[test]
+fn balance_residual_falls_as_h_squared() {
+    // Fixed step (no re-estimate) so only h changes between the runs.
+    let a = run(&[
+        "scheme.time_step_factor=0.5",
+        "scheme.h_crit_update_interval=0",
+    ]);
+    let b = run(&[
+        "scheme.time_step_factor=0.25",
+        "scheme.h_crit_update_interval=0",
+    ]);
+    let (ra, rb) = (
+        a.ledger.max_relative_residual,
+        b.ledger.max_relative_residual,
+    );
+    // Second order: ratio 4 in theory; measured 3.7. Below 2.8 the ledger has an O(h) leak.
+    assert!(
+        ra / rb > 2.8,
+        "residual {ra:e} at h, {rb:e} at h/2: ratio {}",
+        ra / rb
+    );
+}
+
+#[test]
+fn summaries_are_bit_identical_with_one_and_two_threads() {
+    // 14³ = 2744 elements: above the threshold where the element loop runs in parallel.
+    let go = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| {
+            let sim = run(&["mesh.cells=[14,14,14]", "end_time=0.03"]);
+            let e = sim.energies();
+            let alphas: Vec<u64> = sim
+                .interface_nodes
+                .iter()
+                .map(|i| i.alpha.to_bits())
+                .collect();
+            let u: Vec<u64> = sim.u.iter().flatten().map(|x| x.to_bits()).collect();
+            (format!("{e:?}"), alphas, u, sim.step_count)
+        })
+    };
+    let (one, two) = (go(1), go(2));
+    assert!(one.3 > 50);
+    assert_eq!(one, two);
+}
