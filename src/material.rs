@@ -110,21 +110,23 @@ pub fn element_forces<const ENERGY: bool, const FMA: bool>(
     u: &[[f64; 3]; 8],
     f: &mut [[f64; 3]; 8],
 ) -> (f64, f64) {
-    // F = I + Σ_a u_a ⊗ ∇N_a.
-    let mut ff: Lanes = [[[0.0; 8]; 3]; 3];
-    for i in 0..3 {
-        for q in 0..8 {
-            ff[i][i][q] = 1.0;
-        }
-    }
+    // H = ∂U/∂X = Σ_a u_a ⊗ ∇N_a (F = I + H). Strains are formed from H, not from FᵀF − I,
+    // so small strains keep full relative precision.
+    let mut hh: Lanes = [[[0.0; 8]; 3]; 3];
     for a in 0..8 {
         for i in 0..3 {
             let ua = u[a][i];
             for j in 0..3 {
                 for q in 0..8 {
-                    ff[i][j][q] = fmadd::<FMA>(ua, gd.grad[a][j][q], ff[i][j][q]);
+                    hh[i][j][q] = fmadd::<FMA>(ua, gd.grad[a][j][q], hh[i][j][q]);
                 }
             }
+        }
+    }
+    let mut ff: Lanes = hh;
+    for i in 0..3 {
+        for q in 0..8 {
+            ff[i][i][q] += 1.0;
         }
     }
     // J = det F (inversion check for both models).
@@ -143,15 +145,15 @@ pub fn element_forces<const ENERGY: bool, const FMA: bool>(
     let (lam, mu) = (mat.lambda, mat.mu);
     match mat.model {
         MaterialModel::Svk => {
-            // E = ½(FᵀF − I), S = λ tr E I + 2μ E, P = F S.
+            // E = ½(H + Hᵀ + HᵀH) = ½(FᵀF − I), S = λ tr E I + 2μ E, P = F S = S + H S.
             let mut e: Lanes = [[[0.0; 8]; 3]; 3];
             for i in 0..3 {
                 for j in i..3 {
                     for q in 0..8 {
-                        let c = ff[0][i][q] * ff[0][j][q]
-                            + ff[1][i][q] * ff[1][j][q]
-                            + ff[2][i][q] * ff[2][j][q];
-                        e[i][j][q] = 0.5 * (c - if i == j { 1.0 } else { 0.0 });
+                        let c = hh[0][i][q] * hh[0][j][q]
+                            + hh[1][i][q] * hh[1][j][q]
+                            + hh[2][i][q] * hh[2][j][q];
+                        e[i][j][q] = 0.5 * ((hh[i][j][q] + hh[j][i][q]) + c);
                     }
                 }
             }
@@ -181,9 +183,12 @@ pub fn element_forces<const ENERGY: bool, const FMA: bool>(
             for i in 0..3 {
                 for j in 0..3 {
                     for q in 0..8 {
-                        p[i][j][q] = ff[i][0][q] * s[0][j][q]
-                            + ff[i][1][q] * s[1][j][q]
-                            + ff[i][2][q] * s[2][j][q];
+                        p[i][j][q] = s[i][j][q]
+                            + fmadd::<FMA>(
+                                hh[i][2][q],
+                                s[2][j][q],
+                                fmadd::<FMA>(hh[i][1][q], s[1][j][q], hh[i][0][q] * s[0][j][q]),
+                            );
                     }
                 }
             }
@@ -231,9 +236,15 @@ pub fn element_forces<const ENERGY: bool, const FMA: bool>(
         for i in 0..3 {
             let mut acc = [0.0; 8];
             for q in 0..8 {
-                acc[q] = p[i][0][q] * gd.wgrad[a][0][q]
-                    + p[i][1][q] * gd.wgrad[a][1][q]
-                    + p[i][2][q] * gd.wgrad[a][2][q];
+                acc[q] = fmadd::<FMA>(
+                    p[i][2][q],
+                    gd.wgrad[a][2][q],
+                    fmadd::<FMA>(
+                        p[i][1][q],
+                        gd.wgrad[a][1][q],
+                        p[i][0][q] * gd.wgrad[a][0][q],
+                    ),
+                );
             }
             f[a][i] =
                 ((acc[0] + acc[1]) + (acc[2] + acc[3])) + ((acc[4] + acc[5]) + (acc[6] + acc[7]));
