@@ -6,6 +6,11 @@
 //! Usable as a library: `Scene -> Model -> Simulation::step()`. The physics modules know nothing
 //! of the command line or of any viewer.
 
+// Index loops over tensor components and Gauss lanes read like the equations they implement.
+#![allow(clippy::needless_range_loop)]
+// `!(x > 0.0)` is used on purpose: it is also true for NaN, which must be caught.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 pub mod energy;
 pub mod law;
 pub mod material;

@@ -237,6 +237,9 @@ struct SendPtr(*mut [f64; 3]);
 unsafe impl Send for SendPtr {}
 unsafe impl Sync for SendPtr {}
 
+/// One chunk of the node loop: (velocities, internal forces), (masses, inverse masses).
+type NodeChunk<'a> = ((&'a mut [[f64; 3]], &'a [[f64; 3]]), (&'a [f64], &'a [f64]));
+
 /// Partial sums of the node loop (stage 5), reduced in a fixed order.
 #[derive(Default, Clone, Copy)]
 struct NodeSums {
@@ -851,32 +854,31 @@ impl Simulation {
         //    halves b = ½V_old·P and a = ½V_free·P for the internal and gravity impulses.
         let g = self.model.gravity;
         let t5 = Instant::now();
-        let body =
-            |((v, f), (m, im)): ((&mut [[f64; 3]], &[[f64; 3]]), (&[f64], &[f64]))| -> NodeSums {
-                let mut s = NodeSums::default();
-                for i in 0..v.len() {
-                    let vo = v[i];
-                    let pi = [-h_bar * f[i][0], -h_bar * f[i][1], -h_bar * f[i][2]];
-                    let pg = [
-                        h_bar * m[i] * g[0],
-                        h_bar * m[i] * g[1],
-                        h_bar * m[i] * g[2],
-                    ];
-                    let vn = [
-                        vo[0] + (pi[0] + pg[0]) * im[i],
-                        vo[1] + (pi[1] + pg[1]) * im[i],
-                        vo[2] + (pi[2] + pg[2]) * im[i],
-                    ];
-                    s.kinetic += 0.5 * m[i] * dot(vo, vn);
-                    s.kinetic_half += 0.5 * m[i] * dot(vn, vn);
-                    s.int_b += 0.5 * dot(vo, pi);
-                    s.int_a += 0.5 * dot(vn, pi);
-                    s.grav_b += 0.5 * dot(vo, pg);
-                    s.grav_a += 0.5 * dot(vn, pg);
-                    v[i] = vn;
-                }
-                s
-            };
+        let body = |((v, f), (m, im)): NodeChunk| -> NodeSums {
+            let mut s = NodeSums::default();
+            for i in 0..v.len() {
+                let vo = v[i];
+                let pi = [-h_bar * f[i][0], -h_bar * f[i][1], -h_bar * f[i][2]];
+                let pg = [
+                    h_bar * m[i] * g[0],
+                    h_bar * m[i] * g[1],
+                    h_bar * m[i] * g[2],
+                ];
+                let vn = [
+                    vo[0] + (pi[0] + pg[0]) * im[i],
+                    vo[1] + (pi[1] + pg[1]) * im[i],
+                    vo[2] + (pi[2] + pg[2]) * im[i],
+                ];
+                s.kinetic += 0.5 * m[i] * dot(vo, vn);
+                s.kinetic_half += 0.5 * m[i] * dot(vn, vn);
+                s.int_b += 0.5 * dot(vo, pi);
+                s.int_a += 0.5 * dot(vn, pi);
+                s.grav_b += 0.5 * dot(vo, pg);
+                s.grav_a += 0.5 * dot(vn, pg);
+                v[i] = vn;
+            }
+            s
+        };
         let grain = NODE_GRAIN;
         let parts: Vec<NodeSums> = if self.parallel {
             self.v
@@ -1297,7 +1299,7 @@ impl Simulation {
     /// would buy little speed for that cost, so it is not done.
     fn next_time_step(&mut self) -> f64 {
         let every = self.model.scheme.h_crit_update_interval as u64;
-        if every == 0 || self.step_count % every != 0 {
+        if every == 0 || !self.step_count.is_multiple_of(every) {
             return self.h;
         }
         let warm = std::mem::take(&mut self.ritz_vector);
