@@ -116,8 +116,8 @@ impl Ledger {
     /// Updates the dissipations from the contact works, the scale and the max relative residual;
     /// called once per step after every term is in.
     pub fn close_step(&mut self) {
-        self.contact_normal_dissipated = -self.contact_normal_work.value;
-        self.friction_dissipated = -self.contact_tangential_work.value;
+        self.contact_normal_dissipated = 0.0 - self.contact_normal_work.value;
+        self.friction_dissipated = 0.0 - self.contact_tangential_work.value;
         let terms = [
             self.kinetic,
             self.strain,

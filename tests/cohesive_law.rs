@@ -69,10 +69,10 @@ fn pull(law: StiffnessLaw) {
         "{:?}: max traction error {worst:.2e} T_max, dissipated {d:.6} J vs G_c·A {gc:.6} J",
         law.family
     );
-    // The last step before rupture is integrated by the trapezoid rule: relative error of the
-    // order of one step of opening over u_r (speed·h/u_r ≈ 1e-4) plus the start-up: 0.5 %.
+    // ΔD = ½(g_{n−1} − g_n)[u]_{n−1}·[u]_n sums to ∫½δ²(−g′)dδ = G_c up to O(v h / u_r) per
+    // step of opening (≈ 1e-5 here): measured agreement 1e-7; 1e-4 is the defensible bound.
     assert!(
-        (d - gc).abs() < 5e-3 * gc,
+        (d - gc).abs() < 1e-4 * gc,
         "{:?}: dissipated {d} J vs G_c·A = {gc} J",
         law.family
     );
