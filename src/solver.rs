@@ -1262,6 +1262,15 @@ impl Simulation {
                 "negative damage dissipation increment ({worst:.3e} J): the jump turned by more than 90° in one step"
             )));
         }
+        // Contact dissipation is not ≥ 0 step by step with the trapezoid pairing (PHYSICS.md §5),
+        // but it must be cumulatively, to the ledger's own accuracy: 1e-3 of the largest energy.
+        let contact = l.contact_normal_dissipated + l.friction_dissipated;
+        if contact < -1e-3 * l.max_energy_seen.max(self.energy_floor) {
+            return Err(self.unstable(format!(
+                "the cumulative contact dissipation is negative ({contact:.3e} J, beyond 1e-3 of the largest energy {:.3e} J): contact is creating energy",
+                l.max_energy_seen
+            )));
+        }
         let limit = self.model.scheme.energy_growth_limit * self.energy_budget + self.energy_floor;
         if mech > limit {
             return Err(self.unstable(format!(
