@@ -1333,9 +1333,9 @@ impl Simulation {
     }
 
     /// Re-estimates h_crit every `h_crit_update_interval` steps and returns h_{n+3/2}.
-    /// The step only ever decreases: when stiffening makes factor × h_crit smaller than the
-    /// current step, h becomes 0.95 × factor × h_crit (the margin avoids a change at every
-    /// estimate). A change of step breaks the exact trapezoid pairing of the ledger for that one
+    /// The step only ever decreases: when stiffening makes the current step exceed
+    /// factor × h_crit by more than 5 %, h becomes 0.95 × factor × h_crit (the margins avoid a
+    /// change for estimate noise and at every estimate). A change of step breaks the exact trapezoid pairing of the ledger for that one
     /// step (the work pairs velocities of two different intervals); growing h after a softening
     /// would buy little speed for that cost, so it is not done.
     fn next_time_step(&mut self) -> f64 {
@@ -1348,7 +1348,7 @@ impl Simulation {
         self.h_crit = est.h_crit;
         self.stats.h_crit_min = self.stats.h_crit_min.min(est.h_crit);
         let target = self.model.scheme.time_step_factor * est.h_crit;
-        if target < self.h {
+        if self.h > 1.05 * target {
             0.95 * target
         } else {
             self.h
