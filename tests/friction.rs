@@ -14,8 +14,9 @@
 //!     T/M − μg (the test that (b) would fail if the friction were unbounded).
 
 use decohesion::material::{Material, MaterialModel};
-use decohesion::mesh::Mesh;
-use decohesion::model::{ContactFaces, Model, PiecewiseLinear, RigidPlane, SchemeParams, Traction};
+mod common;
+use common::on_floor;
+use decohesion::model::{Model, PiecewiseLinear, Traction};
 use decohesion::solver::{ContactStatus, Simulation};
 
 const E: f64 = 2.0e11;
@@ -27,30 +28,15 @@ const MU: f64 = 0.3;
 const G: f64 = 9.81;
 
 fn block(end_time: f64) -> Model {
-    Model {
-        name: "block".into(),
-        description: "steel cube on a rigid plane with Coulomb friction".into(),
-        mesh: Mesh::boxed([0.0; 3], [SIZE; 3], [CELLS; 3]),
-        material: Material::new(MaterialModel::Svk, E, 0.0, RHO),
-        gravity: [0.0, 0.0, -G],
-        initial_velocity: [0.0; 3],
-        planes: vec![RigidPlane {
-            name: "floor".into(),
-            point: [0.0; 3],
-            normal: [0.0, 0.0, 1.0],
-            velocity: None,
-        }],
-        interfaces: vec![],
-        contacts: vec![ContactFaces {
-            faces: "z-".into(),
-            plane: 0,
-            mu: MU,
-        }],
-        displacements: vec![],
-        tractions: vec![],
-        scheme: SchemeParams::default(),
+    let mut m = on_floor(
+        [SIZE; 3],
+        [CELLS; 3],
+        Material::new(MaterialModel::Svk, E, 0.0, RHO),
+        MU,
         end_time,
-    }
+    );
+    m.gravity = [0.0, 0.0, -G];
+    m
 }
 
 /// The static state under gravity (see the header).

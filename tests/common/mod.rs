@@ -64,3 +64,19 @@ pub fn pull_off(n: usize, end_time: f64) -> Model {
     });
     m
 }
+
+/// A box resting on a fixed floor (the plane z = 0) through unilateral contact with Coulomb
+/// friction μ on its `z-` face, no glue.
+pub fn on_floor(size: [f64; 3], cells: [usize; 3], mat: Material, mu: f64, end_time: f64) -> Model {
+    let mut m = bare_box(size, cells, mat, end_time);
+    m.planes.push(RigidPlane {
+        name: "floor".into(),
+        ..mould()
+    });
+    m.contacts.push(ContactFaces {
+        faces: "z-".into(),
+        plane: 0,
+        mu,
+    });
+    m
+}
