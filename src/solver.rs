@@ -121,6 +121,25 @@ struct BoundaryNode {
 }
 const NONE: u16 = u16::MAX;
 
+/// Per-step values of the planes, prescribed conditions and tractions, computed once per step
+/// (not per node) into buffers that are reused, so the step allocates nothing after the first.
+#[derive(Debug, Clone, Default)]
+struct StepScratch {
+    /// Plane displacement d(tₙ₊₁) and the round-off tolerance of its gaps.
+    plane_disp: Vec<[f64; 3]>,
+    plane_tol: Vec<f64>,
+    /// Plane velocity over the interval just taken and the next one.
+    plane_v_old: Vec<[f64; 3]>,
+    plane_v_new: Vec<[f64; 3]>,
+    /// Prescribed velocity of each condition over the next interval, whether it jumps here,
+    /// and its reaction force.
+    bc_velocity: Vec<f64>,
+    bc_jump: Vec<bool>,
+    reactions: Vec<f64>,
+    /// Amplitude of each traction at tₙ₊₁.
+    amplitudes: Vec<f64>,
+}
+
 /// Wall time spent in each stage of the step (rapier-style counters).
 #[derive(Debug, Clone, Default, Serialize)]
 pub struct StageTimes {
@@ -211,6 +230,7 @@ pub struct Simulation {
     boundary_tractions: Vec<(u16, [f64; 3])>,
     /// Boundary velocity before the step V_{n−½}, kept for the ledger.
     scratch_v_old: Vec<[f64; 3]>,
+    scratch: StepScratch,
     /// Current time tₙ [s] and step count n.
     pub time: f64,
     pub step_count: u64,
@@ -588,6 +608,7 @@ impl Simulation {
             interface_nodes,
             contact_nodes,
             scratch_v_old: vec![[0.0; 3]; boundary.len()],
+            scratch: StepScratch::default(),
             boundary,
             boundary_interfaces,
             boundary_contacts,
@@ -795,17 +816,19 @@ impl Simulation {
     fn update_interface_kinematics(&mut self) {
         let t = self.time;
         let planes = &self.model.planes;
-        let disp: Vec<[f64; 3]> = planes.iter().map(|p| p.displacement(t)).collect();
-        let tol: Vec<f64> = planes
-            .iter()
-            .zip(&disp)
-            .map(|(p, d)| {
+        let sc = &mut self.scratch;
+        sc.plane_disp.clear();
+        sc.plane_disp
+            .extend(planes.iter().map(|p| p.displacement(t)));
+        sc.plane_tol.clear();
+        sc.plane_tol
+            .extend(planes.iter().zip(&sc.plane_disp).map(|(p, d)| {
                 let scale = (0..3).fold(self.coordinate_scale, |a, c| {
                     a.max(p.point[c].abs()).max((p.point[c] + d[c]).abs())
                 });
                 16.0 * f64::EPSILON * scale
-            })
-            .collect();
+            }));
+        let (disp, tol) = (&sc.plane_disp, &sc.plane_tol);
         let snap = |g: f64, tol: f64| if g.abs() <= tol { 0.0 } else { g };
         let nodes = &self.model.mesh.nodes;
         for itf in self.interface_nodes.iter_mut() {
@@ -939,36 +962,50 @@ impl Simulation {
         let t = self.time;
         let t_next = t + h_next;
         let planes = &self.model.planes;
-        let plane_v_old: Vec<[f64; 3]> = planes
-            .iter()
-            .map(|p| {
-                let h = self.h;
-                if first || h <= 0.0 {
-                    [0.0; 3]
-                } else {
-                    let (a, b) = (p.displacement(t - h), p.displacement(t));
-                    std::array::from_fn(|c| (b[c] - a[c]) / h)
-                }
-            })
-            .collect();
-        let plane_v_new: Vec<[f64; 3]> = planes
-            .iter()
-            .map(|p| {
-                let (a, b) = (p.displacement(t), p.displacement(t_next));
-                std::array::from_fn(|c| (b[c] - a[c]) / h_next)
-            })
-            .collect();
+        let h_prev = self.h;
+        let sc = &mut self.scratch;
+        sc.plane_v_old.clear();
+        sc.plane_v_old.extend(planes.iter().map(|p| {
+            if first || h_prev <= 0.0 {
+                [0.0; 3]
+            } else {
+                let (a, b) = (p.displacement(t - h_prev), p.displacement(t));
+                std::array::from_fn(|c| (b[c] - a[c]) / h_prev)
+            }
+        }));
+        sc.plane_v_new.clear();
+        sc.plane_v_new.extend(planes.iter().map(|p| {
+            let (a, b) = (p.displacement(t), p.displacement(t_next));
+            std::array::from_fn(|c| (b[c] - a[c]) / h_next)
+        }));
+        // 6. Prescribed velocity over the next interval, (Ū(tₙ₊₂) − Ū(tₙ₊₁))/h, and whether it
+        //    jumps here (then the reaction is that jump's impulse, not a force to report).
+        sc.bc_velocity.clear();
+        sc.bc_jump.clear();
+        for d in &self.model.displacements {
+            let u = |t: f64| d.history.value(t)[0];
+            let target = (u(t_next) - u(t)) / h_next;
+            let jump = first || {
+                let prev = (u(t) - u(t - h_prev)) / h_prev;
+                (target - prev).abs() > 1e-9 * (target.abs() + prev.abs())
+            };
+            sc.bc_velocity.push(target);
+            sc.bc_jump.push(jump);
+        }
+        sc.reactions.clear();
+        sc.reactions.resize(self.model.displacements.len(), 0.0);
+        sc.amplitudes.clear();
+        sc.amplitudes.extend(
+            self.model
+                .tractions
+                .iter()
+                .map(|tr| tr.amplitude.value(t)[0]),
+        );
+        let (plane_v_old, plane_v_new) = (&sc.plane_v_old, &sc.plane_v_new);
+        let (reactions, amps) = (&mut sc.reactions, &sc.amplitudes);
         let (mut trac_b, mut trac_a, mut reac_b, mut reac_a, mut plane_b, mut plane_a) =
             (0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
         let (mut cn_b, mut cn_a, mut ct_b, mut ct_a) = (0.0, 0.0, 0.0, 0.0);
-        let mut reactions = vec![0.0; self.model.displacements.len()];
-        let mut jump_bc = vec![false; self.model.displacements.len()];
-        let amps: Vec<f64> = self
-            .model
-            .tractions
-            .iter()
-            .map(|tr| tr.amplitude.value(t)[0])
-            .collect();
         for (k, b) in self.boundary.iter().enumerate() {
             let i = b.node as usize;
             let (m, im) = (self.mass[i], self.inv_mass[i]);
@@ -1007,25 +1044,10 @@ impl Simulation {
                 let bc = b.prescribed[c];
                 if bc != NONE {
                     any_prescribed = true;
-                    let hist = &self.model.displacements[bc as usize].history;
-                    let target = (hist.value(t_next)[0] - hist.value(t)[0]) / h_next;
-                    v[c] = target;
+                    v[c] = sc.bc_velocity[bc as usize];
                     let p = m * (v[c] - v_free[c]);
                     reactions[bc as usize] += p / h_bar;
                     reac_b += 0.5 * vo[c] * p;
-                    // The prescribed velocity jumps here when it differs from the previous one.
-                    if !first
-                        && (target - vo[c]).abs() > 1e-9 * (target.abs() + vo[c].abs()) + 1e-300
-                    {
-                        let prev_target = (hist.value(t)[0] - hist.value(t - self.h)[0]) / self.h;
-                        if (target - prev_target).abs() > 1e-9 * (target.abs() + prev_target.abs())
-                        {
-                            jump_bc[bc as usize] = true;
-                        }
-                    }
-                    if first {
-                        jump_bc[bc as usize] = true;
-                    }
                 }
             }
             // 7. Contact, node by node in closed form (only on fully free nodes).
@@ -1046,7 +1068,6 @@ impl Simulation {
                         plane_v_new[spec.plane],
                         mu,
                         m,
-                        itf.area,
                     );
                     itf.contact_impulse = impulse.map(|c| c / itf.area.max(f64::MIN_POSITIVE));
                     itf.contact = status;
@@ -1066,7 +1087,6 @@ impl Simulation {
                         plane_v_new[cn.plane as usize],
                         cn.mu,
                         m,
-                        cn.area,
                     );
                     cn.contact_impulse = impulse.map(|c| c / cn.area.max(f64::MIN_POSITIVE));
                     cn.contact = status;
@@ -1144,14 +1164,15 @@ impl Simulation {
             }
         }
         // Reactions and their peaks (excluding steps where the prescribed velocity jumps).
-        for (k, r) in reactions.iter().enumerate() {
+        let sc = &self.scratch;
+        for (k, r) in sc.reactions.iter().enumerate() {
             self.stats.reactions[k] = *r;
             let peak = &mut self.stats.peaks[k];
             // The pull-off peak: once every interface has ruptured the body is free and the
             // reaction only measures its vibration.
             let before_rupture =
                 self.interface_nodes.is_empty() || self.stats.time_full_rupture.is_none();
-            if before_rupture && !jump_bc[k] && r.abs() > peak.force.abs() {
+            if before_rupture && !sc.bc_jump[k] && r.abs() > peak.force.abs() {
                 peak.force = *r;
                 peak.time = t;
                 peak.imposed_displacement = self.model.displacements[k].history.value(t)[0];
@@ -1193,7 +1214,6 @@ pub fn contact_impulse(
     v_plane: [f64; 3],
     mu: f64,
     m: f64,
-    area: f64,
 ) -> ([f64; 3], ContactStatus) {
     if gap > 0.0 {
         return ([0.0; 3], ContactStatus::Open);
@@ -1213,7 +1233,6 @@ pub fn contact_impulse(
         let s = mu * pn / vt_norm;
         (vt.map(|c| -s * c), ContactStatus::Slip)
     };
-    let _ = area;
     let p = [pn * n[0] + pt[0], pn * n[1] + pt[1], pn * n[2] + pt[2]];
     for c in 0..3 {
         v[c] += p[c] / m;
