@@ -4,7 +4,7 @@
 //! implements an equation names it.
 //!
 //! Usable as a library: `Scene -> Model -> Simulation::step()`. The physics modules know nothing
-//! of the command line or of any viewer.
+//! of the command line or of any viewer; `record` (Rerun) reads them and is read by none of them.
 
 // Index loops over tensor components and Gauss lanes read like the equations they implement.
 #![allow(clippy::needless_range_loop)]
@@ -16,6 +16,8 @@ pub mod law;
 pub mod material;
 pub mod mesh;
 pub mod model;
+/// Rerun recording (live or `.rrd`): reads a simulation, is not read by the physics.
+pub mod record;
 pub mod report;
 pub mod scene;
 pub mod solver;

@@ -2,11 +2,14 @@
 
 use anyhow::{bail, Context, Result};
 use clap::{Parser, Subcommand};
+use decohesion::record::{Cadence, Recorder, Sink};
 use decohesion::report::{state_bytes, RunSummary};
 use decohesion::scene::load_scene;
 use decohesion::solver::Simulation;
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
 use std::time::Instant;
 
 #[derive(Parser)]
@@ -38,6 +41,8 @@ enum Command {
         /// No progress output.
         #[arg(long)]
         quiet: bool,
+        #[command(flatten)]
+        record: RecordArgs,
     },
     /// Validate a scene without running it and print derived quantities.
     Check {
@@ -62,6 +67,61 @@ enum Command {
     },
 }
 
+/// Where and how often to record to Rerun (no flag: no recording).
+#[derive(clap::Args)]
+struct RecordArgs {
+    /// Record to this .rrd file (open it with `rerun FILE.rrd`). Complete even when the run
+    /// fails or is cancelled with Ctrl-C.
+    #[arg(long, value_name = "FILE.rrd", group = "sink")]
+    save: Option<PathBuf>,
+    /// Start the Rerun viewer (`rerun` from PATH, listening on 127.0.0.1) and stream to it.
+    #[arg(long, group = "sink")]
+    spawn: bool,
+    /// Stream to a running Rerun viewer [default: rerun+http://127.0.0.1:9876/proxy].
+    #[arg(long, value_name = "URL", num_args = 0..=1, default_missing_value = "", group = "sink")]
+    connect: Option<String>,
+    /// Log a frame every N steps (1 = every step). Default: 200 frames over the scene's
+    /// end time.
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..), conflicts_with = "fps")]
+    every: Option<u64>,
+    /// Log F frames per second of simulated time.
+    #[arg(long, value_name = "F", value_parser = positive_f64, allow_negative_numbers = true)]
+    fps: Option<f64>,
+    /// Field that colours the surface: displacement (|U|, m), von_mises (Pa), jacobian (J).
+    #[arg(long, value_name = "FIELD", default_value = "displacement")]
+    colour: decohesion::record::ColourField,
+}
+
+fn positive_f64(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(v) if v.is_finite() && v > 0.0 => Ok(v),
+        Ok(v) => Err(format!("must be a finite number > 0 (got {v})")),
+        Err(e) => Err(format!("not a number: {e}")),
+    }
+}
+
+impl RecordArgs {
+    fn sink(&self) -> Option<Sink> {
+        if let Some(p) = &self.save {
+            Some(Sink::Save(p.clone()))
+        } else if self.spawn {
+            Some(Sink::Spawn)
+        } else {
+            self.connect
+                .as_ref()
+                .map(|u| Sink::Connect((!u.is_empty()).then(|| u.clone())))
+        }
+    }
+
+    fn cadence(&self) -> Cadence {
+        match (self.every, self.fps) {
+            (Some(n), _) => Cadence::EverySteps(n),
+            (None, Some(f)) => Cadence::PerSimSecond(f),
+            (None, None) => Cadence::Default,
+        }
+    }
+}
+
 fn main() {
     let cli = Cli::parse();
     if let Some(n) = cli.threads {
@@ -80,7 +140,8 @@ fn main() {
             set,
             summary,
             quiet,
-        } => run(&scene, &set, summary.as_deref(), quiet),
+            record,
+        } => run(&scene, &set, summary.as_deref(), quiet, &record),
         Command::Check { scene, set } => check(&scene, &set),
         Command::Bench {
             scene,
@@ -95,12 +156,42 @@ fn main() {
     }
 }
 
-fn run(path: &Path, set: &[String], summary_path: Option<&Path>, quiet: bool) -> Result<()> {
+fn run(
+    path: &Path,
+    set: &[String],
+    summary_path: Option<&Path>,
+    quiet: bool,
+    record: &RecordArgs,
+) -> Result<()> {
     let wall = Instant::now();
     let scene = load_scene(path, set)?;
     let end_time = scene.model.end_time;
-    let mut sim =
-        Simulation::new(scene.model).with_context(|| format!("setting up {}", path.display()))?;
+    let mut sim = Simulation::new(scene.model.clone())
+        .with_context(|| format!("setting up {}", path.display()))?;
+    let mut recorder = match record.sink() {
+        Some(sink) => Some(
+            Recorder::new(sink, &scene, &sim, record.cadence(), record.colour)
+                .context("starting the recording")?,
+        ),
+        None => None,
+    };
+    // Ctrl-C: stop after the current step, then write the recording and the summary.
+    let interrupted = Arc::new(AtomicBool::new(false));
+    {
+        let flag = interrupted.clone();
+        let _ = ctrlc::set_handler(move || {
+            if flag.swap(true, Ordering::SeqCst) {
+                // Second Ctrl-C: leave now (a recording then lacks its footer).
+                std::process::exit(130);
+            }
+        });
+    }
+    let mut record_error = None;
+    if let Some(r) = recorder.as_mut() {
+        if let Err(e) = r.frame(&sim) {
+            record_error = Some(e);
+        }
+    }
     let expected = (end_time / sim.h).ceil() as u64;
     let tty = std::io::stderr().is_terminal() && !quiet;
     let bar = if tty {
@@ -128,6 +219,14 @@ fn run(path: &Path, set: &[String], summary_path: Option<&Path>, quiet: bool) ->
     }
     let mut next_line = 0.1;
     let outcome = sim.run(|s| {
+        if let Some(r) = recorder.as_mut() {
+            if record_error.is_none() {
+                if let Err(e) = r.on_step(s) {
+                    record_error = Some(e);
+                    return false;
+                }
+            }
+        }
         if let Some(pb) = &bar {
             if s.step_count % 16 == 0 {
                 pb.set_position(s.step_count);
@@ -152,17 +251,31 @@ fn run(path: &Path, set: &[String], summary_path: Option<&Path>, quiet: bool) ->
                 s.ledger.relative_residual()
             );
         }
-        true
+        !interrupted.load(Ordering::SeqCst)
     });
     if let Some(pb) = bar {
         pb.finish_and_clear();
     }
-    let summary = RunSummary::new(&sim, wall.elapsed().as_secs_f64(), outcome.as_ref().err());
+    let recording = match recorder {
+        Some(r) => match r.finish(&sim, outcome.as_ref().err()) {
+            Ok(rep) => Some(rep),
+            Err(e) => {
+                record_error.get_or_insert(e);
+                None
+            }
+        },
+        None => None,
+    };
+    let mut summary = RunSummary::new(&sim, wall.elapsed().as_secs_f64(), outcome.as_ref().err());
+    summary.recording = recording;
     println!("{}", summary.table());
     if let Some(p) = summary_path {
         let json = serde_json::to_string_pretty(&summary)?;
         std::fs::write(p, json)
             .with_context(|| format!("writing the summary to {}", p.display()))?;
+    }
+    if let Some(e) = record_error {
+        bail!(anyhow::Error::new(e).context("recording"));
     }
     if let Err(e) = outcome {
         bail!(e);

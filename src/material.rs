@@ -53,6 +53,16 @@ impl Material {
         ((self.lambda + 2.0 * self.mu) / self.density).sqrt()
     }
 
+    /// Von Mises equivalent of the Cauchy stress σ = J⁻¹ F S Fᵀ at one point,
+    /// σ_vm = √(3/2 s:s) with s = σ − ⅓ tr σ I [Pa] (post-processing only).
+    pub fn von_mises(&self, f: &Matrix3<f64>) -> f64 {
+        let (s, _) = self.stress_energy(f);
+        let j = f.determinant();
+        let sigma = f * s * f.transpose() / j;
+        let dev = sigma - Matrix3::identity() * (sigma.trace() / 3.0);
+        (1.5 * dev.component_mul(&dev).sum()).sqrt()
+    }
+
     /// Second Piola–Kirchhoff stress S(F) and energy density ψ(F) at one point (reference
     /// implementation used by tests and diagnostics; the time loop uses [`element_forces`]).
     pub fn stress_energy(&self, f: &Matrix3<f64>) -> (Matrix3<f64>, f64) {
@@ -263,6 +273,18 @@ pub fn element_forces<const ENERGY: bool, const FMA: bool>(
 mod tests {
     use super::*;
     use crate::mesh::{GaussData, HEX_CORNERS};
+
+    /// Von Mises: zero under a pure dilatation, √3 μ γ in small simple shear (to O(γ²)).
+    #[test]
+    fn von_mises_of_dilatation_and_shear() {
+        let mat = Material::new(MaterialModel::Svk, 5e6, 0.45, 1100.0);
+        assert!(mat.von_mises(&(Matrix3::identity() * 1.01)) < 1e-6 * mat.mu);
+        let gamma = 1e-5;
+        let mut f = Matrix3::identity();
+        f[(0, 1)] = gamma;
+        let expect = 3f64.sqrt() * mat.mu * gamma;
+        assert!((mat.von_mises(&f) - expect).abs() < 1e-4 * expect);
+    }
 
     /// Kernel against the pointwise reference on a homogeneous deformation of a distorted
     /// element: the nodal forces are Σ_q wdet P ∇N (checked through equilibrium of the sum and

@@ -368,6 +368,73 @@ impl Mesh {
     }
 
     /// Smallest edge length of the mesh [m] (for messages and scales).
+    /// Faces of the hexahedra that belong to one element only: the boundary of the body, each
+    /// quad ordered counter-clockwise seen from outside (outward normal), and the element it
+    /// belongs to. Used to draw the surface; not needed by the time loop.
+    pub fn boundary_faces(&self) -> Vec<([u32; 4], u32)> {
+        /// Local faces of a hexahedron, outward (see the module docs for the node order).
+        const FACES: [[usize; 4]; 6] = [
+            [0, 3, 2, 1],
+            [4, 5, 6, 7],
+            [0, 1, 5, 4],
+            [1, 2, 6, 5],
+            [2, 3, 7, 6],
+            [3, 0, 4, 7],
+        ];
+        let mut seen: HashMap<[u32; 4], (usize, [u32; 4], u32)> = HashMap::new();
+        for (e, conn) in self.elements.iter().enumerate() {
+            for f in FACES {
+                let quad = f.map(|a| conn[a]);
+                let mut key = quad;
+                key.sort_unstable();
+                seen.entry(key)
+                    .and_modify(|v| v.0 += 1)
+                    .or_insert((1, quad, e as u32));
+            }
+        }
+        let mut out: Vec<([u32; 4], u32)> = seen
+            .into_values()
+            .filter(|v| v.0 == 1)
+            .map(|v| (v.1, v.2))
+            .collect();
+        out.sort_unstable_by_key(|v| (v.1, v.0));
+        out
+    }
+
+    /// Deformation gradient F = I + Σₐ uₐ ⊗ ∇ₓNₐ at the centre (ξ = 0) of element `e`
+    /// (PHYSICS.md §2), for post-processing (von Mises stress, J) of a displacement field `u`.
+    pub fn centre_deformation_gradient(&self, e: usize, u: &[[f64; 3]]) -> [[f64; 3]; 3] {
+        let x = self.element_coords(e);
+        let d = shape_derivatives([0.0; 3]);
+        // J₀ = ∂X/∂ξ, then ∇ₓNₐ = J₀⁻ᵀ ∂Nₐ/∂ξ.
+        let mut j0 = nalgebra::Matrix3::<f64>::zeros();
+        for a in 0..8 {
+            for i in 0..3 {
+                for k in 0..3 {
+                    j0[(i, k)] += x[a][i] * d[a][k];
+                }
+            }
+        }
+        let inv_t = j0
+            .try_inverse()
+            .unwrap_or_else(|| nalgebra::Matrix3::from_element(f64::NAN))
+            .transpose();
+        let mut f = [[0.0; 3]; 3];
+        for (i, row) in f.iter_mut().enumerate() {
+            row[i] = 1.0;
+        }
+        for a in 0..8 {
+            let g = inv_t * nalgebra::Vector3::new(d[a][0], d[a][1], d[a][2]);
+            let ua = u[self.elements[e][a] as usize];
+            for i in 0..3 {
+                for j in 0..3 {
+                    f[i][j] += ua[i] * g[j];
+                }
+            }
+        }
+        f
+    }
+
     pub fn min_edge(&self) -> f64 {
         const EDGES: [(usize, usize); 12] = [
             (0, 1),
@@ -441,6 +508,53 @@ mod tests {
             for &e in c {
                 for &n in &m.elements[e as usize] {
                     assert!(seen.insert(n), "colour shares node {n}");
+                }
+            }
+        }
+    }
+
+    /// The boundary of an n₁×n₂×n₃ box has 2(n₁n₂ + n₂n₃ + n₁n₃) quads, each pointing away
+    /// from the centre of its element; F at the centre is exact for an affine field.
+    #[test]
+    fn boundary_faces_and_centre_gradient() {
+        let mut m = Mesh::boxed([0.0; 3], [1.0, 2.0, 3.0], [3, 4, 5]);
+        m.nodes[30][0] += 0.05; // a distorted interior node must not matter
+        let faces = m.boundary_faces();
+        assert_eq!(faces.len(), 2 * (3 * 4 + 4 * 5 + 3 * 5));
+        for (q, e) in &faces {
+            let c_face = q.iter().fold([0.0; 3], |acc, &n| {
+                let x = m.nodes[n as usize];
+                [
+                    acc[0] + x[0] / 4.0,
+                    acc[1] + x[1] / 4.0,
+                    acc[2] + x[2] / 4.0,
+                ]
+            });
+            let c_el = m.elements[*e as usize].iter().fold([0.0; 3], |acc, &n| {
+                let x = m.nodes[n as usize];
+                [
+                    acc[0] + x[0] / 8.0,
+                    acc[1] + x[1] / 8.0,
+                    acc[2] + x[2] / 8.0,
+                ]
+            });
+            assert!(dot(m.quad_normal(q), sub(c_face, c_el)) > 0.0);
+        }
+        let g = [[0.1, -0.02, 0.03], [0.05, 0.2, 0.0], [0.0, 0.01, -0.1]];
+        let u: Vec<[f64; 3]> = m
+            .nodes
+            .iter()
+            .map(|x| [dot(g[0], *x), dot(g[1], *x), dot(g[2], *x)])
+            .collect();
+        for e in [0, 17, 59] {
+            let f = m.centre_deformation_gradient(e, &u);
+            for i in 0..3 {
+                for j in 0..3 {
+                    let expect = g[i][j] + if i == j { 1.0 } else { 0.0 };
+                    assert!(
+                        (f[i][j] - expect).abs() < 1e-13,
+                        "F[{i}][{j}] of element {e}"
+                    );
                 }
             }
         }

@@ -38,6 +38,8 @@ pub struct RunSummary {
     pub energies: EnergySnapshot,
     pub max_relative_residual: f64,
     pub stage_seconds: StageTimes,
+    /// What went to Rerun, when the run was recorded.
+    pub recording: Option<crate::record::RecordingReport>,
 }
 
 impl RunSummary {
@@ -87,6 +89,7 @@ impl RunSummary {
             energies: sim.energies(),
             max_relative_residual: sim.ledger.max_relative_residual,
             stage_seconds: sim.stats.stage_times.clone(),
+            recording: None,
         }
     }
 
@@ -165,6 +168,21 @@ impl RunSummary {
                 e.residual, self.max_relative_residual
             ),
         );
+        if let Some(r) = &self.recording {
+            let size = r
+                .bytes
+                .map_or(String::new(), |b| format!(", {:.1} kB", b as f64 / 1e3));
+            let target = r.path.clone().unwrap_or_else(|| r.sink.clone());
+            row(
+                "recording",
+                format!(
+                    "{} frames to {target}{size}; logging {:.1} ms = {:.1} % of the solve",
+                    r.frames,
+                    1e3 * r.logging_seconds,
+                    100.0 * r.logging_seconds / self.step_wall_seconds.max(1e-12)
+                ),
+            );
+        }
         if let Some(err) = &self.error {
             row("error", err.clone());
         }

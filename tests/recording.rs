@@ -1,0 +1,330 @@
+//! Rerun captures as test artefacts: the command line records the pull-off scene to an `.rrd`
+//! file, and the file is read back with the SDK's chunk store (what the viewer loads).
+//! Cases: a completed run, an unstable run that fails mid-way, a run cancelled with Ctrl-C
+//! (SIGINT), and the errors of bad recording flags.
+
+use rerun::TimelineName;
+use rerun::{ChunkStore, ChunkStoreConfig};
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+const BIN: &str = env!("CARGO_BIN_EXE_decohesion");
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("decohesion-rec-{}-{name}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn decohesion(args: &[&str]) -> Output {
+    Command::new(BIN)
+        .args(args)
+        .output()
+        .expect("the decohesion binary runs")
+}
+
+/// The recording store of a capture (the file also holds a blueprint store).
+fn read_capture(path: &Path) -> ChunkStore {
+    let mut file = std::fs::File::open(path).unwrap();
+    let stores = ChunkStore::from_rrd_reader(&ChunkStoreConfig::DEFAULT, &mut file)
+        .unwrap_or_else(|e| panic!("{} does not read back: {e:#}", path.display()));
+    let mut recordings: Vec<ChunkStore> = stores
+        .into_values()
+        .filter(|s| s.id().is_recording())
+        .collect();
+    assert_eq!(recordings.len(), 1, "one run, one recording");
+    recordings.pop().unwrap()
+}
+
+/// Every row of a Scalars entity on the `step` timeline: step → values.
+fn scalars(store: &ChunkStore, entity: &str) -> BTreeMap<i64, Vec<f64>> {
+    let component = rerun::Scalars::descriptor_scalars().component;
+    let timeline = TimelineName::from_static_str("step");
+    let mut rows = BTreeMap::new();
+    for chunk in store.iter_physical_chunks() {
+        if chunk.entity_path().to_string() != entity {
+            continue;
+        }
+        for ((t, _), v) in chunk
+            .iter_component_indices(timeline, component)
+            .zip(chunk.iter_slices::<f64>(component))
+        {
+            rows.insert(t.as_i64(), v.to_vec());
+        }
+    }
+    rows
+}
+
+/// Steps at which an entity has a component.
+fn steps_with(store: &ChunkStore, entity: &str, component: rerun::ComponentIdentifier) -> Vec<i64> {
+    let timeline = TimelineName::from_static_str("step");
+    let mut steps = vec![];
+    for chunk in store.iter_physical_chunks() {
+        if chunk.entity_path().to_string() == entity {
+            steps.extend(
+                chunk
+                    .iter_component_indices(timeline, component)
+                    .map(|(t, _)| t.as_i64()),
+            );
+        }
+    }
+    steps.sort_unstable();
+    steps.dedup();
+    steps
+}
+
+fn summary(path: &Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+}
+
+fn positions() -> rerun::ComponentIdentifier {
+    rerun::Mesh3D::descriptor_vertex_positions().component
+}
+
+#[test]
+fn pull_off_capture_holds_every_frame_and_matches_the_summary() {
+    let dir = scratch("pull_off");
+    let rrd = dir.join("pull_off.rrd");
+    let json = dir.join("pull_off.json");
+    let out = decohesion(&[
+        "run",
+        "scenes/pull_off.toml",
+        "--quiet",
+        "--save",
+        rrd.to_str().unwrap(),
+        "--summary",
+        json.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let s = summary(&json);
+    let store = read_capture(&rrd);
+
+    let entities: Vec<String> = store
+        .all_entities_sorted()
+        .iter()
+        .map(|e| e.to_string())
+        .collect();
+    for expect in [
+        "/scene/file",
+        "/scene/resolved",
+        "/body/surface",
+        "/body/legend",
+        "/planes/mould",
+        "/interface",
+        "/interface/nodes",
+        "/interface/contact_status",
+        "/interface/cohesive_traction",
+        "/interface/contact_pressure",
+        "/interface/alpha",
+        "/interface/count",
+        "/energy",
+        "/balance/relative_residual",
+        "/reaction/z_plus_z",
+        "/imposed_displacement/z_plus_z",
+        "/plots/reaction_vs_displacement",
+        "/time_step",
+        "/timing",
+        "/body/colour_range",
+        "/law/z_minus/g_n",
+        "/law/z_minus/traction",
+        "/run/status",
+    ] {
+        assert!(
+            entities.iter().any(|e| e == expect),
+            "{expect} missing: {entities:?}"
+        );
+    }
+
+    // Frames: step 0, then the first step at or past each k·end_time/200, k = 1..200; the
+    // last one is the final step. 201 frames, each with positions and a row of every series.
+    let steps = s["steps"].as_i64().unwrap();
+    let frames = steps_with(&store, "/body/surface", positions());
+    assert_eq!(frames.len(), 201, "frames at steps {frames:?}");
+    assert_eq!(frames[0], 0);
+    assert_eq!(*frames.last().unwrap(), steps);
+    assert_eq!(s["recording"]["frames"].as_u64().unwrap(), 201);
+    // Counts: [elastic, transition, ruptured] at every frame.
+    let counts = scalars(&store, "/interface/count");
+    assert_eq!(
+        counts.keys().copied().collect::<Vec<_>>(),
+        frames,
+        "scalars at every frame"
+    );
+
+    // Last ruptured count = all 8×8 interface nodes; the counts always sum to 64.
+    let n_iface = s["interface_nodes"].as_u64().unwrap() as f64;
+    assert_eq!(n_iface, 64.0);
+    assert_eq!(counts.values().last().unwrap()[2], n_iface);
+    for (k, c) in &counts {
+        assert_eq!(c.iter().sum::<f64>(), n_iface, "step {k}");
+    }
+    // The paper's fig. 6 (right): all elastic at first, all ruptured at the end.
+    assert_eq!(counts[&0], vec![n_iface, 0.0, 0.0]);
+
+    // The final dissipated energy in the file is the summary's, to the last bit
+    // (energy instance 3 = damage_dissipated).
+    let energy = scalars(&store, "/energy");
+    assert_eq!(energy.values().last().unwrap().len(), 12);
+    let dissipated: Vec<f64> = energy.values().map(|v| v[3]).collect();
+    let expect = s["energies"]["damage_dissipated"].as_f64().unwrap();
+    assert_eq!(*dissipated.last().unwrap(), expect);
+    // And it never decreases (ΔD ≥ 0, PHYSICS.md §5).
+    assert!(dissipated.windows(2).all(|w| w[1] >= w[0]));
+
+    // α(t) of every node (64 ≤ 64): at the end all beyond u_r.
+    let alpha = scalars(&store, "/interface/alpha");
+    let a_end = alpha.values().last().unwrap();
+    assert_eq!(a_end.len(), 64);
+    assert!(a_end.iter().all(|&a| a >= 4.0e-3), "{a_end:?}");
+
+    // The recorder's own cost is reported.
+    let logging = s["recording"]["logging_seconds"].as_f64().unwrap();
+    assert!(logging > 0.0);
+    assert!(s["recording"]["bytes"].as_u64().unwrap() > 10_000);
+}
+
+#[test]
+fn unstable_run_still_leaves_a_readable_capture_ending_at_the_failing_step() {
+    let dir = scratch("unstable");
+    let rrd = dir.join("unstable.rrd");
+    let json = dir.join("unstable.json");
+    let out = decohesion(&[
+        "run",
+        "scenes/pull_off.toml",
+        "--quiet",
+        "--set",
+        "scheme.time_step_factor=1.1",
+        "--set",
+        "end_time=0.05",
+        "--every",
+        "5",
+        "--save",
+        rrd.to_str().unwrap(),
+        "--summary",
+        json.to_str().unwrap(),
+    ]);
+    assert!(!out.status.success(), "h = 1.1 h_crit must fail");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("h_crit"), "{stderr}");
+    let s = summary(&json);
+    assert_eq!(s["status"], "failed");
+    let failing_step = s["steps"].as_i64().unwrap();
+    assert!(failing_step > 0 && failing_step < 150);
+
+    let store = read_capture(&rrd);
+    let frames = steps_with(&store, "/body/surface", positions());
+    // Every 5th step, then the failing step itself.
+    let expect: Vec<i64> = (0..=failing_step)
+        .filter(|k| k % 5 == 0)
+        .chain((failing_step % 5 != 0).then_some(failing_step))
+        .collect();
+    assert_eq!(frames, expect);
+    let energy = scalars(&store, "/energy");
+    assert_eq!(*energy.keys().last().unwrap(), failing_step);
+    // The failure is in the file.
+    let status_component = rerun::TextDocument::descriptor_text().component;
+    assert_eq!(
+        steps_with(&store, "/run/status", status_component),
+        vec![failing_step]
+    );
+}
+
+#[test]
+fn ctrl_c_finishes_the_capture() {
+    let dir = scratch("sigint");
+    let rrd = dir.join("sigint.rrd");
+    let json = dir.join("sigint.json");
+    // A long run (14³ elements to t = 10 s, ~30 s alone) interrupted after 3 s.
+    let child = Command::new(BIN)
+        .args([
+            "run",
+            "scenes/pull_off.toml",
+            "--quiet",
+            "--set",
+            "mesh.cells=[14,14,14]",
+            "--set",
+            "end_time=10",
+            "--save",
+            rrd.to_str().unwrap(),
+            "--summary",
+            json.to_str().unwrap(),
+        ])
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(std::time::Duration::from_secs(3));
+    let kill = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(kill.success());
+    let out = child.wait_with_output().unwrap();
+    assert!(!out.status.success(), "a cancelled run is not a success");
+    let s = summary(&json);
+    assert_eq!(
+        s["status"],
+        "cancelled",
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let steps = s["steps"].as_i64().unwrap();
+    let store = read_capture(&rrd);
+    let frames = steps_with(&store, "/body/surface", positions());
+    assert_eq!(frames.first(), Some(&0));
+    assert_eq!(frames.last(), Some(&steps), "the last step is in the file");
+    assert_eq!(
+        frames.len() as u64,
+        s["recording"]["frames"].as_u64().unwrap()
+    );
+}
+
+#[test]
+fn bad_recording_flags_are_refused_with_the_admissible_values() {
+    for (args, expect) in [
+        (vec!["--every", "0"], "0"),
+        (vec!["--fps", "-3"], "> 0"),
+        (vec!["--fps", "nan"], "> 0"),
+        (
+            vec!["--colour", "rainbow"],
+            "displacement, von_mises, jacobian",
+        ),
+        (vec!["--every", "3", "--fps", "10"], "cannot be used with"),
+        (vec!["--save", "a.rrd", "--spawn"], "cannot be used with"),
+    ] {
+        let mut all = vec!["run", "scenes/pull_off.toml"];
+        all.extend(args.iter().copied());
+        let out = decohesion(&all);
+        assert!(!out.status.success(), "{args:?} accepted");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.contains(expect), "{args:?}: {err}");
+    }
+    // A file that cannot be created: named, and nothing else happens.
+    let out = decohesion(&[
+        "run",
+        "scenes/pull_off.toml",
+        "--save",
+        "/nonexistent-dir/x.rrd",
+    ]);
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("/nonexistent-dir/x.rrd"), "{err}");
+}
+
+#[test]
+fn spawn_without_a_viewer_says_how_to_install_it() {
+    let empty = scratch("nopath");
+    let out = Command::new(BIN)
+        .args(["run", "scenes/pull_off.toml", "--spawn"])
+        .env("PATH", &empty)
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("pip install rerun-sdk==0.36.3"), "{err}");
+}
