@@ -50,9 +50,10 @@ use crate::mesh::{cross, dot, norm, sub};
 use crate::model::Model;
 use crate::scene::Scene;
 use crate::solver::{ContactStatus, Simulation, SolverError, StageTimes, StateCounts};
+use rerun::blueprint::components::{PanelState, PlayState};
 use rerun::blueprint::{
-    Blueprint, Horizontal, Spatial2DView, Spatial3DView, Tabs, TextDocumentView, TimeSeriesView,
-    Vertical,
+    Blueprint, BlueprintPanel, Horizontal, SelectionPanel, Spatial2DView, Spatial3DView, Tabs,
+    TextDocumentView, TimePanel, TimeSeriesView, Vertical,
 };
 use rerun::external::arrow::array::{
     Array, FixedSizeListArray, Float32Array, Float64Array, ListArray, UInt16Array, UInt32Array,
@@ -527,6 +528,15 @@ pub fn default_blueprint() -> Blueprint {
         ])
         .into(),
     ]))
+    // Follow the run as it arrives (live), i.e. open a file at its last frame.
+    .with_time_panel(
+        TimePanel::new()
+            .with_timeline("sim_time")
+            .with_play_state(PlayState::Following)
+            .with_state(PanelState::Collapsed),
+    )
+    .with_blueprint_panel(BlueprintPanel::new().with_state(PanelState::Collapsed))
+    .with_selection_panel(SelectionPanel::new().with_state(PanelState::Collapsed))
 }
 
 /// The state of a simulation at one step, copied on the solver thread for the logger thread.
@@ -1053,8 +1063,10 @@ impl Logger {
         ]);
         rec.log_static("interface", &classes)
             .map_err(log_err("the annotation context"))?;
-        rec.log_static("contact", &classes)
-            .map_err(log_err("the annotation context"))?;
+        if !st.contact_nodes.is_empty() {
+            rec.log_static("contact", &classes)
+                .map_err(log_err("the annotation context"))?;
+        }
 
         // Styles that do not change: radii, arrow colours, curve labels.
         let r = self.point_radius;
@@ -1090,7 +1102,18 @@ impl Logger {
             ),
         ];
         for (path, style) in styles {
-            rec.log_static(path, style).map_err(log_err("a style"))?;
+            let used = if path.starts_with("contact/") {
+                !st.contact_nodes.is_empty()
+            } else if path.starts_with("plots/") {
+                !m.displacements.is_empty()
+            } else if path.starts_with("interface/") {
+                !st.interface_nodes.is_empty()
+            } else {
+                true
+            };
+            if used {
+                rec.log_static(path, style).map_err(log_err("a style"))?;
+            }
         }
 
         // Surface topology once; positions and colours per frame.
