@@ -12,6 +12,8 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 pub mod energy;
+/// The explorer window (egui): reads scenes, runs simulations on a thread; not used by the physics.
+pub mod gui;
 pub mod law;
 pub mod material;
 pub mod mesh;

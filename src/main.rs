@@ -50,6 +50,19 @@ enum Command {
         #[arg(long = "set", value_name = "KEY=VALUE")]
         set: Vec<String>,
     },
+    /// Open the explorer window: scene picker, law editor with live curves, runs on a background
+    /// thread streamed to the Rerun viewer, run history.
+    Gui {
+        /// Scene to open (default: the last one used, or scenes/pull_off.toml).
+        scene: Option<PathBuf>,
+        /// Start a run as soon as the window opens (for demos and scripted screenshots).
+        #[arg(long)]
+        run_on_start: bool,
+        /// Where runs are recorded: viewer (spawn/reuse the Rerun viewer), file (out/gui/*.rrd)
+        /// or off [default: the last choice, initially viewer].
+        #[arg(long, value_name = "WHERE", value_parser = ["viewer", "file", "off"])]
+        record: Option<String>,
+    },
     /// Measure ns per element-step on cubes of n³ hex8 elements (full integration, interface on).
     Bench {
         /// Scene whose physics is used; only the mesh size changes.
@@ -143,6 +156,26 @@ fn main() {
             record,
         } => run(&scene, &set, summary.as_deref(), quiet, &record),
         Command::Check { scene, set } => check(&scene, &set),
+        Command::Gui {
+            scene,
+            run_on_start,
+            record,
+        } => {
+            use decohesion::gui::RecordChoice;
+            let record = record.map(|r| match r.as_str() {
+                "file" => RecordChoice::File,
+                "off" => RecordChoice::Off,
+                _ => RecordChoice::Viewer,
+            });
+            let scene = scene.map(|p| p.display().to_string());
+            if let Some(s) = &scene {
+                if let Err(e) = load_scene(Path::new(s), &[]) {
+                    eprintln!("error: {e}");
+                    std::process::exit(1);
+                }
+            }
+            decohesion::gui::run_window(scene, run_on_start, record).map_err(anyhow::Error::msg)
+        }
         Command::Bench {
             scene,
             sizes,
@@ -187,11 +220,6 @@ fn run(
         });
     }
     let mut record_error = None;
-    if let Some(r) = recorder.as_mut() {
-        if let Err(e) = r.frame(&sim) {
-            record_error = Some(e);
-        }
-    }
     let expected = (end_time / sim.h).ceil() as u64;
     let tty = std::io::stderr().is_terminal() && !quiet;
     let bar = if tty {

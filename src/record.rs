@@ -656,7 +656,7 @@ impl Recorder {
     /// annotation context, surface topology, planes, law curves, series styles; the blueprint
     /// goes with the stream) while the solver starts. A sink that cannot be opened (a file that
     /// cannot be written, no viewer executable, a malformed URL) is reported by the first
-    /// [`Recorder::frame`], i.e. at step 0.
+    /// [`Recorder::frame`] at the latest. Logs the current state as the first frame.
     pub fn new(
         sink: Sink,
         scene: &Scene,
@@ -732,7 +732,7 @@ impl Recorder {
                 Ok(LoggerEnd { busy })
             })
             .map_err(|e| RecordError::Setup(format!("cannot start the recorder thread: {e}")))?;
-        Ok(Recorder {
+        let mut recorder = Recorder {
             tx: Some(tx),
             thread: Some(thread),
             sink,
@@ -742,7 +742,10 @@ impl Recorder {
             last_frame_step: None,
             frames: 0,
             solver_time: started.elapsed(),
-        })
+        };
+        // The state before the first step.
+        recorder.frame(sim)?;
+        Ok(recorder)
     }
 
     /// Called after every step: sends a frame when the cadence asks for one.

@@ -172,7 +172,10 @@ impl RunSummary {
             let size = r
                 .bytes
                 .map_or(String::new(), |b| format!(", {:.1} kB", b as f64 / 1e3));
-            let target = r.path.clone().unwrap_or_else(|| r.sink.clone());
+            let target = r.path.clone().unwrap_or_else(|| match r.sink.as_str() {
+                "spawn" => "the spawned Rerun viewer".to_string(),
+                _ => "the Rerun viewer".to_string(),
+            });
             row(
                 "recording",
                 format!(

@@ -172,7 +172,7 @@ pub struct PeakReaction {
 }
 
 /// Counts of interface nodes per state (paper fig. 6, right).
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, serde::Deserialize)]
 pub struct StateCounts {
     pub elastic: usize,
     pub transition: usize,

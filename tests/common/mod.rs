@@ -1,6 +1,8 @@
 //! Models built in code for the verification tests.
 #![allow(dead_code)]
 
+pub mod capture;
+
 use decohesion::law::{LawFamily, StiffnessLaw};
 use decohesion::material::{Material, MaterialModel};
 use decohesion::mesh::Mesh;

@@ -1,0 +1,27 @@
+#!/usr/bin/env bash
+# Refreshes screenshots/gui.png: opens the explorer under Xvfb (Mesa llvmpipe through glow),
+# runs the pull-off scene and grabs the window once the run is in the history. Needs, on Debian: apt-get install -y xvfb libgl1-mesa-dri libxkbcommon-x11-0 imagemagick
+# Usage: scripts/gui_screenshot.sh [OUT.png]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+out="${1:-screenshots/gui.png}"
+export CARGO_TARGET_DIR="${CARGO_TARGET_DIR:-$HOME/.cache/decohesion-target}"
+cargo build --release --quiet
+bin="$CARGO_TARGET_DIR/release/decohesion"
+
+display=":${DECOHESION_XVFB_DISPLAY:-98}"
+Xvfb "$display" -screen 0 1600x1000x24 >/dev/null 2>&1 &
+xvfb=$!
+# A fresh storage folder: the picture must not depend on what an earlier session saved.
+state="$(mktemp -d)"
+cleanup() { kill "${app:-}" 2>/dev/null || true; kill $xvfb 2>/dev/null || true; rm -rf "$state"; }
+trap cleanup EXIT
+sleep 1
+XDG_DATA_HOME="$state" XDG_CONFIG_HOME="$state" DISPLAY="$display" \
+  "$bin" gui scenes/pull_off.toml --run-on-start --record off >/dev/null 2>&1 &
+app=$!
+# The pull-off takes well under a second; the window needs a few to come up under llvmpipe.
+sleep 12
+mkdir -p "$(dirname "$out")"
+DISPLAY="$display" import -window root -crop 1500x950+0+0 +repage "$out"
+echo "wrote $out ($(stat -c %s "$out") bytes)"

@@ -1,0 +1,60 @@
+//! Reading Rerun captures back with the SDK's chunk store (what the viewer loads).
+
+use rerun::TimelineName;
+use rerun::{ChunkStore, ChunkStoreConfig};
+use std::collections::BTreeMap;
+use std::path::Path;
+
+/// The recording store of a capture (the file also holds a blueprint store).
+pub fn read_capture(path: &Path) -> ChunkStore {
+    let mut file = std::fs::File::open(path).unwrap();
+    let stores = ChunkStore::from_rrd_reader(&ChunkStoreConfig::DEFAULT, &mut file)
+        .unwrap_or_else(|e| panic!("{} does not read back: {e:#}", path.display()));
+    let mut recordings: Vec<ChunkStore> = stores
+        .into_values()
+        .filter(|s| s.id().is_recording())
+        .collect();
+    assert_eq!(recordings.len(), 1, "one run, one recording");
+    recordings.pop().unwrap()
+}
+
+/// Every row of a Scalars entity on the `step` timeline: step → values.
+pub fn scalars(store: &ChunkStore, entity: &str) -> BTreeMap<i64, Vec<f64>> {
+    let component = rerun::Scalars::descriptor_scalars().component;
+    let timeline = TimelineName::from_static_str("step");
+    let mut rows = BTreeMap::new();
+    for chunk in store.iter_physical_chunks() {
+        if chunk.entity_path().to_string() != entity {
+            continue;
+        }
+        for ((t, _), v) in chunk
+            .iter_component_indices(timeline, component)
+            .zip(chunk.iter_slices::<f64>(component))
+        {
+            rows.insert(t.as_i64(), v.to_vec());
+        }
+    }
+    rows
+}
+
+/// Steps at which an entity has a component.
+pub fn steps_with(
+    store: &ChunkStore,
+    entity: &str,
+    component: rerun::ComponentIdentifier,
+) -> Vec<i64> {
+    let timeline = TimelineName::from_static_str("step");
+    let mut steps = vec![];
+    for chunk in store.iter_physical_chunks() {
+        if chunk.entity_path().to_string() == entity {
+            steps.extend(
+                chunk
+                    .iter_component_indices(timeline, component)
+                    .map(|(t, _)| t.as_i64()),
+            );
+        }
+    }
+    steps.sort_unstable();
+    steps.dedup();
+    steps
+}

@@ -1,0 +1,135 @@
+//! The explorer window, headless (egui_kittest drives the real UI code through AccessKit):
+//! an inadmissible law disables Run and says why; Run on a small scene reaches "finished" and
+//! adds a history row; Stop during a run leaves a complete recording.
+
+mod common;
+
+use common::capture::{read_capture, steps_with};
+use decohesion::gui::{App, RecordChoice, Status};
+use egui_kittest::kittest::{NodeT, Queryable};
+use egui_kittest::Harness;
+use std::time::{Duration, Instant};
+
+fn harness(app: App) -> Harness<'static, App> {
+    Harness::builder()
+        .with_size([1500.0, 950.0])
+        .build_ui_state(|ui, app: &mut App| app.ui(ui), app)
+}
+
+/// The pull-off scene at `cells`³, recorded nowhere unless the test says so.
+fn small_pull_off(cells: usize) -> App {
+    let mut app = App::default();
+    app.load_scene("scenes/pull_off.toml");
+    app.settings.cells = cells;
+    app.settings.record = RecordChoice::Off;
+    app
+}
+
+/// Steps the UI (which polls the solver thread) until the run ends or `timeout` passes.
+fn wait_for_end(h: &mut Harness<'static, App>, timeout: Duration) {
+    let start = Instant::now();
+    while matches!(h.state().status, Status::Running) {
+        assert!(
+            start.elapsed() < timeout,
+            "the run did not end in {timeout:?}"
+        );
+        std::thread::sleep(Duration::from_millis(20));
+        h.step();
+    }
+}
+
+fn run_disabled(h: &Harness<'static, App>) -> bool {
+    h.get_by_label("Run").accesskit_node().is_disabled()
+}
+
+#[test]
+fn inadmissible_law_disables_run_and_says_why() {
+    let mut h = harness(small_pull_off(3));
+    h.run();
+    assert!(!run_disabled(&h), "the scene's own law is admissible");
+
+    // u_r below α_e = 2 mm: rupture before the end of the elastic range.
+    h.state_mut().settings.law.u_r = 1.0e-3;
+    h.run();
+    assert!(run_disabled(&h));
+    h.get_by_label_contains("Run is disabled: u_r");
+    h.get_by_label_contains("inadmissible law — u_r");
+
+    // Fixed: enabled again.
+    h.state_mut().settings.law.u_r = 4.0e-3;
+    h.run();
+    assert!(!run_disabled(&h));
+
+    // A table that increases is refused too.
+    h.state_mut().settings.law.family = decohesion::gui::Family::Table;
+    h.state_mut().settings.law.points = vec![[0.0, 1e8], [1e-3, 2e8], [2e-3, 0.0]];
+    h.run();
+    assert!(run_disabled(&h));
+}
+
+#[test]
+fn run_reaches_finished_and_adds_a_history_row() {
+    let mut h = harness(small_pull_off(3));
+    h.run();
+    h.get_by_label("Run").click();
+    h.step();
+    assert_eq!(h.state().status, Status::Running);
+    wait_for_end(&mut h, Duration::from_secs(60));
+    assert_eq!(h.state().status, Status::Ended("finished".into()));
+    let app = h.state();
+    assert_eq!(app.history.len(), 1);
+    let row = &app.history[0];
+    // 3×3×3 cube: the glued face has 4×4 nodes, all torn off by t = 0.33 s.
+    assert_eq!(row.interface_nodes, 16);
+    assert_eq!(row.counts.ruptured, 16);
+    assert!(row.time_full_rupture.is_some());
+    assert!(
+        row.max_relative_residual < 1e-2,
+        "{}",
+        row.max_relative_residual
+    );
+    h.step();
+    h.get_by_label("16/16");
+
+    // The history exports as CSV with a header and one row.
+    let dir = std::env::temp_dir().join(format!("decohesion-gui-{}", std::process::id()));
+    let csv = dir.join("history.csv");
+    h.state_mut().export_csv(&csv).unwrap();
+    let text = std::fs::read_to_string(&csv).unwrap();
+    assert_eq!(text.lines().count(), 2, "{text}");
+    assert!(text.lines().nth(1).unwrap().contains(",completed,"));
+}
+
+#[test]
+fn stop_during_a_run_leaves_a_valid_recording() {
+    let dir = std::env::temp_dir().join(format!("decohesion-gui-stop-{}", std::process::id()));
+    let mut app = small_pull_off(6);
+    app.settings.end_time = 10.0; // far longer than the test waits
+    app.settings.record = RecordChoice::File;
+    app.settings.output_dir = dir.display().to_string();
+    let mut h = harness(app);
+    h.run();
+    h.get_by_label("Run").click();
+    // Wait until the solver has reported progress, then press Stop.
+    let start = Instant::now();
+    while h.state().job.as_ref().and_then(|j| j.last).is_none() {
+        assert!(start.elapsed() < Duration::from_secs(30), "no progress");
+        std::thread::sleep(Duration::from_millis(20));
+        h.step();
+    }
+    h.get_by_label("Stop").click();
+    wait_for_end(&mut h, Duration::from_secs(30));
+    assert_eq!(h.state().status, Status::Ended("stopped".into()));
+    let row = h.state().history[0].clone();
+    assert_eq!(row.status, "cancelled");
+    assert!(row.simulated_time < 10.0);
+    let path = row.recording.expect("recorded to a file");
+    let store = read_capture(std::path::Path::new(&path));
+    let frames = steps_with(
+        &store,
+        "/body/surface",
+        rerun::Mesh3D::descriptor_vertex_positions().component,
+    );
+    assert_eq!(frames.first(), Some(&0));
+    assert_eq!(frames.last(), Some(&(row.steps as i64)), "ends at the stop");
+}
