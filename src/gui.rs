@@ -20,6 +20,10 @@ use std::sync::mpsc::{channel, Receiver, TryRecvError};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
+/// Above this many elements the window does not estimate h_crit while settings are edited
+/// (set-up and Lanczos estimate: 40 ms at 20³, 130 ms at 28³ here); the run does it.
+pub const CHECK_MAX_ELEMENTS: usize = 25_000;
+
 /// Key of the persisted settings in eframe's storage.
 pub const STORAGE_KEY: &str = "decohesion-explorer";
 
@@ -467,7 +471,7 @@ impl App {
             .and_then(|scene| {
                 let m = scene.model;
                 let elements = m.mesh.elements.len();
-                if elements > 60_000 {
+                if elements > CHECK_MAX_ELEMENTS {
                     // The Lanczos estimate would stall the window: say so, do not compute.
                     return Ok(Checked {
                         elements,
