@@ -40,6 +40,10 @@ pub struct Ledger {
     pub kinetic: f64,
     /// Bulk strain energy Ψₙ = Σ_e Σ_q w det J₀ ψ(Eₙ).
     pub strain: f64,
+    /// Hourglass energy Ψ_hg,ₙ = Σ_e ½ k Σᵅ |qᵅ|² of one-point integration (0 with full
+    /// integration): stored, like the strain energy.
+    pub hourglass: f64,
+    pub initial_hourglass: f64,
     /// Interface stored energy Σ W ½ g_N(αₙ)|[u]ₙ|².
     pub interface_stored: f64,
     /// Σ ΔDₙ, ΔDₙ = Σ W ½ (g_N(αₙ₋₁) − g_N(αₙ)) [u]ₙ₋₁·[u]ₙ ≥ 0.
@@ -76,6 +80,8 @@ pub struct Ledger {
 pub struct EnergySnapshot {
     pub kinetic: f64,
     pub strain: f64,
+    /// Hourglass energy (one-point integration; 0 with full integration).
+    pub hourglass: f64,
     pub interface_stored: f64,
     pub damage_dissipated: f64,
     pub contact_normal_dissipated: f64,
@@ -101,12 +107,13 @@ impl Ledger {
             + self.plane_work.value
     }
 
-    /// Balance residual = W_ext − (ΔK + ΔΨ + ΔΨ_d + D_damage + D_normal + D_friction)
+    /// Balance residual = W_ext − (ΔK + ΔΨ + ΔΨ_hg + ΔΨ_d + D_damage + D_normal + D_friction)
     /// (PHYSICS.md §5).
     pub fn residual(&self) -> f64 {
         self.external_work()
             - ((self.kinetic - self.initial_kinetic)
                 + (self.strain - self.initial_strain)
+                + (self.hourglass - self.initial_hourglass)
                 + (self.interface_stored - self.initial_interface_stored)
                 + self.damage_dissipated
                 + self.contact_normal_dissipated
@@ -121,6 +128,7 @@ impl Ledger {
         let terms = [
             self.kinetic,
             self.strain,
+            self.hourglass,
             self.interface_stored,
             self.damage_dissipated,
             self.contact_normal_dissipated,
@@ -152,6 +160,7 @@ impl Ledger {
         EnergySnapshot {
             kinetic: self.kinetic,
             strain: self.strain,
+            hourglass: self.hourglass,
             interface_stored: self.interface_stored,
             damage_dissipated: self.damage_dissipated,
             contact_normal_dissipated: self.contact_normal_dissipated,

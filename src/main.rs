@@ -77,6 +77,9 @@ enum Command {
         /// Element-steps per repetition (steps = this / elements, at least 10).
         #[arg(long, default_value_t = 20_000_000)]
         work: u64,
+        /// Quadratures to measure: full (2×2×2) and/or reduced (one point + hourglass control).
+        #[arg(long, default_value = "full,reduced", value_delimiter = ',', value_parser = ["full", "reduced"])]
+        integration: Vec<String>,
     },
 }
 
@@ -181,7 +184,8 @@ fn main() {
             sizes,
             repeats,
             work,
-        } => bench(&scene, &sizes, repeats, work),
+            integration,
+        } => bench(&scene, &sizes, repeats, work, &integration),
     };
     if let Err(e) = result {
         eprintln!("error: {e:#}");
@@ -383,18 +387,25 @@ fn median(v: &mut [f64]) -> f64 {
     }
 }
 
-fn bench(path: &Path, sizes: &[usize], repeats: usize, work: u64) -> Result<()> {
+fn bench(
+    path: &Path,
+    sizes: &[usize],
+    repeats: usize,
+    work: u64,
+    integrations: &[String],
+) -> Result<()> {
     if repeats == 0 {
         bail!("--repeats must be ≥ 1");
     }
     println!(
-        "decohesion bench: {} on {} threads ({}), full 2×2×2 integration, interface on",
+        "decohesion bench: {} on {} threads ({}), interface on; full = 2×2×2 Gauss, reduced = one point + hourglass control",
         path.display(),
         rayon::current_num_threads(),
         std::env::consts::ARCH
     );
     println!(
-        "{:>4} {:>9} {:>9} {:>7} {:>14} {:>16} {:>18} {:>12} {:>10}",
+        "{:>8} {:>4} {:>9} {:>9} {:>7} {:>14} {:>16} {:>18} {:>12} {:>10}",
+        "rule",
         "n",
         "elements",
         "nodes",
@@ -405,10 +416,14 @@ fn bench(path: &Path, sizes: &[usize], repeats: usize, work: u64) -> Result<()> 
         "bytes/elem",
         "setup s"
     );
-    for &n in sizes {
+    for (integration, &n) in integrations
+        .iter()
+        .flat_map(|i| sizes.iter().map(move |n| (i, n)))
+    {
         let set = vec![
             format!("mesh.cells=[{n},{n},{n}]"),
             "scheme.h_crit_update_interval=0".into(),
+            format!("scheme.integration=\"{integration}\""),
         ];
         let scene = load_scene(path, &set)?;
         let t0 = Instant::now();
@@ -431,7 +446,8 @@ fn bench(path: &Path, sizes: &[usize], repeats: usize, work: u64) -> Result<()> 
         }
         let med = median(&mut ns);
         println!(
-            "{:>4} {:>9} {:>9} {:>7} {:>14.1} {:>16.3e} {:>18.1} {:>12.0} {:>10.2}",
+            "{:>8} {:>4} {:>9} {:>9} {:>7} {:>14.1} {:>16.3e} {:>18.1} {:>12.0} {:>10.2}",
+            integration,
             n,
             elements,
             sim.model.mesh.nodes.len(),

@@ -3,7 +3,7 @@
 //! Total Lagrangian: F = I + ∂U/∂X, E = ½(FᵀF − I), P = F·S, fₐ = Σ_q w_q det J₀ P ∇ₓNₐ.
 //! The kernel evaluates the 8 Gauss points of an element as 8 SIMD lanes.
 
-use crate::mesh::GaussData;
+use crate::mesh::{CentreData, GaussData};
 use nalgebra::Matrix3;
 use serde::{Deserialize, Serialize};
 
@@ -91,6 +91,132 @@ impl Material {
             }
         }
     }
+}
+
+/// Hourglass stiffness of one element, k = κ (λ + 2μ) V Σₐ bₐ·bₐ / 8 [N/m] (Flanagan–Belytschko
+/// stiffness form; κ is the scene's `scheme.hourglass_coefficient`).
+pub fn hourglass_stiffness(mat: &Material, cd: &CentreData, kappa: f64) -> f64 {
+    kappa * (mat.lambda + 2.0 * mat.mu) * cd.volume * cd.bb / 8.0
+}
+
+/// Internal forces of one element with one-point integration and Flanagan–Belytschko hourglass
+/// control (PHYSICS.md §2, the faster option):
+/// F = I + Σₐ uₐ ⊗ bₐ, fₐ = V P(F) bₐ + k Σᵅ γₐᵅ qᵅ with qᵅ = Σₐ γₐᵅ uₐ,
+/// hourglass energy Ψ_hg = ½ k Σᵅ |qᵅ|². Returns (strain energy V ψ(F), Ψ_hg, J) — the
+/// energies only if `ENERGY`.
+#[inline(always)]
+pub fn element_forces_reduced<const ENERGY: bool>(
+    mat: &Material,
+    cd: &CentreData,
+    k_hg: f64,
+    u: &[[f64; 3]; 8],
+    f: &mut [[f64; 3]; 8],
+) -> (f64, f64, f64) {
+    let mut h = [[0.0; 3]; 3];
+    for a in 0..8 {
+        for i in 0..3 {
+            for j in 0..3 {
+                h[i][j] += u[a][i] * cd.b[a][j];
+            }
+        }
+    }
+    let ff = [
+        [1.0 + h[0][0], h[0][1], h[0][2]],
+        [h[1][0], 1.0 + h[1][1], h[1][2]],
+        [h[2][0], h[2][1], 1.0 + h[2][2]],
+    ];
+    let det = ff[0][0] * (ff[1][1] * ff[2][2] - ff[1][2] * ff[2][1])
+        - ff[0][1] * (ff[1][0] * ff[2][2] - ff[1][2] * ff[2][0])
+        + ff[0][2] * (ff[1][0] * ff[2][1] - ff[1][1] * ff[2][0]);
+    let (lam, mu) = (mat.lambda, mat.mu);
+    let mut p = [[0.0; 3]; 3];
+    let mut psi = 0.0;
+    match mat.model {
+        MaterialModel::Svk => {
+            // E = ½(H + Hᵀ + HᵀH), S = λ tr E I + 2μ E, P = S + H S (as the full kernel).
+            let mut e = [[0.0; 3]; 3];
+            for i in 0..3 {
+                for j in 0..3 {
+                    let c = h[0][i] * h[0][j] + h[1][i] * h[1][j] + h[2][i] * h[2][j];
+                    e[i][j] = 0.5 * ((h[i][j] + h[j][i]) + c);
+                }
+            }
+            let tr = e[0][0] + e[1][1] + e[2][2];
+            let mut s = [[0.0; 3]; 3];
+            for i in 0..3 {
+                for j in 0..3 {
+                    s[i][j] = 2.0 * mu * e[i][j] + if i == j { lam * tr } else { 0.0 };
+                }
+            }
+            for i in 0..3 {
+                for j in 0..3 {
+                    p[i][j] = s[i][j] + h[i][0] * s[0][j] + h[i][1] * s[1][j] + h[i][2] * s[2][j];
+                }
+            }
+            if ENERGY {
+                let ee: f64 = e.iter().flatten().map(|v| v * v).sum();
+                psi = 0.5 * lam * tr * tr + mu * ee;
+            }
+        }
+        MaterialModel::NeoHookean => {
+            // P = μ(F − F⁻ᵀ) + λ ln J F⁻ᵀ, F⁻ᵀ = cof(F)/J.
+            let lnj = det.ln();
+            let cof = [
+                [
+                    ff[1][1] * ff[2][2] - ff[1][2] * ff[2][1],
+                    ff[1][2] * ff[2][0] - ff[1][0] * ff[2][2],
+                    ff[1][0] * ff[2][1] - ff[1][1] * ff[2][0],
+                ],
+                [
+                    ff[0][2] * ff[2][1] - ff[0][1] * ff[2][2],
+                    ff[0][0] * ff[2][2] - ff[0][2] * ff[2][0],
+                    ff[0][1] * ff[2][0] - ff[0][0] * ff[2][1],
+                ],
+                [
+                    ff[0][1] * ff[1][2] - ff[0][2] * ff[1][1],
+                    ff[0][2] * ff[1][0] - ff[0][0] * ff[1][2],
+                    ff[0][0] * ff[1][1] - ff[0][1] * ff[1][0],
+                ],
+            ];
+            let coef = (lam * lnj - mu) / det;
+            let mut trc = 0.0;
+            for i in 0..3 {
+                for k in 0..3 {
+                    p[i][k] = mu * ff[i][k] + coef * cof[i][k];
+                    trc += ff[i][k] * ff[i][k];
+                }
+            }
+            if ENERGY {
+                psi = 0.5 * mu * (trc - 3.0) - mu * lnj + 0.5 * lam * lnj * lnj;
+            }
+        }
+    }
+    let v = cd.volume;
+    let mut q = [[0.0; 3]; 4];
+    for al in 0..4 {
+        for a in 0..8 {
+            for i in 0..3 {
+                q[al][i] += cd.gamma[al][a] * u[a][i];
+            }
+        }
+    }
+    for a in 0..8 {
+        for i in 0..3 {
+            let mut fa = v * (p[i][0] * cd.b[a][0] + p[i][1] * cd.b[a][1] + p[i][2] * cd.b[a][2]);
+            for al in 0..4 {
+                fa += k_hg * cd.gamma[al][a] * q[al][i];
+            }
+            f[a][i] = fa;
+        }
+    }
+    let mut e_hg = 0.0;
+    if ENERGY {
+        for qa in &q {
+            e_hg += qa[0] * qa[0] + qa[1] * qa[1] + qa[2] * qa[2];
+        }
+        e_hg *= 0.5 * k_hg;
+    }
+    (v * psi, e_hg, det)
 }
 
 /// a·b + c, fused when `FMA` (one rounding) — the choice is fixed per CPU, so results stay

@@ -136,12 +136,75 @@ impl GaussData {
     }
 }
 
+/// Hourglass base vectors hᵅ of the hexahedron (α = 1..4: ξη, ηζ, ζξ, ξηζ at the nodes), in the
+/// node order of [`HEX_CORNERS`] (Flanagan & Belytschko 1981).
+pub fn hourglass_vectors() -> [[f64; 8]; 4] {
+    let mut h = [[0.0; 8]; 4];
+    for (a, c) in HEX_CORNERS.iter().enumerate() {
+        h[0][a] = c[0] * c[1];
+        h[1][a] = c[1] * c[2];
+        h[2][a] = c[2] * c[0];
+        h[3][a] = c[0] * c[1] * c[2];
+    }
+    h
+}
+
+/// Reference data of one element shape for one-point integration with Flanagan–Belytschko
+/// hourglass control (PHYSICS.md §2: "one-point integration with hourglass control").
+#[derive(Debug, Clone, PartialEq)]
+pub struct CentreData {
+    /// Mean gradients bₐ = (1/V) ∫ ∇ₓNₐ dV (FB's uniform gradient; exact by 2×2×2 Gauss) [1/m].
+    pub b: [[f64; 3]; 8],
+    /// Hourglass shape vectors γₐᵅ = hₐᵅ − (Σ_c h_cᵅ X_c)·bₐ: orthogonal to every affine field,
+    /// so rigid motions and homogeneous strains excite no hourglass force.
+    pub gamma: [[f64; 8]; 4],
+    /// Reference volume V [m³].
+    pub volume: f64,
+    /// Σₐ bₐ·bₐ [1/m²], for the hourglass stiffness.
+    pub bb: f64,
+}
+
+impl CentreData {
+    /// From the node coordinates of the element and its Gauss data.
+    pub fn new(x: &[[f64; 3]; 8], gd: &GaussData) -> CentreData {
+        let volume = gd.volume();
+        let mut b = [[0.0; 3]; 8];
+        for a in 0..8 {
+            for j in 0..3 {
+                b[a][j] = gd.wgrad[a][j].iter().sum::<f64>() / volume;
+            }
+        }
+        let h = hourglass_vectors();
+        let mut gamma = [[0.0; 8]; 4];
+        for al in 0..4 {
+            let mut hx = [0.0; 3];
+            for c in 0..8 {
+                for j in 0..3 {
+                    hx[j] += h[al][c] * x[c][j];
+                }
+            }
+            for a in 0..8 {
+                gamma[al][a] = h[al][a] - (hx[0] * b[a][0] + hx[1] * b[a][1] + hx[2] * b[a][2]);
+            }
+        }
+        let bb = b.iter().map(|v| dot(*v, *v)).sum();
+        CentreData {
+            b,
+            gamma,
+            volume,
+            bb,
+        }
+    }
+}
+
 /// Element shapes deduplicated: elements that are translates of each other share their
 /// Gauss data (a structured box has a single class), which keeps memory per element small and
 /// the gradients hot in cache.
 #[derive(Debug, Clone)]
 pub struct ElementClasses {
     pub data: Vec<GaussData>,
+    /// One-point data of the same classes.
+    pub centre: Vec<CentreData>,
     /// Class index of each element.
     pub class_of: Vec<u32>,
 }
@@ -264,6 +327,7 @@ impl Mesh {
     pub fn element_classes(&self) -> Result<ElementClasses, GeometryError> {
         let mut index: HashMap<[i64; 21], u32> = HashMap::new();
         let mut data = Vec::new();
+        let mut centre = Vec::new();
         let mut class_of = Vec::with_capacity(self.elements.len());
         for e in 0..self.elements.len() {
             let x = self.element_coords(e);
@@ -283,11 +347,16 @@ impl Mesh {
             if class == next {
                 let gd =
                     GaussData::new(&x).map_err(|det_j0| GeometryError { element: e, det_j0 })?;
+                centre.push(CentreData::new(&x, &gd));
                 data.push(gd);
             }
             class_of.push(class);
         }
-        Ok(ElementClasses { data, class_of })
+        Ok(ElementClasses {
+            data,
+            centre,
+            class_of,
+        })
     }
 
     /// Greedy colouring: elements of one colour share no node, so their forces can be scattered

@@ -19,7 +19,7 @@
 //! | `interface/cohesive_traction` | Arrows3D: −R_d on the solid [Pa] × arrow scale | frame |
 //! | `interface/contact_pressure` | Arrows3D: R_c / h [Pa] × arrow scale | frame |
 //! | `contact/nodes`, `contact/pressure` | the same for contact-only faces | frame |
-//! | `energy` | Scalars [J], one named series per ledger term (PHYSICS.md §5) and the residual | frame |
+//! | `energy` | Scalars [J], one named series per ledger term (PHYSICS.md §5; hourglass with one-point integration) and the residual | frame |
 //! | `balance/relative_residual` | Scalars: residual / largest energy seen | frame |
 //! | `reaction/<faces>_<axis>` | Scalars [N]: reaction of a prescribed displacement | frame |
 //! | `imposed_displacement/<faces>_<axis>` | Scalars [m] | frame |
@@ -353,9 +353,10 @@ fn path_part(s: &str) -> String {
 const AXES: [&str; 3] = ["x", "y", "z"];
 
 /// The ledger terms logged as the instances of `energy` [J], in this order.
-const ENERGY_TERMS: [&str; 12] = [
+const ENERGY_TERMS: [&str; 13] = [
     "kinetic",
     "strain",
+    "hourglass",
     "interface_stored",
     "damage_dissipated",
     "contact_normal_dissipated",
@@ -1480,6 +1481,7 @@ impl Logger {
             &[
                 e.kinetic,
                 e.strain,
+                e.hourglass,
                 e.interface_stored,
                 e.damage_dissipated,
                 e.contact_normal_dissipated,

@@ -152,6 +152,9 @@ impl RunSummary {
             "kinetic / strain",
             format!("{:.6e} J / {:.6e} J", e.kinetic, e.strain),
         );
+        if e.hourglass != 0.0 {
+            row("hourglass (one-point)", format!("{:.6e} J", e.hourglass));
+        }
         row("interface stored", format!("{:.6e} J", e.interface_stored));
         row(
             "dissipated",

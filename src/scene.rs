@@ -11,8 +11,8 @@ use crate::law::{LawFamily, StiffnessLaw};
 use crate::material::{Material, MaterialModel};
 use crate::mesh::Mesh;
 use crate::model::{
-    ContactFaces, Interface, Model, PiecewiseLinear, PrescribedDisplacement, RigidPlane,
-    SchemeParams, Traction,
+    ContactFaces, Integration, Interface, Model, PiecewiseLinear, PrescribedDisplacement,
+    RigidPlane, SchemeParams, Traction,
 };
 use serde::de::DeserializeOwned;
 use serde::Deserialize;
@@ -297,6 +297,8 @@ struct RawScheme {
     h_crit_update_interval: Option<usize>,
     h_crit_tolerance: Option<f64>,
     energy_growth_limit: Option<f64>,
+    integration: Option<Integration>,
+    hourglass_coefficient: Option<f64>,
 }
 
 #[derive(Deserialize)]
@@ -605,6 +607,8 @@ impl Check<'_> {
             h_crit_update_interval: s.h_crit_update_interval.unwrap_or(d.h_crit_update_interval),
             h_crit_tolerance: s.h_crit_tolerance.unwrap_or(d.h_crit_tolerance),
             energy_growth_limit: s.energy_growth_limit.unwrap_or(d.energy_growth_limit),
+            integration: s.integration.unwrap_or(d.integration),
+            hourglass_coefficient: s.hourglass_coefficient.unwrap_or(d.hourglass_coefficient),
         };
         let f = scheme.time_step_factor;
         self.require(
@@ -622,6 +626,13 @@ impl Check<'_> {
         )?;
         let g = scheme.energy_growth_limit;
         self.require(g > 1.0, "scheme.energy_growth_limit", g, "must be > 1")?;
+        let k = scheme.hourglass_coefficient;
+        self.require(
+            (0.0..=1.0).contains(&k),
+            "scheme.hourglass_coefficient",
+            k,
+            "must be in [0, 1] (typical 0.03–0.1)",
+        )?;
 
         let mut planes: Vec<RigidPlane> = Vec::with_capacity(raw.plane.len());
         for (i, p) in raw.plane.into_iter().enumerate() {

@@ -9,9 +9,9 @@
 
 use crate::energy::{EnergySnapshot, Ledger};
 use crate::law::InterfaceState;
-use crate::material::{element_forces, Material};
-use crate::mesh::{dot, norm, ElementClasses, GaussData, Mesh};
-use crate::model::Model;
+use crate::material::{element_forces, element_forces_reduced, hourglass_stiffness, Material};
+use crate::mesh::{dot, norm, CentreData, ElementClasses, GaussData, Mesh};
+use crate::model::{Integration, Model};
 use rayon::prelude::*;
 use serde::Serialize;
 use std::time::{Duration, Instant};
@@ -285,44 +285,136 @@ impl NodeSums {
     }
 }
 
+/// Which element kernel assembles the internal forces (scene `scheme.integration`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum ElementRule {
+    /// 2×2×2 Gauss points ([`element_forces`]).
+    Full,
+    /// One point and Flanagan–Belytschko hourglass stiffness κ ([`element_forces_reduced`]).
+    Reduced { kappa: f64 },
+}
+
+impl ElementRule {
+    pub fn of(scheme: &crate::model::SchemeParams) -> ElementRule {
+        match scheme.integration {
+            Integration::Full => ElementRule::Full,
+            Integration::Reduced => ElementRule::Reduced {
+                kappa: scheme.hourglass_coefficient,
+            },
+        }
+    }
+}
+
+/// What an assembly returns besides the forces.
+#[derive(Debug, Clone, Copy)]
+pub struct Assembly {
+    /// Strain energy Ψ(U) [J] (0 unless asked for).
+    pub strain: f64,
+    /// Hourglass energy Ψ_hg(U) [J] (reduced integration; 0 unless asked for).
+    pub hourglass: f64,
+    /// Smallest J = det F seen, and its element.
+    pub min_j: f64,
+    pub min_element: usize,
+}
+
 /// Internal forces of a whole mesh: F_int(U) = Σ_e fₑ(U) (PHYSICS.md §2 and §4 stage 3).
-/// `f` must be zeroed. Returns (strain energy if `energy`, min J, element of min J).
+/// `f` must be zeroed. Energies are computed only if `energy`.
 #[allow(clippy::too_many_arguments)]
 pub fn assemble_internal_forces(
     mesh: &Mesh,
     classes: &ElementClasses,
     colours: &[Vec<u32>],
     mat: &Material,
+    rule: ElementRule,
     u: &[[f64; 3]],
     f: &mut [[f64; 3]],
     energy: bool,
     parallel: bool,
-) -> (f64, f64, usize) {
+) -> Assembly {
     assert_eq!(u.len(), f.len());
     let ptr = SendPtr(f.as_mut_ptr());
-    let mut total_energy = 0.0;
-    let mut min_j = f64::INFINITY;
-    let mut min_e = 0;
+    let mut out = Assembly {
+        strain: 0.0,
+        hourglass: 0.0,
+        min_j: f64::INFINITY,
+        min_element: 0,
+    };
     for colour in colours {
-        let run = |chunk: &[u32]| -> (f64, f64, usize) {
+        let run = |chunk: &[u32]| -> (f64, f64, f64, usize) {
             // SAFETY: elements of one colour share no node, so the nodal rows written by
             // different chunks of this colour are disjoint; `f` outlives the loop.
-            unsafe { chunk_forces(mesh, classes, mat, u, ptr, chunk, energy) }
+            unsafe {
+                match rule {
+                    ElementRule::Full => {
+                        let (e, j, el) = chunk_forces(mesh, classes, mat, u, ptr, chunk, energy);
+                        (e, 0.0, j, el)
+                    }
+                    ElementRule::Reduced { kappa } => {
+                        chunk_forces_reduced(mesh, classes, mat, kappa, u, ptr, chunk, energy)
+                    }
+                }
+            }
         };
-        let partials: Vec<(f64, f64, usize)> = if parallel {
+        let partials: Vec<(f64, f64, f64, usize)> = if parallel {
             colour.par_chunks(ELEMENT_GRAIN).map(run).collect()
         } else {
             colour.chunks(ELEMENT_GRAIN).map(run).collect()
         };
-        for (e, j, el) in partials {
-            total_energy += e;
-            if j < min_j {
-                min_j = j;
-                min_e = el;
+        for (e, hg, j, el) in partials {
+            out.strain += e;
+            out.hourglass += hg;
+            if j < out.min_j {
+                out.min_j = j;
+                out.min_element = el;
             }
         }
     }
-    (total_energy, min_j, min_e)
+    out
+}
+
+/// One chunk of a colour with one-point integration (see [`element_forces_reduced`]).
+#[allow(clippy::too_many_arguments)]
+unsafe fn chunk_forces_reduced(
+    mesh: &Mesh,
+    classes: &ElementClasses,
+    mat: &Material,
+    kappa: f64,
+    u: &[[f64; 3]],
+    f: SendPtr,
+    chunk: &[u32],
+    energy: bool,
+) -> (f64, f64, f64, usize) {
+    let (mut e_sum, mut hg_sum) = (0.0, 0.0);
+    let mut min_j = f64::INFINITY;
+    let mut min_e = 0usize;
+    let mut fe = [[0.0; 3]; 8];
+    for &e in chunk {
+        let conn = mesh.elements.get_unchecked(e as usize);
+        let cd: &CentreData = classes
+            .centre
+            .get_unchecked(*classes.class_of.get_unchecked(e as usize) as usize);
+        let k_hg = hourglass_stiffness(mat, cd, kappa);
+        let ue: [[f64; 3]; 8] = std::array::from_fn(|a| *u.get_unchecked(conn[a] as usize));
+        let (en, hg, j) = if energy {
+            element_forces_reduced::<true>(mat, cd, k_hg, &ue, &mut fe)
+        } else {
+            element_forces_reduced::<false>(mat, cd, k_hg, &ue, &mut fe)
+        };
+        e_sum += en;
+        hg_sum += hg;
+        // `!(j >= min_j)` also catches NaN.
+        if !(j >= min_j) {
+            min_j = j;
+            min_e = e as usize;
+        }
+        for a in 0..8 {
+            let row = &mut *f.0.add(conn[a] as usize);
+            row[0] += fe[a][0];
+            row[1] += fe[a][1];
+            row[2] += fe[a][2];
+        }
+    }
+    (e_sum, hg_sum, min_j, min_e)
 }
 
 /// One chunk of a colour: gathers the 8 nodal displacements, runs the kernel, scatters forces.
@@ -866,19 +958,22 @@ impl Simulation {
         } else {
             self.f_int.fill([0.0; 3]);
         }
-        let (psi, min_j, min_e) = assemble_internal_forces(
+        let asm = assemble_internal_forces(
             &self.model.mesh,
             &self.classes,
             &self.colours,
             &self.model.material,
+            ElementRule::of(&self.model.scheme),
             &self.u,
             &mut self.f_int,
             energy,
             self.parallel,
         );
+        let (min_j, min_e) = (asm.min_j, asm.min_element);
         self.min_jacobian = min_j;
         if energy {
-            self.ledger.strain = psi;
+            self.ledger.strain = asm.strain;
+            self.ledger.hourglass = asm.hourglass;
         }
         if !(min_j > 0.0) {
             if min_j.is_nan() {
@@ -1283,8 +1378,10 @@ impl Simulation {
         if first {
             l.initial_kinetic = l.kinetic;
             l.initial_strain = l.strain;
+            l.initial_hourglass = l.hourglass;
             l.initial_interface_stored = l.interface_stored;
-            self.energy_budget = (self.kinetic_half + l.strain + l.interface_stored).abs();
+            self.energy_budget =
+                (self.kinetic_half + l.strain + l.hourglass + l.interface_stored).abs();
         }
         l.close_step();
         let ext = l.external_work();
@@ -1302,7 +1399,7 @@ impl Simulation {
         }
 
         let l = &self.ledger;
-        let mech = self.kinetic_half + l.strain + l.interface_stored;
+        let mech = self.kinetic_half + l.strain + l.hourglass + l.interface_stored;
         if !(mech.is_finite() && l.residual().is_finite()) {
             return Err(
                 self.unstable("non-finite energy (NaN or infinity in velocities or forces)".into())
@@ -1403,6 +1500,7 @@ impl Simulation {
             &self.classes,
             &self.colours,
             &self.model.material,
+            ElementRule::of(&self.model.scheme),
             &self.u,
             &mut f0,
             false,
@@ -1445,6 +1543,7 @@ impl Simulation {
                 &self.classes,
                 &self.colours,
                 &self.model.material,
+                ElementRule::of(&self.model.scheme),
                 &up,
                 &mut fp,
                 false,

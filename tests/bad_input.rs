@@ -371,3 +371,33 @@ proptest::proptest! {
         }
     }
 }
+
+#[test]
+fn unknown_integration_rule() {
+    let e = error(
+        "end_time = 0.3",
+        "end_time = 0.3\n[scheme]\nintegration = \"half\"",
+        &[],
+    );
+    assert_has(
+        &e,
+        &[FILE, "scheme.integration", "half", "`full`", "`reduced`"],
+    );
+}
+
+#[test]
+fn hourglass_coefficient_above_one() {
+    let e = error(
+        "end_time = 0.3",
+        "end_time = 0.3\n[scheme]\nintegration = \"reduced\"\nhourglass_coefficient = 2.0",
+        &[],
+    );
+    assert_has(
+        &e,
+        &[
+            FILE,
+            "key `scheme.hourglass_coefficient` = 2",
+            "must be in [0, 1]",
+        ],
+    );
+}

@@ -1,11 +1,15 @@
 //! Patch tests (PHYSICS.md §2): a homogeneous deformation U = (F − I)X of a mesh with
 //! distorted elements must give the exact stress: zero force on interior nodes, and on the
 //! boundary the nodal forces of the constant first Piola stress P = F·S. A rigid rotation
-//! gives no force and no strain energy.
+//! gives no force and no strain energy. Both quadratures: 2×2×2 Gauss and one point with
+//! hourglass control (the hourglass shape vectors are orthogonal to affine fields, so the patch
+//! test holds exactly and the hourglass energy is round-off).
 
 use decohesion::material::{Material, MaterialModel};
 use decohesion::mesh::Mesh;
-use decohesion::solver::assemble_internal_forces;
+use decohesion::solver::{assemble_internal_forces, ElementRule};
+
+const RULES: [ElementRule; 2] = [ElementRule::Full, ElementRule::Reduced { kappa: 0.1 }];
 use nalgebra::{Matrix3, Rotation3, Vector3};
 
 /// A 3×3×3 box whose interior nodes are moved off the grid, so no two elements share a shape.
@@ -25,7 +29,12 @@ fn distorted_mesh() -> Mesh {
     m
 }
 
-fn forces(mesh: &Mesh, mat: &Material, f_def: &Matrix3<f64>) -> (Vec<[f64; 3]>, f64) {
+fn forces(
+    mesh: &Mesh,
+    mat: &Material,
+    f_def: &Matrix3<f64>,
+    rule: ElementRule,
+) -> (Vec<[f64; 3]>, f64) {
     let classes = mesh.element_classes().unwrap();
     let colours = mesh.colour_elements();
     let u: Vec<[f64; 3]> = mesh
@@ -37,25 +46,34 @@ fn forces(mesh: &Mesh, mat: &Material, f_def: &Matrix3<f64>) -> (Vec<[f64; 3]>, 
         })
         .collect();
     let mut f = vec![[0.0; 3]; u.len()];
-    let (psi, min_j, _) =
-        assemble_internal_forces(mesh, &classes, &colours, mat, &u, &mut f, true, false);
-    assert!((min_j - f_def.determinant()).abs() < 1e-10);
-    (f, psi)
+    let asm =
+        assemble_internal_forces(mesh, &classes, &colours, mat, rule, &u, &mut f, true, false);
+    assert!((asm.min_j - f_def.determinant()).abs() < 1e-10);
+    // γ·(affine field) = 0: the hourglass energy is round-off, ½k(ε|u|)² per element.
+    assert!(
+        asm.hourglass.abs() <= 1e-20 * mat.young,
+        "{rule:?}: hourglass energy {} of a homogeneous field",
+        asm.hourglass
+    );
+    (f, asm.strain)
 }
 
 fn check_patch(f_def: Matrix3<f64>) {
     let mesh = distorted_mesh();
     let volume = 1.0 * 1.2 * 0.9;
-    for model in [MaterialModel::Svk, MaterialModel::NeoHookean] {
+    for (model, rule) in [MaterialModel::Svk, MaterialModel::NeoHookean]
+        .into_iter()
+        .flat_map(|m| RULES.map(|r| (m, r)))
+    {
         let mat = Material::new(model, 5e6, 0.45, 1100.0);
-        let (f, psi) = forces(&mesh, &mat, &f_def);
+        let (f, psi) = forces(&mesh, &mat, &f_def, rule);
         let (s, psi_exact) = mat.stress_energy(&f_def);
         let p = f_def * s;
         let scale = p.abs().max() * 1.0 + 1.0;
         // Energy: ψ × volume, exact up to round-off (relative 1e-12).
         assert!(
             (psi - psi_exact * volume).abs() <= 1e-12 * (psi_exact * volume).abs().max(1.0),
-            "{model:?}"
+            "{model:?} {rule:?}"
         );
         // Interior nodes: Σ over the surrounding elements cancels exactly for a constant P.
         // Round-off of a sum of ~8 forces of size |P|·area: 1e-9 relative is generous.
@@ -70,7 +88,7 @@ fn check_patch(f_def: Matrix3<f64>) {
                 for c in 0..3 {
                     assert!(
                         f[i][c].abs() <= 1e-9 * scale,
-                        "{model:?}: interior node {i} force {:?}",
+                        "{model:?} {rule:?}: interior node {i} force {:?}",
                         f[i]
                     );
                 }
@@ -90,7 +108,7 @@ fn check_patch(f_def: Matrix3<f64>) {
         let expect = volume * p.component_mul(&g).sum();
         assert!(
             (vw - expect).abs() <= 1e-10 * expect.abs().max(scale),
-            "{model:?}: virtual work {vw} vs V P:G = {expect}"
+            "{model:?} {rule:?}: virtual work {vw} vs V P:G = {expect}"
         );
     }
 }
@@ -112,19 +130,22 @@ fn large_rotation_gives_no_stress() {
         1.7,
     );
     let mesh = distorted_mesh();
-    for model in [MaterialModel::Svk, MaterialModel::NeoHookean] {
+    for (model, rule) in [MaterialModel::Svk, MaterialModel::NeoHookean]
+        .into_iter()
+        .flat_map(|m| RULES.map(|r| (m, r)))
+    {
         let mat = Material::new(model, 5e6, 0.45, 1100.0);
-        let (f, psi) = forces(&mesh, &mat, r.matrix());
+        let (f, psi) = forces(&mesh, &mat, r.matrix(), rule);
         // Objectivity: E = 0 up to round-off, so |f| ≲ 1e-15·E·area; ψ is a cancellation of
         // O(1) terms (tr C − 3 for neo-Hookean): a few ulps times E·V, hence 1e-13·E·V.
         let fmax = f.iter().flatten().fold(0.0f64, |m, v| m.max(v.abs()));
         assert!(
             fmax <= 1e-8 * mat.young * 0.1,
-            "{model:?}: max force {fmax}"
+            "{model:?} {rule:?}: max force {fmax}"
         );
         assert!(
             psi.abs() <= 1e-13 * mat.young * 1.08,
-            "{model:?}: energy {psi}"
+            "{model:?} {rule:?}: energy {psi}"
         );
         // A rotated stretch gives the rotated stress: P(RF) = R P(F).
         let fs = Matrix3::new(1.2, 0.1, 0.0, 0.0, 0.95, 0.05, 0.0, 0.0, 1.1);

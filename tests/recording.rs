@@ -117,10 +117,10 @@ fn pull_off_capture_holds_every_frame_and_matches_the_summary() {
     assert_eq!(counts[&0], vec![n_iface, 0.0, 0.0]);
 
     // The final dissipated energy in the file is the summary's, to the last bit
-    // (energy instance 3 = damage_dissipated).
+    // (energy instance 4 = damage_dissipated).
     let energy = scalars(&store, "/energy");
-    assert_eq!(energy.values().last().unwrap().len(), 12);
-    let dissipated: Vec<f64> = energy.values().map(|v| v[3]).collect();
+    assert_eq!(energy.values().last().unwrap().len(), 13);
+    let dissipated: Vec<f64> = energy.values().map(|v| v[4]).collect();
     let expect = s["energies"]["damage_dissipated"].as_f64().unwrap();
     assert_eq!(*dissipated.last().unwrap(), expect);
     // And it never decreases (ΔD ≥ 0, PHYSICS.md §5).
