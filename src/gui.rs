@@ -169,6 +169,10 @@ pub struct Settings {
     pub frames: u32,
     /// "svk" or "neo_hookean".
     pub material: String,
+    /// "full" (2×2×2) or "reduced" (one point + hourglass control).
+    pub integration: String,
+    /// κ of the hourglass control (reduced integration).
+    pub hourglass: f64,
     pub record: RecordChoice,
     /// Folder of saved recordings and CSV exports.
     pub output_dir: String,
@@ -184,6 +188,8 @@ impl Default for Settings {
             end_time: 0.33,
             frames: 200,
             material: "svk".into(),
+            integration: "full".into(),
+            hourglass: 0.05,
             record: RecordChoice::Viewer,
             output_dir: "out/gui".into(),
         }
@@ -383,6 +389,11 @@ impl App {
                     self.settings.cells = n;
                 }
                 self.settings.factor = m.scheme.time_step_factor;
+                self.settings.integration = match m.scheme.integration {
+                    crate::model::Integration::Full => "full".into(),
+                    crate::model::Integration::Reduced => "reduced".into(),
+                };
+                self.settings.hourglass = m.scheme.hourglass_coefficient;
                 self.settings.end_time = m.end_time;
                 self.settings.material = match m.material.model {
                     crate::material::MaterialModel::Svk => "svk".into(),
@@ -435,6 +446,8 @@ impl App {
             .or_insert_with(|| toml::Value::Table(toml::Table::new()));
         if let toml::Value::Table(t) = scheme {
             t.insert("time_step_factor".into(), s.factor.into());
+            t.insert("integration".into(), s.integration.clone().into());
+            t.insert("hourglass_coefficient".into(), s.hourglass.into());
         }
         doc.insert("end_time".into(), s.end_time.into());
         toml::to_string(&doc).map_err(|e| e.to_string())
@@ -649,7 +662,7 @@ impl App {
     /// Writes the history as CSV.
     pub fn export_csv(&mut self, path: &Path) -> Result<(), String> {
         let mut s = String::from(
-            "id,scene,family,g_n0_Pa_per_m,alpha_e_m,u_r_m,mu_inf,cells,time_step_factor,end_time_s,material,\
+            "id,scene,family,g_n0_Pa_per_m,alpha_e_m,u_r_m,mu_inf,cells,time_step_factor,end_time_s,material,integration,\
              status,steps,simulated_time_s,time_first_damage_s,time_full_rupture_s,peak_force_N,\
              damage_dissipated_J,max_relative_residual,elastic,transition,ruptured,wall_s,recording,error\n",
         );
@@ -658,7 +671,7 @@ impl App {
         for r in &self.history {
             let st = &r.settings;
             s.push_str(&format!(
-                "{},{},{},{:e},{:e},{:e},{},{},{},{},{},{},{},{:e},{},{},{},{:e},{:e},{},{},{},{:.3},{},{}\n",
+                "{},{},{},{:e},{:e},{:e},{},{},{},{},{},{},{},{},{:e},{},{},{},{:e},{:e},{},{},{},{:.3},{},{}\n",
                 r.id,
                 quote(&st.scene),
                 st.law.family.key(),
@@ -670,6 +683,7 @@ impl App {
                 st.factor,
                 st.end_time,
                 st.material,
+                st.integration,
                 r.status,
                 r.steps,
                 r.simulated_time,
@@ -846,6 +860,18 @@ impl App {
                 );
                 ui.selectable_value(&mut s.material, "neo_hookean".to_string(), "neo_hookean");
             });
+        ui.horizontal(|ui| {
+            ui.label("integration");
+            ui.radio_value(&mut s.integration, "full".to_string(), "2×2×2");
+            ui.radio_value(
+                &mut s.integration,
+                "reduced".to_string(),
+                "one point + hourglass",
+            );
+        });
+        if s.integration == "reduced" {
+            ui.add(egui::Slider::new(&mut s.hourglass, 0.0..=0.3).text("hourglass κ"));
+        }
         ui.horizontal(|ui| {
             ui.label("record to");
             ui.radio_value(&mut s.record, RecordChoice::Viewer, "Rerun viewer");
