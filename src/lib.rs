@@ -23,3 +23,5 @@ pub mod record;
 pub mod report;
 pub mod scene;
 pub mod solver;
+/// Speed against accuracy: a grid of configurations of one scene compared with the finest.
+pub mod tradeoff;

@@ -63,6 +63,32 @@ enum Command {
         #[arg(long, value_name = "WHERE", value_parser = ["viewer", "file", "off"])]
         record: Option<String>,
     },
+    /// Speed against accuracy: run a grid of quadratures × meshes × time steps of one scene,
+    /// compare the observables with the finest run, mark the Pareto front.
+    Tradeoff {
+        scene: PathBuf,
+        /// Cells along the longest side of the mesh.
+        #[arg(long, default_value = "4,7,14", value_delimiter = ',')]
+        cells: Vec<usize>,
+        /// Time-step factors h/h_crit.
+        #[arg(long, default_value = "0.9,0.5,0.25", value_delimiter = ',')]
+        factors: Vec<f64>,
+        /// Quadratures.
+        #[arg(long, default_value = "full,reduced", value_delimiter = ',', value_parser = ["full", "reduced"])]
+        integration: Vec<String>,
+        /// Other overrides applied to every run.
+        #[arg(long = "set", value_name = "KEY=VALUE")]
+        set: Vec<String>,
+        /// Prefix of the CSV and JSON outputs [default: out/tradeoff_<scene>].
+        #[arg(long, value_name = "PREFIX")]
+        out: Option<PathBuf>,
+        /// Also record the frontier plot to this .rrd file.
+        #[arg(long, value_name = "FILE.rrd")]
+        save: Option<PathBuf>,
+        /// Also show the frontier plot in the Rerun viewer.
+        #[arg(long)]
+        spawn: bool,
+    },
     /// Measure ns per element-step on cubes of n³ hex8 elements (full integration, interface on).
     Bench {
         /// Scene whose physics is used; only the mesh size changes.
@@ -159,6 +185,25 @@ fn main() {
             record,
         } => run(&scene, &set, summary.as_deref(), quiet, &record),
         Command::Check { scene, set } => check(&scene, &set),
+        Command::Tradeoff {
+            scene,
+            cells,
+            factors,
+            integration,
+            set,
+            out,
+            save,
+            spawn,
+        } => tradeoff(
+            &scene,
+            &cells,
+            &factors,
+            &integration,
+            &set,
+            out,
+            save,
+            spawn,
+        ),
         Command::Gui {
             scene,
             run_on_start,
@@ -374,6 +419,121 @@ fn check(path: &Path, set: &[String]) -> Result<()> {
         "  state memory                 {:.0} bytes per element",
         state_bytes(&sim) as f64 / m.mesh.elements.len() as f64
     );
+    Ok(())
+}
+
+#[allow(clippy::too_many_arguments)]
+fn tradeoff(
+    path: &Path,
+    cells: &[usize],
+    factors: &[f64],
+    integrations: &[String],
+    set: &[String],
+    out: Option<PathBuf>,
+    save: Option<PathBuf>,
+    spawn: bool,
+) -> Result<()> {
+    use decohesion::tradeoff::{compare, csv, grid, orders, run as run_one};
+    if cells.is_empty() || factors.is_empty() || integrations.is_empty() {
+        bail!("--cells, --factors and --integration each need at least one value");
+    }
+    // Validate the scene and every configuration before running anything.
+    let base = load_scene(path, set)?;
+    let configs = grid(integrations, cells, factors);
+    for c in &configs {
+        let o = decohesion::tradeoff::overrides(path, c, set)?;
+        load_scene(path, &o).with_context(|| {
+            format!("configuration {} {}³ ×{}", c.integration, c.cells, c.factor)
+        })?;
+    }
+    let bar = indicatif::ProgressBar::new(configs.len() as u64);
+    if std::io::stderr().is_terminal() {
+        bar.set_style(
+            indicatif::ProgressStyle::with_template(
+                "{spinner} [{elapsed_precise}] {bar:30} {pos}/{len} runs  {msg}",
+            )
+            .expect("static template"),
+        );
+    } else {
+        bar.set_draw_target(indicatif::ProgressDrawTarget::hidden());
+    }
+    let mut rows = vec![];
+    for c in &configs {
+        bar.set_message(format!("{} {}³ ×{}", c.integration, c.cells, c.factor));
+        rows.push(run_one(path, c, set)?);
+        bar.inc(1);
+    }
+    bar.finish_and_clear();
+    compare(&mut rows);
+    println!(
+        "decohesion tradeoff: {} ({}), {} threads; reference = the finest full-integration run; error = largest relative error of peak force, first damage, full rupture, dissipation",
+        path.display(),
+        base.model.name,
+        rayon::current_num_threads()
+    );
+    println!(
+        "{:>8} {:>5} {:>6} {:>8} {:>7} {:>9} {:>8} {:>11} {:>10} {:>10} {:>10} {:>10} {:>9} {:>9}  front",
+        "rule", "cells", "h/hc", "elements", "steps", "wall s", "ns/el-st", "peak N", "t_damage", "t_rupture", "D J", "residual", "err D", "error"
+    );
+    let o = |v: Option<f64>, p: usize| v.map_or("—".to_string(), |v| format!("{v:.p$e}"));
+    for r in &rows {
+        println!(
+            "{:>8} {:>5} {:>6} {:>8} {:>7} {:>9.3} {:>8.1} {:>11} {:>10} {:>10} {:>10.4e} {:>10.2e} {:>9} {:>9.2e}  {}",
+            r.config.integration,
+            r.config.cells,
+            r.config.factor,
+            r.elements,
+            r.steps,
+            r.wall_seconds,
+            r.ns_per_element_step,
+            o(r.peak_force, 4),
+            o(r.time_first_damage, 4),
+            o(r.time_full_rupture, 4),
+            r.damage_dissipated,
+            r.max_relative_residual,
+            o(r.error_dissipated, 2),
+            r.error,
+            if r.reference {
+                "ref"
+            } else if r.pareto {
+                "*"
+            } else if r.failure.is_some() {
+                "failed"
+            } else {
+                ""
+            }
+        );
+    }
+    for (name, by) in [("time step", true), ("mesh size", false)] {
+        let ord = orders(&rows, by);
+        if !ord.is_empty() {
+            println!("observed order of the dissipation error in {name}:");
+            for (label, p) in ord {
+                println!("  {label}: {p:.2}");
+            }
+        }
+    }
+    let prefix = out.unwrap_or_else(|| PathBuf::from(format!("out/tradeoff_{}", base.model.name)));
+    if let Some(dir) = prefix.parent() {
+        if !dir.as_os_str().is_empty() {
+            std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+        }
+    }
+    let csv_path = prefix.with_extension("csv");
+    let json_path = prefix.with_extension("json");
+    std::fs::write(&csv_path, csv(&rows))
+        .with_context(|| format!("writing {}", csv_path.display()))?;
+    std::fs::write(&json_path, serde_json::to_string_pretty(&rows)?)
+        .with_context(|| format!("writing {}", json_path.display()))?;
+    println!("wrote {} and {}", csv_path.display(), json_path.display());
+    let sinks = save
+        .map(Sink::Save)
+        .into_iter()
+        .chain(spawn.then_some(Sink::Spawn));
+    for sink in sinks {
+        decohesion::record::log_frontier(sink, &base.model.name, &rows)
+            .context("recording the frontier")?;
+    }
     Ok(())
 }
 

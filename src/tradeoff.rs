@@ -1,0 +1,369 @@
+//! Speed against accuracy, measured: run a grid of configurations (quadrature × mesh × time
+//! step) of one scene and compare their observables with the most accurate one.
+//!
+//! The observables are the scene's: peak reaction of the first prescribed displacement, time of
+//! first damage, time of full rupture, energy dissipated by damage, max balance residual. The
+//! reference is the finest configuration of the grid (most cells, smallest h/h_crit, full
+//! integration); its own errors are 0 by construction, so errors of the next-finest rows are
+//! lower bounds (Richardson's caveat).
+
+use crate::scene::{load_scene, SceneError};
+use crate::solver::Simulation;
+use serde::Serialize;
+use std::path::Path;
+use std::time::Instant;
+
+/// One configuration of the grid.
+#[derive(Debug, Clone, Serialize)]
+pub struct Config {
+    /// "full" or "reduced".
+    pub integration: String,
+    /// Cells along the longest side.
+    pub cells: usize,
+    /// h / h_crit.
+    pub factor: f64,
+}
+
+/// What one configuration gave.
+#[derive(Debug, Clone, Serialize)]
+pub struct Row {
+    pub config: Config,
+    pub elements: usize,
+    pub steps: u64,
+    /// Wall time of the steps [s] (set-up excluded).
+    pub wall_seconds: f64,
+    pub ns_per_element_step: f64,
+    /// Observables [N], [s], [s], [J], [-].
+    pub peak_force: Option<f64>,
+    pub time_first_damage: Option<f64>,
+    pub time_full_rupture: Option<f64>,
+    pub damage_dissipated: f64,
+    pub max_relative_residual: f64,
+    /// Relative errors against the reference (None when either side lacks the observable).
+    pub error_peak_force: Option<f64>,
+    pub error_first_damage: Option<f64>,
+    pub error_full_rupture: Option<f64>,
+    pub error_dissipated: Option<f64>,
+    /// Largest of the relative errors above: the accuracy axis of the frontier.
+    pub error: f64,
+    /// On the Pareto front of (wall time, error).
+    pub pareto: bool,
+    pub reference: bool,
+    /// Why the run stopped early, if it did.
+    pub failure: Option<String>,
+}
+
+/// The grid of a tradeoff study.
+pub fn grid(integrations: &[String], cells: &[usize], factors: &[f64]) -> Vec<Config> {
+    let mut out = vec![];
+    for i in integrations {
+        for &n in cells {
+            for &f in factors {
+                out.push(Config {
+                    integration: i.clone(),
+                    cells: n,
+                    factor: f,
+                });
+            }
+        }
+    }
+    out
+}
+
+/// The `--set` overrides that turn the scene into configuration `c` (cells scaled so the
+/// longest side has `c.cells`).
+pub fn overrides(scene: &Path, c: &Config, extra: &[String]) -> Result<Vec<String>, SceneError> {
+    let base = load_scene(scene, extra)?;
+    let doc: toml::Table = base.resolved.parse().unwrap_or_default();
+    let cells: Vec<f64> = doc
+        .get("mesh")
+        .and_then(|m| m.get("cells"))
+        .and_then(|c| c.as_array())
+        .map(|a| {
+            a.iter()
+                .filter_map(|v| v.as_integer())
+                .map(|v| v as f64)
+                .collect()
+        })
+        .unwrap_or_else(|| vec![1.0; 3]);
+    let max = cells.iter().cloned().fold(1.0, f64::max);
+    let scaled: Vec<String> = cells
+        .iter()
+        .map(|&v| {
+            ((v * c.cells as f64 / max).round() as i64)
+                .max(1)
+                .to_string()
+        })
+        .collect();
+    let mut set = extra.to_vec();
+    set.push(format!("mesh.cells=[{}]", scaled.join(",")));
+    set.push(format!("scheme.time_step_factor={}", c.factor));
+    set.push(format!("scheme.integration=\"{}\"", c.integration));
+    Ok(set)
+}
+
+/// Runs one configuration (no recording).
+pub fn run(scene: &Path, c: &Config, extra: &[String]) -> Result<Row, SceneError> {
+    let set = overrides(scene, c, extra)?;
+    let s = load_scene(scene, &set)?;
+    let elements = s.model.mesh.elements.len();
+    let mut row = Row {
+        config: c.clone(),
+        elements,
+        steps: 0,
+        wall_seconds: 0.0,
+        ns_per_element_step: 0.0,
+        peak_force: None,
+        time_first_damage: None,
+        time_full_rupture: None,
+        damage_dissipated: 0.0,
+        max_relative_residual: 0.0,
+        error_peak_force: None,
+        error_first_damage: None,
+        error_full_rupture: None,
+        error_dissipated: None,
+        error: f64::NAN,
+        pareto: false,
+        reference: false,
+        failure: None,
+    };
+    let mut sim = match Simulation::new(s.model) {
+        Ok(sim) => sim,
+        Err(e) => {
+            row.failure = Some(e.to_string());
+            return Ok(row);
+        }
+    };
+    let t = Instant::now();
+    let outcome = sim.run(|_| true);
+    row.wall_seconds = t.elapsed().as_secs_f64();
+    row.steps = sim.step_count;
+    row.ns_per_element_step =
+        1e9 * row.wall_seconds / (sim.step_count.max(1) as f64 * elements as f64);
+    row.peak_force = sim.stats.peaks.first().map(|p| p.force);
+    row.time_first_damage = sim.stats.time_first_damage;
+    row.time_full_rupture = sim.stats.time_full_rupture;
+    row.damage_dissipated = sim.ledger.damage_dissipated;
+    row.max_relative_residual = sim.ledger.max_relative_residual;
+    row.failure = outcome.err().map(|e| e.to_string());
+    Ok(row)
+}
+
+fn rel(x: Option<f64>, r: Option<f64>) -> Option<f64> {
+    match (x, r) {
+        (Some(x), Some(r)) if r != 0.0 => Some(((x - r) / r).abs()),
+        _ => None,
+    }
+}
+
+/// Picks the reference (most cells, then smallest factor, full before reduced, among runs
+/// that completed), fills the errors and marks the Pareto front of (wall time, error).
+pub fn compare(rows: &mut [Row]) {
+    let reference = rows
+        .iter()
+        .enumerate()
+        .filter(|(_, r)| r.failure.is_none())
+        .max_by(|(_, a), (_, b)| {
+            (
+                a.config.cells,
+                -a.config.factor,
+                a.config.integration == "full",
+            )
+                .partial_cmp(&(
+                    b.config.cells,
+                    -b.config.factor,
+                    b.config.integration == "full",
+                ))
+                .unwrap_or(std::cmp::Ordering::Equal)
+        })
+        .map(|(i, _)| i);
+    let Some(ri) = reference else {
+        return;
+    };
+    let r = rows[ri].clone();
+    for row in rows.iter_mut() {
+        row.reference = false;
+        row.error_peak_force = rel(row.peak_force, r.peak_force);
+        row.error_first_damage = rel(row.time_first_damage, r.time_first_damage);
+        row.error_full_rupture = rel(row.time_full_rupture, r.time_full_rupture);
+        row.error_dissipated = rel(Some(row.damage_dissipated), Some(r.damage_dissipated));
+        let errs = [
+            row.error_peak_force,
+            row.error_first_damage,
+            row.error_full_rupture,
+            row.error_dissipated,
+        ];
+        row.error = if row.failure.is_some() {
+            f64::INFINITY
+        } else {
+            errs.iter().flatten().cloned().fold(0.0, f64::max)
+        };
+    }
+    rows[ri].reference = true;
+    for i in 0..rows.len() {
+        let (w, e) = (rows[i].wall_seconds, rows[i].error);
+        rows[i].pareto = rows[i].failure.is_none()
+            && !rows.iter().enumerate().any(|(j, o)| {
+                j != i
+                    && o.failure.is_none()
+                    && o.wall_seconds <= w
+                    && o.error <= e
+                    && (o.wall_seconds < w || o.error < e)
+            });
+    }
+}
+
+/// Observed order p = ln(e₁/e₂)/ln(s₁/s₂) between successive rows of the same quadrature where
+/// only the time-step factor (`by_factor`) or only the mesh (`!by_factor`) changes; rows at the
+/// reference's own value of the other parameter are skipped (their error is 0 by construction
+/// only at the reference itself). Returns (label, order) pairs.
+pub fn orders(rows: &[Row], by_factor: bool) -> Vec<(String, f64)> {
+    let mut out = vec![];
+    for a in rows {
+        for b in rows {
+            let same_rule = a.config.integration == b.config.integration;
+            let (sa, sb, fixed) = if by_factor {
+                (
+                    a.config.factor,
+                    b.config.factor,
+                    a.config.cells == b.config.cells,
+                )
+            } else {
+                (
+                    1.0 / a.config.cells as f64,
+                    1.0 / b.config.cells as f64,
+                    a.config.factor == b.config.factor,
+                )
+            };
+            if !(same_rule && fixed && sa > sb) || a.reference || b.reference {
+                continue;
+            }
+            // Successive: no row strictly between them.
+            let between = rows.iter().any(|c| {
+                let sc = if by_factor {
+                    c.config.factor
+                } else {
+                    1.0 / c.config.cells as f64
+                };
+                let fixed_c = if by_factor {
+                    c.config.cells == a.config.cells
+                } else {
+                    c.config.factor == a.config.factor
+                };
+                c.config.integration == a.config.integration && fixed_c && sc < sa && sc > sb
+            });
+            if between {
+                continue;
+            }
+            if let (Some(ea), Some(eb)) = (a.error_dissipated, b.error_dissipated) {
+                if ea > 0.0 && eb > 0.0 {
+                    let label = if by_factor {
+                        format!(
+                            "{} {}³: factor {} → {}",
+                            a.config.integration, a.config.cells, a.config.factor, b.config.factor
+                        )
+                    } else {
+                        format!(
+                            "{} factor {}: {}³ → {}³",
+                            a.config.integration, a.config.factor, a.config.cells, b.config.cells
+                        )
+                    };
+                    out.push((label, (ea / eb).ln() / (sa / sb).ln()));
+                }
+            }
+        }
+    }
+    out
+}
+
+/// The rows as CSV.
+pub fn csv(rows: &[Row]) -> String {
+    let mut s = String::from(
+        "integration,cells,factor,elements,steps,wall_s,ns_per_element_step,peak_force_N,\
+         time_first_damage_s,time_full_rupture_s,damage_dissipated_J,max_relative_residual,\
+         error_peak_force,error_first_damage,error_full_rupture,error_dissipated,error,pareto,\
+         reference,failure\n",
+    );
+    let o = |v: Option<f64>| v.map_or(String::new(), |v| format!("{v:e}"));
+    for r in rows {
+        s.push_str(&format!(
+            "{},{},{},{},{},{:.6},{:.2},{},{},{},{:e},{:e},{},{},{},{},{:e},{},{},\"{}\"\n",
+            r.config.integration,
+            r.config.cells,
+            r.config.factor,
+            r.elements,
+            r.steps,
+            r.wall_seconds,
+            r.ns_per_element_step,
+            o(r.peak_force),
+            o(r.time_first_damage),
+            o(r.time_full_rupture),
+            r.damage_dissipated,
+            r.max_relative_residual,
+            o(r.error_peak_force),
+            o(r.error_first_damage),
+            o(r.error_full_rupture),
+            o(r.error_dissipated),
+            r.error,
+            r.pareto,
+            r.reference,
+            r.failure.clone().unwrap_or_default().replace('"', "'"),
+        ));
+    }
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn row(i: &str, cells: usize, factor: f64, wall: f64, d: f64) -> Row {
+        Row {
+            config: Config {
+                integration: i.into(),
+                cells,
+                factor,
+            },
+            elements: cells * cells * cells,
+            steps: 1,
+            wall_seconds: wall,
+            ns_per_element_step: 1.0,
+            peak_force: None,
+            time_first_damage: None,
+            time_full_rupture: None,
+            damage_dissipated: d,
+            max_relative_residual: 0.0,
+            error_peak_force: None,
+            error_first_damage: None,
+            error_full_rupture: None,
+            error_dissipated: None,
+            error: f64::NAN,
+            pareto: false,
+            reference: false,
+            failure: None,
+        }
+    }
+
+    /// Reference = finest full row; a row slower and less accurate than another is not on
+    /// the front; a second-order sequence gives order 2.
+    #[test]
+    fn reference_pareto_and_orders() {
+        // D(h) = 100 + 1000 h²: errors vs the reference at h = 0.125.
+        let d = |f: f64| 100.0 + 1000.0 * f * f;
+        let mut rows = vec![
+            row("full", 8, 0.5, 1.0, d(0.5)),
+            row("full", 8, 0.25, 2.0, d(0.25)),
+            row("full", 8, 0.125, 4.0, d(0.125)),
+            row("reduced", 8, 0.5, 3.0, d(0.5) * 1.5),
+        ];
+        compare(&mut rows);
+        assert!(rows[2].reference && rows[2].error == 0.0);
+        assert!(rows[0].pareto && rows[1].pareto && rows[2].pareto);
+        assert!(!rows[3].pareto, "slower and worse than row 0");
+        // Errors relative to D(0.125): e(0.5) ∝ 0.25 − 0.015625, e(0.25) ∝ 0.0625 − 0.015625.
+        let o = orders(&rows, true);
+        assert_eq!(o.len(), 1, "{o:?}");
+        let expect: f64 = ((0.25 - 0.015625) / (0.0625 - 0.015625_f64)).ln() / 2f64.ln();
+        assert!((o[0].1 - expect).abs() < 1e-12);
+    }
+}
