@@ -507,7 +507,9 @@ fn tradeoff(
     for (name, by) in [("time step", true), ("mesh size", false)] {
         let ord = orders(&rows, by);
         if !ord.is_empty() {
-            println!("observed order of the dissipation error in {name}:");
+            println!(
+                "observed order of the dissipation error in {name} (local reference: the finest run of each series):"
+            );
             for (label, p) in ord {
                 println!("  {label}: {p:.2}");
             }

@@ -213,63 +213,61 @@ pub fn compare(rows: &mut [Row]) {
     }
 }
 
-/// Observed order p = ln(e₁/e₂)/ln(s₁/s₂) between successive rows of the same quadrature where
-/// only the time-step factor (`by_factor`) or only the mesh (`!by_factor`) changes; rows at the
-/// reference's own value of the other parameter are skipped (their error is 0 by construction
-/// only at the reference itself). Returns (label, order) pairs.
+/// Observed orders of the dissipation error in the time step (`by_factor`) or in the element
+/// size: within each group of completed rows of one quadrature that differ only in that
+/// parameter, the finest row is the local reference, eᵢ = |Dᵢ − D_ref|/D_ref, and between
+/// successive rows p = ln(eᵢ/eᵢ₊₁)/ln(sᵢ/sᵢ₊₁), s = h/h_crit or 1/cells. Needs three rows per
+/// group. Returns (label, order) pairs.
 pub fn orders(rows: &[Row], by_factor: bool) -> Vec<(String, f64)> {
+    let mut groups: std::collections::BTreeMap<(String, String), Vec<&Row>> = Default::default();
+    for r in rows.iter().filter(|r| r.failure.is_none()) {
+        let other = if by_factor {
+            format!("{}³", r.config.cells)
+        } else {
+            format!("h/h_crit {}", r.config.factor)
+        };
+        groups
+            .entry((r.config.integration.clone(), other))
+            .or_default()
+            .push(r);
+    }
+    let size = |r: &Row| {
+        if by_factor {
+            r.config.factor
+        } else {
+            1.0 / r.config.cells as f64
+        }
+    };
     let mut out = vec![];
-    for a in rows {
-        for b in rows {
-            let same_rule = a.config.integration == b.config.integration;
-            let (sa, sb, fixed) = if by_factor {
-                (
-                    a.config.factor,
-                    b.config.factor,
-                    a.config.cells == b.config.cells,
-                )
-            } else {
-                (
-                    1.0 / a.config.cells as f64,
-                    1.0 / b.config.cells as f64,
-                    a.config.factor == b.config.factor,
-                )
-            };
-            if !(same_rule && fixed && sa > sb) || a.reference || b.reference {
-                continue;
-            }
-            // Successive: no row strictly between them.
-            let between = rows.iter().any(|c| {
-                let sc = if by_factor {
-                    c.config.factor
+    for ((rule, other), mut g) in groups {
+        if g.len() < 3 {
+            continue;
+        }
+        g.sort_by(|a, b| size(b).total_cmp(&size(a)));
+        let d_ref = g[g.len() - 1].damage_dissipated;
+        let e: Vec<f64> = g
+            .iter()
+            .map(|r| ((r.damage_dissipated - d_ref) / d_ref).abs())
+            .collect();
+        for i in 0..g.len() - 2 {
+            if e[i] > 0.0 && e[i + 1] > 0.0 {
+                let label = if by_factor {
+                    format!(
+                        "{rule} {other}: h/h_crit {} → {}",
+                        g[i].config.factor,
+                        g[i + 1].config.factor
+                    )
                 } else {
-                    1.0 / c.config.cells as f64
+                    format!(
+                        "{rule} {other}: {}³ → {}³",
+                        g[i].config.cells,
+                        g[i + 1].config.cells
+                    )
                 };
-                let fixed_c = if by_factor {
-                    c.config.cells == a.config.cells
-                } else {
-                    c.config.factor == a.config.factor
-                };
-                c.config.integration == a.config.integration && fixed_c && sc < sa && sc > sb
-            });
-            if between {
-                continue;
-            }
-            if let (Some(ea), Some(eb)) = (a.error_dissipated, b.error_dissipated) {
-                if ea > 0.0 && eb > 0.0 {
-                    let label = if by_factor {
-                        format!(
-                            "{} {}³: factor {} → {}",
-                            a.config.integration, a.config.cells, a.config.factor, b.config.factor
-                        )
-                    } else {
-                        format!(
-                            "{} factor {}: {}³ → {}³",
-                            a.config.integration, a.config.factor, a.config.cells, b.config.cells
-                        )
-                    };
-                    out.push((label, (ea / eb).ln() / (sa / sb).ln()));
-                }
+                out.push((
+                    label,
+                    (e[i] / e[i + 1]).ln() / (size(g[i]) / size(g[i + 1])).ln(),
+                ));
             }
         }
     }
@@ -360,7 +358,7 @@ mod tests {
         assert!(rows[2].reference && rows[2].error == 0.0);
         assert!(rows[0].pareto && rows[1].pareto && rows[2].pareto);
         assert!(!rows[3].pareto, "slower and worse than row 0");
-        // Errors relative to D(0.125): e(0.5) ∝ 0.25 − 0.015625, e(0.25) ∝ 0.0625 − 0.015625.
+        // Local reference D(0.125): e(0.5) ∝ 0.25 − 0.015625, e(0.25) ∝ 0.0625 − 0.015625.
         let o = orders(&rows, true);
         assert_eq!(o.len(), 1, "{o:?}");
         let expect: f64 = ((0.25 - 0.015625) / (0.0625 - 0.015625_f64)).ln() / 2f64.ln();
