@@ -493,15 +493,7 @@ fn tradeoff(
             r.max_relative_residual,
             o(r.error_dissipated, 2),
             r.error,
-            if r.reference {
-                "ref"
-            } else if r.pareto {
-                "*"
-            } else if r.failure.is_some() {
-                "failed"
-            } else {
-                ""
-            }
+            r.front_mark()
         );
     }
     for (name, by) in [("time step", true), ("mesh size", false)] {

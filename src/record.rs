@@ -1728,13 +1728,7 @@ pub fn log_frontier(
             r.wall_seconds,
             r.ns_per_element_step,
             r.error,
-            if r.reference {
-                "reference"
-            } else if r.pareto {
-                "yes"
-            } else {
-                ""
-            }
+            r.front_mark()
         ));
     }
     rec.log_static("table", &TextDocument::from_markdown(table))

@@ -53,6 +53,45 @@ pub struct Row {
     pub failure: Option<String>,
 }
 
+impl Row {
+    /// A row with nothing measured yet.
+    pub fn new(config: Config, elements: usize) -> Row {
+        Row {
+            config,
+            elements,
+            steps: 0,
+            wall_seconds: 0.0,
+            ns_per_element_step: 0.0,
+            peak_force: None,
+            time_first_damage: None,
+            time_full_rupture: None,
+            damage_dissipated: 0.0,
+            max_relative_residual: 0.0,
+            error_peak_force: None,
+            error_first_damage: None,
+            error_full_rupture: None,
+            error_dissipated: None,
+            error: f64::NAN,
+            pareto: false,
+            reference: false,
+            failure: None,
+        }
+    }
+
+    /// "ref", "*" (Pareto-optimal), "failed" or "".
+    pub fn front_mark(&self) -> &'static str {
+        if self.reference {
+            "ref"
+        } else if self.pareto {
+            "*"
+        } else if self.failure.is_some() {
+            "failed"
+        } else {
+            ""
+        }
+    }
+}
+
 /// The grid of a tradeoff study.
 pub fn grid(integrations: &[String], cells: &[usize], factors: &[f64]) -> Vec<Config> {
     let mut out = vec![];
@@ -107,26 +146,7 @@ pub fn run(scene: &Path, c: &Config, extra: &[String]) -> Result<Row, SceneError
     let set = overrides(scene, c, extra)?;
     let s = load_scene(scene, &set)?;
     let elements = s.model.mesh.elements.len();
-    let mut row = Row {
-        config: c.clone(),
-        elements,
-        steps: 0,
-        wall_seconds: 0.0,
-        ns_per_element_step: 0.0,
-        peak_force: None,
-        time_first_damage: None,
-        time_full_rupture: None,
-        damage_dissipated: 0.0,
-        max_relative_residual: 0.0,
-        error_peak_force: None,
-        error_first_damage: None,
-        error_full_rupture: None,
-        error_dissipated: None,
-        error: f64::NAN,
-        pareto: false,
-        reference: false,
-        failure: None,
-    };
+    let mut row = Row::new(c.clone(), elements);
     let mut sim = match Simulation::new(s.model) {
         Ok(sim) => sim,
         Err(e) => {
@@ -316,29 +336,16 @@ mod tests {
     use super::*;
 
     fn row(i: &str, cells: usize, factor: f64, wall: f64, d: f64) -> Row {
+        let config = Config {
+            integration: i.into(),
+            cells,
+            factor,
+        };
         Row {
-            config: Config {
-                integration: i.into(),
-                cells,
-                factor,
-            },
-            elements: cells * cells * cells,
             steps: 1,
             wall_seconds: wall,
-            ns_per_element_step: 1.0,
-            peak_force: None,
-            time_first_damage: None,
-            time_full_rupture: None,
             damage_dissipated: d,
-            max_relative_residual: 0.0,
-            error_peak_force: None,
-            error_first_damage: None,
-            error_full_rupture: None,
-            error_dissipated: None,
-            error: f64::NAN,
-            pareto: false,
-            reference: false,
-            failure: None,
+            ..Row::new(config, cells * cells * cells)
         }
     }
 
