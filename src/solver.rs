@@ -9,7 +9,10 @@
 
 use crate::energy::{EnergySnapshot, Ledger};
 use crate::law::InterfaceState;
-use crate::material::{element_forces, element_forces_reduced, hourglass_stiffness, Material};
+use crate::material::{
+    element_forces, element_forces_reduced, element_forces_reduced_lanes, hourglass_stiffness,
+    Material,
+};
 use crate::mesh::{dot, norm, CentreData, ElementClasses, GaussData, Mesh};
 use crate::model::{Integration, Model};
 use rayon::prelude::*;
@@ -372,9 +375,67 @@ pub fn assemble_internal_forces(
     out
 }
 
-/// One chunk of a colour with one-point integration (see [`element_forces_reduced`]).
+/// One chunk of a colour with one-point integration: groups of 8 elements go through the
+/// lane kernel ([`element_forces_reduced_lanes`], AVX-512/AVX2 with FMA when the CPU has them),
+/// the remainder through the scalar one ([`element_forces_reduced`]).
 #[allow(clippy::too_many_arguments)]
 unsafe fn chunk_forces_reduced(
+    mesh: &Mesh,
+    classes: &ElementClasses,
+    mat: &Material,
+    kappa: f64,
+    u: &[[f64; 3]],
+    f: SendPtr,
+    chunk: &[u32],
+    energy: bool,
+) -> (f64, f64, f64, usize) {
+    #[cfg(target_arch = "x86_64")]
+    {
+        if std::is_x86_feature_detected!("avx512f") && std::is_x86_feature_detected!("fma") {
+            return chunk_forces_reduced_avx512(mesh, classes, mat, kappa, u, f, chunk, energy);
+        }
+        if std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma") {
+            return chunk_forces_reduced_avx2(mesh, classes, mat, kappa, u, f, chunk, energy);
+        }
+    }
+    chunk_forces_reduced_impl::<false>(mesh, classes, mat, kappa, u, f, chunk, energy)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+#[allow(clippy::too_many_arguments)]
+unsafe fn chunk_forces_reduced_avx2(
+    mesh: &Mesh,
+    classes: &ElementClasses,
+    mat: &Material,
+    kappa: f64,
+    u: &[[f64; 3]],
+    f: SendPtr,
+    chunk: &[u32],
+    energy: bool,
+) -> (f64, f64, f64, usize) {
+    chunk_forces_reduced_impl::<true>(mesh, classes, mat, kappa, u, f, chunk, energy)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f,avx2,fma")]
+#[allow(clippy::too_many_arguments)]
+unsafe fn chunk_forces_reduced_avx512(
+    mesh: &Mesh,
+    classes: &ElementClasses,
+    mat: &Material,
+    kappa: f64,
+    u: &[[f64; 3]],
+    f: SendPtr,
+    chunk: &[u32],
+    energy: bool,
+) -> (f64, f64, f64, usize) {
+    chunk_forces_reduced_impl::<true>(mesh, classes, mat, kappa, u, f, chunk, energy)
+}
+
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+unsafe fn chunk_forces_reduced_impl<const FMA: bool>(
     mesh: &Mesh,
     classes: &ElementClasses,
     mat: &Material,
@@ -387,22 +448,72 @@ unsafe fn chunk_forces_reduced(
     let (mut e_sum, mut hg_sum) = (0.0, 0.0);
     let mut min_j = f64::INFINITY;
     let mut min_e = 0usize;
+    let groups = chunk.chunks_exact(8);
+    let rest = groups.remainder();
+    let mut b = [[[0.0; 8]; 3]; 8];
+    let mut gamma = [[[0.0; 8]; 8]; 4];
+    let mut vol = [0.0; 8];
+    let mut k_hg = [0.0; 8];
+    let mut ul = [[[0.0; 8]; 3]; 8];
+    let mut fl = [[[0.0; 8]; 3]; 8];
+    for group in groups {
+        for (l, &e) in group.iter().enumerate() {
+            let cd: &CentreData = classes
+                .centre
+                .get_unchecked(*classes.class_of.get_unchecked(e as usize) as usize);
+            let conn = mesh.elements.get_unchecked(e as usize);
+            for a in 0..8 {
+                let ua = u.get_unchecked(conn[a] as usize);
+                for j in 0..3 {
+                    b[a][j][l] = cd.b[a][j];
+                    ul[a][j][l] = ua[j];
+                }
+            }
+            for al in 0..4 {
+                for a in 0..8 {
+                    gamma[al][a][l] = cd.gamma[al][a];
+                }
+            }
+            vol[l] = cd.volume;
+            k_hg[l] = hourglass_stiffness(mat, cd, kappa);
+        }
+        let (en, hg, det) = if energy {
+            element_forces_reduced_lanes::<true, FMA>(mat, &b, &gamma, &vol, &k_hg, &ul, &mut fl)
+        } else {
+            element_forces_reduced_lanes::<false, FMA>(mat, &b, &gamma, &vol, &k_hg, &ul, &mut fl)
+        };
+        for (l, &e) in group.iter().enumerate() {
+            e_sum += en[l];
+            hg_sum += hg[l];
+            // `!(j >= min_j)` also catches NaN.
+            if !(det[l] >= min_j) {
+                min_j = det[l];
+                min_e = e as usize;
+            }
+            let conn = mesh.elements.get_unchecked(e as usize);
+            for a in 0..8 {
+                let row = &mut *f.0.add(conn[a] as usize);
+                row[0] += fl[a][0][l];
+                row[1] += fl[a][1][l];
+                row[2] += fl[a][2][l];
+            }
+        }
+    }
     let mut fe = [[0.0; 3]; 8];
-    for &e in chunk {
+    for &e in rest {
         let conn = mesh.elements.get_unchecked(e as usize);
         let cd: &CentreData = classes
             .centre
             .get_unchecked(*classes.class_of.get_unchecked(e as usize) as usize);
-        let k_hg = hourglass_stiffness(mat, cd, kappa);
+        let k = hourglass_stiffness(mat, cd, kappa);
         let ue: [[f64; 3]; 8] = std::array::from_fn(|a| *u.get_unchecked(conn[a] as usize));
         let (en, hg, j) = if energy {
-            element_forces_reduced::<true>(mat, cd, k_hg, &ue, &mut fe)
+            element_forces_reduced::<true>(mat, cd, k, &ue, &mut fe)
         } else {
-            element_forces_reduced::<false>(mat, cd, k_hg, &ue, &mut fe)
+            element_forces_reduced::<false>(mat, cd, k, &ue, &mut fe)
         };
         e_sum += en;
         hg_sum += hg;
-        // `!(j >= min_j)` also catches NaN.
         if !(j >= min_j) {
             min_j = j;
             min_e = e as usize;
