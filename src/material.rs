@@ -161,23 +161,7 @@ pub fn element_forces_reduced<const ENERGY: bool>(
         MaterialModel::NeoHookean => {
             // P = μ(F − F⁻ᵀ) + λ ln J F⁻ᵀ, F⁻ᵀ = cof(F)/J.
             let lnj = det.ln();
-            let cof = [
-                [
-                    ff[1][1] * ff[2][2] - ff[1][2] * ff[2][1],
-                    ff[1][2] * ff[2][0] - ff[1][0] * ff[2][2],
-                    ff[1][0] * ff[2][1] - ff[1][1] * ff[2][0],
-                ],
-                [
-                    ff[0][2] * ff[2][1] - ff[0][1] * ff[2][2],
-                    ff[0][0] * ff[2][2] - ff[0][2] * ff[2][0],
-                    ff[0][1] * ff[2][0] - ff[0][0] * ff[2][1],
-                ],
-                [
-                    ff[0][1] * ff[1][2] - ff[0][2] * ff[1][1],
-                    ff[0][2] * ff[1][0] - ff[0][0] * ff[1][2],
-                    ff[0][0] * ff[1][1] - ff[0][1] * ff[1][0],
-                ],
-            ];
+            let cof = cofactor(|i, k| ff[i][k]);
             let coef = (lam * lnj - mu) / det;
             let mut trc = 0.0;
             for i in 0..3 {
@@ -305,23 +289,7 @@ pub fn element_forces_reduced_lanes<const ENERGY: bool, const FMA: bool>(
         MaterialModel::NeoHookean => {
             for l in 0..8 {
                 let fl = |i: usize, k: usize| ff[i][k][l];
-                let cof = [
-                    [
-                        fl(1, 1) * fl(2, 2) - fl(1, 2) * fl(2, 1),
-                        fl(1, 2) * fl(2, 0) - fl(1, 0) * fl(2, 2),
-                        fl(1, 0) * fl(2, 1) - fl(1, 1) * fl(2, 0),
-                    ],
-                    [
-                        fl(0, 2) * fl(2, 1) - fl(0, 1) * fl(2, 2),
-                        fl(0, 0) * fl(2, 2) - fl(0, 2) * fl(2, 0),
-                        fl(0, 1) * fl(2, 0) - fl(0, 0) * fl(2, 1),
-                    ],
-                    [
-                        fl(0, 1) * fl(1, 2) - fl(0, 2) * fl(1, 1),
-                        fl(0, 2) * fl(1, 0) - fl(0, 0) * fl(1, 2),
-                        fl(0, 0) * fl(1, 1) - fl(0, 1) * fl(1, 0),
-                    ],
-                ];
+                let cof = cofactor(fl);
                 let lnj = det[l].ln();
                 let coef = (lam * lnj - mu) / det[l];
                 let mut trc = 0.0;
@@ -376,6 +344,28 @@ pub fn element_forces_reduced_lanes<const ENERGY: bool, const FMA: bool>(
         }
     }
     (strain, e_hg, det)
+}
+
+/// Cofactor matrix cof(F) = J F⁻ᵀ of a 3×3 matrix given by its entries.
+#[inline(always)]
+fn cofactor(f: impl Fn(usize, usize) -> f64) -> [[f64; 3]; 3] {
+    [
+        [
+            f(1, 1) * f(2, 2) - f(1, 2) * f(2, 1),
+            f(1, 2) * f(2, 0) - f(1, 0) * f(2, 2),
+            f(1, 0) * f(2, 1) - f(1, 1) * f(2, 0),
+        ],
+        [
+            f(0, 2) * f(2, 1) - f(0, 1) * f(2, 2),
+            f(0, 0) * f(2, 2) - f(0, 2) * f(2, 0),
+            f(0, 1) * f(2, 0) - f(0, 0) * f(2, 1),
+        ],
+        [
+            f(0, 1) * f(1, 2) - f(0, 2) * f(1, 1),
+            f(0, 2) * f(1, 0) - f(0, 0) * f(1, 2),
+            f(0, 0) * f(1, 1) - f(0, 1) * f(1, 0),
+        ],
+    ]
 }
 
 /// a·b + c, fused when `FMA` (one rounding) — the choice is fixed per CPU, so results stay
@@ -495,23 +485,7 @@ pub fn element_forces<const ENERGY: bool, const FMA: bool>(
                 let lnj = j.ln();
                 let inv_j = 1.0 / j;
                 let f = |i: usize, k: usize| ff[i][k][q];
-                let cof = [
-                    [
-                        f(1, 1) * f(2, 2) - f(1, 2) * f(2, 1),
-                        f(1, 2) * f(2, 0) - f(1, 0) * f(2, 2),
-                        f(1, 0) * f(2, 1) - f(1, 1) * f(2, 0),
-                    ],
-                    [
-                        f(0, 2) * f(2, 1) - f(0, 1) * f(2, 2),
-                        f(0, 0) * f(2, 2) - f(0, 2) * f(2, 0),
-                        f(0, 1) * f(2, 0) - f(0, 0) * f(2, 1),
-                    ],
-                    [
-                        f(0, 1) * f(1, 2) - f(0, 2) * f(1, 1),
-                        f(0, 2) * f(1, 0) - f(0, 0) * f(1, 2),
-                        f(0, 0) * f(1, 1) - f(0, 1) * f(1, 0),
-                    ],
-                ];
+                let cof = cofactor(f);
                 let coef = (lam * lnj - mu) * inv_j;
                 let mut trc = 0.0;
                 for i in 0..3 {
