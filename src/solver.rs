@@ -288,6 +288,44 @@ impl NodeSums {
     }
 }
 
+/// Defines `$name`, which runs `$imp::<FMA>` built for AVX-512 or AVX2 with fused
+/// multiply–adds when the CPU has them, else the portable build (`FMA = false`). The choice is
+/// detected once per process, so a given machine always takes the same path and results stay
+/// bit-identical whatever the thread count.
+macro_rules! simd_dispatch {
+    ($(#[$doc:meta])* fn $name:ident / $avx2:ident / $avx512:ident
+        => $imp:ident($($arg:ident: $ty:ty),* $(,)?) -> $ret:ty) => {
+        $(#[$doc])*
+        #[allow(clippy::too_many_arguments)]
+        unsafe fn $name($($arg: $ty),*) -> $ret {
+            #[cfg(target_arch = "x86_64")]
+            {
+                if std::is_x86_feature_detected!("avx512f") && std::is_x86_feature_detected!("fma") {
+                    return $avx512($($arg),*);
+                }
+                if std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma") {
+                    return $avx2($($arg),*);
+                }
+            }
+            $imp::<false>($($arg),*)
+        }
+
+        #[cfg(target_arch = "x86_64")]
+        #[target_feature(enable = "avx2,fma")]
+        #[allow(clippy::too_many_arguments)]
+        unsafe fn $avx2($($arg: $ty),*) -> $ret {
+            $imp::<true>($($arg),*)
+        }
+
+        #[cfg(target_arch = "x86_64")]
+        #[target_feature(enable = "avx512f,avx2,fma")]
+        #[allow(clippy::too_many_arguments)]
+        unsafe fn $avx512($($arg: $ty),*) -> $ret {
+            $imp::<true>($($arg),*)
+        }
+    };
+}
+
 /// Which element kernel assembles the internal forces (scene `scheme.integration`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum ElementRule {
@@ -375,62 +413,21 @@ pub fn assemble_internal_forces(
     out
 }
 
-/// One chunk of a colour with one-point integration: groups of 8 elements go through the
-/// lane kernel ([`element_forces_reduced_lanes`], AVX-512/AVX2 with FMA when the CPU has them),
-/// the remainder through the scalar one ([`element_forces_reduced`]).
-#[allow(clippy::too_many_arguments)]
-unsafe fn chunk_forces_reduced(
-    mesh: &Mesh,
-    classes: &ElementClasses,
-    mat: &Material,
-    kappa: f64,
-    u: &[[f64; 3]],
-    f: SendPtr,
-    chunk: &[u32],
-    energy: bool,
-) -> (f64, f64, f64, usize) {
-    #[cfg(target_arch = "x86_64")]
-    {
-        if std::is_x86_feature_detected!("avx512f") && std::is_x86_feature_detected!("fma") {
-            return chunk_forces_reduced_avx512(mesh, classes, mat, kappa, u, f, chunk, energy);
-        }
-        if std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma") {
-            return chunk_forces_reduced_avx2(mesh, classes, mat, kappa, u, f, chunk, energy);
-        }
-    }
-    chunk_forces_reduced_impl::<false>(mesh, classes, mat, kappa, u, f, chunk, energy)
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
-#[allow(clippy::too_many_arguments)]
-unsafe fn chunk_forces_reduced_avx2(
-    mesh: &Mesh,
-    classes: &ElementClasses,
-    mat: &Material,
-    kappa: f64,
-    u: &[[f64; 3]],
-    f: SendPtr,
-    chunk: &[u32],
-    energy: bool,
-) -> (f64, f64, f64, usize) {
-    chunk_forces_reduced_impl::<true>(mesh, classes, mat, kappa, u, f, chunk, energy)
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f,avx2,fma")]
-#[allow(clippy::too_many_arguments)]
-unsafe fn chunk_forces_reduced_avx512(
-    mesh: &Mesh,
-    classes: &ElementClasses,
-    mat: &Material,
-    kappa: f64,
-    u: &[[f64; 3]],
-    f: SendPtr,
-    chunk: &[u32],
-    energy: bool,
-) -> (f64, f64, f64, usize) {
-    chunk_forces_reduced_impl::<true>(mesh, classes, mat, kappa, u, f, chunk, energy)
+simd_dispatch! {
+    /// One chunk of a colour with one-point integration: groups of 8 elements go through the
+    /// lane kernel ([`element_forces_reduced_lanes`]), the remainder through the scalar one
+    /// ([`element_forces_reduced`]).
+    fn chunk_forces_reduced / chunk_forces_reduced_avx2 / chunk_forces_reduced_avx512
+        => chunk_forces_reduced_impl(
+            mesh: &Mesh,
+            classes: &ElementClasses,
+            mat: &Material,
+            kappa: f64,
+            u: &[[f64; 3]],
+            f: SendPtr,
+            chunk: &[u32],
+            energy: bool
+        ) -> (f64, f64, f64, usize)
 }
 
 #[inline(always)]
@@ -528,57 +525,19 @@ unsafe fn chunk_forces_reduced_impl<const FMA: bool>(
     (e_sum, hg_sum, min_j, min_e)
 }
 
-/// One chunk of a colour: gathers the 8 nodal displacements, runs the kernel, scatters forces.
-/// Dispatches to an AVX-512 or AVX2 build of the same code, with fused multiply–adds, when the
-/// CPU has them (detected once per process, so a given machine always takes the same path and
-/// results stay bit-identical whatever the thread count).
-unsafe fn chunk_forces(
-    mesh: &Mesh,
-    classes: &ElementClasses,
-    mat: &Material,
-    u: &[[f64; 3]],
-    f: SendPtr,
-    chunk: &[u32],
-    energy: bool,
-) -> (f64, f64, usize) {
-    #[cfg(target_arch = "x86_64")]
-    {
-        if std::is_x86_feature_detected!("avx512f") && std::is_x86_feature_detected!("fma") {
-            return chunk_forces_avx512(mesh, classes, mat, u, f, chunk, energy);
-        }
-        if std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma") {
-            return chunk_forces_avx2(mesh, classes, mat, u, f, chunk, energy);
-        }
-    }
-    chunk_forces_impl::<false>(mesh, classes, mat, u, f, chunk, energy)
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
-unsafe fn chunk_forces_avx2(
-    mesh: &Mesh,
-    classes: &ElementClasses,
-    mat: &Material,
-    u: &[[f64; 3]],
-    f: SendPtr,
-    chunk: &[u32],
-    energy: bool,
-) -> (f64, f64, usize) {
-    chunk_forces_impl::<true>(mesh, classes, mat, u, f, chunk, energy)
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f,avx2,fma")]
-unsafe fn chunk_forces_avx512(
-    mesh: &Mesh,
-    classes: &ElementClasses,
-    mat: &Material,
-    u: &[[f64; 3]],
-    f: SendPtr,
-    chunk: &[u32],
-    energy: bool,
-) -> (f64, f64, usize) {
-    chunk_forces_impl::<true>(mesh, classes, mat, u, f, chunk, energy)
+simd_dispatch! {
+    /// One chunk of a colour: gathers the 8 nodal displacements, runs the kernel, scatters
+    /// forces.
+    fn chunk_forces / chunk_forces_avx2 / chunk_forces_avx512
+        => chunk_forces_impl(
+            mesh: &Mesh,
+            classes: &ElementClasses,
+            mat: &Material,
+            u: &[[f64; 3]],
+            f: SendPtr,
+            chunk: &[u32],
+            energy: bool
+        ) -> (f64, f64, usize)
 }
 
 #[inline(always)]
