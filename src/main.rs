@@ -433,7 +433,7 @@ fn tradeoff(
     save: Option<PathBuf>,
     spawn: bool,
 ) -> Result<()> {
-    use decohesion::tradeoff::{compare, csv, grid, orders, run as run_one};
+    use decohesion::tradeoff::{compare, csv, grid, run as run_one};
     if cells.is_empty() || factors.is_empty() || integrations.is_empty() {
         bail!("--cells, --factors and --integration each need at least one value");
     }
@@ -471,42 +471,7 @@ fn tradeoff(
         base.model.name,
         rayon::current_num_threads()
     );
-    println!(
-        "{:>8} {:>5} {:>6} {:>8} {:>7} {:>9} {:>8} {:>11} {:>10} {:>10} {:>10} {:>10} {:>9} {:>9}  front",
-        "rule", "cells", "h/hc", "elements", "steps", "wall s", "ns/el-st", "peak N", "t_damage", "t_rupture", "D J", "residual", "err D", "error"
-    );
-    let o = |v: Option<f64>, p: usize| v.map_or("—".to_string(), |v| format!("{v:.p$e}"));
-    for r in &rows {
-        println!(
-            "{:>8} {:>5} {:>6} {:>8} {:>7} {:>9.3} {:>8.1} {:>11} {:>10} {:>10} {:>10.4e} {:>10.2e} {:>9} {:>9.2e}  {}",
-            r.config.integration,
-            r.config.cells,
-            r.config.factor,
-            r.elements,
-            r.steps,
-            r.wall_seconds,
-            r.ns_per_element_step,
-            o(r.peak_force, 4),
-            o(r.time_first_damage, 4),
-            o(r.time_full_rupture, 4),
-            r.damage_dissipated,
-            r.max_relative_residual,
-            o(r.error_dissipated, 2),
-            r.error,
-            r.front_mark()
-        );
-    }
-    for (name, by) in [("time step", true), ("mesh size", false)] {
-        let ord = orders(&rows, by);
-        if !ord.is_empty() {
-            println!(
-                "observed order of the dissipation error in {name} (local reference: the finest run of each series):"
-            );
-            for (label, p) in ord {
-                println!("  {label}: {p:.2}");
-            }
-        }
-    }
+    print!("{}", decohesion::tradeoff::table(&rows));
     let prefix = out.unwrap_or_else(|| PathBuf::from(format!("out/tradeoff_{}", base.model.name)));
     if let Some(dir) = prefix.parent() {
         if !dir.as_os_str().is_empty() {

@@ -1714,23 +1714,7 @@ pub fn log_frontier(
             .with_labels(["Pareto front"]),
     )
     .map_err(log_err("the Pareto front"))?;
-    let mut table = String::from(
-        "| rule | cells | h/h_crit | elements | steps | wall s | ns/el-step | error | Pareto |\n|---|---|---|---|---|---|---|---|---|\n",
-    );
-    for r in rows {
-        table.push_str(&format!(
-            "| {} | {} | {} | {} | {} | {:.3} | {:.1} | {:.3e} | {} |\n",
-            r.config.integration,
-            r.config.cells,
-            r.config.factor,
-            r.elements,
-            r.steps,
-            r.wall_seconds,
-            r.ns_per_element_step,
-            r.error,
-            r.front_mark()
-        ));
-    }
+    let table = format!("```text\n{}```\n", crate::tradeoff::table(rows));
     rec.log_static("table", &TextDocument::from_markdown(table))
         .map_err(log_err("the tradeoff table"))?;
     rec.flush_blocking()

@@ -294,6 +294,61 @@ pub fn orders(rows: &[Row], by_factor: bool) -> Vec<(String, f64)> {
     out
 }
 
+/// The rows as a fixed-width text table (`*` Pareto-optimal, `ref` the reference), followed by
+/// the observed orders in the time step and in the mesh size.
+pub fn table(rows: &[Row]) -> String {
+    let mut s = format!(
+        "{:>8} {:>5} {:>6} {:>8} {:>7} {:>9} {:>8} {:>11} {:>10} {:>10} {:>10} {:>10} {:>9} {:>9}  front\n",
+        "rule",
+        "cells",
+        "h/hc",
+        "elements",
+        "steps",
+        "wall s",
+        "ns/el-st",
+        "peak N",
+        "t_damage",
+        "t_rupture",
+        "D J",
+        "residual",
+        "err D",
+        "error"
+    );
+    let o = |v: Option<f64>, p: usize| v.map_or("—".to_string(), |v| format!("{v:.p$e}"));
+    for r in rows {
+        s.push_str(&format!(
+            "{:>8} {:>5} {:>6} {:>8} {:>7} {:>9.3} {:>8.1} {:>11} {:>10} {:>10} {:>10.4e} {:>10.2e} {:>9} {:>9.2e}  {}\n",
+            r.config.integration,
+            r.config.cells,
+            r.config.factor,
+            r.elements,
+            r.steps,
+            r.wall_seconds,
+            r.ns_per_element_step,
+            o(r.peak_force, 4),
+            o(r.time_first_damage, 4),
+            o(r.time_full_rupture, 4),
+            r.damage_dissipated,
+            r.max_relative_residual,
+            o(r.error_dissipated, 2),
+            r.error,
+            r.front_mark()
+        ));
+    }
+    for (name, by) in [("time step", true), ("mesh size", false)] {
+        let ord = orders(rows, by);
+        if !ord.is_empty() {
+            s.push_str(&format!(
+                "observed order of the dissipation error in {name} (local reference: the finest run of each series):\n"
+            ));
+            for (label, p) in ord {
+                s.push_str(&format!("  {label}: {p:.2}\n"));
+            }
+        }
+    }
+    s
+}
+
 /// The rows as CSV.
 pub fn csv(rows: &[Row]) -> String {
     let mut s = String::from(
