@@ -979,42 +979,32 @@ impl App {
         };
         let w = (ui.available_width() / 3.0 - 8.0).max(150.0);
         ui.horizontal(|ui| {
-            ui.vertical(|ui| {
-                ui.label("stiffness g_N(α) [Pa/m]");
-                Plot::new("g_n")
-                    .width(w)
-                    .height(200.0)
-                    .x_axis_label("α [mm]")
-                    .legend(Legend::default())
-                    .show(ui, |p| {
-                        p.line(Line::new("g_N(α)", g));
-                        marks(p);
-                    });
+            titled_plot(ui, "stiffness g_N(α) [Pa/m]", "g_n", "α [mm]", w, |p| {
+                p.line(Line::new("g_N(α)", g));
+                marks(p);
             });
-            ui.vertical(|ui| {
-                ui.label("traction T(δ) = g_N(δ)δ [MPa]");
-                Plot::new("traction")
-                    .width(w)
-                    .height(200.0)
-                    .x_axis_label("δ [mm]")
-                    .legend(Legend::default())
-                    .show(ui, |p| {
-                        p.line(Line::new("T(δ)", t));
-                        marks(p);
-                    });
-            });
-            ui.vertical(|ui| {
-                ui.label("friction μ(α) = μ_inf (1 − g_N(α)/g_N(0))");
-                Plot::new("mu")
-                    .width(w)
-                    .height(200.0)
-                    .x_axis_label("α [mm]")
-                    .legend(Legend::default())
-                    .show(ui, |p| {
-                        p.line(Line::new("μ(α)", mu));
-                        marks(p);
-                    });
-            });
+            titled_plot(
+                ui,
+                "traction T(δ) = g_N(δ)δ [MPa]",
+                "traction",
+                "δ [mm]",
+                w,
+                |p| {
+                    p.line(Line::new("T(δ)", t));
+                    marks(p);
+                },
+            );
+            titled_plot(
+                ui,
+                "friction μ(α) = μ_inf (1 − g_N(α)/g_N(0))",
+                "mu",
+                "α [mm]",
+                w,
+                |p| {
+                    p.line(Line::new("μ(α)", mu));
+                    marks(p);
+                },
+            );
         });
     }
 
@@ -1038,41 +1028,31 @@ impl App {
             .map(|(t, _, r)| [*t, *r])
             .collect();
         let w = (ui.available_width() / 2.0 - 8.0).max(200.0);
+        let colour = |c: [u8; 3]| egui::Color32::from_rgb(c[0], c[1], c[2]);
         ui.horizontal(|ui| {
-            ui.vertical(|ui| {
-                ui.label(format!(
-                    "run {run}: interface nodes by state (paper fig. 6, right)"
-                ));
-                Plot::new("counts")
-                    .width(w)
-                    .height(220.0)
-                    .x_axis_label("t [s]")
-                    .legend(Legend::default())
-                    .show(ui, |p| {
-                        p.line(
-                            Line::new("elastic", pick(|c| c.elastic))
-                                .color(egui::Color32::from_rgb(46, 160, 67)),
-                        );
-                        p.line(
-                            Line::new("transition", pick(|c| c.transition))
-                                .color(egui::Color32::from_rgb(245, 166, 35)),
-                        );
-                        p.line(
-                            Line::new("ruptured", pick(|c| c.ruptured))
-                                .color(egui::Color32::from_rgb(208, 2, 27)),
-                        );
-                    });
-            });
-            ui.vertical(|ui| {
-                ui.label(format!("run {run}: balance residual / largest energy"));
-                Plot::new("residual")
-                    .width(w)
-                    .height(220.0)
-                    .x_axis_label("t [s]")
-                    .show(ui, |p| {
-                        p.line(Line::new("residual", residual));
-                    });
-            });
+            titled_plot(
+                ui,
+                &format!("run {run}: interface nodes by state (paper fig. 6, right)"),
+                "counts",
+                "t [s]",
+                w,
+                |p| {
+                    p.line(Line::new("elastic", pick(|c| c.elastic)).color(colour([46, 160, 67])));
+                    p.line(
+                        Line::new("transition", pick(|c| c.transition))
+                            .color(colour([245, 166, 35])),
+                    );
+                    p.line(Line::new("ruptured", pick(|c| c.ruptured)).color(colour([208, 2, 27])));
+                },
+            );
+            titled_plot(
+                ui,
+                &format!("run {run}: balance residual / largest energy"),
+                "residual",
+                "t [s]",
+                w,
+                |p| p.line(Line::new("residual", residual)),
+            );
         });
     }
 
@@ -1175,6 +1155,26 @@ impl App {
             history: self.history.clone(),
         }
     }
+}
+
+/// A plot of width `w` under its title, with a legend.
+fn titled_plot<'a>(
+    ui: &mut egui::Ui,
+    title: &str,
+    id: &str,
+    x_label: &str,
+    w: f32,
+    add: impl FnOnce(&mut egui_plot::PlotUi<'a>) + 'a,
+) {
+    ui.vertical(|ui| {
+        ui.label(title);
+        Plot::new(id)
+            .width(w)
+            .height(210.0)
+            .x_axis_label(x_label.to_string())
+            .legend(Legend::default())
+            .show(ui, add);
+    });
 }
 
 /// Cells along the longest side of a scene's box mesh.
