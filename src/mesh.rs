@@ -31,6 +31,22 @@ pub struct Mesh {
     pub face_sets: BTreeMap<String, Vec<[u32; 4]>>,
 }
 
+/// The 12 edges of a hex8 (local node pairs).
+const HEX_EDGES: [(usize, usize); 12] = [
+    (0, 1),
+    (1, 2),
+    (2, 3),
+    (3, 0),
+    (4, 5),
+    (5, 6),
+    (6, 7),
+    (7, 4),
+    (0, 4),
+    (1, 5),
+    (2, 6),
+    (3, 7),
+];
+
 /// Trilinear shape functions Nₐ(ξ) of the hexahedron.
 #[inline]
 pub fn shape(xi: [f64; 3]) -> [f64; 8] {
@@ -504,24 +520,49 @@ impl Mesh {
         f
     }
 
+    /// Centre of volume X_c = ∫X dV / ∫dV of the reference mesh (the centre of mass for a
+    /// uniform density), from the lumped nodal volumes: row-sum lumping keeps first moments,
+    /// Σₐ Vₐ Xₐ = ∫ Σₐ Nₐ Xₐ dV = ∫ X dV.
+    pub fn centre_of_volume(&self) -> Result<[f64; 3], GeometryError> {
+        let classes = self.element_classes()?;
+        let (mut moment, mut volume) = ([0.0; 3], 0.0);
+        for (e, conn) in self.elements.iter().enumerate() {
+            let lv = classes.data[classes.class_of[e] as usize].lumped_volumes();
+            for a in 0..8 {
+                let x = self.nodes[conn[a] as usize];
+                for c in 0..3 {
+                    moment[c] += lv[a] * x[c];
+                }
+                volume += lv[a];
+            }
+        }
+        Ok(moment.map(|m| m / volume))
+    }
+
+    /// Largest ratio of the longest to the shortest edge over the elements (1 for cubes).
+    pub fn max_aspect_ratio(&self) -> f64 {
+        self.elements
+            .iter()
+            .map(|conn| {
+                let (lo, hi) =
+                    HEX_EDGES
+                        .iter()
+                        .fold((f64::INFINITY, 0.0f64), |(lo, hi), &(a, b)| {
+                            let l = norm(sub(
+                                self.nodes[conn[a] as usize],
+                                self.nodes[conn[b] as usize],
+                            ));
+                            (lo.min(l), hi.max(l))
+                        });
+                hi / lo
+            })
+            .fold(0.0, f64::max)
+    }
+
     pub fn min_edge(&self) -> f64 {
-        const EDGES: [(usize, usize); 12] = [
-            (0, 1),
-            (1, 2),
-            (2, 3),
-            (3, 0),
-            (4, 5),
-            (5, 6),
-            (6, 7),
-            (7, 4),
-            (0, 4),
-            (1, 5),
-            (2, 6),
-            (3, 7),
-        ];
         let mut m = f64::INFINITY;
         for conn in &self.elements {
-            for (a, b) in EDGES {
+            for &(a, b) in &HEX_EDGES {
                 m = m.min(norm(sub(
                     self.nodes[conn[a] as usize],
                     self.nodes[conn[b] as usize],

@@ -205,6 +205,9 @@ pub struct Model {
     pub gravity: [f64; 3],
     /// Uniform initial velocity [m/s].
     pub initial_velocity: [f64; 3],
+    /// Initial angular velocity ω₀ [rad/s] about the centre of mass X_c: the initial velocity
+    /// field is V₀(X) = v₀ + ω₀ × (X − X_c), a rigid motion.
+    pub initial_angular_velocity: [f64; 3],
     pub planes: Vec<RigidPlane>,
     pub interfaces: Vec<Interface>,
     pub contacts: Vec<ContactFaces>,

@@ -256,6 +256,8 @@ struct RawScene {
     gravity: [f64; 3],
     #[serde(default)]
     initial_velocity: [f64; 3],
+    #[serde(default)]
+    initial_angular_velocity: [f64; 3],
     mesh: RawMesh,
     material: RawMaterial,
     #[serde(default)]
@@ -764,6 +766,7 @@ impl Check<'_> {
             material,
             gravity: raw.gravity,
             initial_velocity: raw.initial_velocity,
+            initial_angular_velocity: raw.initial_angular_velocity,
             planes,
             interfaces,
             contacts,
@@ -786,6 +789,7 @@ description = "cube pulled off a mould"
 end_time = 0.3
 gravity = [0.0, 0.0, -9.81]
 initial_velocity = [0.0, 0.0, 0.5]
+initial_angular_velocity = [0.0, 0.0, 2.0]
 
 [mesh]
 origin = [1.0, 0.0, 0.0]
@@ -910,7 +914,10 @@ vector = [1.0, 0.0, 0.0]
         assert_eq!(m.name, "cube");
         assert_eq!(m.material.model, MaterialModel::Svk);
         assert_eq!(m.scheme, SchemeParams::default());
-        assert_eq!((m.gravity, m.initial_velocity), ([0.0; 3], [0.0; 3]));
+        assert_eq!(
+            (m.gravity, m.initial_velocity, m.initial_angular_velocity),
+            ([0.0; 3], [0.0; 3], [0.0; 3])
+        );
         assert!(m.planes.is_empty() && m.interfaces.is_empty() && m.tractions.is_empty());
     }
 

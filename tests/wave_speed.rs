@@ -34,6 +34,7 @@ fn bar_model(cells: usize, end_time: f64) -> Model {
         material: Material::new(MaterialModel::Svk, E, 0.0, RHO),
         gravity: [0.0; 3],
         initial_velocity: [0.0; 3],
+        initial_angular_velocity: [0.0; 3],
         planes: vec![],
         interfaces: vec![],
         contacts: vec![],

@@ -17,6 +17,7 @@ pub fn bare_box(size: [f64; 3], cells: [usize; 3], mat: Material, end_time: f64)
         material: mat,
         gravity: [0.0; 3],
         initial_velocity: [0.0; 3],
+        initial_angular_velocity: [0.0; 3],
         planes: vec![],
         interfaces: vec![],
         contacts: vec![],
