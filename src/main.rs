@@ -293,6 +293,9 @@ fn run(
             expected,
             end_time
         );
+        for w in sim.advisories() {
+            eprintln!("warning: {w}");
+        }
     }
     let mut next_line = 0.1;
     let outcome = sim.run(|s| {
@@ -419,6 +422,9 @@ fn check(path: &Path, set: &[String]) -> Result<()> {
         "  state memory                 {:.0} bytes per element",
         state_bytes(&sim) as f64 / m.mesh.elements.len() as f64
     );
+    for w in sim.advisories() {
+        println!("  warning                      {w}");
+    }
     Ok(())
 }
 

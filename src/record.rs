@@ -694,6 +694,7 @@ impl Recorder {
                 .map(|n| (n.node, n.interface))
                 .collect(),
             contact_nodes: sim.contact_nodes.iter().map(|n| n.node).collect(),
+            advisories: sim.advisories(),
         };
         let name = recording_name(sim);
         let thread_sink = sink.clone();
@@ -882,6 +883,8 @@ struct Statics {
     /// (node, interface index) of each interface node.
     interface_nodes: Vec<(u32, u32)>,
     contact_nodes: Vec<u32>,
+    /// [`Simulation::advisories`]: warnings about the regime of the model.
+    advisories: Vec<String>,
 }
 
 /// Line strips of (x, y) points as one `LineStrips2D::strips` batch, built straight into Arrow.
@@ -1055,6 +1058,12 @@ impl Logger {
             )),
         )
         .map_err(log_err("the resolved parameters"))?;
+        rec.set_time_sequence("step", 0);
+        rec.set_duration_secs("sim_time", 0.0);
+        for text in &st.advisories {
+            rec.log("run/log", &TextLog::new(text.clone()).with_level("WARN"))
+                .map_err(log_err("a warning"))?;
+        }
 
         // Class ids for interface and contact nodes, for the whole subtree.
         let classes = AnnotationContext::new([

@@ -40,6 +40,8 @@ pub struct RunSummary {
     pub stage_seconds: StageTimes,
     /// What went to Rerun, when the run was recorded.
     pub recording: Option<crate::record::RecordingReport>,
+    /// [`Simulation::advisories`]: warnings about the regime of the model.
+    pub warnings: Vec<String>,
 }
 
 impl RunSummary {
@@ -90,6 +92,7 @@ impl RunSummary {
             max_relative_residual: sim.ledger.max_relative_residual,
             stage_seconds: sim.stats.stage_times.clone(),
             recording: None,
+            warnings: sim.advisories(),
         }
     }
 
@@ -188,6 +191,9 @@ impl RunSummary {
                     100.0 * r.logging_seconds / self.step_wall_seconds.max(1e-12)
                 ),
             );
+        }
+        for w in &self.warnings {
+            row("warning", w.clone());
         }
         if let Some(err) = &self.error {
             row("error", err.clone());

@@ -124,6 +124,10 @@ struct BoundaryNode {
 }
 const NONE: u16 = u16::MAX;
 
+/// Change of the smallest Jacobian since the last h_crit estimate that triggers a new one
+/// before its scheduled step (`next_time_step`).
+const JACOBIAN_RETRIGGER: f64 = 0.02;
+
 /// Per-step values of the planes, prescribed conditions and tractions, computed once per step
 /// (not per node) into buffers that are reused, so the step allocates nothing after the first.
 #[derive(Debug, Clone, Default)]
@@ -194,6 +198,8 @@ pub struct RunStats {
     pub reactions: Vec<f64>,
     pub stage_times: StageTimes,
     pub steps_wall: Duration,
+    /// Number of h_crit estimates after the first (scheduled or triggered by strain).
+    pub h_crit_estimates: u64,
 }
 
 /// Result of a stable-step estimate (PHYSICS.md §6).
@@ -246,6 +252,11 @@ pub struct Simulation {
     pub min_jacobian: f64,
     /// Ritz vector of the last stable-step estimate (warm start of the next one).
     ritz_vector: Vec<f64>,
+    /// h_crit of the bulk alone (interface springs left out) at t = 0 [s], measured when a glued
+    /// node's spring comes near the system's ω_max, i.e. when an interface may set the step.
+    pub h_crit_bulk: Option<f64>,
+    /// Smallest Jacobian when h_crit was last estimated.
+    jacobian_at_estimate: f64,
     /// ½ V_{n+½}ᵀ M V_{n+½}, for the energy-growth check.
     pub kinetic_half: f64,
     /// Initial energy plus Σ|ΔW_ext|: what may have entered the system [J].
@@ -584,10 +595,33 @@ unsafe fn chunk_forces_impl<const FMA: bool>(
 impl Simulation {
     /// Builds the simulation: reference gradients, colours, lumped masses, boundary bookkeeping,
     /// the first stable-step estimate, and the start of the leapfrog (V_{−½}, V_{½}).
+    ///
+    /// The initial velocity field is the rigid motion V₀(X) = v₀ + ω₀ × (X − X_c) of the scene's
+    /// `initial_velocity` v₀ and `initial_angular_velocity` ω₀ about the centre of mass X_c.
     pub fn new(model: Model) -> Result<Simulation, SolverError> {
         let v0 = model.initial_velocity;
-        let n = model.mesh.nodes.len();
-        Self::with_initial_state(model, vec![[0.0; 3]; n], vec![v0; n])
+        let w = model.initial_angular_velocity;
+        let mesh = &model.mesh;
+        let n = mesh.nodes.len();
+        let velocities = if w == [0.0; 3] {
+            vec![v0; n]
+        } else {
+            let xc = mesh
+                .centre_of_volume()
+                .map_err(|e| SolverError::Setup(e.to_string()))?;
+            mesh.nodes
+                .iter()
+                .map(|x| {
+                    let r = crate::mesh::sub(*x, xc);
+                    [
+                        v0[0] + w[1] * r[2] - w[2] * r[1],
+                        v0[1] + w[2] * r[0] - w[0] * r[2],
+                        v0[2] + w[0] * r[1] - w[1] * r[0],
+                    ]
+                })
+                .collect()
+        };
+        Self::with_initial_state(model, vec![[0.0; 3]; n], velocities)
     }
 
     /// As [`Simulation::new`], from given initial displacements U₀ and velocities V₀ per node
@@ -797,6 +831,8 @@ impl Simulation {
             },
             min_jacobian: 1.0,
             ritz_vector: Vec::new(),
+            h_crit_bulk: None,
+            jacobian_at_estimate: 1.0,
             kinetic_half: 0.0,
             energy_budget: 0.0,
             last_external_work: 0.0,
@@ -842,6 +878,18 @@ impl Simulation {
         }
         let est = self.estimate_stable_step(None);
         self.h_crit = est.h_crit;
+        // When a glued node's own spring (ω_i² = W g_N/m) is near the whole system's ω_max, the
+        // interface may set the step: measure the bulk alone once, for `advisories`.
+        let omega_itf_sq = self
+            .interface_nodes
+            .iter()
+            .map(|n| n.area * n.stiffness * self.inv_mass[n.node as usize])
+            .fold(0.0, f64::max);
+        if omega_itf_sq > 0.0 && 2.0 / omega_itf_sq.sqrt() < 1.5 * est.h_crit {
+            let ritz = std::mem::take(&mut self.ritz_vector);
+            self.h_crit_bulk = Some(self.stable_step_estimate(None, false).h_crit);
+            self.ritz_vector = ritz;
+        }
         self.stats.h_crit_initial = est.h_crit;
         self.stats.h_crit_min = est.h_crit;
         self.h = self.model.scheme.time_step_factor * est.h_crit;
@@ -1524,13 +1572,23 @@ impl Simulation {
     /// change for estimate noise and at every estimate). A change of step breaks the exact trapezoid pairing of the ledger for that one
     /// step (the work pairs velocities of two different intervals); growing h after a softening
     /// would buy little speed for that cost, so it is not done.
+    ///
+    /// Between those, a large change of strain re-estimates at once: when the smallest Jacobian
+    /// moved by more than [`JACOBIAN_RETRIGGER`] since the last estimate (a violent impact
+    /// stiffens a neo-Hookean body within a few steps, long before the next scheduled estimate).
     fn next_time_step(&mut self) -> f64 {
         let every = self.model.scheme.h_crit_update_interval as u64;
-        if every == 0 || !self.step_count.is_multiple_of(every) {
+        if every == 0 {
+            return self.h;
+        }
+        let strained = (self.min_jacobian - self.jacobian_at_estimate).abs() > JACOBIAN_RETRIGGER;
+        if !(self.step_count.is_multiple_of(every) || strained) {
             return self.h;
         }
         let warm = std::mem::take(&mut self.ritz_vector);
         let est = self.estimate_stable_step(Some(warm));
+        self.jacobian_at_estimate = self.min_jacobian;
+        self.stats.h_crit_estimates += 1;
         self.h_crit = est.h_crit;
         self.stats.h_crit_min = self.stats.h_crit_min.min(est.h_crit);
         let target = self.model.scheme.time_step_factor * est.h_crit;
@@ -1561,6 +1619,12 @@ impl Simulation {
     /// the estimate is θ + ‖r‖ with ‖r‖ = β_j|s_j| the Ritz residual: an eigenvalue lies within
     /// ‖r‖ of θ, which bounds λ_max once θ has converged to the top of the spectrum.
     pub fn estimate_stable_step(&mut self, warm: Option<Vec<f64>>) -> StableStep {
+        self.stable_step_estimate(warm, true)
+    }
+
+    /// [`Simulation::estimate_stable_step`], with the interface springs in K or without them
+    /// (`springs = false`: the bulk alone).
+    fn stable_step_estimate(&mut self, warm: Option<Vec<f64>>, springs: bool) -> StableStep {
         let n = 3 * self.u.len();
         let mask = self.prescribed_mask();
         let sqrt_inv_m: Vec<f64> = (0..n).map(|k| self.inv_mass[k / 3].sqrt()).collect();
@@ -1579,6 +1643,7 @@ impl Simulation {
         let springs: Vec<(usize, f64)> = self
             .interface_nodes
             .iter()
+            .filter(|_| springs)
             .map(|itf| {
                 let law = &self.model.interfaces[itf.interface as usize].law;
                 (itf.node as usize, itf.area * law.g_n(itf.alpha))
@@ -1698,6 +1763,82 @@ impl Simulation {
     /// The ledger's values now.
     pub fn energies(&self) -> EnergySnapshot {
         self.ledger.snapshot()
+    }
+
+    /// Plain-words warnings about the regime of this model, for the user before the run: the
+    /// parameters are admissible, but the results or the cost need reading with care.
+    ///
+    /// - Near incompressibility (ν ≥ 0.49): K/G = 2(1+ν)/(3(1−2ν)) and c_p/c_s =
+    ///   √(2(1−ν)/(1−2ν)); with full integration the hex8 locks volumetrically.
+    /// - Interfaces that set the stable step: h_crit with the glue springs W g_N(α) in K
+    ///   (PHYSICS.md §6) at least 1.5× below [`Simulation::h_crit_bulk`], the bulk's alone; the
+    ///   run is then that many times longer.
+    /// - A brittle law, (u_r − α_e)/α_e < 1 %: the softening branch is crossed within a step.
+    /// - Elongated elements (aspect ratio ≥ 10): the shortest edge sets the step.
+    /// - A time-step factor above 1: unstable by design (PHYSICS.md §6).
+    pub fn advisories(&self) -> Vec<String> {
+        let m = &self.model;
+        let mat = &m.material;
+        let mut out = Vec::new();
+        let nu = mat.poisson;
+        if nu >= 0.49 {
+            let k_over_g = 2.0 * (1.0 + nu) / (3.0 * (1.0 - 2.0 * nu));
+            let cp_over_cs = (2.0 * (1.0 - nu) / (1.0 - 2.0 * nu)).sqrt();
+            let quadrature = match m.scheme.integration {
+                crate::model::Integration::Full => {
+                    "with full 2×2×2 integration the hex8 locks volumetrically: it is far too stiff in bending and in any deformation that keeps the volume, and the pressure oscillates from element to element; use scheme.integration = \"reduced\" (one point, hourglass-controlled), which does not lock"
+                }
+                crate::model::Integration::Reduced => {
+                    "one-point integration does not lock volumetrically"
+                }
+            };
+            out.push(format!(
+                "material.poisson = {nu} is nearly incompressible (K/G = {k_over_g:.0}): {quadrature}. The stable step follows the pressure wave, c_p = {cp_over_cs:.1} c_s, so shear motion costs {cp_over_cs:.1}× more steps than at ν = 0."
+            ));
+        }
+        let le = m.mesh.min_edge();
+        if let Some(h_bulk) = self
+            .h_crit_bulk
+            .filter(|&hb| hb >= 1.5 * self.stats.h_crit_initial)
+        {
+            let h0 = self.stats.h_crit_initial;
+            let names: Vec<String> = m
+                .interfaces
+                .iter()
+                .enumerate()
+                .map(|(k, itf)| format!("interface[{k}] (g_N(0) = {:.3e} Pa/m)", itf.law.g_n0))
+                .collect();
+            out.push(format!(
+                "the interface stiffness sets the stable step: h_crit = {h0:.3e} s with the glue springs of {}, {h_bulk:.3e} s for the bulk alone, so the run takes {:.1}× the steps. A glued node's spring against its mass has ω² = W g_N(0)/m: g_N(0) about {:.0}× smaller would no longer limit the step.",
+                names.join(", "),
+                h_bulk / h0,
+                (h_bulk / h0).powi(2)
+            ));
+        }
+        for (k, itf) in m.interfaces.iter().enumerate() {
+            let law = &itf.law;
+            if law.alpha_e > 0.0 && (law.u_r - law.alpha_e) < 0.01 * law.alpha_e {
+                out.push(format!(
+                    "interface[{k}] is brittle: u_r − α_e = {:.3e} m is {:.2} % of α_e; a node goes from damage onset to rupture within a step or two, the softening branch T(δ) is not resolved in time (the dissipation still is, by the ledger's ΔD).",
+                    law.u_r - law.alpha_e,
+                    100.0 * (law.u_r - law.alpha_e) / law.alpha_e
+                ));
+            }
+        }
+        let aspect = m.mesh.max_aspect_ratio();
+        if aspect >= 10.0 {
+            out.push(format!(
+                "elements with aspect ratio up to {aspect:.0}: the shortest edge ({le:.3e} m) sets the stable step, h_crit = {:.3e} s.",
+                self.h_crit
+            ));
+        }
+        let factor = m.scheme.time_step_factor;
+        if factor > 1.0 {
+            out.push(format!(
+                "scheme.time_step_factor = {factor} > 1: the central-difference scheme is unstable above h_crit (PHYSICS.md §6); the run will stop when its energy grows, with a diagnostic."
+            ));
+        }
+        out
     }
 }
 
