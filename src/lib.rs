@@ -18,6 +18,8 @@ pub mod law;
 pub mod material;
 pub mod mesh;
 pub mod model;
+/// What the outputs share: frame cadence, writer-thread priority.
+pub mod output;
 /// Rerun recording (live or `.rrd`): reads a simulation, is not read by the physics.
 pub mod record;
 pub mod report;
