@@ -4,7 +4,8 @@
 //! implements an equation names it.
 //!
 //! Usable as a library: `Scene -> Model -> Simulation::step()`. The physics modules know nothing
-//! of the command line or of any viewer; `record` (Rerun) reads them and is read by none of them.
+//! of the command line or of any viewer; `record` (Rerun) and `vtk` (ParaView files) read them
+//! and are read by none of them.
 
 // Index loops over tensor components and Gauss lanes read like the equations they implement.
 #![allow(clippy::needless_range_loop)]
@@ -27,3 +28,5 @@ pub mod scene;
 pub mod solver;
 /// Speed against accuracy: a grid of configurations of one scene compared with the finest.
 pub mod tradeoff;
+/// ParaView output (`.vtu` frames and a `.pvd` index): reads a simulation, uses no Rerun.
+pub mod vtk;

@@ -40,6 +40,8 @@ pub struct RunSummary {
     pub stage_seconds: StageTimes,
     /// What went to Rerun, when the run was recorded.
     pub recording: Option<crate::record::RecordingReport>,
+    /// What went to ParaView files (`--vtk`).
+    pub paraview: Option<crate::vtk::VtkReport>,
 }
 
 impl RunSummary {
@@ -90,6 +92,7 @@ impl RunSummary {
             max_relative_residual: sim.ledger.max_relative_residual,
             stage_seconds: sim.stats.stage_times.clone(),
             recording: None,
+            paraview: None,
         }
     }
 
@@ -186,6 +189,19 @@ impl RunSummary {
                     r.frames,
                     1e3 * r.logging_seconds,
                     100.0 * r.logging_seconds / self.step_wall_seconds.max(1e-12)
+                ),
+            );
+        }
+        if let Some(p) = &self.paraview {
+            row(
+                "paraview",
+                format!(
+                    "{} frames indexed by {}, {:.1} MB; solver thread {:.1} ms = {:.1} % of the solve",
+                    p.frames,
+                    p.pvd,
+                    p.bytes as f64 / 1e6,
+                    1e3 * p.solver_seconds,
+                    100.0 * p.solver_seconds / self.step_wall_seconds.max(1e-12)
                 ),
             );
         }
