@@ -4,7 +4,8 @@
 //! implements an equation names it.
 //!
 //! Usable as a library: `Scene -> Model -> Simulation::step()`. The physics modules know nothing
-//! of the command line or of any viewer; `record` (Rerun) reads them and is read by none of them.
+//! of the command line or of any viewer; `record` (Rerun) and `vtk` (ParaView files) read them
+//! and are read by none of them.
 
 // Index loops over tensor components and Gauss lanes read like the equations they implement.
 #![allow(clippy::needless_range_loop)]
@@ -18,6 +19,8 @@ pub mod law;
 pub mod material;
 pub mod mesh;
 pub mod model;
+/// What the outputs share: frame cadence, writer-thread priority.
+pub mod output;
 /// Rerun recording (live or `.rrd`): reads a simulation, is not read by the physics.
 pub mod record;
 pub mod report;
@@ -25,3 +28,5 @@ pub mod scene;
 pub mod solver;
 /// Speed against accuracy: a grid of configurations of one scene compared with the finest.
 pub mod tradeoff;
+/// ParaView output (`.vtu` frames and a `.pvd` index): reads a simulation, uses no Rerun.
+pub mod vtk;

@@ -6,6 +6,7 @@ use decohesion::record::{Cadence, Recorder, Sink};
 use decohesion::report::{state_bytes, RunSummary};
 use decohesion::scene::load_scene;
 use decohesion::solver::Simulation;
+use decohesion::vtk::VtkWriter;
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -109,7 +110,7 @@ enum Command {
     },
 }
 
-/// Where and how often to record to Rerun (no flag: no recording).
+/// Where and how often to record: Rerun (one sink) and/or ParaView files (no flag: neither).
 #[derive(clap::Args)]
 struct RecordArgs {
     /// Record to this .rrd file (open it with `rerun FILE.rrd`). Complete even when the run
@@ -122,11 +123,16 @@ struct RecordArgs {
     /// Stream to a running Rerun viewer [default: rerun+http://127.0.0.1:9876/proxy].
     #[arg(long, value_name = "URL", num_args = 0..=1, default_missing_value = "", group = "sink")]
     connect: Option<String>,
-    /// Log a frame every N steps (1 = every step). Default: 200 frames over the scene's
-    /// end time.
+    /// Also write ParaView files to this directory (created if needed): a .vtu per frame
+    /// and NAME.pvd indexing them by simulated time, complete even when the run fails or is
+    /// cancelled. Can be combined with --save, --spawn or --connect.
+    #[arg(long, value_name = "DIR")]
+    vtk: Option<PathBuf>,
+    /// Record a frame (Rerun and --vtk) every N steps (1 = every step). Default: 200 frames
+    /// over the scene's end time, plus step 0 and the last step.
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..), conflicts_with = "fps")]
     every: Option<u64>,
-    /// Log F frames per second of simulated time.
+    /// Record F frames per second of simulated time (Rerun and --vtk).
     #[arg(long, value_name = "F", value_parser = positive_f64, allow_negative_numbers = true)]
     fps: Option<f64>,
     /// Field that colours the surface: displacement (|U|, m), von_mises (Pa), jacobian (J).
@@ -250,6 +256,12 @@ fn run(
     let end_time = scene.model.end_time;
     let mut sim = Simulation::new(scene.model.clone())
         .with_context(|| format!("setting up {}", path.display()))?;
+    // ParaView first: a directory that cannot be written is refused before a viewer starts or
+    // a capture file is created.
+    let mut paraview = match &record.vtk {
+        Some(dir) => Some(VtkWriter::new(dir, &sim, record.cadence())?),
+        None => None,
+    };
     let mut recorder = match record.sink() {
         Some(sink) => Some(
             Recorder::new(sink, &scene, &sim, record.cadence(), record.colour)
@@ -257,18 +269,21 @@ fn run(
         ),
         None => None,
     };
-    // Ctrl-C: stop after the current step, then write the recording and the summary.
+    // Ctrl-C: stop after the current step, then write the recording, the ParaView index and
+    // the summary.
     let interrupted = Arc::new(AtomicBool::new(false));
     {
         let flag = interrupted.clone();
         let _ = ctrlc::set_handler(move || {
             if flag.swap(true, Ordering::SeqCst) {
-                // Second Ctrl-C: leave now (a recording then lacks its footer).
+                // Second Ctrl-C: leave now (a recording then lacks its footer; the ParaView
+                // index holds the frames written so far).
                 std::process::exit(130);
             }
         });
     }
     let mut record_error = None;
+    let mut paraview_error = None;
     let expected = (end_time / sim.h).ceil() as u64;
     let tty = std::io::stderr().is_terminal() && !quiet;
     let bar = if tty {
@@ -303,6 +318,14 @@ fn run(
             if record_error.is_none() {
                 if let Err(e) = r.on_step(s) {
                     record_error = Some(e);
+                    return false;
+                }
+            }
+        }
+        if let Some(w) = paraview.as_mut() {
+            if paraview_error.is_none() {
+                if let Err(e) = w.on_step(s) {
+                    paraview_error = Some(e);
                     return false;
                 }
             }
@@ -346,8 +369,19 @@ fn run(
         },
         None => None,
     };
+    let paraview = match paraview {
+        Some(w) => match w.finish(&sim) {
+            Ok(rep) => Some(rep),
+            Err(e) => {
+                paraview_error.get_or_insert(e);
+                None
+            }
+        },
+        None => None,
+    };
     let mut summary = RunSummary::new(&sim, wall.elapsed().as_secs_f64(), outcome.as_ref().err());
     summary.recording = recording;
+    summary.paraview = paraview;
     println!("{}", summary.table());
     if let Some(p) = summary_path {
         let json = serde_json::to_string_pretty(&summary)?;
@@ -356,6 +390,9 @@ fn run(
     }
     if let Some(e) = record_error {
         bail!(anyhow::Error::new(e).context("recording"));
+    }
+    if let Some(e) = paraview_error {
+        bail!(anyhow::Error::new(e).context("ParaView output"));
     }
     if let Err(e) = outcome {
         bail!(e);

@@ -53,14 +53,17 @@ impl Material {
         ((self.lambda + 2.0 * self.mu) / self.density).sqrt()
     }
 
-    /// Von Mises equivalent of the Cauchy stress σ = J⁻¹ F S Fᵀ at one point,
-    /// σ_vm = √(3/2 s:s) with s = σ − ⅓ tr σ I [Pa] (post-processing only).
-    pub fn von_mises(&self, f: &Matrix3<f64>) -> f64 {
+    /// Cauchy stress σ = J⁻¹ F S Fᵀ at one point, J = det F (PHYSICS.md §2) [Pa]
+    /// (post-processing only; J ≤ 0 gives a meaningless or infinite σ, not a panic).
+    pub fn cauchy_stress(&self, f: &Matrix3<f64>) -> Matrix3<f64> {
         let (s, _) = self.stress_energy(f);
-        let j = f.determinant();
-        let sigma = f * s * f.transpose() / j;
-        let dev = sigma - Matrix3::identity() * (sigma.trace() / 3.0);
-        (1.5 * dev.component_mul(&dev).sum()).sqrt()
+        f * s * f.transpose() / f.determinant()
+    }
+
+    /// Von Mises equivalent of the Cauchy stress at one point, [`von_mises_equivalent`] of
+    /// [`Material::cauchy_stress`] [Pa] (post-processing only).
+    pub fn von_mises(&self, f: &Matrix3<f64>) -> f64 {
+        von_mises_equivalent(&self.cauchy_stress(f))
     }
 
     /// Second Piola–Kirchhoff stress S(F) and energy density ψ(F) at one point (reference
@@ -91,6 +94,12 @@ impl Material {
             }
         }
     }
+}
+
+/// Von Mises equivalent stress σ_vm = √(3/2 s:s), s = σ − ⅓ tr σ I the deviator of σ [Pa].
+pub fn von_mises_equivalent(sigma: &Matrix3<f64>) -> f64 {
+    let dev = sigma - Matrix3::identity() * (sigma.trace() / 3.0);
+    (1.5 * dev.component_mul(&dev).sum()).sqrt()
 }
 
 /// Hourglass stiffness of one element, k = κ (λ + 2μ) V Σₐ bₐ·bₐ / 8 [N/m] (Flanagan–Belytschko

@@ -48,6 +48,9 @@ use crate::energy::EnergySnapshot;
 use crate::law::InterfaceState;
 use crate::mesh::{cross, dot, norm, sub};
 use crate::model::Model;
+// When frames are taken: shared with the ParaView output (crate::vtk).
+use crate::output::{lower_thread_priority, FrameClock};
+pub use crate::output::{Cadence, DEFAULT_FRAMES};
 use crate::scene::Scene;
 use crate::solver::{ContactStatus, Simulation, SolverError, StageTimes, StateCounts};
 use rerun::blueprint::components::{PanelState, PlayState};
@@ -74,8 +77,6 @@ use std::time::{Duration, Instant};
 
 /// Application id of every recording.
 pub const APPLICATION_ID: &str = "decohesion";
-/// Default number of frames over the scene's `end_time` (see [`Cadence::Default`]).
-pub const DEFAULT_FRAMES: f64 = 200.0;
 /// Buffered frames are sent at least every this many frames…
 pub const FLUSH_ROWS: usize = 1000;
 /// …or when they take this much memory [bytes]…
@@ -102,19 +103,6 @@ pub enum Sink {
     Spawn,
     /// A running viewer at this URL (default `rerun+http://127.0.0.1:9876/proxy`).
     Connect(Option<String>),
-}
-
-/// When a frame (3-D state and one row of every scalar series) is logged. Step 0 and the last
-/// step are always logged.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Cadence {
-    /// [`DEFAULT_FRAMES`] frames over the scene's end time: one every `end_time / 200` of
-    /// simulated time, whatever the step.
-    Default,
-    /// Every N steps (`--every N`; 1 logs every step for contact debugging).
-    EverySteps(u64),
-    /// F frames per second of simulated time (`--fps F`).
-    PerSimSecond(f64),
 }
 
 /// The field that colours the body surface.
@@ -464,16 +452,6 @@ fn open_stream(sink: &Sink, name: String) -> Result<RecordingStream, RecordError
     }
 }
 
-/// Lowers the calling thread's scheduling priority (Linux nice is per thread; threads it
-/// starts inherit it). Best effort: a failure only means the recording competes evenly.
-fn lower_thread_priority() {
-    #[cfg(target_os = "linux")]
-    // SAFETY: setpriority on the calling thread (who = 0) has no memory effects.
-    unsafe {
-        libc::setpriority(libc::PRIO_PROCESS, 0, 10);
-    }
-}
-
 /// Is an executable called `name` on PATH?
 pub fn find_on_path(name: &str) -> Option<PathBuf> {
     let path = std::env::var_os("PATH")?;
@@ -633,11 +611,7 @@ pub struct Recorder {
     tx: Option<SyncSender<Msg>>,
     thread: Option<JoinHandle<Result<LoggerEnd, RecordError>>>,
     sink: Sink,
-    every: Option<u64>,
-    interval: Option<f64>,
-    next_frame_time: f64,
-    last_frame_step: Option<u64>,
-    frames: u64,
+    clock: FrameClock,
     /// Solver-thread time spent recording (snapshots, waiting on a full queue, final wait).
     solver_time: Duration,
 }
@@ -676,11 +650,6 @@ impl Recorder {
             })?;
         }
         let m = &sim.model;
-        let (every, interval) = match cadence {
-            Cadence::Default => (None, Some(m.end_time / DEFAULT_FRAMES)),
-            Cadence::EverySteps(n) => (Some(n.max(1)), None),
-            Cadence::PerSimSecond(f) => (None, Some(1.0 / f)),
-        };
         let statics = Statics {
             model: m.clone(),
             file: scene.file.clone(),
@@ -738,11 +707,7 @@ impl Recorder {
             tx: Some(tx),
             thread: Some(thread),
             sink,
-            every,
-            interval,
-            next_frame_time: 0.0,
-            last_frame_step: None,
-            frames: 0,
+            clock: FrameClock::new(cadence, m.end_time),
             solver_time: started.elapsed(),
         };
         // The state before the first step.
@@ -752,35 +717,19 @@ impl Recorder {
 
     /// Called after every step: sends a frame when the cadence asks for one.
     pub fn on_step(&mut self, sim: &Simulation) -> Result<(), RecordError> {
-        let due = match (self.every, self.interval) {
-            _ if self.last_frame_step.is_none() => true,
-            (Some(n), _) => sim.step_count.is_multiple_of(n),
-            (None, Some(_)) => sim.time >= self.next_frame_time,
-            (None, None) => false,
-        };
-        if due {
+        if self.clock.due(sim.step_count, sim.time) {
             self.frame(sim)?;
         }
         Ok(())
     }
 
-    fn mark_frame(&mut self, sim: &Simulation) {
-        if let Some(iv) = self.interval {
-            // The next frame time after this one, on the grid k·interval.
-            let k = (sim.time / iv).floor() + 1.0;
-            self.next_frame_time = k * iv * (1.0 - 1e-12);
-        }
-        self.last_frame_step = Some(sim.step_count);
-        self.frames += 1;
-    }
-
     /// Sends the state of `sim` as one frame (once per step at most).
     pub fn frame(&mut self, sim: &Simulation) -> Result<(), RecordError> {
-        if self.last_frame_step == Some(sim.step_count) {
+        if self.clock.taken(sim.step_count) {
             return Ok(());
         }
         let started = Instant::now();
-        self.mark_frame(sim);
+        self.clock.mark(sim.step_count, sim.time);
         let snap = Box::new(Snapshot::capture(sim, self.solver_time));
         let sent = self.tx.as_ref().map(|tx| tx.send(Msg::Frame(snap)));
         self.solver_time += started.elapsed();
@@ -814,8 +763,8 @@ impl Recorder {
         outcome: Option<&SolverError>,
     ) -> Result<RecordingReport, RecordError> {
         let started = Instant::now();
-        let snapshot = (self.last_frame_step != Some(sim.step_count)).then(|| {
-            self.mark_frame(sim);
+        let snapshot = (!self.clock.taken(sim.step_count)).then(|| {
+            self.clock.mark(sim.step_count, sim.time);
             Box::new(Snapshot::capture(sim, self.solver_time))
         });
         let (status, text, level) = match outcome {
@@ -854,7 +803,7 @@ impl Recorder {
         Ok(RecordingReport {
             sink: sink.into(),
             path,
-            frames: self.frames,
+            frames: self.clock.frames(),
             logging_seconds: self.solver_time.as_secs_f64(),
             logger_thread_seconds: end.busy.as_secs_f64(),
             bytes,
@@ -863,7 +812,7 @@ impl Recorder {
 
     /// Frames sent so far.
     pub fn frames(&self) -> u64 {
-        self.frames
+        self.clock.frames()
     }
 
     /// Solver-thread time spent recording so far.

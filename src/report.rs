@@ -42,6 +42,8 @@ pub struct RunSummary {
     pub recording: Option<crate::record::RecordingReport>,
     /// [`Simulation::advisories`]: warnings about the regime of the model.
     pub warnings: Vec<String>,
+    /// What went to ParaView files (`--vtk`).
+    pub paraview: Option<crate::vtk::VtkReport>,
 }
 
 impl RunSummary {
@@ -93,6 +95,7 @@ impl RunSummary {
             stage_seconds: sim.stats.stage_times.clone(),
             recording: None,
             warnings: sim.advisories(),
+            paraview: None,
         }
     }
 
@@ -189,6 +192,19 @@ impl RunSummary {
                     r.frames,
                     1e3 * r.logging_seconds,
                     100.0 * r.logging_seconds / self.step_wall_seconds.max(1e-12)
+                ),
+            );
+        }
+        if let Some(p) = &self.paraview {
+            row(
+                "paraview",
+                format!(
+                    "{} frames indexed by {}, {:.1} MB; solver thread {:.1} ms = {:.1} % of the solve",
+                    p.frames,
+                    p.pvd,
+                    p.bytes as f64 / 1e6,
+                    1e3 * p.solver_seconds,
+                    100.0 * p.solver_seconds / self.step_wall_seconds.max(1e-12)
                 ),
             );
         }

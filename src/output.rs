@@ -1,0 +1,139 @@
+//! What the run outputs share — the Rerun recording ([`crate::record`]) and the ParaView files
+//! ([`crate::vtk`]): when a frame is due ([`Cadence`], [`FrameClock`]) and the priority of their
+//! writer threads. Depends on neither Rerun nor any file format, and on no physics module.
+
+/// Default number of frames over the scene's `end_time` (see [`Cadence::Default`]).
+pub const DEFAULT_FRAMES: f64 = 200.0;
+
+/// When a frame is taken. Step 0 and the last step are always taken.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Cadence {
+    /// [`DEFAULT_FRAMES`] frames over the scene's end time: one every `end_time / 200` of
+    /// simulated time, whatever the step.
+    Default,
+    /// Every N steps (`--every N`; 1 logs every step for contact debugging).
+    EverySteps(u64),
+    /// F frames per second of simulated time (`--fps F`).
+    PerSimSecond(f64),
+}
+
+/// Decides, step by step, whether a frame is due: the first call (step 0) always, then every N
+/// steps or at the first step at or past each k·interval of simulated time; `finish` code adds
+/// the last step with [`FrameClock::taken`]. One clock per output, built from the same
+/// [`Cadence`], so a Rerun capture and a ParaView series of one run hold the same steps.
+#[derive(Debug, Clone)]
+pub struct FrameClock {
+    every: Option<u64>,
+    interval: Option<f64>,
+    next_frame_time: f64,
+    last_frame_step: Option<u64>,
+    frames: u64,
+}
+
+impl FrameClock {
+    /// A clock for a run that ends at `end_time` [s] (used by [`Cadence::Default`]).
+    pub fn new(cadence: Cadence, end_time: f64) -> FrameClock {
+        let (every, interval) = match cadence {
+            Cadence::Default => (None, Some(end_time / DEFAULT_FRAMES)),
+            Cadence::EverySteps(n) => (Some(n.max(1)), None),
+            Cadence::PerSimSecond(f) => (None, Some(1.0 / f)),
+        };
+        FrameClock {
+            every,
+            interval,
+            next_frame_time: 0.0,
+            last_frame_step: None,
+            frames: 0,
+        }
+    }
+
+    /// Is a frame due at this step (n, tₙ)? Always when no frame was taken yet.
+    pub fn due(&self, step: u64, time: f64) -> bool {
+        match (self.every, self.interval) {
+            _ if self.last_frame_step.is_none() => true,
+            (Some(n), _) => step.is_multiple_of(n),
+            (None, Some(_)) => time >= self.next_frame_time,
+            (None, None) => false,
+        }
+    }
+
+    /// Was the frame of this step taken already (a step is taken at most once)?
+    pub fn taken(&self, step: u64) -> bool {
+        self.last_frame_step == Some(step)
+    }
+
+    /// Notes that the frame of step n at tₙ was taken.
+    pub fn mark(&mut self, step: u64, time: f64) {
+        if let Some(iv) = self.interval {
+            // The next frame time after this one, on the grid k·interval. A time that passed
+            // the test `time ≥ k·interval·(1 − 1e-12)` counts as k with the same tolerance
+            // (otherwise a step landing one ulp below k·interval would take k again, and the
+            // next step a second frame).
+            let k = (time / iv * (1.0 + 1e-12)).floor() + 1.0;
+            self.next_frame_time = k * iv * (1.0 - 1e-12);
+        }
+        self.last_frame_step = Some(step);
+        self.frames += 1;
+    }
+
+    /// Frames taken so far.
+    pub fn frames(&self) -> u64 {
+        self.frames
+    }
+}
+
+/// Lowers the calling thread's scheduling priority (Linux nice is per thread; threads it
+/// starts inherit it), so that output threads yield the CPU to the solver. Best effort: a
+/// failure only means the output competes evenly.
+pub fn lower_thread_priority() {
+    #[cfg(target_os = "linux")]
+    // SAFETY: setpriority on the calling thread (who = 0) has no memory effects.
+    unsafe {
+        libc::setpriority(libc::PRIO_PROCESS, 0, 10);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The steps a clock takes over a run of constant step h to `end`, the last one included.
+    fn steps(cadence: Cadence, h: f64, end: f64) -> Vec<u64> {
+        let mut c = FrameClock::new(cadence, end);
+        let mut out = vec![];
+        let n_end = (end / h).ceil() as u64;
+        for n in 0..=n_end {
+            let t = n as f64 * h;
+            if c.due(n, t) && !c.taken(n) {
+                c.mark(n, t);
+                out.push(n);
+            }
+        }
+        if !c.taken(n_end) {
+            c.mark(n_end, n_end as f64 * h);
+            out.push(n_end);
+        }
+        assert_eq!(c.frames(), out.len() as u64);
+        out
+    }
+
+    #[test]
+    fn default_is_200_frames_plus_step_zero() {
+        // h = end/1000: every 5th step, k = 0..=200.
+        let s = steps(Cadence::Default, 1e-3, 1.0);
+        assert_eq!(s.len(), 201);
+        assert_eq!(s[..3], [0, 5, 10]);
+        assert_eq!(*s.last().unwrap(), 1000);
+    }
+
+    #[test]
+    fn every_and_fps() {
+        assert_eq!(steps(Cadence::EverySteps(4), 0.1, 1.0), vec![0, 4, 8, 10]);
+        // 2.5 frames per second with h = 0.25: the first steps at or past 0.4, 0.8, 1.2, then
+        // the last step (t = 1.5; 1.6 is not reached).
+        assert_eq!(
+            steps(Cadence::PerSimSecond(2.5), 0.25, 1.5),
+            vec![0, 2, 4, 5, 6]
+        );
+    }
+}
