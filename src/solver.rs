@@ -832,9 +832,13 @@ impl Simulation {
         }
         self.update_interface_kinematics();
         for itf in self.interface_nodes.iter_mut() {
-            let law = &self.model.interfaces[itf.interface as usize].law;
-            let n = self.model.planes[self.model.interfaces[itf.interface as usize].plane].normal;
-            itf.alpha = law.u_r.min(damage_measure(itf.jump, n));
+            let spec = &self.model.interfaces[itf.interface as usize];
+            let (law, n) = (&spec.law, self.model.planes[spec.plane].normal);
+            // α₀ = min(u_r, max(initial damage, f₀)): eq. 12's "largest jump ever reached",
+            // with the damage the interface had before the run.
+            itf.alpha = law
+                .u_r
+                .min(damage_measure(itf.jump, n).max(spec.initial_damage));
             itf.alpha_next = itf.alpha;
             itf.stiffness = law.g_n(itf.alpha);
             itf.prev_stiffness = itf.stiffness;
