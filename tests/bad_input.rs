@@ -418,6 +418,10 @@ fn negative_initial_damage() {
             "≥ u_r means ruptured from the start",
         ],
     );
-    let e = error("g_n0 = 2.0e9", "g_n0 = 2.0e9", &["interface.initial_damage=inf"]);
+    let e = error(
+        "g_n0 = 2.0e9",
+        "g_n0 = 2.0e9",
+        &["interface.initial_damage=inf"],
+    );
     assert_has(&e, &["key `interface[0].initial_damage` = inf", "finite"]);
 }

@@ -82,7 +82,10 @@ fn pull_damaged(law: StiffnessLaw, alpha0: f64) {
     let n = 10_000;
     let before: f64 = (0..n)
         .map(|k| {
-            let (a, b) = (alpha0 * k as f64 / n as f64, alpha0 * (k + 1) as f64 / n as f64);
+            let (a, b) = (
+                alpha0 * k as f64 / n as f64,
+                alpha0 * (k + 1) as f64 / n as f64,
+            );
             0.5 * (law.traction(a) + law.traction(b)) * (b - a)
         })
         .sum();
