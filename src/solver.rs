@@ -1458,7 +1458,10 @@ impl Simulation {
                 (self.kinetic_half + l.strain + l.hourglass + l.interface_stored).abs();
         }
         l.close_step();
-        let ext = l.external_work();
+        // The budget is compared with ½V_{n+½}ᵀMV_{n+½}, so it takes the works up to the forward
+        // halves of this step's impulses: with the work up to tₙ only, a load ramped from zero
+        // (no work yet at t₁, a velocity already) reads as energy created at step 1.
+        let ext = l.external_work_settled();
         self.energy_budget += (ext - self.last_external_work).abs();
         self.last_external_work = ext;
 

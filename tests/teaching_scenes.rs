@@ -178,3 +178,151 @@ fn peel_front_runs_and_the_force_is_kendall_s() {
     // PHYSICS.md §5: the ledger closes to ~1e-5; 1e-4.
     assert!(sim.ledger.max_relative_residual <= 1e-4);
 }
+
+/// The glued pad sheared under pressure (scenes/shear.toml): friction is 0 on a sound
+/// interface, grows with μ(α) = μ_inf (1 − g_N(α)/g_N(0)) as the glue is damaged, stays inside
+/// the Coulomb cone of the current μ(α) at every node and step, and once every node has
+/// ruptured the pad slides on μ_inf × the normal force.
+#[test]
+fn shear_friction_takes_over_from_the_glue() {
+    let mut sim = start("shear", &[]);
+    let spec = sim.model.interfaces[0].clone();
+    let (law, mu_inf) = (spec.law.clone(), spec.mu_inf);
+    let p = -sim.model.tractions[0].vector[2];
+    let area = 0.1 * 0.1;
+    let normal_expected = p * area;
+    // Per step: (t, top reaction F_x, base normal force N, base friction force along x,
+    // cohesive force along x, mean μ(α) over the nodes).
+    let mut rows: Vec<[f64; 6]> = vec![];
+    let (mut cone_worst, mut sound_friction) = (0.0f64, 0.0f64);
+    while !sim.finished() {
+        sim.step().unwrap();
+        let (mut normal, mut friction, mut cohesion, mut mu_sum) = (0.0, 0.0, 0.0, 0.0);
+        for itf in &sim.interface_nodes {
+            // Contact impulses per unit area over the step → forces.
+            let r = itf.contact_impulse.map(|c| c * itf.area / sim.h);
+            let rt = r[0].hypot(r[1]);
+            let mu = law.mu(itf.alpha, mu_inf);
+            assert!(mu <= mu_inf, "μ(α) = {mu} above μ_inf = {mu_inf}");
+            // The Coulomb cone of the current μ(α), to round-off.
+            cone_worst = cone_worst.max(rt - mu * r[2]);
+            if itf.alpha <= law.alpha_e {
+                sound_friction = sound_friction.max(rt);
+            }
+            normal += r[2];
+            friction += r[0];
+            cohesion -= itf.area * itf.cohesive_traction[0];
+            mu_sum += mu;
+        }
+        rows.push([
+            sim.time,
+            sim.stats.reactions[0],
+            normal,
+            friction,
+            cohesion,
+            mu_sum / sim.interface_nodes.len() as f64,
+        ]);
+    }
+    let t_damage = sim
+        .stats
+        .time_first_damage
+        .expect("the glue must be damaged");
+    let t_rupture = sim.stats.time_full_rupture.expect("the glue must rupture");
+    let peak = rows.iter().map(|r| r[1]).fold(0.0, f64::max);
+    let sliding: Vec<&[f64; 6]> = rows.iter().filter(|r| r[0] > t_rupture).collect();
+    let sliding_force = mean(sliding.iter().map(|r| r[1]));
+    let sliding_normal = mean(sliding.iter().map(|r| r[2]));
+    let sliding_friction = -mean(sliding.iter().map(|r| r[3]));
+    // Friction against damage: mean over 2.5 ms windows from the first damage to full rupture.
+    let windows: Vec<(f64, f64, f64)> = (0..)
+        .map(|k| t_damage + 2.5e-3 * k as f64)
+        .take_while(|t| *t < t_rupture)
+        .map(|t0| {
+            let w: Vec<&[f64; 6]> = rows
+                .iter()
+                .filter(|r| r[0] >= t0 && r[0] < (t0 + 2.5e-3).min(t_rupture))
+                .collect();
+            (
+                t0,
+                mean(w.iter().map(|r| r[5])),
+                -mean(w.iter().map(|r| r[3])) / mean(w.iter().map(|r| r[2])),
+            )
+        })
+        .collect();
+    let e = sim.energies();
+    let gc_area = law.fracture_energy() * area;
+    eprintln!(
+        "shear: first damage {t_damage:.4} s, full rupture {t_rupture:.4} s, peak {peak:.1} N \
+         ({:.2} × the sliding force); sliding ({} steps): F_x = {sliding_force:.2} N, N = \
+         {sliding_normal:.2} N (pA = {normal_expected:.1} N), friction {sliding_friction:.2} N, \
+         friction/N = {:.4}, F_x/(μ_inf pA) = {:.4}; worst cone excess {cone_worst:.2e} N, \
+         friction at sound nodes {sound_friction:.2e} N; damage dissipated {:.6} J (G_c A = \
+         {gc_area:.6} J); max relative residual {:.2e}",
+        peak / sliding_force,
+        sliding.len(),
+        sliding_friction / sliding_normal,
+        sliding_force / (mu_inf * normal_expected),
+        e.damage_dissipated,
+        sim.ledger.max_relative_residual,
+    );
+    for w in &windows {
+        eprintln!(
+            "  from {:.4} s: mean μ(α) {:.4}, friction/N {:.4}",
+            w.0, w.1, w.2
+        );
+    }
+
+    // No friction on a sound node (μ = 0 up to α_e), exactly.
+    assert_eq!(sound_friction, 0.0, "friction on a node with α ≤ α_e");
+    // |R_T| ≤ μ(α) R_N at every node and step: the impulses are formed in closed form, so
+    // only round-off (1e-12 of the ~20 N a node carries) may exceed it.
+    assert!(
+        cone_worst <= 1e-12 * normal_expected,
+        "cone exceeded by {cone_worst:.3e} N"
+    );
+    // The glue carries the load first: the peak is well above the sliding force (its peak
+    // traction is 3.3 μ_inf p; the edges soften before the centre is loaded, hence ≥ 2×).
+    assert!(
+        peak >= 2.0 * mu_inf * normal_expected,
+        "peak {peak:.1} N, sliding friction μ_inf pA = {:.1} N",
+        mu_inf * normal_expected
+    );
+    // Friction rises with μ(α): over successive 2.5 ms windows between the first damage and
+    // full rupture, the mean μ(α) never falls (α is irreversible) and the friction/normal force
+    // ratio follows it, rising from ~0 to ~μ_inf (within 0.02 of the previous window: the
+    // pad's vibration moves the ratio by about 0.01 from window to window).
+    for pair in windows.windows(2) {
+        assert!(pair[1].1 >= pair[0].1, "mean μ(α) fell: {pair:?}");
+        assert!(pair[1].2 >= pair[0].2 - 0.02, "friction/N fell: {pair:?}");
+    }
+    assert!(windows[0].2 <= 0.05 * mu_inf && windows.last().unwrap().2 >= 0.8 * mu_inf);
+    // Sliding: the base carries the pressure, pA (2 %: the pad rocks on its base, the
+    // normal force swings by a few per cent step to step and averages over 13 shear periods).
+    assert!(
+        (sliding_normal / normal_expected - 1.0).abs() <= 0.02,
+        "normal force while sliding {sliding_normal:.2} N, pA = {normal_expected:.1} N"
+    );
+    // The friction at full rupture is μ_inf × the normal force: every node is on the cone
+    // when it slips; 2 % for the steps where a node sticks (2.5 % of the normal force is on
+    // sticking nodes, measured).
+    assert!(
+        (sliding_friction / sliding_normal / mu_inf - 1.0).abs() <= 0.02,
+        "friction/N = {:.4} while sliding, μ_inf = {mu_inf}",
+        sliding_friction / sliding_normal
+    );
+    // And what pushes the top is that friction: F_x = μ_inf pA, to 3 % (the two above plus the
+    // pad's inertia, which averages out over the window).
+    assert!(
+        (sliding_force / (mu_inf * normal_expected) - 1.0).abs() <= 0.03,
+        "top force while sliding {sliding_force:.2} N, μ_inf pA = {:.1} N",
+        mu_inf * normal_expected
+    );
+    // Every node ruptured: the glue dissipated G_c × area, up to the O(v h / u_r) of the
+    // discrete rupture steps (v ≈ 0.2 m/s, h ≈ 3e-5 s: 2e-3); 1 %.
+    assert!(
+        (e.damage_dissipated / gc_area - 1.0).abs() <= 0.01,
+        "damage dissipated {:.6} J, G_c A = {gc_area:.6} J",
+        e.damage_dissipated
+    );
+    assert!(sim.ledger.max_relative_residual <= 1e-4);
+}
