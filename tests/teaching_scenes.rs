@@ -288,14 +288,21 @@ fn shear_friction_takes_over_from_the_glue() {
         mu_inf * normal_expected
     );
     // Friction rises with μ(α): over successive 2.5 ms windows between the first damage and
-    // full rupture, the mean μ(α) never falls (α is irreversible) and the friction/normal force
-    // ratio follows it, rising from ~0 to ~μ_inf (within 0.02 of the previous window: the
-    // pad's vibration moves the ratio by about 0.01 from window to window).
+    // full rupture, the mean μ(α) never falls (α is irreversible), and the friction/normal
+    // force ratio follows it from ~0 to ~μ_inf, within 0.015 (the mean μ is per node, the
+    // ratio weighs nodes by their normal force: they differ by 0.009 at most, measured).
     for pair in windows.windows(2) {
         assert!(pair[1].1 >= pair[0].1, "mean μ(α) fell: {pair:?}");
-        assert!(pair[1].2 >= pair[0].2 - 0.02, "friction/N fell: {pair:?}");
     }
-    assert!(windows[0].2 <= 0.05 * mu_inf && windows.last().unwrap().2 >= 0.8 * mu_inf);
+    for w in &windows {
+        assert!(
+            (w.2 - w.1).abs() <= 0.015,
+            "friction/N {:.4} vs mean μ(α) {:.4}",
+            w.2,
+            w.1
+        );
+    }
+    assert!(windows[0].2 <= 0.05 * mu_inf && windows.last().unwrap().2 >= 0.9 * mu_inf);
     // Sliding: the base carries the pressure, pA (2 %: the pad rocks on its base, the
     // normal force swings by a few per cent step to step and averages over 13 shear periods).
     assert!(
