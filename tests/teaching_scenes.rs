@@ -572,3 +572,106 @@ fn mixed_mode_opens_along_the_norm_of_the_jump() {
     );
     assert!(sim.ledger.max_relative_residual <= 1e-4);
 }
+
+/// Demoulding (scenes/demould.toml): the mould (floor and four walls) moves down while the
+/// block is held by its top; the glue tears off, the walls rub the recoiling block, and the
+/// block ends out of the cavity. The mould's work is a ledger term, and the ledger closes.
+#[test]
+fn demould_block_leaves_the_cavity() {
+    let mut sim = start("demould", &[]);
+    let law = sim.model.interfaces[0].law.clone();
+    let (depth, area) = (0.1, 0.1 * 0.1);
+    let walls_open_at = 0.1201; // the walls' velocity history: outwards from 0.1101 to 0.1201 s
+    let (mut wall_gap_min, mut wall_contact_late) = (f64::INFINITY, 0usize);
+    let (mut wall_impulse, mut side_speed) = (0.0, 0.0f64);
+    while !sim.finished() {
+        sim.step().unwrap();
+        for c in &sim.contact_nodes {
+            let node = c.node as usize;
+            let prescribed_top = sim.model.mesh.nodes[node][2] == depth;
+            if !prescribed_top {
+                wall_gap_min = wall_gap_min.min(c.gap);
+                let v = sim.v[node];
+                side_speed = side_speed.max((v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt());
+            }
+            let r: f64 = c.contact_impulse.iter().map(|x| x.abs()).sum();
+            wall_impulse += r * c.area;
+            if sim.time > walls_open_at && r > 0.0 {
+                wall_contact_late += 1;
+            }
+        }
+    }
+    let floor_z = sim.model.planes[0].displacement(sim.time)[2];
+    let rim_z = depth + floor_z;
+    let bottom_z = sim
+        .model
+        .mesh
+        .nodes
+        .iter()
+        .zip(&sim.u)
+        .map(|(x, u)| x[2] + u[2])
+        .fold(f64::INFINITY, f64::min);
+    let e = sim.energies();
+    let gc_area = law.fracture_energy() * area;
+    let t_rupture = sim.stats.time_full_rupture;
+    eprintln!(
+        "demould: full rupture at {t_rupture:?} s; at the end the block's lowest point is at \
+         z = {bottom_z:.4} m, the floor at {floor_z:.4} m, the cavity's rim at {rim_z:.4} m; \
+         wall impulses {wall_impulse:.3} N·s, smallest wall gap {wall_gap_min:.3e} m (h × the fastest side node, {side_speed:.2} m/s: \
+         {:.3e} m), wall \
+         contacts after the walls opened {wall_contact_late}; plane work {:.4} J = damage {:.4} \
+         J (G_c·A = {gc_area:.4}) + friction {:.4} J + normal contact {:.4} J + kinetic {:.4} J \
+         + strain {:.4} J; max relative residual {:.2e}",
+        sim.h * side_speed,
+        e.plane_work,
+        e.damage_dissipated,
+        e.friction_dissipated,
+        e.contact_normal_dissipated,
+        e.kinetic,
+        e.strain,
+        sim.ledger.max_relative_residual
+    );
+    // Every interface node tears off, early in the pull (the mould has moved 11 mm by then).
+    assert_eq!(sim.state_counts().ruptured, sim.interface_nodes.len());
+    assert!(
+        t_rupture.is_some_and(|t| t < 0.02),
+        "full rupture at {t_rupture:?}"
+    );
+    // The glue dissipated G_c × area (2 %: the O(v h/u_r) of the discrete rupture steps at
+    // 1 m/s, 1.8 %, bounds it; 0.3 % measured).
+    assert!(
+        (e.damage_dissipated / gc_area - 1.0).abs() <= 0.02,
+        "damage {:.4} J, G_c·A = {gc_area:.4} J",
+        e.damage_dissipated
+    );
+    // The block left the cavity: its lowest point is above the cavity's rim by a clear margin
+    // (the mould dropped 0.136 m for a 0.1 m deep cavity; 2 cm), and the walls, open, no longer
+    // touch it.
+    assert!(
+        bottom_z - rim_z >= 0.02,
+        "the block's bottom at {bottom_z:.4} m, the rim at {rim_z:.4} m"
+    );
+    assert_eq!(wall_contact_late, 0, "wall contacts after the walls opened");
+    // The walls did touch it (the recoil after the tear-off presses it against them): friction
+    // took energy, and no node went into a wall deeper than one step's travel at the fastest
+    // speed of a side node (velocity-level contact stops an approach at the first position
+    // past the wall and does not push it back).
+    assert!(wall_impulse > 0.0 && e.friction_dissipated > 0.0);
+    assert!(
+        wall_gap_min >= -sim.h * side_speed,
+        "a side node {wall_gap_min:.3e} m into a wall"
+    );
+    // The mould's work is in the ledger: it paid for all of it (nothing else moves), at least
+    // the glue's G_c·A, and the balance closes (PHYSICS.md §5; 5e-4 with contact and friction).
+    assert!(e.plane_work >= gc_area, "plane work {:.4} J", e.plane_work);
+    assert!(
+        (e.external_work - e.plane_work).abs() <= 1e-9 * e.plane_work,
+        "other external work {:.3e} J",
+        e.external_work - e.plane_work
+    );
+    assert!(
+        sim.ledger.max_relative_residual <= 5e-4,
+        "max relative residual {:.2e}",
+        sim.ledger.max_relative_residual
+    );
+}
