@@ -65,7 +65,7 @@ fn peel_front_runs_and_the_force_is_kendall_s() {
         // mid-surface's material direction; the arm's direction from the front to the end is
         // −F·e_x, so cos θ = (F·e_x)_x/|F·e_x| (θ = 0 would be lap shear, 180° peeling back over
         // the strip), and |F·e_x| − 1 is its stretch. Both bends tilt their neighbourhood towards
-        // θ < 90°: the straight part is the column closest to upright.
+        // θ < 90°: the straight part is the column of largest θ.
         let (mut theta, mut stretch) = (f64::NAN, f64::NAN);
         for i in 0..nx {
             let xc = (i as f64 + 0.5) * length / nx as f64;
@@ -81,7 +81,7 @@ fn peel_front_runs_and_the_force_is_kendall_s() {
             }
             let len = (fx[0] * fx[0] + fx[1] * fx[1] + fx[2] * fx[2]).sqrt();
             let th = (fx[0] / len).acos();
-            if !(th <= theta) {
+            if theta.is_nan() || th > theta {
                 (theta, stretch) = (th, len - 1.0);
             }
         }
