@@ -312,6 +312,16 @@ fn dropped_column_scene() {
         sim.ledger.max_relative_residual
     );
     assert_eq!(landings.len(), 2, "two landings in the run");
+    // And at every step of the run, in flight or not, no deeper than the deepest landing allows.
+    let allowed = landings
+        .iter()
+        .map(|&(a, _)| h * rows[a].5.abs())
+        .fold(0.0, f64::max);
+    let deepest = rows.iter().map(|r| r.4).fold(f64::INFINITY, f64::min);
+    assert!(
+        deepest >= -allowed * (1.0 + 1e-9),
+        "{deepest:.3e} m into the floor"
+    );
     let (a0, b0) = landings[0];
     let a1 = landings[1].0;
     // First landing at √(2h/g): leapfrog integrates the free fall exactly, so the first
