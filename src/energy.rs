@@ -24,6 +24,12 @@ impl Work {
         self.value = self.settled + b;
         self.settled += b + a;
     }
+    /// The work up to tₙ plus the forward half aₙ = ½V_{n+½}·Pₙ: what the force has put in by
+    /// the time V_{n+½} is known (it pairs with ½V_{n+½}ᵀMV_{n+½}, not with Kₙ).
+    #[inline]
+    pub fn settled(&self) -> f64 {
+        self.settled
+    }
     /// The first step (n = 0): no work before t₀, only the forward half a₀ is kept.
     #[inline]
     pub fn start(&mut self, a: f64) {
@@ -105,6 +111,15 @@ impl Ledger {
             + self.traction_work.value
             + self.reaction_work.value
             + self.plane_work.value
+    }
+
+    /// External work including the forward halves of the last impulses ([`Work::settled`]):
+    /// the energy that may be in the half-step kinetic energy ½V_{n+½}ᵀMV_{n+½}.
+    pub fn external_work_settled(&self) -> f64 {
+        self.gravity_work.settled()
+            + self.traction_work.settled()
+            + self.reaction_work.settled()
+            + self.plane_work.settled()
     }
 
     /// Balance residual = W_ext − (ΔK + ΔΨ + ΔΨ_hg + ΔΨ_d + D_damage + D_normal + D_friction)

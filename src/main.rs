@@ -446,6 +446,14 @@ fn check(path: &Path, set: &[String]) -> Result<()> {
             "  interface[{k}] on `{}`         {:?}, g_N(0) = {:.4e} Pa/m, α_e = {:.4e} m, u_r = {:.4e} m, μ_inf = {}",
             itf.faces, itf.law.family, itf.law.g_n0, itf.law.alpha_e, itf.law.u_r, itf.mu_inf
         );
+        if itf.initial_damage > 0.0 {
+            let alpha0 = itf.initial_damage.min(itf.law.u_r);
+            println!(
+                "    initial damage             α₀ = {alpha0:.4e} m: {:?} from the start, μ(α₀) = {}",
+                itf.law.state(alpha0),
+                itf.law.mu(alpha0, itf.mu_inf)
+            );
+        }
         println!(
             "    peak traction              {:.5e} Pa at δ = {:.4e} m; G_c = {:.5e} J/m²; area {:.4e} m² → {:.5e} J to break",
             tmax,

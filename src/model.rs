@@ -114,6 +114,10 @@ pub struct Interface {
     pub law: StiffnessLaw,
     /// Friction coefficient of the fully ruptured interface, μ_inf ≥ 0 (paper eq. 21).
     pub mu_inf: f64,
+    /// Damage α₀ [m] at t = 0, ≥ 0: the run starts with α = min(u_r, max(α₀, |[u]₀|)), so
+    /// α₀ ≥ u_r is an interface already ruptured (contact with friction μ_inf only). Damage that
+    /// happened before the run is not counted as dissipated in its ledger. Default 0.
+    pub initial_damage: f64,
 }
 
 /// A face set in unilateral contact with Coulomb friction (constant μ) against a rigid plane,

@@ -319,6 +319,8 @@ struct RawInterface {
     plane: String,
     #[serde(default)]
     mu_inf: f64,
+    #[serde(default)]
+    initial_damage: f64,
     law: RawLaw,
 }
 
@@ -704,6 +706,12 @@ impl Check<'_> {
                 it.mu_inf,
                 "must be ≥ 0",
             )?;
+            self.require(
+                it.initial_damage >= 0.0,
+                format!("{key}.initial_damage"),
+                it.initial_damage,
+                "must be ≥ 0 m (the damage α₀ at t = 0; ≥ u_r means ruptured from the start)",
+            )?;
             let law = self.law(&format!("{key}.law"), it.law)?;
             attach(&faces, plane, key)?;
             interfaces.push(Interface {
@@ -711,6 +719,7 @@ impl Check<'_> {
                 plane,
                 law,
                 mu_inf: it.mu_inf,
+                initial_damage: it.initial_damage,
             });
         }
 
@@ -823,6 +832,7 @@ velocity = [[0.0, 0.0, 0.0, 0.1], [1.0, 0.0, 0.0, 0.2]]
 faces = "z-"
 plane = "mould"
 mu_inf = 0.5
+initial_damage = 2.0e-4
 [interface.law]
 family = "exponential"
 g_n0 = 2.0e9
@@ -890,6 +900,8 @@ vector = [1.0, 0.0, 0.0]
             LawFamily::Exponential { decay: 5.0 }
         );
         assert_eq!(m.interfaces[0].mu_inf, 0.5);
+        assert_eq!(m.interfaces[0].initial_damage, 2e-4);
+        assert_eq!(m.interfaces[1].initial_damage, 0.0);
         assert_eq!(
             (m.interfaces[1].faces.as_str(), m.interfaces[1].law.u_r),
             ("x+", 1e-3)

@@ -868,9 +868,13 @@ impl Simulation {
         }
         self.update_interface_kinematics();
         for itf in self.interface_nodes.iter_mut() {
-            let law = &self.model.interfaces[itf.interface as usize].law;
-            let n = self.model.planes[self.model.interfaces[itf.interface as usize].plane].normal;
-            itf.alpha = law.u_r.min(damage_measure(itf.jump, n));
+            let spec = &self.model.interfaces[itf.interface as usize];
+            let (law, n) = (&spec.law, self.model.planes[spec.plane].normal);
+            // α₀ = min(u_r, max(initial damage, f₀)): eq. 12's "largest jump ever reached",
+            // with the damage the interface had before the run.
+            itf.alpha = law
+                .u_r
+                .min(damage_measure(itf.jump, n).max(spec.initial_damage));
             itf.alpha_next = itf.alpha;
             itf.stiffness = law.g_n(itf.alpha);
             itf.prev_stiffness = itf.stiffness;
@@ -1502,7 +1506,10 @@ impl Simulation {
                 (self.kinetic_half + l.strain + l.hourglass + l.interface_stored).abs();
         }
         l.close_step();
-        let ext = l.external_work();
+        // The budget is compared with ½V_{n+½}ᵀMV_{n+½}, so it takes the works up to the forward
+        // halves of this step's impulses: with the work up to tₙ only, a load ramped from zero
+        // (no work yet at t₁, a velocity already) reads as energy created at step 1.
+        let ext = l.external_work_settled();
         self.energy_budget += (ext - self.last_external_work).abs();
         self.last_external_work = ext;
 

@@ -401,3 +401,27 @@ fn hourglass_coefficient_above_one() {
         ],
     );
 }
+
+#[test]
+fn negative_initial_damage() {
+    let e = error(
+        "plane = \"mould\"\n[interface.law]",
+        "plane = \"mould\"\ninitial_damage = -1e-4\n[interface.law]",
+        &[],
+    );
+    assert_has(
+        &e,
+        &[
+            FILE,
+            "key `interface[0].initial_damage` = -0.0001",
+            "must be ≥ 0 m",
+            "≥ u_r means ruptured from the start",
+        ],
+    );
+    let e = error(
+        "g_n0 = 2.0e9",
+        "g_n0 = 2.0e9",
+        &["interface.initial_damage=inf"],
+    );
+    assert_has(&e, &["key `interface[0].initial_damage` = inf", "finite"]);
+}

@@ -48,7 +48,7 @@ proptest! {
         let t_end = 0.02;
         let mut m = bare_box([0.1; 3], [1, 1, 1], Material::new(MaterialModel::Svk, 1e8, 0.3, 1000.0), t_end);
         m.planes.push(mould());
-        m.interfaces.push(Interface { faces: "z-".into(), plane: 0, law: law.clone(), mu_inf });
+        m.interfaces.push(Interface { faces: "z-".into(), plane: 0, law: law.clone(), mu_inf, initial_damage: 0.0 });
         // Random piecewise-linear histories of the top face, normal and tangential, that go up
         // and down (unloading and reloading) around the interface's scale u_r.
         let hist = |vals: &[f64]| PiecewiseLinear {

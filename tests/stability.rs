@@ -49,3 +49,21 @@ fn blow_up_caught_above_h_crit() {
     assert!(msg.contains("h_crit") && msg.contains("step"), "{msg}");
     assert!(sim.step_count < 150);
 }
+
+#[test]
+fn a_load_ramped_from_zero_is_not_a_blow_up() {
+    // A pressure ramped from amplitude 0 has done no work up to t₁ (V_{½} = 0 and P₀ = 0) while
+    // V_{3/2} ≠ 0 already: the growth check must count the forward half ½V_{3/2}·P₁ as supplied.
+    let set = [
+        "traction=[{faces = \"z+\", vector = [0.0, 0.0, -1e5], amplitude = [[0.0, 0.0], [0.01, 1.0]]}]",
+        "displacement=[]",
+        "gravity=[0, 0, 0]",
+        "end_time=0.02",
+    ]
+    .map(String::from);
+    let scene = load_scene("scenes/pull_off.toml".as_ref(), &set).unwrap();
+    let mut sim = Simulation::new(scene.model).unwrap();
+    sim.run(|_| true)
+        .expect("a ramped pressure is not an instability");
+    assert!(sim.energies().traction_work > 0.0);
+}

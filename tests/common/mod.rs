@@ -59,6 +59,7 @@ pub fn pull_off(n: usize, end_time: f64) -> Model {
         plane: 0,
         law: StiffnessLaw::new(LawFamily::PlateauLinear, 5e8, 2e-3, 4e-3).unwrap(),
         mu_inf: 0.5,
+        initial_damage: 0.0,
     });
     m.displacements.push(PrescribedDisplacement {
         faces: "z+".into(),
