@@ -1791,13 +1791,20 @@ impl Simulation {
         if nu >= 0.49 {
             let k_over_g = 2.0 * (1.0 + nu) / (3.0 * (1.0 - 2.0 * nu));
             let cp_over_cs = (2.0 * (1.0 - nu) / (1.0 - 2.0 * nu)).sqrt();
+            // The hourglass stiffness κ(λ+2μ) grows with λ: scaled to the default's share of the
+            // shear modulus, κ = 0.05·2μ/(λ+2μ).
+            let kappa_shear = 0.05 * 2.0 * mat.mu / (mat.lambda + 2.0 * mat.mu);
+            let kappa = m.scheme.hourglass_coefficient;
             let quadrature = match m.scheme.integration {
-                crate::model::Integration::Full => {
-                    "with full 2×2×2 integration the hex8 locks volumetrically: it is far too stiff in bending and in any deformation that keeps the volume, and the pressure oscillates from element to element; use scheme.integration = \"reduced\" (one point, hourglass-controlled), which does not lock"
-                }
-                crate::model::Integration::Reduced => {
-                    "one-point integration does not lock volumetrically"
-                }
+                crate::model::Integration::Full => format!(
+                    "with full 2×2×2 integration the hex8 locks volumetrically: it is far too stiff in bending and in any deformation that keeps the volume; use scheme.integration = \"reduced\" with scheme.hourglass_coefficient = {kappa_shear:.1e} (the hourglass stiffness κ(λ+2μ) grows with λ and locks as well at the default κ = 0.05)"
+                ),
+                crate::model::Integration::Reduced if kappa > 2.0 * kappa_shear => format!(
+                    "one-point integration does not lock volumetrically, but its hourglass stiffness κ(λ+2μ) grows with λ: at κ = {kappa} it stiffens bending as locking would; scheme.hourglass_coefficient = {kappa_shear:.1e} scales it to the shear modulus"
+                ),
+                crate::model::Integration::Reduced => format!(
+                    "one-point integration with κ = {kappa} does not lock"
+                ),
             };
             out.push(format!(
                 "material.poisson = {nu} is nearly incompressible (K/G = {k_over_g:.0}): {quadrature}. The stable step follows the pressure wave, c_p = {cp_over_cs:.1} c_s, so shear motion costs {cp_over_cs:.1}× more steps than at ν = 0."
