@@ -159,7 +159,8 @@ pub struct Settings {
     /// Scene file.
     pub scene: String,
     pub law: LawSettings,
-    /// Cells along the longest side of the box mesh.
+    /// Cells along the longest side of the box mesh; 0 when the scene reads its mesh from a
+    /// Gmsh file (`mesh.file`), whose resolution the window cannot change.
     pub cells: usize,
     /// h / h_crit.
     pub factor: f64,
@@ -385,9 +386,7 @@ impl App {
                         }
                     }
                 }
-                if let Some(n) = scene_cells(&scene) {
-                    self.settings.cells = n;
-                }
+                self.settings.cells = scene_cells(&scene).unwrap_or(0);
                 self.settings.factor = m.scheme.time_step_factor;
                 self.settings.integration = match m.scheme.integration {
                     crate::model::Integration::Full => "full".into(),
@@ -432,7 +431,8 @@ impl App {
                 let scaled: Vec<toml::Value> = c
                     .iter()
                     .map(|&v| {
-                        toml::Value::Integer(((v * s.cells as f64 / max).round() as i64).max(1))
+                        let n = s.cells.max(1) as f64;
+                        toml::Value::Integer(((v * n / max).round() as i64).max(1))
                     })
                     .collect();
                 mesh.insert("cells".into(), toml::Value::Array(scaled));
@@ -837,7 +837,11 @@ impl App {
 
         ui.heading("Run settings");
         let s = &mut self.settings;
-        ui.add(egui::Slider::new(&mut s.cells, 1..=40).text("cells per side"));
+        if s.cells == 0 {
+            ui.label("mesh from the scene's Gmsh file (cells per side: box meshes only)");
+        } else {
+            ui.add(egui::Slider::new(&mut s.cells, 1..=40).text("cells per side"));
+        }
         ui.add(egui::Slider::new(&mut s.factor, 0.05..=1.0).text("time-step factor h/h_crit"));
         ui.add(
             egui::Slider::new(&mut s.end_time, 1e-4..=10.0)
@@ -1132,7 +1136,10 @@ impl App {
                         ui.label(format!("{:.2e}", st.law.alpha_e));
                         ui.label(format!("{:.2e}", st.law.u_r));
                         ui.label(format!("{}", st.law.mu_inf));
-                        ui.label(format!("{}", st.cells));
+                        ui.label(match st.cells {
+                            0 => "file".to_string(),
+                            n => n.to_string(),
+                        });
                         let status = ui.label(&r.status);
                         if let Some(e) = &r.error {
                             status.on_hover_text(e);
@@ -1177,7 +1184,7 @@ fn titled_plot<'a>(
     });
 }
 
-/// Cells along the longest side of a scene's box mesh.
+/// Cells along the longest side of a scene's box mesh (`None` for a mesh file).
 fn scene_cells(scene: &Scene) -> Option<usize> {
     let doc: toml::Table = scene.resolved.parse().ok()?;
     let cells = doc.get("mesh")?.get("cells")?.as_array()?;

@@ -13,6 +13,8 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 pub mod energy;
+/// Gmsh `.msh` 4.1 hexahedral meshes in and out.
+pub mod gmsh;
 /// The explorer window (egui): reads scenes, runs simulations on a thread; not used by the physics.
 pub mod gui;
 pub mod law;

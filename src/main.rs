@@ -490,6 +490,7 @@ fn tradeoff(
     }
     // Validate the scene and every configuration before running anything.
     let base = load_scene(path, set)?;
+    decohesion::tradeoff::require_box_mesh(&base, "--cells")?;
     let configs = grid(integrations, cells, factors);
     for c in &configs {
         let o = decohesion::tradeoff::overrides(path, c, set)?;
@@ -567,6 +568,7 @@ fn bench(
     if repeats == 0 {
         bail!("--repeats must be ≥ 1");
     }
+    decohesion::tradeoff::require_box_mesh(&load_scene(path, &[])?, "--sizes")?;
     println!(
         "decohesion bench: {} on {} threads ({}), interface on; full = 2×2×2 Gauss, reduced = one point + hourglass control",
         path.display(),

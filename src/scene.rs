@@ -132,7 +132,10 @@ pub fn parse_scene(text: &str, file: &str, overrides: &[String]) -> Result<Scene
         },
         &label,
     )?;
-    let check = Check { file: &label };
+    let check = Check {
+        file: &label,
+        dir: Path::new(file).parent().unwrap_or(Path::new("")),
+    };
     for (key, value) in &doc {
         check.finite(key, value)?;
     }
@@ -274,13 +277,16 @@ struct RawScene {
     traction: Vec<RawTraction>,
 }
 
+/// Either a box (`size`, `cells`, optional `origin`) or a Gmsh file (`file`, optional `scale`);
+/// [`Check::mesh`] enforces that exactly one form is given.
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct RawMesh {
-    #[serde(default)]
-    origin: [f64; 3],
-    size: [f64; 3],
-    cells: [usize; 3],
+    origin: Option<[f64; 3]>,
+    size: Option<[f64; 3]>,
+    cells: Option<[usize; 3]>,
+    file: Option<String>,
+    scale: Option<f64>,
 }
 
 #[derive(Deserialize)]
@@ -382,9 +388,11 @@ fn num(x: f64) -> String {
     format!("{x:?}")
 }
 
-/// Validation of the raw scene; knows the file label for its errors.
+/// Validation of the raw scene; knows the file label for its errors and the directory that
+/// relative paths in the scene (`mesh.file`) are resolved against.
 struct Check<'a> {
     file: &'a str,
+    dir: &'a Path,
 }
 
 impl Check<'_> {
@@ -548,6 +556,77 @@ impl Check<'_> {
         .map_err(|e| self.invalid(format!("{key}.{}", e.key), e.value, e.reason))
     }
 
+    /// The `[mesh]` section: a box, or a Gmsh file read by [`crate::gmsh::read_msh`] (its path
+    /// relative to the scene file's directory) with its coordinates multiplied by `scale`.
+    fn mesh(&self, m: &RawMesh) -> Result<Mesh, SceneError> {
+        const FORMS: &str = "a mesh is either a Gmsh file (`file`, optional `scale`) or a box \
+                             (`size` and `cells`, optional `origin`)";
+        if let Some(file) = &m.file {
+            let box_keys = [
+                ("origin", m.origin.map(|v| format!("{v:?}"))),
+                ("size", m.size.map(|v| format!("{v:?}"))),
+                ("cells", m.cells.map(|v| format!("{v:?}"))),
+            ];
+            if let Some((k, Some(v))) = box_keys.into_iter().find(|k| k.1.is_some()) {
+                return Err(self.invalid(
+                    format!("mesh.{k}"),
+                    v,
+                    format!("`mesh.file` is given, so `mesh.{k}` cannot be: {FORMS}"),
+                ));
+            }
+            let scale = m.scale.unwrap_or(1.0);
+            self.require(
+                scale > 0.0,
+                "mesh.scale",
+                scale,
+                "must be > 0 (metres per mesh unit)",
+            )?;
+            let path = self.dir.join(file);
+            let mut mesh = crate::gmsh::read_msh(&path)
+                .map_err(|e| self.invalid("mesh.file", format!("{file:?}"), e.to_string()))?;
+            if scale != 1.0 {
+                for x in &mut mesh.nodes {
+                    *x = x.map(|c| c * scale);
+                }
+            }
+            return Ok(mesh);
+        }
+        if let Some(scale) = m.scale {
+            return Err(self.invalid(
+                "mesh.scale",
+                num(scale),
+                format!("applies to a `mesh.file` only (a box's `size` is in metres): {FORMS}"),
+            ));
+        }
+        let missing = |key: &str| SceneError::Missing {
+            file: self.file.to_string(),
+            key: format!("mesh.{key}"),
+            reason: format!("a box mesh needs `size` and `cells`; {FORMS}"),
+        };
+        let size = m.size.ok_or_else(|| missing("size"))?;
+        let cells = m.cells.ok_or_else(|| missing("cells"))?;
+        for a in 0..3 {
+            let key = format!("mesh.size[{a}]");
+            self.require(size[a] > 0.0, key, size[a], "must be > 0 m")?;
+            if cells[a] < 1 {
+                return Err(self.invalid(
+                    format!("mesh.cells[{a}]"),
+                    cells[a].to_string(),
+                    "must be an integer ≥ 1",
+                ));
+            }
+        }
+        let elements: u128 = cells.iter().map(|&c| c as u128).product();
+        if elements > MAX_ELEMENTS {
+            return Err(self.invalid(
+                "mesh.cells",
+                format!("{cells:?}"),
+                format!("{elements} elements: at most {MAX_ELEMENTS} are admissible"),
+            ));
+        }
+        Ok(Mesh::boxed(m.origin.unwrap_or_default(), size, cells))
+    }
+
     fn model(&self, raw: RawScene, default_name: String) -> Result<Model, SceneError> {
         self.require(
             raw.end_time > 0.0,
@@ -556,27 +635,7 @@ impl Check<'_> {
             "must be > 0 s",
         )?;
 
-        let m = &raw.mesh;
-        for a in 0..3 {
-            let key = format!("mesh.size[{a}]");
-            self.require(m.size[a] > 0.0, key, m.size[a], "must be > 0 m")?;
-            if m.cells[a] < 1 {
-                return Err(self.invalid(
-                    format!("mesh.cells[{a}]"),
-                    m.cells[a].to_string(),
-                    "must be an integer ≥ 1",
-                ));
-            }
-        }
-        let elements: u128 = m.cells.iter().map(|&c| c as u128).product();
-        if elements > MAX_ELEMENTS {
-            return Err(self.invalid(
-                "mesh.cells",
-                format!("{:?}", m.cells),
-                format!("{elements} elements: at most {MAX_ELEMENTS} are admissible"),
-            ));
-        }
-        let mesh = Mesh::boxed(m.origin, m.size, m.cells);
+        let mesh = self.mesh(&raw.mesh)?;
 
         let mat = &raw.material;
         self.require(

@@ -7,7 +7,7 @@
 //! integration); its own errors are 0 by construction, so errors of the next-finest rows are
 //! lower bounds (Richardson's caveat).
 
-use crate::scene::{load_scene, SceneError};
+use crate::scene::{load_scene, Scene, SceneError};
 use crate::solver::Simulation;
 use serde::Serialize;
 use std::path::Path;
@@ -109,10 +109,29 @@ pub fn grid(integrations: &[String], cells: &[usize], factors: &[f64]) -> Vec<Co
     out
 }
 
+/// Refuses a scene whose mesh is a Gmsh file: `flag` (`--cells`, `--sizes`) sets the cells of a
+/// box mesh, and a file's resolution is fixed.
+pub fn require_box_mesh(scene: &Scene, flag: &str) -> Result<(), SceneError> {
+    let doc: toml::Table = scene.resolved.parse().unwrap_or_default();
+    match doc.get("mesh").and_then(|m| m.get("file")) {
+        Some(file) => Err(SceneError::Invalid {
+            file: scene.file.clone(),
+            key: "mesh.file".into(),
+            value: file.to_string(),
+            reason: format!(
+                "{flag} needs a box mesh (`mesh.size` and `mesh.cells`): this scene reads its \
+                 mesh from a Gmsh file, whose resolution {flag} cannot change"
+            ),
+        }),
+        None => Ok(()),
+    }
+}
+
 /// The `--set` overrides that turn the scene into configuration `c` (cells scaled so the
-/// longest side has `c.cells`).
+/// longest side has `c.cells`). A scene with a mesh file is refused ([`require_box_mesh`]).
 pub fn overrides(scene: &Path, c: &Config, extra: &[String]) -> Result<Vec<String>, SceneError> {
     let base = load_scene(scene, extra)?;
+    require_box_mesh(&base, "--cells")?;
     let doc: toml::Table = base.resolved.parse().unwrap_or_default();
     let cells: Vec<f64> = doc
         .get("mesh")

@@ -425,3 +425,76 @@ fn negative_initial_damage() {
     );
     assert_has(&e, &["key `interface[0].initial_damage` = inf", "finite"]);
 }
+
+/// The box of `VALID`, and a Gmsh mesh file instead (the tread block, relative to `scenes/`).
+const BOX: &str = "[mesh]\nsize = [1.0, 1.0, 1.0]\ncells = [2, 2, 2]";
+const MESH_FILE: &str = "[mesh]\nfile = \"meshes/tread_block.msh\"\nscale = 0.001";
+
+#[test]
+fn mesh_file_and_box_keys_exclude_each_other() {
+    let e = error(BOX, &format!("{MESH_FILE}\ncells = [2, 2, 2]"), &[]);
+    assert_has(
+        &e,
+        &[
+            FILE,
+            "key `mesh.cells` = [2, 2, 2]",
+            "`mesh.file` is given",
+            "either a Gmsh file",
+        ],
+    );
+}
+
+#[test]
+fn box_without_cells() {
+    let e = error("cells = [2, 2, 2]", "", &[]);
+    assert_has(
+        &e,
+        &[FILE, "key `mesh.cells` is missing", "a box mesh needs"],
+    );
+}
+
+#[test]
+fn missing_mesh_file() {
+    let e = error(BOX, "[mesh]\nfile = \"meshes/nowhere.msh\"", &[]);
+    assert_has(
+        &e,
+        &[
+            FILE,
+            "key `mesh.file` = \"meshes/nowhere.msh\"",
+            "scenes/meshes/nowhere.msh: cannot read the mesh file",
+        ],
+    );
+}
+
+#[test]
+fn unknown_physical_group() {
+    // The tread block's face sets are its physical groups; `z-` is a box's.
+    let e = error(BOX, MESH_FILE, &[]);
+    assert_has(
+        &e,
+        &[
+            FILE,
+            "key `interface[0].faces` = \"z-\"",
+            "admissible: `bottom`, `groove`, `sides`, `top`",
+        ],
+    );
+}
+
+#[test]
+fn mesh_scale_not_positive() {
+    let e = error(BOX, &MESH_FILE.replace("0.001", "-1.0"), &[]);
+    assert_has(&e, &[FILE, "key `mesh.scale` = -1.0", "must be > 0"]);
+}
+
+#[test]
+fn mesh_scale_with_a_box() {
+    let e = error(BOX, &format!("{BOX}\nscale = 0.001"), &[]);
+    assert_has(
+        &e,
+        &[
+            FILE,
+            "key `mesh.scale` = 0.001",
+            "applies to a `mesh.file` only",
+        ],
+    );
+}

@@ -149,3 +149,23 @@ fn saved_settings_round_trip_and_tolerate_missing_fields() {
     let back: Settings = serde_json::from_str(&serde_json::to_string(&s).unwrap()).unwrap();
     assert_eq!(back, s);
 }
+
+/// A scene whose mesh is a Gmsh file: no cells setting (the window says why), and it runs.
+#[test]
+fn scene_with_a_mesh_file_runs_without_the_cells_setting() {
+    let mut app = App::default();
+    app.load_scene("scenes/tread.toml");
+    app.settings.record = RecordChoice::Off;
+    assert_eq!(app.settings.cells, 0, "0 = the mesh of the file");
+    let mut h = harness(app);
+    h.run();
+    h.get_by_label_contains("mesh from the scene's Gmsh file");
+    assert!(!run_disabled(&h));
+    h.get_by_label("Run").click();
+    h.step();
+    wait_for_end(&mut h, Duration::from_secs(60));
+    assert_eq!(h.state().status, Status::Ended("finished".into()));
+    let row = &h.state().history[0];
+    // The 31 × 16 bottom nodes of the tread block, all torn off.
+    assert_eq!((row.interface_nodes, row.counts.ruptured), (496, 496));
+}

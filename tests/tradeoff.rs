@@ -89,3 +89,26 @@ fn an_inadmissible_configuration_is_refused_before_running() {
         "{err}"
     );
 }
+
+/// `--cells` (tradeoff) and `--sizes` (bench) set a box's cells: a Gmsh mesh file is refused.
+#[test]
+fn a_mesh_file_is_refused_by_cells_and_sizes() {
+    for args in [
+        ["tradeoff", "scenes/tread.toml", "--cells", "3"],
+        ["bench", "--scene", "scenes/tread.toml", "--sizes=3"],
+    ] {
+        let out = Command::new(BIN).args(args).output().unwrap();
+        assert!(!out.status.success());
+        let err = String::from_utf8_lossy(&out.stderr);
+        let flag = if args[0] == "bench" {
+            "--sizes"
+        } else {
+            "--cells"
+        };
+        assert!(
+            err.contains("scenes/tread.toml: key `mesh.file`")
+                && err.contains(&format!("{flag} needs a box mesh")),
+            "{err}"
+        );
+    }
+}

@@ -1,0 +1,486 @@
+//! Gmsh meshes: reads `.msh` files of format 4.1 (ASCII or binary, parsed by the `mshio` crate)
+//! holding 8-node hexahedra into a [`Mesh`], and writes a [`Mesh`] as a `.msh` 4.1 ASCII file.
+//!
+//! What is read:
+//! - every element of a volume entity must be an 8-node hexahedron (Gmsh type 5); any other
+//!   volume element is refused with its tag and type;
+//! - the physical groups of dimension 2 become the face sets, named by `$PhysicalNames` or
+//!   `physical_<tag>` when the group has no name; their elements must be 4-node quadrangles
+//!   (type 3) that are boundary faces of the hexahedra. Each quad is re-ordered as the face of
+//!   its hexahedron, counter-clockwise seen from outside (outward normal, as [`Mesh`] requires),
+//!   whatever orientation the file gives it;
+//! - nodes that no hexahedron uses (geometry points, construction nodes) are dropped; the others
+//!   keep the order of the file and are numbered from 0;
+//! - curves, points, surface elements outside physical groups and volume physical groups are
+//!   ignored;
+//! - every hexahedron must have det J₀ > 0 at its Gauss points (PHYSICS.md §2); an inverted or
+//!   degenerate one is refused with its tag.
+//!
+//! Node order: Gmsh's hexahedron has node 0 at (u, v, w) = (−1, −1, −1), 1 at (1, −1, −1),
+//! 2 at (1, 1, −1), 3 at (−1, 1, −1), then 4–7 above them at w = 1 (Gmsh reference manual,
+//! "Node ordering"), exactly [`crate::mesh::HEX_CORNERS`]: the connectivity is taken as it is
+//! ([`GMSH_HEX8_ORDER`] is the identity).
+//!
+//! Node tags: `mshio` keeps the tags of a `$Nodes` section only when they are sparse; when they
+//! are contiguous (min..=max, what Gmsh writes) the k-th node of the section in file order has the
+//! tag min + k, which is how Gmsh numbers them.
+
+use crate::mesh::{GaussData, Mesh};
+use std::collections::{BTreeMap, HashMap};
+use std::io::Write;
+use std::path::Path;
+
+/// Position in a Gmsh hexahedron of the node that [`Mesh`] puts at each local index: the two
+/// conventions coincide (see the module docs).
+pub const GMSH_HEX8_ORDER: [usize; 8] = [0, 1, 2, 3, 4, 5, 6, 7];
+
+/// Gmsh element type numbers used here.
+const HEX8: i32 = 5;
+const QUAD4: i32 = 3;
+
+/// Why a `.msh` file could not be read. Every message starts with the file name.
+#[derive(Debug, thiserror::Error)]
+pub enum MshError {
+    /// The file could not be read.
+    #[error("{file}: cannot read the mesh file: {source}")]
+    Io {
+        file: String,
+        source: std::io::Error,
+    },
+    /// The file is not valid MSH 4.1 (`at` is "line N" for ASCII, "byte N" for binary files).
+    #[error("{file}: {at}: not a valid MSH 4.1 file: {message}")]
+    Syntax {
+        file: String,
+        at: String,
+        message: String,
+    },
+    /// Valid MSH, but not a mesh this program can use; `message` names the element, node or
+    /// physical group.
+    #[error("{file}: {message}")]
+    Mesh { file: String, message: String },
+}
+
+/// Reads the `.msh` file at `path` (see the module docs for what is accepted).
+pub fn read_msh(path: &Path) -> Result<Mesh, MshError> {
+    let file = path.display().to_string();
+    let bytes = std::fs::read(path).map_err(|source| MshError::Io {
+        file: file.clone(),
+        source,
+    })?;
+    parse_msh(&bytes, &file)
+}
+
+/// Name of a Gmsh element type for messages.
+fn type_name(t: i32) -> String {
+    let name = match t {
+        1 => "2-node line",
+        2 => "3-node triangle",
+        3 => "4-node quadrangle",
+        4 => "4-node tetrahedron",
+        5 => "8-node hexahedron",
+        6 => "6-node prism",
+        7 => "5-node pyramid",
+        11 => "10-node tetrahedron",
+        12 => "27-node hexahedron",
+        15 => "1-node point",
+        17 => "20-node hexahedron",
+        _ => return format!("type {t}"),
+    };
+    format!("type {t}, {name}")
+}
+
+/// True when the header says binary (`$MeshFormat` / `4.1 1 8`).
+fn is_binary(bytes: &[u8]) -> bool {
+    let text = String::from_utf8_lossy(&bytes[..bytes.len().min(256)]);
+    text.lines()
+        .skip_while(|l| l.trim() != "$MeshFormat")
+        .nth(1)
+        .and_then(|l| l.split_whitespace().nth(1).map(|t| t == "1"))
+        .unwrap_or(false)
+}
+
+/// "line N" (1-based) of byte `offset`, or "byte N" in a binary file.
+fn location(bytes: &[u8], offset: usize, binary: bool) -> String {
+    let offset = offset.min(bytes.len());
+    if binary {
+        format!("byte {offset}")
+    } else {
+        let line = 1 + bytes[..offset].iter().filter(|&&b| b == b'\n').count();
+        format!("line {line}")
+    }
+}
+
+/// The `$PhysicalNames` section (always ASCII, before the binary sections): (dim, tag) → name.
+/// It is searched before the first `$Entities` or `$Nodes` so that binary data is never read as
+/// text.
+fn physical_names(
+    bytes: &[u8],
+    file: &str,
+    binary: bool,
+) -> Result<BTreeMap<(i32, i32), String>, MshError> {
+    let find = |pat: &[u8], from: usize| {
+        bytes[from..]
+            .windows(pat.len())
+            .position(|w| w == pat)
+            .map(|p| p + from)
+    };
+    let stop = [&b"\n$Entities"[..], b"\n$Nodes"]
+        .iter()
+        .filter_map(|p| find(p, 0))
+        .min()
+        .unwrap_or(bytes.len());
+    let mut names = BTreeMap::new();
+    let Some(start) = find(b"$PhysicalNames", 0).filter(|&s| s < stop) else {
+        return Ok(names);
+    };
+    let first_line = 1 + bytes[..start].iter().filter(|&&b| b == b'\n').count();
+    let end = find(b"$EndPhysicalNames", start).ok_or_else(|| MshError::Syntax {
+        file: file.to_string(),
+        at: location(bytes, start, binary),
+        message: "$PhysicalNames has no $EndPhysicalNames".into(),
+    })?;
+    let text = String::from_utf8_lossy(&bytes[start..end]);
+    let mut lines = text.lines().enumerate().skip(1);
+    let bad = |i: usize, what: &str| MshError::Syntax {
+        file: file.to_string(),
+        at: format!("line {}", first_line + i),
+        message: format!("in $PhysicalNames: {what}"),
+    };
+    let (i, count) = lines
+        .next()
+        .ok_or_else(|| bad(1, "the number of names is missing"))?;
+    let count: usize = count
+        .trim()
+        .parse()
+        .map_err(|_| bad(i, &format!("expected the number of names, found {count:?}")))?;
+    for _ in 0..count {
+        let (i, line) = lines
+            .next()
+            .ok_or_else(|| bad(count + 1, &format!("expected {count} names")))?;
+        let expected = "expected `dimension tag \"name\"`";
+        let mut parts = line.trim().splitn(3, char::is_whitespace);
+        let dim = parts.next().and_then(|s| s.parse::<i32>().ok());
+        let tag = parts.next().and_then(|s| s.parse::<i32>().ok());
+        let name = parts
+            .next()
+            .map(str::trim)
+            .and_then(|s| s.strip_prefix('"'))
+            .and_then(|s| s.strip_suffix('"'));
+        match (dim, tag, name) {
+            (Some(d), Some(t), Some(n)) => {
+                names.insert((d, t), n.to_string());
+            }
+            _ => return Err(bad(i, &format!("{expected}, found {line:?}"))),
+        }
+    }
+    Ok(names)
+}
+
+/// Parses the bytes of a `.msh` file; `file` names it in messages.
+pub fn parse_msh(bytes: &[u8], file: &str) -> Result<Mesh, MshError> {
+    let binary = is_binary(bytes);
+    let msh = mshio::parse_msh_bytes(bytes).map_err(|e| {
+        let trace = e.filtered_backtrace();
+        let offset = trace
+            .first()
+            .map_or(0, |(rest, _)| bytes.len().saturating_sub(rest.len()));
+        // The innermost error kind, and the contexts from the outermost section inwards.
+        let what = trace
+            .iter()
+            .find(|(_, k)| k.context().is_none())
+            .map_or_else(|| "unexpected content".to_string(), |(_, k)| k.to_string());
+        let mut within: Vec<&str> = trace
+            .iter()
+            .rev()
+            .filter_map(|(_, k)| k.context())
+            .collect();
+        within.dedup();
+        let within = if within.is_empty() {
+            String::new()
+        } else {
+            format!(" (in {})", within.join(" › "))
+        };
+        MshError::Syntax {
+            file: file.to_string(),
+            at: location(bytes, offset, binary),
+            message: format!("{}{within}", what.trim_end_matches('.')),
+        }
+    })?;
+    let mesh_err = |message: String| MshError::Mesh {
+        file: file.to_string(),
+        message,
+    };
+    let names = physical_names(bytes, file, binary)?;
+
+    // Nodes: tag → index in file order, and coordinates.
+    let mut node_index: HashMap<u64, usize> = HashMap::new();
+    let mut node_tag: Vec<u64> = Vec::new();
+    let mut coords: Vec<[f64; 3]> = Vec::new();
+    if let Some(nodes) = &msh.data.nodes {
+        for block in &nodes.node_blocks {
+            let tags: Vec<u64> = match &block.node_tags {
+                Some(map) => {
+                    let mut tags = vec![0u64; block.nodes.len()];
+                    for (&t, &i) in map {
+                        tags[i] = t;
+                    }
+                    if map.len() != block.nodes.len() {
+                        return Err(mesh_err(format!(
+                            "the node block of entity (dim {}, tag {}) repeats a node tag",
+                            block.entity_dim, block.entity_tag
+                        )));
+                    }
+                    tags
+                }
+                None => (0..block.nodes.len() as u64)
+                    .map(|k| nodes.min_node_tag + node_tag.len() as u64 + k)
+                    .collect(),
+            };
+            for (t, n) in tags.into_iter().zip(&block.nodes) {
+                if node_index.insert(t, coords.len()).is_some() {
+                    return Err(mesh_err(format!("node tag {t} is defined twice")));
+                }
+                node_tag.push(t);
+                coords.push([n.x, n.y, n.z]);
+            }
+        }
+    }
+    let node = |tag: u64, element: u64| {
+        node_index.get(&tag).copied().ok_or_else(|| {
+            mesh_err(format!(
+                "element {element} refers to node {tag}, which the $Nodes section does not define"
+            ))
+        })
+    };
+
+    // Physical tags of the surface entities.
+    let mut surface_groups: HashMap<i32, Vec<i32>> = HashMap::new();
+    if let Some(ent) = &msh.data.entities {
+        for s in &ent.surfaces {
+            surface_groups.insert(s.tag, s.physical_tags.iter().map(|t| t.abs()).collect());
+        }
+    }
+    let group_name = |tag: i32| {
+        names
+            .get(&(2, tag))
+            .cloned()
+            .unwrap_or_else(|| format!("physical_{tag}"))
+    };
+
+    // Elements: hexahedra (file node indices) and the quads of each physical surface group.
+    let mut hexes: Vec<([usize; 8], u64)> = Vec::new();
+    let mut group_quads: BTreeMap<i32, Vec<([usize; 4], u64)>> = BTreeMap::new();
+    if let Some(elements) = &msh.data.elements {
+        for block in &elements.element_blocks {
+            let ty = block.element_type as i32;
+            match block.entity_dim {
+                3 => {
+                    for el in &block.elements {
+                        if ty != HEX8 {
+                            return Err(mesh_err(format!(
+                                "element {} ({}, in volume {}): only 8-node hexahedra (type 5) \
+                                 are supported",
+                                el.element_tag,
+                                type_name(ty),
+                                block.entity_tag
+                            )));
+                        }
+                        let mut conn = [0usize; 8];
+                        for (a, slot) in conn.iter_mut().enumerate() {
+                            *slot = node(el.nodes[GMSH_HEX8_ORDER[a]], el.element_tag)?;
+                        }
+                        hexes.push((conn, el.element_tag));
+                    }
+                }
+                2 => {
+                    let Some(groups) = surface_groups.get(&block.entity_tag) else {
+                        continue;
+                    };
+                    for &g in groups {
+                        for el in &block.elements {
+                            if ty != QUAD4 {
+                                return Err(mesh_err(format!(
+                                    "element {} ({}, in surface {} of physical group \"{}\"): \
+                                     only 4-node quadrangles (type 3) are supported in face sets",
+                                    el.element_tag,
+                                    type_name(ty),
+                                    block.entity_tag,
+                                    group_name(g)
+                                )));
+                            }
+                            let mut q = [0usize; 4];
+                            for (a, slot) in q.iter_mut().enumerate() {
+                                *slot = node(el.nodes[a], el.element_tag)?;
+                            }
+                            group_quads.entry(g).or_default().push((q, el.element_tag));
+                        }
+                    }
+                }
+                _ => {}
+            }
+        }
+    }
+    if hexes.is_empty() {
+        return Err(mesh_err(
+            "no 8-node hexahedron (type 5) in the file: the body must be meshed with hexahedra"
+                .into(),
+        ));
+    }
+
+    // Keep the nodes the hexahedra use, in file order.
+    let mut new_index = vec![u32::MAX; coords.len()];
+    for (conn, _) in &hexes {
+        for &n in conn {
+            new_index[n] = 0;
+        }
+    }
+    let mut nodes = Vec::new();
+    for (i, slot) in new_index.iter_mut().enumerate() {
+        if *slot == 0 {
+            *slot = nodes.len() as u32;
+            nodes.push(coords[i]);
+        }
+    }
+    let elements: Vec<[u32; 8]> = hexes
+        .iter()
+        .map(|(conn, _)| conn.map(|n| new_index[n]))
+        .collect();
+    for (e, (_, tag)) in hexes.iter().enumerate() {
+        let x = elements[e].map(|n| nodes[n as usize]);
+        if let Err(det) = GaussData::new(&x) {
+            return Err(mesh_err(format!(
+                "element {tag} (hexahedron) is inverted or degenerate: det J₀ = {det:e} at a \
+                 Gauss point; Gmsh orders its nodes 0–3 counter-clockwise on one face seen from \
+                 the opposite face 4–7 (node 4 above 0)"
+            )));
+        }
+    }
+    let mut mesh = Mesh {
+        nodes,
+        elements,
+        face_sets: BTreeMap::new(),
+    };
+
+    // Face sets: each quad becomes the outward face of its hexahedron.
+    let mut boundary: HashMap<[u32; 4], [u32; 4]> = HashMap::new();
+    for (quad, _) in mesh.boundary_faces() {
+        let mut key = quad;
+        key.sort_unstable();
+        boundary.insert(key, quad);
+    }
+    let mut seen_names: BTreeMap<String, i32> = BTreeMap::new();
+    for (g, quads) in group_quads {
+        let name = group_name(g);
+        if let Some(other) = seen_names.insert(name.clone(), g) {
+            return Err(mesh_err(format!(
+                "physical groups {other} and {g} of dimension 2 are both named \"{name}\": face \
+                 set names must be unique"
+            )));
+        }
+        let mut set = Vec::with_capacity(quads.len());
+        let mut in_set = std::collections::HashSet::new();
+        for (q, tag) in quads {
+            let mut key = q.map(|n| new_index[n]);
+            key.sort_unstable();
+            let outward = boundary.get(&key).ok_or_else(|| {
+                mesh_err(format!(
+                    "element {tag} (a quadrangle of physical group \"{name}\") is not a face on \
+                     the boundary of the hexahedra: face sets must lie on the body's surface"
+                ))
+            })?;
+            if in_set.insert(key) {
+                set.push(*outward);
+            }
+        }
+        mesh.face_sets.insert(name, set);
+    }
+    Ok(mesh)
+}
+
+/// Writes `mesh` as a `.msh` 4.1 ASCII file: one volume entity (physical group "body") holding
+/// every node and hexahedron, and one surface entity per face set, in a physical group of the
+/// same name, with its quads as stored (outward). Node and element tags start at 1; numbers are
+/// written in their shortest round-trip form, so reading the file back gives the same mesh.
+pub fn write_msh(mesh: &Mesh, out: &mut impl Write) -> std::io::Result<()> {
+    let sets: Vec<(&String, &Vec<[u32; 4]>)> = mesh.face_sets.iter().collect();
+    let bbox = |nodes: &mut dyn Iterator<Item = u32>| {
+        let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+        let mut nodes = nodes.peekable();
+        if nodes.peek().is_none() {
+            (lo, hi) = ([0.0; 3], [0.0; 3]);
+        }
+        for n in nodes {
+            let x = mesh.nodes[n as usize];
+            for c in 0..3 {
+                lo[c] = lo[c].min(x[c]);
+                hi[c] = hi[c].max(x[c]);
+            }
+        }
+        format!(
+            "{:?} {:?} {:?} {:?} {:?} {:?}",
+            lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]
+        )
+    };
+    writeln!(out, "$MeshFormat\n4.1 0 8\n$EndMeshFormat")?;
+    writeln!(out, "$PhysicalNames\n{}", sets.len() + 1)?;
+    for (k, (name, _)) in sets.iter().enumerate() {
+        writeln!(out, "2 {} \"{}\"", k + 1, name)?;
+    }
+    writeln!(out, "3 1 \"body\"\n$EndPhysicalNames")?;
+    writeln!(out, "$Entities\n0 0 {} 1", sets.len())?;
+    for (k, (_, quads)) in sets.iter().enumerate() {
+        let b = bbox(&mut quads.iter().flatten().copied());
+        writeln!(out, "{} {b} 1 {} 0", k + 1, k + 1)?;
+    }
+    let b = bbox(&mut (0..mesh.nodes.len() as u32));
+    let surfaces: Vec<String> = (1..=sets.len()).map(|s| s.to_string()).collect();
+    writeln!(
+        out,
+        "1 {b} 1 1 {} {}\n$EndEntities",
+        sets.len(),
+        surfaces.join(" ")
+    )?;
+    let n = mesh.nodes.len();
+    writeln!(out, "$Nodes\n1 {n} 1 {n}\n3 1 0 {n}")?;
+    for i in 1..=n {
+        writeln!(out, "{i}")?;
+    }
+    for x in &mesh.nodes {
+        writeln!(out, "{:?} {:?} {:?}", x[0], x[1], x[2])?;
+    }
+    writeln!(out, "$EndNodes")?;
+    let quads: usize = sets.iter().map(|s| s.1.len()).sum();
+    let total = mesh.elements.len() + quads;
+    writeln!(out, "$Elements\n{} {total} 1 {total}", sets.len() + 1)?;
+    writeln!(out, "3 1 {HEX8} {}", mesh.elements.len())?;
+    let mut tag = 0;
+    for conn in &mesh.elements {
+        tag += 1;
+        let ids: Vec<String> = (0..8)
+            .map(|a| (conn[GMSH_HEX8_ORDER[a]] + 1).to_string())
+            .collect();
+        writeln!(out, "{tag} {}", ids.join(" "))?;
+    }
+    for (k, (_, set)) in sets.iter().enumerate() {
+        writeln!(out, "2 {} {QUAD4} {}", k + 1, set.len())?;
+        for q in set.iter() {
+            tag += 1;
+            writeln!(
+                out,
+                "{tag} {} {} {} {}",
+                q[0] + 1,
+                q[1] + 1,
+                q[2] + 1,
+                q[3] + 1
+            )?;
+        }
+    }
+    writeln!(out, "$EndElements")
+}
+
+/// [`write_msh`] into a string.
+pub fn msh_text(mesh: &Mesh) -> String {
+    let mut buf = Vec::new();
+    write_msh(mesh, &mut buf).expect("writing to memory cannot fail");
+    String::from_utf8(buf).expect("the writer emits UTF-8")
+}
