@@ -576,7 +576,7 @@ fn bench(
         std::env::consts::ARCH
     );
     println!(
-        "{:>8} {:>4} {:>9} {:>9} {:>7} {:>14} {:>16} {:>18} {:>12} {:>10}",
+        "{:>8} {:>4} {:>9} {:>9} {:>7} {:>14} {:>16} {:>18} {:>12} {:>10} {:>13}",
         "rule",
         "n",
         "elements",
@@ -586,39 +586,45 @@ fn bench(
         "elem-steps/s",
         "iface ns/node-step",
         "bytes/elem",
-        "setup s"
+        "setup s",
+        "wall s/sim s"
     );
-    for (integration, &n) in integrations
-        .iter()
-        .flat_map(|i| sizes.iter().map(move |n| (i, n)))
-    {
-        let set = vec![
-            format!("mesh.cells=[{n},{n},{n}]"),
-            "scheme.h_crit_update_interval=0".into(),
-            format!("scheme.integration=\"{integration}\""),
-        ];
-        let scene = load_scene(path, &set)?;
-        let t0 = Instant::now();
-        let mut sim = Simulation::new(scene.model)?;
-        let setup = t0.elapsed().as_secs_f64();
-        let elements = sim.model.mesh.elements.len() as u64;
-        let steps = (work / elements).max(10);
-        let mut ns = Vec::new();
-        let mut iface = Vec::new();
-        for _ in 0..repeats {
-            let before = sim.stats.clone();
-            let t = Instant::now();
-            for _ in 0..steps {
-                sim.step()?;
+    let mut fits = Vec::new();
+    for integration in integrations {
+        // (elements, wall seconds per simulated second) of each size, for the scaling exponent.
+        let mut points: Vec<(f64, f64)> = Vec::new();
+        for &n in sizes {
+            let set = vec![
+                format!("mesh.cells=[{n},{n},{n}]"),
+                "scheme.h_crit_update_interval=0".into(),
+                format!("scheme.integration=\"{integration}\""),
+            ];
+            let scene = load_scene(path, &set)?;
+            let t0 = Instant::now();
+            let mut sim = Simulation::new(scene.model)?;
+            let setup = t0.elapsed().as_secs_f64();
+            let elements = sim.model.mesh.elements.len() as u64;
+            let steps = (work / elements).max(10);
+            let mut ns = Vec::new();
+            let mut iface = Vec::new();
+            for _ in 0..repeats {
+                let before = sim.stats.clone();
+                let t = Instant::now();
+                for _ in 0..steps {
+                    sim.step()?;
+                }
+                let dt = t.elapsed().as_secs_f64();
+                ns.push(dt * 1e9 / (steps * elements) as f64);
+                let di =
+                    sim.stats.stage_times.interface_contact - before.stage_times.interface_contact;
+                iface.push(di * 1e9 / (steps as f64 * sim.interface_nodes.len().max(1) as f64));
             }
-            let dt = t.elapsed().as_secs_f64();
-            ns.push(dt * 1e9 / (steps * elements) as f64);
-            let di = sim.stats.stage_times.interface_contact - before.stage_times.interface_contact;
-            iface.push(di * 1e9 / (steps as f64 * sim.interface_nodes.len().max(1) as f64));
-        }
-        let med = median(&mut ns);
-        println!(
-            "{:>8} {:>4} {:>9} {:>9} {:>7} {:>14.1} {:>16.3e} {:>18.1} {:>12.0} {:>10.2}",
+            let med = median(&mut ns);
+            // At fixed simulated time: steps ∝ 1/h, so wall = elements × ns/element-step / h.
+            let wall_per_sim = elements as f64 * med * 1e-9 / sim.h;
+            points.push((elements as f64, wall_per_sim));
+            println!(
+            "{:>8} {:>4} {:>9} {:>9} {:>7} {:>14.1} {:>16.3e} {:>18.1} {:>12.0} {:>10.2} {:>13.3e}",
             integration,
             n,
             elements,
@@ -628,8 +634,31 @@ fn bench(
             1e9 / med,
             median(&mut iface),
             state_bytes(&sim) as f64 / elements as f64,
-            setup
+            setup,
+            wall_per_sim
         );
+        }
+        fits.push((integration.clone(), points));
+    }
+    for (integration, points) in fits {
+        if points.len() >= 2 {
+            println!(
+                "scaling ({integration}): wall time at fixed simulated time ∝ N^{:.3} over N = {:.0}…{:.0} elements (N^4/3 if the cost per element-step were constant: h ∝ N^-1/3)",
+                log_log_slope(&points),
+                points[0].0,
+                points[points.len() - 1].0
+            );
+        }
     }
     Ok(())
+}
+
+/// Least-squares slope of log y against log x: the exponent p of y ∝ x^p.
+fn log_log_slope(points: &[(f64, f64)]) -> f64 {
+    let n = points.len() as f64;
+    let (lx, ly): (Vec<f64>, Vec<f64>) = points.iter().map(|&(x, y)| (x.ln(), y.ln())).unzip();
+    let (mx, my) = (lx.iter().sum::<f64>() / n, ly.iter().sum::<f64>() / n);
+    let sxy: f64 = lx.iter().zip(&ly).map(|(x, y)| (x - mx) * (y - my)).sum();
+    let sxx: f64 = lx.iter().map(|x| (x - mx).powi(2)).sum();
+    sxy / sxx
 }

@@ -1557,7 +1557,10 @@ impl Simulation {
     /// The blow-up diagnostic: where, with which h and h_crit, and what to change.
     fn unstable(&self, reason: String) -> SolverError {
         let factor = self.h / self.h_crit;
-        let advice = if factor > 0.95 {
+        let configured = self.model.scheme.time_step_factor;
+        let advice = if configured >= 1.0 {
+            format!("scheme.time_step_factor = {configured} is at or above the stability limit 1: set it ≤ 0.9 (default 0.5).")
+        } else if factor > 0.95 {
             format!("The time step factor {factor:.3} is at or above the stability limit 1: set scheme.time_step_factor ≤ 0.9 (default 0.5).")
         } else {
             "The step is below the estimated limit: stiffening under large strain may have lowered h_crit (lower scheme.h_crit_update_interval or scheme.time_step_factor), or the loading is too violent for the mesh (refine it or slow the load).".to_string()

@@ -42,11 +42,17 @@ fn blow_up_caught_above_h_crit() {
         } => {
             // Growth factor per step of the top mode at h ω = 2.2 is 2.4: caught within ~100 steps.
             assert!(*step < 150, "caught late, at step {step}");
-            assert!((h / h_crit - 1.1).abs() < 1e-9);
+            // The blow-up moves the Jacobians, which re-estimates h_crit at the damaged state
+            // (its glue softer): h/h_crit is then not exactly 1.1, but still above the limit.
+            assert!(h / h_crit > 1.0, "h/h_crit = {}", h / h_crit);
         }
         other => panic!("unexpected error {other:?}"),
     }
     assert!(msg.contains("h_crit") && msg.contains("step"), "{msg}");
+    assert!(
+        msg.contains("scheme.time_step_factor = 1.1 is at or above the stability limit"),
+        "{msg}"
+    );
     assert!(sim.step_count < 150);
 }
 
