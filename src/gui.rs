@@ -314,6 +314,8 @@ struct Checked {
     h: f64,
     h_crit: f64,
     steps: f64,
+    /// [`Simulation::advisories`] of the settings.
+    warnings: Vec<String>,
 }
 
 #[derive(Serialize, Deserialize, Default)]
@@ -492,6 +494,7 @@ impl App {
                         h: f64::NAN,
                         h_crit: f64::NAN,
                         steps: f64::NAN,
+                        warnings: Vec::new(),
                     });
                 }
                 let end = m.end_time;
@@ -502,6 +505,7 @@ impl App {
                     h: sim.h,
                     h_crit: sim.h_crit,
                     steps: (end / sim.h).ceil(),
+                    warnings: sim.advisories(),
                 })
             });
         self.validation = Some((text, r.clone()));
@@ -888,6 +892,12 @@ impl App {
                     "{} hex8, {} interface nodes; h = {:.4e} s, h_crit = {:.4e} s (Lanczos); ≈ {} steps",
                     c.elements, c.interface_nodes, c.h, c.h_crit, c.steps
                 ));
+                for w in &c.warnings {
+                    ui.colored_label(
+                        egui::Color32::from_rgb(230, 150, 20),
+                        format!("warning: {w}"),
+                    );
+                }
             }
             Ok(c) => {
                 ui.label(format!(

@@ -169,3 +169,21 @@ fn scene_with_a_mesh_file_runs_without_the_cells_setting() {
     // The 31 × 16 bottom nodes of the tread block, all torn off.
     assert_eq!((row.interface_nodes, row.counts.ruptured), (496, 496));
 }
+
+#[test]
+fn the_regime_warnings_show_before_a_run() {
+    // ν = 0.499 with full integration: the window shows the locking warning of the solver
+    // (`Simulation::advisories`) with its recommended hourglass coefficient, and the pull-off
+    // (ν = 0.45) shows no locking warning.
+    let mut app = App::default();
+    app.load_scene("scenes/extreme/incompressible_beam.toml");
+    app.settings.record = RecordChoice::Off;
+    let mut h = harness(app);
+    h.run();
+    h.get_by_label_contains("locks volumetrically");
+    h.get_by_label_contains("scheme.hourglass_coefficient = 2.0e-4");
+    let mut h = harness(small_pull_off(4));
+    h.run();
+    assert!(h.query_by_label_contains("locks volumetrically").is_none());
+    h.get_by_label_contains("the interface stiffness sets the stable step");
+}
