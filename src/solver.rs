@@ -512,7 +512,10 @@ unsafe fn chunk_forces_reduced_impl<const FMA: bool, const ISA: u8>(
             true
         };
         #[cfg(not(target_arch = "x86_64"))]
-        let gathered = false;
+        let gathered = {
+            let _ = gather;
+            false
+        };
         if !gathered {
             for (l, &e) in group.iter().enumerate() {
                 let conn = mesh.elements.get_unchecked(e as usize);
