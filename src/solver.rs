@@ -273,6 +273,8 @@ struct SendPtr(*mut [f64; 3]);
 unsafe impl Send for SendPtr {}
 unsafe impl Sync for SendPtr {}
 
+/// A chunk of displacements and the matching velocities (stage 1).
+type PositionChunk<'a> = (&'a mut [[f64; 3]], &'a [[f64; 3]]);
 /// One chunk of the node loop: (velocities, internal forces), (masses, inverse masses).
 type NodeChunk<'a> = ((&'a mut [[f64; 3]], &'a [[f64; 3]]), (&'a [f64], &'a [f64]));
 
@@ -299,10 +301,16 @@ impl NodeSums {
     }
 }
 
-/// Defines `$name`, which runs `$imp::<FMA>` built for AVX-512 or AVX2 with fused
-/// multiply–adds when the CPU has them, else the portable build (`FMA = false`). The choice is
-/// detected once per process, so a given machine always takes the same path and results stay
-/// bit-identical whatever the thread count.
+/// Defines `$name`, which runs `$imp::<FMA, ISA>` built for AVX-512 (`ISA = ISA_AVX512`) or AVX2
+/// (`ISA_AVX2`) with fused multiply–adds when the CPU has them, else the portable build
+/// (`FMA = false`, `ISA_PORTABLE`). `ISA` lets an implementation use that instruction set's
+/// intrinsics for data movement (gathers, scatters); the arithmetic depends only on `FMA`. The
+/// choice is detected once per process, so a given machine always takes the same path and
+/// results stay bit-identical whatever the thread count.
+const ISA_PORTABLE: u8 = 0;
+const ISA_AVX2: u8 = 1;
+const ISA_AVX512: u8 = 2;
+
 macro_rules! simd_dispatch {
     ($(#[$doc:meta])* fn $name:ident / $avx2:ident / $avx512:ident
         => $imp:ident($($arg:ident: $ty:ty),* $(,)?) -> $ret:ty) => {
@@ -318,21 +326,21 @@ macro_rules! simd_dispatch {
                     return $avx2($($arg),*);
                 }
             }
-            $imp::<false>($($arg),*)
+            $imp::<false, ISA_PORTABLE>($($arg),*)
         }
 
         #[cfg(target_arch = "x86_64")]
         #[target_feature(enable = "avx2,fma")]
         #[allow(clippy::too_many_arguments)]
         unsafe fn $avx2($($arg: $ty),*) -> $ret {
-            $imp::<true>($($arg),*)
+            $imp::<true, ISA_AVX2>($($arg),*)
         }
 
         #[cfg(target_arch = "x86_64")]
         #[target_feature(enable = "avx512f,avx2,fma")]
         #[allow(clippy::too_many_arguments)]
         unsafe fn $avx512($($arg: $ty),*) -> $ret {
-            $imp::<true>($($arg),*)
+            $imp::<true, ISA_AVX512>($($arg),*)
         }
     };
 }
@@ -443,7 +451,7 @@ simd_dispatch! {
 
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
-unsafe fn chunk_forces_reduced_impl<const FMA: bool>(
+unsafe fn chunk_forces_reduced_impl<const FMA: bool, const ISA: u8>(
     mesh: &Mesh,
     classes: &ElementClasses,
     mat: &Material,
@@ -464,17 +472,24 @@ unsafe fn chunk_forces_reduced_impl<const FMA: bool>(
     let mut k_hg = [0.0; 8];
     let mut ul = [[[0.0; 8]; 3]; 8];
     let mut fl = [[[0.0; 8]; 3]; 8];
+    // Class whose data sits in each lane: most meshes have few classes (a structured box has
+    // one), so the lane data is rarely rewritten.
+    let mut staged = [u32::MAX; 8];
+    // The vector gathers index with i32 offsets.
+    let gather = ISA != ISA_PORTABLE
+        && u.len() <= i32::MAX as usize / 3
+        && mesh.elements.len() <= i32::MAX as usize / 8;
     for group in groups {
         for (l, &e) in group.iter().enumerate() {
-            let cd: &CentreData = classes
-                .centre
-                .get_unchecked(*classes.class_of.get_unchecked(e as usize) as usize);
-            let conn = mesh.elements.get_unchecked(e as usize);
+            let class = *classes.class_of.get_unchecked(e as usize);
+            if class == staged[l] {
+                continue;
+            }
+            staged[l] = class;
+            let cd: &CentreData = classes.centre.get_unchecked(class as usize);
             for a in 0..8 {
-                let ua = u.get_unchecked(conn[a] as usize);
                 for j in 0..3 {
                     b[a][j][l] = cd.b[a][j];
-                    ul[a][j][l] = ua[j];
                 }
             }
             for al in 0..4 {
@@ -484,6 +499,33 @@ unsafe fn chunk_forces_reduced_impl<const FMA: bool>(
             }
             vol[l] = cd.volume;
             k_hg[l] = hourglass_stiffness(mat, cd, kappa);
+        }
+        #[cfg(target_arch = "x86_64")]
+        let gathered = gather && {
+            let elements = mesh.elements.as_ptr() as *const i32;
+            let base = u.as_ptr() as *const f64;
+            if ISA == ISA_AVX512 {
+                gather_lanes_avx512(elements, group, base, &mut ul);
+            } else {
+                gather_lanes_avx2(elements, group, base, &mut ul);
+            }
+            true
+        };
+        #[cfg(not(target_arch = "x86_64"))]
+        let gathered = {
+            let _ = gather;
+            false
+        };
+        if !gathered {
+            for (l, &e) in group.iter().enumerate() {
+                let conn = mesh.elements.get_unchecked(e as usize);
+                for a in 0..8 {
+                    let ua = u.get_unchecked(conn[a] as usize);
+                    for j in 0..3 {
+                        ul[a][j][l] = ua[j];
+                    }
+                }
+            }
         }
         let (en, hg, det) = if energy {
             element_forces_reduced_lanes::<true, FMA>(mat, &b, &gamma, &vol, &k_hg, &ul, &mut fl)
@@ -536,6 +578,63 @@ unsafe fn chunk_forces_reduced_impl<const FMA: bool>(
     (e_sum, hg_sum, min_j, min_e)
 }
 
+/// Stages the displacements of the 8 nodes of the 8 elements `group` into lanes,
+/// `out[a][j][l]` = U[conn(group[l])[a]][j], with AVX-512 gathers straight from the node array.
+/// `elements` is the connectivity as i32 (8 per element), `u` the displacements as f64 (3 per
+/// node); every offset must fit in an i32.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f,avx2")]
+unsafe fn gather_lanes_avx512(
+    elements: *const i32,
+    group: &[u32],
+    u: *const f64,
+    out: &mut [[[f64; 8]; 3]; 8],
+) {
+    use std::arch::x86_64::*;
+    let e8 = _mm256_slli_epi32::<3>(_mm256_loadu_si256(group.as_ptr() as *const __m256i));
+    for (a, out_a) in out.iter_mut().enumerate() {
+        let node = _mm256_i32gather_epi32::<4>(
+            elements,
+            _mm256_add_epi32(e8, _mm256_set1_epi32(a as i32)),
+        );
+        let row = _mm256_add_epi32(node, _mm256_add_epi32(node, node));
+        for (j, out_aj) in out_a.iter_mut().enumerate() {
+            _mm512_storeu_pd(out_aj.as_mut_ptr(), _mm512_i32gather_pd::<8>(row, u.add(j)));
+        }
+    }
+}
+
+/// [`gather_lanes_avx512`] with AVX2 gathers (two of 4 lanes per component).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn gather_lanes_avx2(
+    elements: *const i32,
+    group: &[u32],
+    u: *const f64,
+    out: &mut [[[f64; 8]; 3]; 8],
+) {
+    use std::arch::x86_64::*;
+    let e8 = _mm256_slli_epi32::<3>(_mm256_loadu_si256(group.as_ptr() as *const __m256i));
+    for (a, out_a) in out.iter_mut().enumerate() {
+        let node = _mm256_i32gather_epi32::<4>(
+            elements,
+            _mm256_add_epi32(e8, _mm256_set1_epi32(a as i32)),
+        );
+        let row = _mm256_add_epi32(node, _mm256_add_epi32(node, node));
+        let (lo, hi) = (
+            _mm256_castsi256_si128(row),
+            _mm256_extracti128_si256::<1>(row),
+        );
+        for (j, out_aj) in out_a.iter_mut().enumerate() {
+            _mm256_storeu_pd(out_aj.as_mut_ptr(), _mm256_i32gather_pd::<8>(u.add(j), lo));
+            _mm256_storeu_pd(
+                out_aj.as_mut_ptr().add(4),
+                _mm256_i32gather_pd::<8>(u.add(j), hi),
+            );
+        }
+    }
+}
+
 simd_dispatch! {
     /// One chunk of a colour: gathers the 8 nodal displacements, runs the kernel, scatters
     /// forces.
@@ -552,7 +651,7 @@ simd_dispatch! {
 }
 
 #[inline(always)]
-unsafe fn chunk_forces_impl<const FMA: bool>(
+unsafe fn chunk_forces_impl<const FMA: bool, const ISA: u8>(
     mesh: &Mesh,
     classes: &ElementClasses,
     mat: &Material,
@@ -590,6 +689,75 @@ unsafe fn chunk_forces_impl<const FMA: bool>(
         }
     }
     (e_sum, min_j, min_e)
+}
+
+simd_dispatch! {
+    /// Stage 5 on one chunk of nodes: V_free = V + h̄ M⁻¹(m g − F_int) in place, and the chunk's
+    /// ledger sums (½ m V_old·V_free, ½ m V_free·V_free, ½ V·P halves of the internal and gravity
+    /// impulses P).
+    fn free_velocity_chunk / free_velocity_chunk_avx2 / free_velocity_chunk_avx512
+        => free_velocity_impl(
+            v: &mut [[f64; 3]],
+            f: &[[f64; 3]],
+            m: &[f64],
+            im: &[f64],
+            h_bar: f64,
+            g: [f64; 3]
+        ) -> NodeSums
+}
+
+/// Body of [`free_velocity_chunk`]. The velocities use no fused operation (the same bits on
+/// every build); the sums are kept in 8 lanes (node i in lane i mod 8) so the loop vectorises,
+/// then added lane 0 to 7: a fixed order for a given chunk, whatever the thread count.
+#[inline(always)]
+unsafe fn free_velocity_impl<const FMA: bool, const ISA: u8>(
+    v: &mut [[f64; 3]],
+    f: &[[f64; 3]],
+    m: &[f64],
+    im: &[f64],
+    h_bar: f64,
+    g: [f64; 3],
+) -> NodeSums {
+    const L: usize = 8;
+    let n = v.len();
+    assert!(f.len() == n && m.len() == n && im.len() == n);
+    let mut acc = [[0.0f64; L]; 6];
+    let mut node = |i: usize, l: usize, acc: &mut [[f64; L]; 6]| {
+        let (vo, fi) = (*v.get_unchecked(i), *f.get_unchecked(i));
+        let (mi, imi) = (*m.get_unchecked(i), *im.get_unchecked(i));
+        let pi = [-h_bar * fi[0], -h_bar * fi[1], -h_bar * fi[2]];
+        let pg = [h_bar * mi * g[0], h_bar * mi * g[1], h_bar * mi * g[2]];
+        let vn = [
+            vo[0] + (pi[0] + pg[0]) * imi,
+            vo[1] + (pi[1] + pg[1]) * imi,
+            vo[2] + (pi[2] + pg[2]) * imi,
+        ];
+        acc[0][l] += 0.5 * mi * dot(vo, vn);
+        acc[1][l] += 0.5 * mi * dot(vn, vn);
+        acc[2][l] += 0.5 * dot(vo, pi);
+        acc[3][l] += 0.5 * dot(vn, pi);
+        acc[4][l] += 0.5 * dot(vo, pg);
+        acc[5][l] += 0.5 * dot(vn, pg);
+        *v.get_unchecked_mut(i) = vn;
+    };
+    let whole = n / L * L;
+    for base in (0..whole).step_by(L) {
+        for l in 0..L {
+            node(base + l, l, &mut acc);
+        }
+    }
+    for i in whole..n {
+        node(i, i - whole, &mut acc);
+    }
+    let sum = |k: usize| acc[k].iter().fold(0.0, |s, x| s + x);
+    NodeSums {
+        kinetic: sum(0),
+        kinetic_half: sum(1),
+        int_b: sum(2),
+        int_a: sum(3),
+        grav_b: sum(4),
+        grav_a: sum(5),
+    }
 }
 
 impl Simulation {
@@ -903,7 +1071,7 @@ impl Simulation {
                 est.omega_max_sq
             )));
         }
-        self.compute_internal_forces(true)?;
+        self.compute_internal_forces(true, false)?;
         // V_{−½} = V₀ − ½h M⁻¹F₀ with the smooth forces (internal, gravity, tractions, glue).
         let (h, g) = (self.h, self.model.gravity);
         for i in 0..self.v.len() {
@@ -948,11 +1116,12 @@ impl Simulation {
         self.update_interface_kinematics();
         let t1 = Instant::now();
         // 3. F_int,ₙ₊₁ from Uₙ₊₁ (parallel element loop); F_ext is applied in stage 5.
-        self.compute_internal_forces(true)?;
+        self.compute_internal_forces(true, true)?;
         let t2 = Instant::now();
         // (§6) Re-estimate h_crit as the stiffness changes; fixes h_{n+3/2}.
         let h_next = self.next_time_step();
         let t3 = Instant::now();
+        let free_velocity_before = self.stats.stage_times.free_velocity;
         // 4–8. Free velocity with cohesion, prescribed components, contact, damage rate.
         self.impulses(0.5 * (h + h_next), h_next, false);
         let t4 = Instant::now();
@@ -964,7 +1133,8 @@ impl Simulation {
         st.positions += (t1 - t0).as_secs_f64();
         st.internal_forces += (t2 - t1).as_secs_f64();
         st.h_crit += (t3 - t2).as_secs_f64();
-        st.interface_contact += (t4 - t3).as_secs_f64();
+        // The free-velocity loop over every node is timed on its own.
+        st.interface_contact += (t4 - t3).as_secs_f64() - (st.free_velocity - free_velocity_before);
         st.bookkeeping += (t5 - t4).as_secs_f64();
         self.stats.steps_wall += t5 - t0;
         Ok(())
@@ -990,25 +1160,28 @@ impl Simulation {
         self.time >= self.model.end_time - 1e-6 * self.h
     }
 
-    /// Stage 1.
+    /// Stage 1, and F_int ← 0 for stage 3.
     fn advance_positions(&mut self, h: f64) {
         let grain = NODE_GRAIN;
-        let body = |(u, v): (&mut [[f64; 3]], &[[f64; 3]])| {
-            for (ui, vi) in u.iter_mut().zip(v) {
-                ui[0] += h * vi[0];
-                ui[1] += h * vi[1];
-                ui[2] += h * vi[2];
+        // The same pass zeroes F_int for stage 3 (nothing reads it in between).
+        // Flat component slices, so the loop vectorises.
+        let body = |((u, v), f): (PositionChunk, &mut [[f64; 3]])| {
+            for (ui, vi) in u.as_flattened_mut().iter_mut().zip(v.as_flattened()) {
+                *ui += h * vi;
             }
+            f.as_flattened_mut().fill(0.0);
         };
         if self.parallel {
             self.u
                 .par_chunks_mut(grain)
                 .zip(self.v.par_chunks(grain))
+                .zip(self.f_int.par_chunks_mut(grain))
                 .for_each(body);
         } else {
             self.u
                 .chunks_mut(grain)
                 .zip(self.v.chunks(grain))
+                .zip(self.f_int.chunks_mut(grain))
                 .for_each(body);
         }
         for itf in self.interface_nodes.iter_mut() {
@@ -1070,10 +1243,13 @@ impl Simulation {
         }
     }
 
-    /// Stage 3: F_int(Uₙ₊₁) and Ψₙ₊₁; an inverted element stops the run.
-    fn compute_internal_forces(&mut self, energy: bool) -> Result<(), SolverError> {
+    /// Stage 3: F_int(Uₙ₊₁) and Ψₙ₊₁; an inverted element stops the run. `zeroed`: F_int is
+    /// already 0 (stage 1 clears it), else it is cleared here.
+    fn compute_internal_forces(&mut self, energy: bool, zeroed: bool) -> Result<(), SolverError> {
         let grain = NODE_GRAIN;
-        if self.parallel {
+        if zeroed {
+            // F_int was zeroed by stage 1.
+        } else if self.parallel {
             self.f_int
                 .par_chunks_mut(grain)
                 .for_each(|c| c.fill([0.0; 3]));
@@ -1126,30 +1302,9 @@ impl Simulation {
         //    halves b = ½V_old·P and a = ½V_free·P for the internal and gravity impulses.
         let g = self.model.gravity;
         let t5 = Instant::now();
+        // SAFETY: the dispatch runs the build the CPU supports; the slices have one length.
         let body = |((v, f), (m, im)): NodeChunk| -> NodeSums {
-            let mut s = NodeSums::default();
-            for i in 0..v.len() {
-                let vo = v[i];
-                let pi = [-h_bar * f[i][0], -h_bar * f[i][1], -h_bar * f[i][2]];
-                let pg = [
-                    h_bar * m[i] * g[0],
-                    h_bar * m[i] * g[1],
-                    h_bar * m[i] * g[2],
-                ];
-                let vn = [
-                    vo[0] + (pi[0] + pg[0]) * im[i],
-                    vo[1] + (pi[1] + pg[1]) * im[i],
-                    vo[2] + (pi[2] + pg[2]) * im[i],
-                ];
-                s.kinetic += 0.5 * m[i] * dot(vo, vn);
-                s.kinetic_half += 0.5 * m[i] * dot(vn, vn);
-                s.int_b += 0.5 * dot(vo, pi);
-                s.int_a += 0.5 * dot(vn, pi);
-                s.grav_b += 0.5 * dot(vo, pg);
-                s.grav_a += 0.5 * dot(vn, pg);
-                v[i] = vn;
-            }
-            s
+            unsafe { free_velocity_chunk(v, f, m, im, h_bar, g) }
         };
         let grain = NODE_GRAIN;
         let parts: Vec<NodeSums> = if self.parallel {
@@ -1949,4 +2104,145 @@ fn lanczos(
         beta_prev = b;
     }
     (alphas, betas, result.0, result.1, result.2)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::material::MaterialModel;
+
+    /// Runs one chunk of one colour through `run` and returns the assembled forces with the
+    /// chunk's (strain, hourglass, min J, its element).
+    fn assemble_chunk(
+        n_nodes: usize,
+        run: impl FnOnce(SendPtr) -> (f64, f64, f64, usize),
+    ) -> (Vec<[f64; 3]>, (f64, f64, f64, usize)) {
+        let mut f = vec![[0.0; 3]; n_nodes];
+        let out = run(SendPtr(f.as_mut_ptr()));
+        (f, out)
+    }
+
+    /// The one-point chunk (lane kernel fed by gathers, lane data reused across groups of one
+    /// class) assembles the scalar kernel's forces and energies, element by element, on a box
+    /// whose elements are partly distorted (many classes, lanes changing class between
+    /// groups) under a large non-affine displacement: to round-off (1e-12) on every build
+    /// this CPU runs, and the AVX2 and AVX-512 builds bit-identical (same fused arithmetic).
+    #[test]
+    fn reduced_chunk_matches_scalar_kernel_on_every_build() {
+        let mut mesh = Mesh::boxed([0.0; 3], [1.0, 0.8, 0.6], [8, 8, 6]);
+        for (i, x) in mesh.nodes.iter_mut().enumerate() {
+            if i % 11 == 0 {
+                let t = i as f64;
+                x[0] += 0.02 * (1.7 * t).sin();
+                x[1] += 0.02 * (2.3 * t).cos();
+                x[2] += 0.015 * (0.9 * t).sin();
+            }
+        }
+        let classes = mesh.element_classes().unwrap();
+        assert!(classes.centre.len() > 8, "the test needs several classes");
+        let u: Vec<[f64; 3]> = mesh
+            .nodes
+            .iter()
+            .map(|x| {
+                [
+                    0.1 * x[1] * x[2],
+                    -0.05 * x[0] * x[0],
+                    0.08 * (3.0 * x[0]).sin(),
+                ]
+            })
+            .collect();
+        let kappa = 0.05;
+        let n = u.len();
+        for model in [MaterialModel::Svk, MaterialModel::NeoHookean] {
+            let mat = Material::new(model, 5e6, 0.45, 1100.0);
+            for colour in mesh.colour_elements() {
+                let chunk: &[u32] = &colour;
+                assert!(chunk.len() >= 16, "the test needs whole groups of 8");
+                let mut reference = vec![[0.0; 3]; n];
+                let (mut e_ref, mut hg_ref) = (0.0, 0.0);
+                let mut fe = [[0.0; 3]; 8];
+                for &e in chunk {
+                    let conn = mesh.elements[e as usize];
+                    let cd = &classes.centre[classes.class_of[e as usize] as usize];
+                    let ue: [[f64; 3]; 8] = std::array::from_fn(|a| u[conn[a] as usize]);
+                    let k = hourglass_stiffness(&mat, cd, kappa);
+                    let (en, hg, _) = element_forces_reduced::<true>(&mat, cd, k, &ue, &mut fe);
+                    e_ref += en;
+                    hg_ref += hg;
+                    for a in 0..8 {
+                        for c in 0..3 {
+                            reference[conn[a] as usize][c] += fe[a][c];
+                        }
+                    }
+                }
+                let scale = reference
+                    .iter()
+                    .flatten()
+                    .fold(0.0f64, |m, v| m.max(v.abs()));
+                let args = (&mesh, &classes, &mat, kappa, &u[..], chunk);
+                let mut builds = vec![(
+                    "portable",
+                    assemble_chunk(n, |p| unsafe {
+                        chunk_forces_reduced_impl::<false, ISA_PORTABLE>(
+                            args.0, args.1, args.2, args.3, args.4, p, args.5, true,
+                        )
+                    }),
+                )];
+                #[cfg(target_arch = "x86_64")]
+                {
+                    let fma = std::is_x86_feature_detected!("fma");
+                    if fma && std::is_x86_feature_detected!("avx2") {
+                        builds.push((
+                            "avx2",
+                            assemble_chunk(n, |p| unsafe {
+                                chunk_forces_reduced_avx2(
+                                    args.0, args.1, args.2, args.3, args.4, p, args.5, true,
+                                )
+                            }),
+                        ));
+                    }
+                    if fma && std::is_x86_feature_detected!("avx512f") {
+                        builds.push((
+                            "avx512",
+                            assemble_chunk(n, |p| unsafe {
+                                chunk_forces_reduced_avx512(
+                                    args.0, args.1, args.2, args.3, args.4, p, args.5, true,
+                                )
+                            }),
+                        ));
+                    }
+                }
+                for (name, (f, (en, hg, min_j, _))) in &builds {
+                    for (k, (a, b)) in f.iter().zip(&reference).enumerate() {
+                        for c in 0..3 {
+                            assert!(
+                                (a[c] - b[c]).abs() <= 1e-12 * scale,
+                                "{model:?} {name}: node {k} component {c}: {} vs {}",
+                                a[c],
+                                b[c]
+                            );
+                        }
+                    }
+                    assert!(
+                        (en - e_ref).abs() <= 1e-12 * e_ref.abs(),
+                        "{model:?} {name}"
+                    );
+                    assert!(
+                        (hg - hg_ref).abs() <= 1e-12 * hg_ref.abs(),
+                        "{model:?} {name}"
+                    );
+                    assert!(
+                        *min_j > 0.5 && *min_j < 1.5,
+                        "{model:?} {name}: J = {min_j}"
+                    );
+                }
+                if let [.., (_, avx2), (_, avx512)] = &builds[..] {
+                    if builds.len() == 3 {
+                        assert_eq!(avx2.0, avx512.0, "{model:?}: AVX2 and AVX-512 differ");
+                        assert_eq!(avx2.1, avx512.1, "{model:?}: AVX2 and AVX-512 differ");
+                    }
+                }
+            }
+        }
+    }
 }
