@@ -3,6 +3,8 @@
 //! never a panic. Every test loads the scene file itself; the tolerances are argued where they
 //! are asserted.
 
+mod common;
+use common::face_nodes;
 use decohesion::scene::load_scene;
 use decohesion::solver::{Simulation, SolverError};
 
@@ -264,13 +266,7 @@ fn spinning_ten_turns_is_objective() {
 /// Mean z displacement of the free end (face x+) over the run, and its largest excursion.
 fn tip_sag(set: &[&str]) -> (f64, f64, Simulation) {
     let mut sim = scene("incompressible_beam", set);
-    let tip: Vec<usize> = sim
-        .model
-        .mesh
-        .face_set_nodes(&sim.model.mesh.face_sets["x+"])
-        .iter()
-        .map(|&n| n as usize)
-        .collect();
+    let tip = face_nodes(&sim.model, "x+");
     let (mut sum, mut steps, mut max) = (0.0, 0usize, 0.0f64);
     run_finite_with(&mut sim, |s| {
         let z = tip.iter().map(|&i| s.u[i][2]).sum::<f64>() / tip.len() as f64;

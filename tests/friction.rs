@@ -15,7 +15,7 @@
 
 use decohesion::material::{Material, MaterialModel};
 mod common;
-use common::on_floor;
+use common::{centre_of_mass, face_nodes, on_floor};
 use decohesion::model::{Model, PiecewiseLinear, Traction};
 use decohesion::solver::{ContactStatus, Simulation};
 
@@ -47,25 +47,6 @@ fn gravity_preload(model: &Model) -> Vec<[f64; 3]> {
         .iter()
         .map(|x| [0.0, 0.0, -RHO * G / E * (SIZE * x[2] - 0.5 * x[2] * x[2])])
         .collect()
-}
-
-fn face_nodes(model: &Model, name: &str) -> Vec<usize> {
-    model
-        .mesh
-        .face_set_nodes(&model.mesh.face_sets[name])
-        .iter()
-        .map(|&n| n as usize)
-        .collect()
-}
-
-fn centre_of_mass(sim: &Simulation, field: &[[f64; 3]], c: usize) -> f64 {
-    let m: f64 = sim.mass.iter().sum();
-    field
-        .iter()
-        .zip(&sim.mass)
-        .map(|(x, mi)| mi * x[c])
-        .sum::<f64>()
-        / m
 }
 
 /// A block with a tangential traction on its top face of total force `ratio`·μMg along x,

@@ -16,7 +16,7 @@
 
 use decohesion::material::{Material, MaterialModel};
 mod common;
-use common::on_floor;
+use common::{face_nodes, on_floor};
 use decohesion::model::Model;
 use decohesion::solver::Simulation;
 
@@ -56,12 +56,7 @@ fn bar_rebounds_after_2l_over_c_without_penetration() {
     let transit = LENGTH / c;
     let element_transit = transit / CELLS as f64;
     let model = impact_model(4.0 * transit);
-    let bottom: Vec<usize> = model
-        .mesh
-        .face_set_nodes(&model.mesh.face_sets["z-"])
-        .iter()
-        .map(|&n| n as usize)
-        .collect();
+    let bottom: Vec<usize> = face_nodes(&model, "z-");
     let z_ref: Vec<f64> = model.mesh.nodes.iter().map(|x| x[2]).collect();
     let mut sim = Simulation::new(model).expect("valid model");
     let mass: f64 = sim.mass.iter().sum();
@@ -215,12 +210,7 @@ fn dropped_column_scene() {
         .fold(f64::INFINITY, f64::min);
     let length = 0.3;
     let cells = 30;
-    let bottom: Vec<usize> = model
-        .mesh
-        .face_set_nodes(&model.mesh.face_sets["z-"])
-        .iter()
-        .map(|&n| n as usize)
-        .collect();
+    let bottom: Vec<usize> = face_nodes(&model, "z-");
     let z_ref: Vec<f64> = model.mesh.nodes.iter().map(|x| x[2]).collect();
     let mut sim = Simulation::new(model).unwrap();
     let mass: f64 = sim.mass.iter().sum();

@@ -6,26 +6,13 @@
 mod common;
 
 use common::capture::{read_capture, scalars, steps_with};
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::path::PathBuf;
+use std::process::Command;
 
-const BIN: &str = env!("CARGO_BIN_EXE_decohesion");
+use common::cli::{decohesion, summary, BIN};
 
 fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("decohesion-rec-{}-{name}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
-fn decohesion(args: &[&str]) -> Output {
-    Command::new(BIN)
-        .args(args)
-        .output()
-        .expect("the decohesion binary runs")
-}
-
-fn summary(path: &Path) -> serde_json::Value {
-    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+    common::cli::scratch("rec", name)
 }
 
 fn positions() -> rerun::ComponentIdentifier {

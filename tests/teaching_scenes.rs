@@ -1,6 +1,8 @@
 //! The teaching scenes of scenes/: each test loads the scene file itself and checks the
 //! behaviour its `description` promises against the analytic number.
 
+mod common;
+use common::centre_of_mass;
 use decohesion::scene::load_scene;
 use decohesion::solver::Simulation;
 use std::f64::consts::FRAC_PI_2;
@@ -332,17 +334,6 @@ fn shear_friction_takes_over_from_the_glue() {
         e.damage_dissipated
     );
     assert!(sim.ledger.max_relative_residual <= 1e-4);
-}
-
-/// Centre-of-mass value of a nodal field's component c.
-fn centre_of_mass(sim: &Simulation, field: &[[f64; 3]], c: usize) -> f64 {
-    let m: f64 = sim.mass.iter().sum();
-    field
-        .iter()
-        .zip(&sim.mass)
-        .map(|(x, mi)| mi * x[c])
-        .sum::<f64>()
-        / m
 }
 
 /// The brick on an already-ruptured interface (scenes/sliding.toml, `initial_damage` ≥ u_r):

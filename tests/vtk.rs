@@ -10,25 +10,12 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 use vtkio::model::{Attribute, CellType, DataSet, Piece, UnstructuredGridPiece, Vtk};
 
-const BIN: &str = env!("CARGO_BIN_EXE_decohesion");
+mod common;
+use common::cli::{decohesion, summary, BIN};
 const SCENE: &str = "scenes/pull_off.toml";
 
 fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("decohesion-vtk-{}-{name}", std::process::id()));
-    std::fs::remove_dir_all(&dir).ok();
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
-fn decohesion(args: &[&str]) -> Output {
-    Command::new(BIN)
-        .args(args)
-        .output()
-        .expect("the decohesion binary runs")
-}
-
-fn summary(path: &Path) -> serde_json::Value {
-    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+    common::cli::scratch("vtk", name)
 }
 
 /// The summary's simulated time, parsed from its text with `str::parse` (correctly rounded;

@@ -2,11 +2,34 @@
 #![allow(dead_code)]
 
 pub mod capture;
+pub mod cli;
 
 use decohesion::law::{LawFamily, StiffnessLaw};
 use decohesion::material::{Material, MaterialModel};
 use decohesion::mesh::Mesh;
 use decohesion::model::*;
+use decohesion::solver::Simulation;
+
+/// Node indices of the face set `name`.
+pub fn face_nodes(model: &Model, name: &str) -> Vec<usize> {
+    model
+        .mesh
+        .face_set_nodes(&model.mesh.face_sets[name])
+        .iter()
+        .map(|&n| n as usize)
+        .collect()
+}
+
+/// Centre-of-mass value Σmᵢxᵢ[c] / Σmᵢ of a nodal field's component c.
+pub fn centre_of_mass(sim: &Simulation, field: &[[f64; 3]], c: usize) -> f64 {
+    let m: f64 = sim.mass.iter().sum();
+    field
+        .iter()
+        .zip(&sim.mass)
+        .map(|(x, mi)| mi * x[c])
+        .sum::<f64>()
+        / m
+}
 
 /// A box with no loads, no planes: the caller adds what the test needs.
 pub fn bare_box(size: [f64; 3], cells: [usize; 3], mat: Material, end_time: f64) -> Model {

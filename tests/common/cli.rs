@@ -1,0 +1,28 @@
+//! Running the `decohesion` binary from tests: scratch folders, the command, its JSON summary.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+pub const BIN: &str = env!("CARGO_BIN_EXE_decohesion");
+
+/// An empty folder `decohesion-<prefix>-<pid>-<name>` under the system's temporary directory.
+pub fn scratch(prefix: &str, name: &str) -> PathBuf {
+    let dir =
+        std::env::temp_dir().join(format!("decohesion-{prefix}-{}-{name}", std::process::id()));
+    std::fs::remove_dir_all(&dir).ok();
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// Runs the binary with `args` and returns what it printed and its status.
+pub fn decohesion(args: &[&str]) -> Output {
+    Command::new(BIN)
+        .args(args)
+        .output()
+        .expect("the decohesion binary runs")
+}
+
+/// The `--summary` JSON file at `path`.
+pub fn summary(path: &Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+}
