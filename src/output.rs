@@ -19,7 +19,7 @@ pub enum Cadence {
 
 /// Decides, step by step, whether a frame is due: the first call (step 0) always, then every N
 /// steps or at the first step at or past each k·interval of simulated time; `finish` code adds
-/// the last step with [`FrameClock::taken`]. One clock per output, built from the same
+/// the last step with [`FrameClock::take`]. One clock per output, built from the same
 /// [`Cadence`], so a Rerun capture and a ParaView series of one run hold the same steps.
 #[derive(Debug, Clone)]
 pub struct FrameClock {
@@ -57,13 +57,18 @@ impl FrameClock {
         }
     }
 
-    /// Was the frame of this step taken already (a step is taken at most once)?
-    pub fn taken(&self, step: u64) -> bool {
-        self.last_frame_step == Some(step)
+    /// Takes the frame of step n at tₙ unless it was taken already (a step is taken at most
+    /// once): true when the caller is to write it.
+    pub fn take(&mut self, step: u64, time: f64) -> bool {
+        if self.last_frame_step == Some(step) {
+            return false;
+        }
+        self.mark(step, time);
+        true
     }
 
     /// Notes that the frame of step n at tₙ was taken.
-    pub fn mark(&mut self, step: u64, time: f64) {
+    fn mark(&mut self, step: u64, time: f64) {
         if let Some(iv) = self.interval {
             // The next frame time after this one, on the grid k·interval. A time that passed
             // the test `time ≥ k·interval·(1 − 1e-12)` counts as k with the same tolerance
@@ -104,13 +109,11 @@ mod tests {
         let n_end = (end / h).ceil() as u64;
         for n in 0..=n_end {
             let t = n as f64 * h;
-            if c.due(n, t) && !c.taken(n) {
-                c.mark(n, t);
+            if c.due(n, t) && c.take(n, t) {
                 out.push(n);
             }
         }
-        if !c.taken(n_end) {
-            c.mark(n_end, n_end as f64 * h);
+        if c.take(n_end, n_end as f64 * h) {
             out.push(n_end);
         }
         assert_eq!(c.frames(), out.len() as u64);

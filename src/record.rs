@@ -725,11 +725,10 @@ impl Recorder {
 
     /// Sends the state of `sim` as one frame (once per step at most).
     pub fn frame(&mut self, sim: &Simulation) -> Result<(), RecordError> {
-        if self.clock.taken(sim.step_count) {
+        let started = Instant::now();
+        if !self.clock.take(sim.step_count, sim.time) {
             return Ok(());
         }
-        let started = Instant::now();
-        self.clock.mark(sim.step_count, sim.time);
         let snap = Box::new(Snapshot::capture(sim, self.solver_time));
         let sent = self.tx.as_ref().map(|tx| tx.send(Msg::Frame(snap)));
         self.solver_time += started.elapsed();
@@ -763,10 +762,10 @@ impl Recorder {
         outcome: Option<&SolverError>,
     ) -> Result<RecordingReport, RecordError> {
         let started = Instant::now();
-        let snapshot = (!self.clock.taken(sim.step_count)).then(|| {
-            self.clock.mark(sim.step_count, sim.time);
-            Box::new(Snapshot::capture(sim, self.solver_time))
-        });
+        let snapshot = self
+            .clock
+            .take(sim.step_count, sim.time)
+            .then(|| Box::new(Snapshot::capture(sim, self.solver_time)));
         let (status, text, level) = match outcome {
             None => (
                 "completed",

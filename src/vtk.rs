@@ -196,11 +196,10 @@ impl VtkWriter {
     /// Sends the state of `sim` as one frame (once per step at most). An error of the writer
     /// thread (a full disk, a removed directory) is returned by the next call.
     pub fn frame(&mut self, sim: &Simulation) -> Result<(), VtkError> {
-        if self.clock.taken(sim.step_count) {
+        let started = Instant::now();
+        if !self.clock.take(sim.step_count, sim.time) {
             return Ok(());
         }
-        let started = Instant::now();
-        self.clock.mark(sim.step_count, sim.time);
         let sent = self.tx.as_ref().map(|tx| tx.send(Frame::capture(sim)));
         self.solver_time += started.elapsed();
         match sent {
