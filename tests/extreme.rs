@@ -344,12 +344,10 @@ fn impact_at_100_m_s() {
         max_e = max_e.max(e.kinetic + e.strain);
         max_h = max_h.max(s.h);
     });
-    // Either bounded or the solver's own diagnostic.
-    match r {
-        Ok(()) => {}
-        Err(SolverError::Inverted { .. } | SolverError::Unstable { .. }) => return,
-        Err(other) => panic!("unexpected {other:?}"),
-    }
+    // The issue admits bounded energy or the solver's diagnostic; with the Jacobian-triggered
+    // h_crit estimates this run completes (before them, element 26 inverted at step 7), and a
+    // return to the diagnostic is a regression this test must catch.
+    r.expect("the 100 m/s impact completes");
     // Contact only dissipates: K + Ψ never above the impact's kinetic energy.
     assert!(
         max_e <= k0 * (1.0 + 1e-3),
