@@ -28,6 +28,8 @@ pub mod record;
 pub mod report;
 pub mod scene;
 pub mod solver;
+/// The persistent thread team of the step's parallel loops.
+pub mod team;
 /// Speed against accuracy: a grid of configurations of one scene compared with the finest.
 pub mod tradeoff;
 /// ParaView output (`.vtu` frames and a `.pvd` index): reads a simulation, uses no Rerun.

@@ -4,8 +4,8 @@
 //! State at integer times tₙ: displacements U, damage α; at half times: velocities V. One call of
 //! [`Simulation::step`] goes from tₙ to tₙ₊₁ through the numbered stages of PHYSICS.md §4.
 //! Nothing is solved globally: every stage is a loop of local computations, the element loop in
-//! parallel (rayon) and deterministic whatever the thread count (element colouring, fixed-size
-//! chunks, fixed-order reductions).
+//! parallel ([`Team`]: persistent threads, static shares) and deterministic whatever the thread
+//! count (node-disjoint element blocks, fixed-size chunks, fixed-order reductions).
 
 use crate::energy::{EnergySnapshot, Ledger};
 use crate::law::InterfaceState;
@@ -15,15 +15,16 @@ use crate::material::{
 };
 use crate::mesh::{dot, norm, CentreData, ElementClasses, GaussData, Mesh};
 use crate::model::{Integration, Model};
-use rayon::prelude::*;
+use crate::team::{SharedSlice, Team};
 use serde::Serialize;
 use std::time::{Duration, Instant};
 
-/// Elements per parallel task inside a colour, and nodes per task in node loops. Fixed, so the
-/// reduction order never depends on the thread count.
+/// Smallest element block ([`Mesh::element_blocks`]), and nodes per chunk in node loops. Fixed,
+/// so the reduction order never depends on the thread count.
 const ELEMENT_GRAIN: usize = 256;
 const NODE_GRAIN: usize = 4096;
-/// Below this many elements the loops run on the calling thread (rayon overhead dominates).
+/// Below this many elements the loops run on the calling thread (a parallel section would
+/// cost more than it saves).
 const PARALLEL_MIN_ELEMENTS: usize = 2048;
 
 /// Why a simulation could not be built or could not go on.
@@ -222,8 +223,10 @@ pub struct StableStep {
 pub struct Simulation {
     pub model: Model,
     classes: ElementClasses,
-    colours: Vec<Vec<u32>>,
-    parallel: bool,
+    /// Colours → node-disjoint blocks → elements ([`Mesh::element_blocks`]).
+    blocks: Vec<Vec<Vec<u32>>>,
+    /// The threads of the parallel loops (None: everything on the calling thread).
+    team: Option<Team>,
     /// Lumped nodal masses [kg] and their inverses.
     pub mass: Vec<f64>,
     inv_mass: Vec<f64>,
@@ -386,13 +389,13 @@ pub struct Assembly {
 pub fn assemble_internal_forces(
     mesh: &Mesh,
     classes: &ElementClasses,
-    colours: &[Vec<u32>],
+    blocks: &[Vec<Vec<u32>>],
     mat: &Material,
     rule: ElementRule,
     u: &[[f64; 3]],
     f: &mut [[f64; 3]],
     energy: bool,
-    parallel: bool,
+    team: Option<&Team>,
 ) -> Assembly {
     assert_eq!(u.len(), f.len());
     let ptr = SendPtr(f.as_mut_ptr());
@@ -402,10 +405,11 @@ pub fn assemble_internal_forces(
         min_j: f64::INFINITY,
         min_element: 0,
     };
-    for colour in colours {
-        let run = |chunk: &[u32]| -> (f64, f64, f64, usize) {
-            // SAFETY: elements of one colour share no node, so the nodal rows written by
-            // different chunks of this colour are disjoint; `f` outlives the loop.
+    for colour in blocks {
+        let run = |chunk: &Vec<u32>| -> (f64, f64, f64, usize) {
+            // SAFETY: blocks of one colour share no node, so the nodal rows written by
+            // different blocks of this colour are disjoint; inside a block the elements run
+            // one after another; `f` outlives the loop.
             unsafe {
                 match rule {
                     ElementRule::Full => {
@@ -418,10 +422,10 @@ pub fn assemble_internal_forces(
                 }
             }
         };
-        let partials: Vec<(f64, f64, f64, usize)> = if parallel {
-            colour.par_chunks(ELEMENT_GRAIN).map(run).collect()
+        let partials: Vec<(f64, f64, f64, usize)> = if let Some(team) = team {
+            team.map(colour.len(), |i| run(&colour[i]))
         } else {
-            colour.chunks(ELEMENT_GRAIN).map(run).collect()
+            colour.iter().map(run).collect()
         };
         for (e, hg, j, el) in partials {
             out.strain += e;
@@ -814,7 +818,7 @@ impl Simulation {
         let classes = mesh
             .element_classes()
             .map_err(|e| SolverError::Setup(e.to_string()))?;
-        let colours = mesh.colour_elements();
+        let blocks = mesh.element_blocks(ELEMENT_GRAIN);
         let n_nodes = mesh.nodes.len();
         let rho = model.material.density;
         let mut mass = vec![0.0; n_nodes];
@@ -961,12 +965,14 @@ impl Simulation {
             .iter()
             .map(|&c| classes.data[c as usize].volume())
             .sum();
-        let parallel = mesh.elements.len() >= PARALLEL_MIN_ELEMENTS;
+        let threads = rayon::current_num_threads();
+        let team = (mesh.elements.len() >= PARALLEL_MIN_ELEMENTS && threads > 1)
+            .then(|| Team::new(threads));
         let n_bc = model.displacements.len();
         let mut sim = Simulation {
             classes,
-            colours,
-            parallel,
+            blocks,
+            team,
             mass,
             inv_mass,
             u: u0,
@@ -1174,12 +1180,18 @@ impl Simulation {
             }
             f.as_flattened_mut().fill(0.0);
         };
-        if self.parallel {
-            self.u
-                .par_chunks_mut(grain)
-                .zip(self.v.par_chunks(grain))
-                .zip(self.f_int.par_chunks_mut(grain))
-                .for_each(body);
+        if let Some(team) = &self.team {
+            let (u, f) = (
+                SharedSlice::new(&mut self.u),
+                SharedSlice::new(&mut self.f_int),
+            );
+            let v = &self.v;
+            let n = v.len();
+            // SAFETY: chunk i of u and f is touched by item i only.
+            team.map(n.div_ceil(grain), |i| unsafe {
+                let (a, b) = (i * grain, ((i + 1) * grain).min(n));
+                body(((u.range(a, b), &v[a..b]), f.range(a, b)))
+            });
         } else {
             self.u
                 .chunks_mut(grain)
@@ -1249,26 +1261,20 @@ impl Simulation {
     /// Stage 3: F_int(Uₙ₊₁) and Ψₙ₊₁; an inverted element stops the run. `zeroed`: F_int is
     /// already 0 (stage 1 clears it), else it is cleared here.
     fn compute_internal_forces(&mut self, energy: bool, zeroed: bool) -> Result<(), SolverError> {
-        let grain = NODE_GRAIN;
-        if zeroed {
-            // F_int was zeroed by stage 1.
-        } else if self.parallel {
-            self.f_int
-                .par_chunks_mut(grain)
-                .for_each(|c| c.fill([0.0; 3]));
-        } else {
+        if !zeroed {
+            // (Else F_int was zeroed by stage 1.)
             self.f_int.fill([0.0; 3]);
         }
         let asm = assemble_internal_forces(
             &self.model.mesh,
             &self.classes,
-            &self.colours,
+            &self.blocks,
             &self.model.material,
             ElementRule::of(&self.model.scheme),
             &self.u,
             &mut self.f_int,
             energy,
-            self.parallel,
+            self.team.as_ref(),
         );
         let (min_j, min_e) = (asm.min_j, asm.min_element);
         self.min_jacobian = min_j;
@@ -1310,17 +1316,15 @@ impl Simulation {
             unsafe { free_velocity_chunk(v, f, m, im, h_bar, g) }
         };
         let grain = NODE_GRAIN;
-        let parts: Vec<NodeSums> = if self.parallel {
-            self.v
-                .par_chunks_mut(grain)
-                .zip(self.f_int.par_chunks(grain))
-                .zip(
-                    self.mass
-                        .par_chunks(grain)
-                        .zip(self.inv_mass.par_chunks(grain)),
-                )
-                .map(body)
-                .collect()
+        let parts: Vec<NodeSums> = if let Some(team) = &self.team {
+            let v = SharedSlice::new(&mut self.v);
+            let (f, m, im) = (&self.f_int, &self.mass, &self.inv_mass);
+            let n = f.len();
+            // SAFETY: chunk i of v is touched by item i only.
+            team.map(n.div_ceil(grain), |i| unsafe {
+                let (a, b) = (i * grain, ((i + 1) * grain).min(n));
+                body(((v.range(a, b), &f[a..b]), (&m[a..b], &im[a..b])))
+            })
         } else {
             self.v
                 .chunks_mut(grain)
@@ -1804,13 +1808,13 @@ impl Simulation {
         assemble_internal_forces(
             &self.model.mesh,
             &self.classes,
-            &self.colours,
+            &self.blocks,
             &self.model.material,
             ElementRule::of(&self.model.scheme),
             &self.u,
             &mut f0,
             false,
-            self.parallel,
+            self.team.as_ref(),
         );
         let springs: Vec<(usize, f64)> = self
             .interface_nodes
@@ -1848,13 +1852,13 @@ impl Simulation {
             assemble_internal_forces(
                 &self.model.mesh,
                 &self.classes,
-                &self.colours,
+                &self.blocks,
                 &self.model.material,
                 ElementRule::of(&self.model.scheme),
                 &up,
                 &mut fp,
                 false,
-                self.parallel,
+                self.team.as_ref(),
             );
             for i in 0..self.u.len() {
                 for c in 0..3 {
@@ -2162,8 +2166,8 @@ mod tests {
         let n = u.len();
         for model in [MaterialModel::Svk, MaterialModel::NeoHookean] {
             let mat = Material::new(model, 5e6, 0.45, 1100.0);
-            for colour in mesh.colour_elements() {
-                let chunk: &[u32] = &colour;
+            for block in mesh.element_blocks(64).into_iter().flatten() {
+                let chunk: &[u32] = &block;
                 assert!(chunk.len() >= 16, "the test needs whole groups of 8");
                 let mut reference = vec![[0.0; 3]; n];
                 let (mut e_ref, mut hg_ref) = (0.0, 0.0);

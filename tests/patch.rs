@@ -8,6 +8,7 @@
 use decohesion::material::{Material, MaterialModel};
 use decohesion::mesh::Mesh;
 use decohesion::solver::{assemble_internal_forces, ElementRule};
+use decohesion::team::Team;
 
 const RULES: [ElementRule; 2] = [ElementRule::Full, ElementRule::Reduced { kappa: 0.1 }];
 use nalgebra::{Matrix3, Rotation3, Vector3};
@@ -36,7 +37,9 @@ fn forces(
     rule: ElementRule,
 ) -> (Vec<[f64; 3]>, f64) {
     let classes = mesh.element_classes().unwrap();
-    let colours = mesh.colour_elements();
+    // Blocks of 8 elements and two threads: the team path with several blocks per colour.
+    let blocks = mesh.element_blocks(8);
+    let team = Team::new(2);
     let u: Vec<[f64; 3]> = mesh
         .nodes
         .iter()
@@ -46,8 +49,17 @@ fn forces(
         })
         .collect();
     let mut f = vec![[0.0; 3]; u.len()];
-    let asm =
-        assemble_internal_forces(mesh, &classes, &colours, mat, rule, &u, &mut f, true, false);
+    let asm = assemble_internal_forces(
+        mesh,
+        &classes,
+        &blocks,
+        mat,
+        rule,
+        &u,
+        &mut f,
+        true,
+        Some(&team),
+    );
     assert!((asm.min_j - f_def.determinant()).abs() < 1e-10);
     // γ·(affine field) = 0: the hourglass energy is round-off, ½k(ε|u|)² per element.
     assert!(
