@@ -98,7 +98,7 @@ enum Command {
         /// Cells per side, comma-separated.
         #[arg(long, default_value = "7,14,28,56", value_delimiter = ',')]
         sizes: Vec<usize>,
-        /// Repetitions per size (the median is reported).
+        /// Repetitions per size, taken round-robin over the sizes and quadratures (the median is reported)
         #[arg(long, default_value_t = 5)]
         repeats: usize,
         /// Element-steps per repetition (steps = this / elements, at least 10).
@@ -589,10 +589,20 @@ fn bench(
         "setup s",
         "wall s/sim s"
     );
-    let mut fits = Vec::new();
+    // Every configuration is built first and the repetitions go round-robin over them, so a
+    // burst of load on the machine (this is a shared VM) lands in one repetition of several
+    // configurations instead of all the repetitions of one: the medians see it as an outlier.
+    struct Config {
+        integration: String,
+        n: usize,
+        sim: Simulation,
+        setup: f64,
+        steps: u64,
+        ns: Vec<f64>,
+        iface: Vec<f64>,
+    }
+    let mut configs = Vec::new();
     for integration in integrations {
-        // (elements, wall seconds per simulated second) of each size, for the scaling exponent.
-        let mut points: Vec<(f64, f64)> = Vec::new();
         for &n in sizes {
             let set = vec![
                 format!("mesh.cells=[{n},{n},{n}]"),
@@ -601,44 +611,64 @@ fn bench(
             ];
             let scene = load_scene(path, &set)?;
             let t0 = Instant::now();
-            let mut sim = Simulation::new(scene.model)?;
+            let sim = Simulation::new(scene.model)?;
             let setup = t0.elapsed().as_secs_f64();
             let elements = sim.model.mesh.elements.len() as u64;
-            let steps = (work / elements).max(10);
-            let mut ns = Vec::new();
-            let mut iface = Vec::new();
-            for _ in 0..repeats {
-                let before = sim.stats.clone();
-                let t = Instant::now();
-                for _ in 0..steps {
-                    sim.step()?;
-                }
-                let dt = t.elapsed().as_secs_f64();
-                ns.push(dt * 1e9 / (steps * elements) as f64);
-                let di =
-                    sim.stats.stage_times.interface_contact - before.stage_times.interface_contact;
-                iface.push(di * 1e9 / (steps as f64 * sim.interface_nodes.len().max(1) as f64));
+            configs.push(Config {
+                integration: integration.clone(),
+                n,
+                sim,
+                setup,
+                steps: (work / elements).max(10),
+                ns: Vec::new(),
+                iface: Vec::new(),
+            });
+        }
+    }
+    for _ in 0..repeats {
+        for c in configs.iter_mut() {
+            let sim = &mut c.sim;
+            let elements = sim.model.mesh.elements.len() as u64;
+            let before = sim.stats.stage_times.interface_contact;
+            let t = Instant::now();
+            for _ in 0..c.steps {
+                sim.step()?;
             }
-            let med = median(&mut ns);
-            // At fixed simulated time: steps ∝ 1/h, so wall = elements × ns/element-step / h.
-            let wall_per_sim = elements as f64 * med * 1e-9 / sim.h;
-            points.push((elements as f64, wall_per_sim));
-            println!(
+            let dt = t.elapsed().as_secs_f64();
+            c.ns.push(dt * 1e9 / (c.steps * elements) as f64);
+            let di = sim.stats.stage_times.interface_contact - before;
+            let per_node = c.steps as f64 * sim.interface_nodes.len().max(1) as f64;
+            c.iface.push(di * 1e9 / per_node);
+        }
+    }
+    // (elements, wall seconds per simulated second) of each size, for the scaling exponent.
+    let mut fits: Vec<(String, Vec<(f64, f64)>)> = Vec::new();
+    for c in configs.iter_mut() {
+        let sim = &c.sim;
+        let elements = sim.model.mesh.elements.len() as u64;
+        let med = median(&mut c.ns);
+        // At fixed simulated time: steps ∝ 1/h, so wall = elements × ns/element-step / h.
+        let wall_per_sim = elements as f64 * med * 1e-9 / sim.h;
+        match fits.last_mut() {
+            Some((name, points)) if *name == c.integration => {
+                points.push((elements as f64, wall_per_sim))
+            }
+            _ => fits.push((c.integration.clone(), vec![(elements as f64, wall_per_sim)])),
+        }
+        println!(
             "{:>8} {:>4} {:>9} {:>9} {:>7} {:>14.1} {:>16.3e} {:>18.1} {:>12.0} {:>10.2} {:>13.3e}",
-            integration,
-            n,
+            c.integration,
+            c.n,
             elements,
             sim.model.mesh.nodes.len(),
-            steps,
+            c.steps,
             med,
             1e9 / med,
-            median(&mut iface),
-            state_bytes(&sim) as f64 / elements as f64,
-            setup,
+            median(&mut c.iface),
+            state_bytes(sim) as f64 / elements as f64,
+            c.setup,
             wall_per_sim
         );
-        }
-        fits.push((integration.clone(), points));
     }
     for (integration, points) in fits {
         if points.len() >= 2 {

@@ -23,6 +23,8 @@ use std::time::{Duration, Instant};
 /// so the reduction order never depends on the thread count.
 const ELEMENT_GRAIN: usize = 256;
 const NODE_GRAIN: usize = 4096;
+/// Boundary nodes per chunk of the boundary loop (stages 4–8).
+const BOUNDARY_GRAIN: usize = 256;
 /// Below this many elements the loops run on the calling thread (a parallel section would
 /// cost more than it saves).
 const PARALLEL_MIN_ELEMENTS: usize = 2048;
@@ -227,6 +229,12 @@ pub struct Simulation {
     blocks: Vec<Vec<Vec<u32>>>,
     /// The threads of the parallel loops (None: everything on the calling thread).
     team: Option<Team>,
+    /// Per-block / per-chunk results of the parallel loops, reused from step to step.
+    parts_elements: Vec<ElementSums>,
+    parts_nodes: Vec<NodeSums>,
+    parts_boundary: Vec<BoundarySums>,
+    /// Reaction impulse of each prescribed condition from each boundary chunk.
+    parts_reactions: Vec<f64>,
     /// Lumped nodal masses [kg] and their inverses.
     pub mass: Vec<f64>,
     inv_mass: Vec<f64>,
@@ -383,8 +391,14 @@ pub struct Assembly {
     pub min_element: usize,
 }
 
+/// Per-block results of the element loop: strain energy, hourglass energy, smallest J and its
+/// element.
+pub type ElementSums = (f64, f64, f64, usize);
+
 /// Internal forces of a whole mesh: F_int(U) = Σ_e fₑ(U) (PHYSICS.md §2 and §4 stage 3).
-/// `f` must be zeroed. Energies are computed only if `energy`.
+/// `f` must be zeroed. Energies are computed only if `energy`. `blocks` come from
+/// [`Mesh::element_blocks`]; `parts` is a buffer for the per-block results (reused, so the
+/// step allocates nothing).
 #[allow(clippy::too_many_arguments)]
 pub fn assemble_internal_forces(
     mesh: &Mesh,
@@ -396,6 +410,7 @@ pub fn assemble_internal_forces(
     f: &mut [[f64; 3]],
     energy: bool,
     team: Option<&Team>,
+    parts: &mut Vec<ElementSums>,
 ) -> Assembly {
     assert_eq!(u.len(), f.len());
     let ptr = SendPtr(f.as_mut_ptr());
@@ -422,15 +437,18 @@ pub fn assemble_internal_forces(
                 }
             }
         };
-        let partials: Vec<(f64, f64, f64, usize)> = if let Some(team) = team {
-            team.map(colour.len(), |i| run(&colour[i]))
-        } else {
-            colour.iter().map(run).collect()
-        };
-        for (e, hg, j, el) in partials {
+        match team {
+            Some(team) => team.map_into(colour.len(), parts, |i| run(&colour[i])),
+            None => {
+                parts.clear();
+                parts.extend(colour.iter().map(run));
+            }
+        }
+        for &(e, hg, j, el) in parts.iter() {
             out.strain += e;
             out.hourglass += hg;
-            if j < out.min_j {
+            // `!(j >= min_j)` keeps a NaN (it means non-finite displacements).
+            if !(j >= out.min_j) {
                 out.min_j = j;
                 out.min_element = el;
             }
@@ -973,6 +991,10 @@ impl Simulation {
             classes,
             blocks,
             team,
+            parts_elements: Vec::new(),
+            parts_nodes: Vec::new(),
+            parts_boundary: Vec::new(),
+            parts_reactions: Vec::new(),
             mass,
             inv_mass,
             u: u0,
@@ -1275,6 +1297,7 @@ impl Simulation {
             &mut self.f_int,
             energy,
             self.team.as_ref(),
+            &mut self.parts_elements,
         );
         let (min_j, min_e) = (asm.min_j, asm.min_element);
         self.min_jacobian = min_j;
@@ -1316,24 +1339,27 @@ impl Simulation {
             unsafe { free_velocity_chunk(v, f, m, im, h_bar, g) }
         };
         let grain = NODE_GRAIN;
-        let parts: Vec<NodeSums> = if let Some(team) = &self.team {
+        let parts = &mut self.parts_nodes;
+        if let Some(team) = &self.team {
             let v = SharedSlice::new(&mut self.v);
             let (f, m, im) = (&self.f_int, &self.mass, &self.inv_mass);
             let n = f.len();
             // SAFETY: chunk i of v is touched by item i only.
-            team.map(n.div_ceil(grain), |i| unsafe {
+            team.map_into(n.div_ceil(grain), parts, |i| unsafe {
                 let (a, b) = (i * grain, ((i + 1) * grain).min(n));
                 body(((v.range(a, b), &f[a..b]), (&m[a..b], &im[a..b])))
             })
         } else {
-            self.v
-                .chunks_mut(grain)
-                .zip(self.f_int.chunks(grain))
-                .zip(self.mass.chunks(grain).zip(self.inv_mass.chunks(grain)))
-                .map(body)
-                .collect()
+            parts.clear();
+            parts.extend(
+                self.v
+                    .chunks_mut(grain)
+                    .zip(self.f_int.chunks(grain))
+                    .zip(self.mass.chunks(grain).zip(self.inv_mass.chunks(grain)))
+                    .map(body),
+            );
         };
-        let mut s = parts.into_iter().fold(NodeSums::default(), NodeSums::add);
+        let mut s = parts.iter().fold(NodeSums::default(), |a, &b| a.add(b));
         self.stats.stage_times.free_velocity += t5.elapsed().as_secs_f64();
 
         // Boundary nodes: tractions, cohesion (4–5), prescribed components (6), contact (7),
@@ -1380,168 +1406,62 @@ impl Simulation {
                 .iter()
                 .map(|tr| tr.amplitude.value(t)[0]),
         );
-        let (plane_v_old, plane_v_new) = (&sc.plane_v_old, &sc.plane_v_new);
-        let (reactions, amps) = (&mut sc.reactions, &sc.amplitudes);
-        let (mut trac_b, mut trac_a, mut reac_b, mut reac_a, mut plane_b, mut plane_a) =
-            (0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
-        let (mut cn_b, mut cn_a, mut ct_b, mut ct_a) = (0.0, 0.0, 0.0, 0.0);
-        for (k, b) in self.boundary.iter().enumerate() {
-            let i = b.node as usize;
-            let (m, im) = (self.mass[i], self.inv_mass[i]);
-            let vo = self.scratch_v_old[k];
-            let v_free0 = self.v[i];
-            let mut v = v_free0;
-            // Tractions (dead load on the reference area).
-            for e in b.tractions.clone() {
-                let (tk, fv) = self.boundary_tractions[e as usize];
-                let p: [f64; 3] = fv.map(|c| h_bar * amps[tk as usize] * c);
-                // v is updated after all smooth impulses; the forward half uses the final v.
-                trac_b += 0.5 * dot(vo, p);
-                for c in 0..3 {
-                    v[c] += p[c] * im;
-                }
-            }
-            // Cohesion: P_coh = −h̄ W g_N(αₙ₊₁)[u]ₙ₊₁ (stage 4–5).
-            let mut coh: [[f64; 3]; 4] = [[0.0; 3]; 4];
-            for (slot, e) in b.interfaces.clone().enumerate() {
-                let itf = &mut self.interface_nodes[self.boundary_interfaces[e as usize] as usize];
-                let law = &self.model.interfaces[itf.interface as usize].law;
-                itf.stiffness = law.g_n(itf.alpha);
-                itf.cohesive_traction = itf.jump.map(|c| itf.stiffness * c);
-                let p = itf.cohesive_traction.map(|c| -h_bar * itf.area * c);
-                if slot < 4 {
-                    coh[slot] = p;
-                }
-                for c in 0..3 {
-                    v[c] += p[c] * im;
-                }
-            }
-            let v_free = v;
-            // 6. Prescribed components: V_{n+3/2} = (Ū(tₙ₊₂) − Ū(tₙ₊₁))/h.
-            let mut any_prescribed = false;
-            for c in 0..3 {
-                let bc = b.prescribed[c];
-                if bc != NONE {
-                    any_prescribed = true;
-                    v[c] = sc.bc_velocity[bc as usize];
-                    let p = m * (v[c] - v_free[c]);
-                    reactions[bc as usize] += p / h_bar;
-                    reac_b += 0.5 * vo[c] * p;
-                }
-            }
-            // 7. Contact, node by node in closed form (only on fully free nodes).
-            let mut contact_p: [[f64; 3]; 4] = [[0.0; 3]; 4];
-            let mut contact_plane: [usize; 4] = [usize::MAX; 4];
-            let mut nc = 0;
-            if !any_prescribed {
-                for e in b.interfaces.clone() {
-                    let itf =
-                        &mut self.interface_nodes[self.boundary_interfaces[e as usize] as usize];
-                    let spec = &self.model.interfaces[itf.interface as usize];
-                    let plane = &planes[spec.plane];
-                    let mu = spec.law.mu(itf.alpha, spec.mu_inf);
-                    let (impulse, status) = contact_impulse(
-                        &mut v,
-                        itf.gap,
-                        plane.normal,
-                        plane_v_new[spec.plane],
-                        mu,
-                        m,
-                    );
-                    itf.contact_impulse = impulse.map(|c| c / itf.area.max(f64::MIN_POSITIVE));
-                    itf.contact = status;
-                    if nc < 4 {
-                        contact_p[nc] = impulse;
-                        contact_plane[nc] = spec.plane;
-                        nc += 1;
-                    }
-                }
-                for e in b.contacts.clone() {
-                    let cn = &mut self.contact_nodes[self.boundary_contacts[e as usize] as usize];
-                    let plane = &planes[cn.plane as usize];
-                    let (impulse, status) = contact_impulse(
-                        &mut v,
-                        cn.gap,
-                        plane.normal,
-                        plane_v_new[cn.plane as usize],
-                        cn.mu,
-                        m,
-                    );
-                    cn.contact_impulse = impulse.map(|c| c / cn.area.max(f64::MIN_POSITIVE));
-                    cn.contact = status;
-                    if nc < 4 {
-                        contact_p[nc] = impulse;
-                        contact_plane[nc] = cn.plane as usize;
-                        nc += 1;
-                    }
-                }
-            }
-            self.v[i] = v;
-            // Ledger: forward halves with the final velocity, corrections of the node loop.
-            let dv = [v[0] - v_free0[0], v[1] - v_free0[1], v[2] - v_free0[2]];
-            let pint = [
-                -h_bar * self.f_int[i][0],
-                -h_bar * self.f_int[i][1],
-                -h_bar * self.f_int[i][2],
-            ];
-            let pg = [h_bar * m * g[0], h_bar * m * g[1], h_bar * m * g[2]];
-            s.int_a += 0.5 * dot(dv, pint);
-            s.grav_a += 0.5 * dot(dv, pg);
-            s.kinetic += 0.5 * m * dot(vo, dv);
-            s.kinetic_half += 0.5 * m * (dot(v, v) - dot(v_free0, v_free0));
-            for e in b.tractions.clone() {
-                let (tk, fv) = self.boundary_tractions[e as usize];
-                let p: [f64; 3] = fv.map(|c| h_bar * amps[tk as usize] * c);
-                trac_a += 0.5 * dot(v, p);
-            }
-            for c in 0..3 {
-                if b.prescribed[c] != NONE {
-                    reac_a += 0.5 * v[c] * m * (v[c] - v_free[c]);
-                }
-            }
-            // Glue of moving planes: the plane's share ½ v_plane·P_coh of the cohesive work.
-            for (slot, e) in b.interfaces.clone().enumerate().take(4) {
-                let itf = &self.interface_nodes[self.boundary_interfaces[e as usize] as usize];
-                let k = self.model.interfaces[itf.interface as usize].plane;
-                plane_b += 0.5 * dot(plane_v_old[k], coh[slot]);
-                plane_a += 0.5 * dot(plane_v_new[k], coh[slot]);
-            }
-            // Contact: split the work on the relative velocity (dissipation, normal and
-            // tangential) and on the plane's velocity (external work).
-            for j in 0..nc {
-                let k = contact_plane[j];
-                let n = planes[k].normal;
-                let p = contact_p[j];
-                let pn = dot(p, n);
-                let pt = [p[0] - pn * n[0], p[1] - pn * n[1], p[2] - pn * n[2]];
-                let rel_o = [
-                    vo[0] - plane_v_old[k][0],
-                    vo[1] - plane_v_old[k][1],
-                    vo[2] - plane_v_old[k][2],
-                ];
-                let rel_n = [
-                    v[0] - plane_v_new[k][0],
-                    v[1] - plane_v_new[k][1],
-                    v[2] - plane_v_new[k][2],
-                ];
-                cn_b += 0.5 * dot(rel_o, n) * pn;
-                cn_a += 0.5 * dot(rel_n, n) * pn;
-                ct_b += 0.5 * dot(rel_o, pt);
-                ct_a += 0.5 * dot(rel_n, pt);
-                plane_b += 0.5 * dot(plane_v_old[k], p);
-                plane_a += 0.5 * dot(plane_v_new[k], p);
-            }
-            // 8. Damage rate after the dynamics: αₙ₊₂ = min(u_r, max(αₙ₊₁, fₙ₊₂)),
-            //    fₙ₊₂ = |[u]ₙ₊₁ + h (V_{n+3/2} − v_plane)| (normal part counted when positive).
-            for e in b.interfaces.clone() {
-                let itf = &mut self.interface_nodes[self.boundary_interfaces[e as usize] as usize];
-                let spec = &self.model.interfaces[itf.interface as usize];
-                let vp = plane_v_new[spec.plane];
-                let next: [f64; 3] = std::array::from_fn(|c| itf.jump[c] + h_next * (v[c] - vp[c]));
-                let f = damage_measure(next, planes[spec.plane].normal);
-                itf.alpha_next = spec.law.u_r.min(itf.alpha.max(f));
+        let cx = BoundaryStep {
+            model: &self.model,
+            boundary: &self.boundary,
+            boundary_interfaces: &self.boundary_interfaces,
+            boundary_contacts: &self.boundary_contacts,
+            boundary_tractions: &self.boundary_tractions,
+            v_old: &self.scratch_v_old,
+            mass: &self.mass,
+            inv_mass: &self.inv_mass,
+            f_int: &self.f_int,
+            plane_v_old: &sc.plane_v_old,
+            plane_v_new: &sc.plane_v_new,
+            bc_velocity: &sc.bc_velocity,
+            amplitudes: &sc.amplitudes,
+            h_bar,
+            h_next,
+            g,
+        };
+        let (v_all, itfs, cns) = (
+            SharedSlice::new(&mut self.v),
+            SharedSlice::new(&mut self.interface_nodes),
+            SharedSlice::new(&mut self.contact_nodes),
+        );
+        let n_b = self.boundary.len();
+        let n_bc = self.model.displacements.len();
+        let chunks = n_b.div_ceil(BOUNDARY_GRAIN);
+        self.parts_reactions.clear();
+        self.parts_reactions.resize(chunks * n_bc, 0.0);
+        let reaction_parts = SharedSlice::new(&mut self.parts_reactions);
+        // SAFETY: each boundary node has its own node, interface and contact entries, and the
+        // chunks are disjoint ranges of boundary nodes with their own rows of reactions.
+        let run = |c: usize| unsafe {
+            let range = c * BOUNDARY_GRAIN..((c + 1) * BOUNDARY_GRAIN).min(n_b);
+            let reactions = reaction_parts.range(c * n_bc, (c + 1) * n_bc);
+            boundary_chunk(&cx, range, v_all, itfs, cns, reactions)
+        };
+        let parts = &mut self.parts_boundary;
+        match &self.team {
+            Some(team) if chunks > 1 => team.map_into(chunks, parts, run),
+            _ => {
+                parts.clear();
+                parts.extend((0..chunks).map(run));
             }
         }
+        let bs = parts.iter().fold(BoundarySums::default(), |a, &b| a.add(b));
+        for (k, r) in sc.reactions.iter_mut().enumerate() {
+            *r = (0..chunks).fold(0.0, |acc, c| acc + self.parts_reactions[c * n_bc + k]);
+        }
+        s.int_a += bs.int_a;
+        s.grav_a += bs.grav_a;
+        s.kinetic += bs.kinetic;
+        s.kinetic_half += bs.kinetic_half;
+        let (trac_b, trac_a, reac_b, reac_a, plane_b, plane_a) = (
+            bs.trac_b, bs.trac_a, bs.reac_b, bs.reac_a, bs.plane_b, bs.plane_a,
+        );
+        let (cn_b, cn_a, ct_b, ct_a) = (bs.cn_b, bs.cn_a, bs.ct_b, bs.ct_a);
         // Reactions and their peaks (excluding steps where the prescribed velocity jumps).
         let sc = &self.scratch;
         for (k, r) in sc.reactions.iter().enumerate() {
@@ -1579,6 +1499,249 @@ impl Simulation {
         }
         self.kinetic_half = s.kinetic_half;
     }
+}
+
+/// Read-only data of the boundary loop (stages 4–8) for one step.
+struct BoundaryStep<'a> {
+    model: &'a Model,
+    boundary: &'a [BoundaryNode],
+    boundary_interfaces: &'a [u32],
+    boundary_contacts: &'a [u32],
+    boundary_tractions: &'a [(u16, [f64; 3])],
+    /// V_{n+½} of the boundary nodes (by boundary index).
+    v_old: &'a [[f64; 3]],
+    mass: &'a [f64],
+    inv_mass: &'a [f64],
+    f_int: &'a [[f64; 3]],
+    plane_v_old: &'a [[f64; 3]],
+    plane_v_new: &'a [[f64; 3]],
+    bc_velocity: &'a [f64],
+    amplitudes: &'a [f64],
+    h_bar: f64,
+    h_next: f64,
+    g: [f64; 3],
+}
+
+/// Sums of the boundary loop over a chunk of boundary nodes, reduced in chunk order: the
+/// ledger halves (before/after) of tractions, reactions, planes, contact (normal, tangential),
+/// and the node loop's corrections.
+#[derive(Default, Clone, Copy)]
+struct BoundarySums {
+    trac_b: f64,
+    trac_a: f64,
+    reac_b: f64,
+    reac_a: f64,
+    plane_b: f64,
+    plane_a: f64,
+    cn_b: f64,
+    cn_a: f64,
+    ct_b: f64,
+    ct_a: f64,
+    int_a: f64,
+    grav_a: f64,
+    kinetic: f64,
+    kinetic_half: f64,
+}
+
+impl BoundarySums {
+    fn add(mut self, o: BoundarySums) -> BoundarySums {
+        self.trac_b += o.trac_b;
+        self.trac_a += o.trac_a;
+        self.reac_b += o.reac_b;
+        self.reac_a += o.reac_a;
+        self.plane_b += o.plane_b;
+        self.plane_a += o.plane_a;
+        self.cn_b += o.cn_b;
+        self.cn_a += o.cn_a;
+        self.ct_b += o.ct_b;
+        self.ct_a += o.ct_a;
+        self.int_a += o.int_a;
+        self.grav_a += o.grav_a;
+        self.kinetic += o.kinetic;
+        self.kinetic_half += o.kinetic_half;
+        self
+    }
+}
+
+/// Stages 4–8 on boundary nodes `range` (indices into `cx.boundary`): tractions, cohesion
+/// P_coh = −h̄ W g_N(αₙ₊₁)[u]ₙ₊₁ (4–5), prescribed components (6), contact (7), their ledger
+/// halves, and the damage prediction αₙ₊₂ (8) (PHYSICS.md §4). `v` holds the free velocities
+/// on entry and V_{n+3/2} on exit; `reactions` (one entry per prescribed condition, zeroed)
+/// receives this chunk's reaction forces.
+///
+/// # Safety
+/// Chunks run concurrently must cover disjoint boundary nodes (each boundary node has its own
+/// node, interface and contact entries), and the slices must outlive the call.
+unsafe fn boundary_chunk(
+    cx: &BoundaryStep,
+    range: std::ops::Range<usize>,
+    v_all: SharedSlice<[f64; 3]>,
+    itfs: SharedSlice<InterfaceNode>,
+    cns: SharedSlice<ContactNode>,
+    reactions: &mut [f64],
+) -> BoundarySums {
+    let (h_bar, h_next, g) = (cx.h_bar, cx.h_next, cx.g);
+    let planes = &cx.model.planes;
+    let (plane_v_old, plane_v_new) = (cx.plane_v_old, cx.plane_v_new);
+    let mut out = BoundarySums::default();
+    for k in range {
+        let b = &cx.boundary[k];
+        let i = b.node as usize;
+        let (m, im) = (cx.mass[i], cx.inv_mass[i]);
+        let vo = cx.v_old[k];
+        let v_free0 = *v_all.get(i);
+        let mut v = v_free0;
+        // Tractions (dead load on the reference area).
+        for e in b.tractions.clone() {
+            let (tk, fv) = cx.boundary_tractions[e as usize];
+            let p: [f64; 3] = fv.map(|c| h_bar * cx.amplitudes[tk as usize] * c);
+            // v is updated after all smooth impulses; the forward half uses the final v.
+            out.trac_b += 0.5 * dot(vo, p);
+            for c in 0..3 {
+                v[c] += p[c] * im;
+            }
+        }
+        // Cohesion: P_coh = −h̄ W g_N(αₙ₊₁)[u]ₙ₊₁ (stage 4–5).
+        let mut coh: [[f64; 3]; 4] = [[0.0; 3]; 4];
+        for (slot, e) in b.interfaces.clone().enumerate() {
+            let itf = itfs.get(cx.boundary_interfaces[e as usize] as usize);
+            let law = &cx.model.interfaces[itf.interface as usize].law;
+            itf.stiffness = law.g_n(itf.alpha);
+            itf.cohesive_traction = itf.jump.map(|c| itf.stiffness * c);
+            let p = itf.cohesive_traction.map(|c| -h_bar * itf.area * c);
+            if slot < 4 {
+                coh[slot] = p;
+            }
+            for c in 0..3 {
+                v[c] += p[c] * im;
+            }
+        }
+        let v_free = v;
+        // 6. Prescribed components: V_{n+3/2} = (Ū(tₙ₊₂) − Ū(tₙ₊₁))/h.
+        let mut any_prescribed = false;
+        for c in 0..3 {
+            let bc = b.prescribed[c];
+            if bc != NONE {
+                any_prescribed = true;
+                v[c] = cx.bc_velocity[bc as usize];
+                let p = m * (v[c] - v_free[c]);
+                reactions[bc as usize] += p / h_bar;
+                out.reac_b += 0.5 * vo[c] * p;
+            }
+        }
+        // 7. Contact, node by node in closed form (only on fully free nodes).
+        let mut contact_p: [[f64; 3]; 4] = [[0.0; 3]; 4];
+        let mut contact_plane: [usize; 4] = [usize::MAX; 4];
+        let mut nc = 0;
+        if !any_prescribed {
+            for e in b.interfaces.clone() {
+                let itf = itfs.get(cx.boundary_interfaces[e as usize] as usize);
+                let spec = &cx.model.interfaces[itf.interface as usize];
+                let plane = &planes[spec.plane];
+                let mu = spec.law.mu(itf.alpha, spec.mu_inf);
+                let (impulse, status) = contact_impulse(
+                    &mut v,
+                    itf.gap,
+                    plane.normal,
+                    plane_v_new[spec.plane],
+                    mu,
+                    m,
+                );
+                itf.contact_impulse = impulse.map(|c| c / itf.area.max(f64::MIN_POSITIVE));
+                itf.contact = status;
+                if nc < 4 {
+                    contact_p[nc] = impulse;
+                    contact_plane[nc] = spec.plane;
+                    nc += 1;
+                }
+            }
+            for e in b.contacts.clone() {
+                let cn = cns.get(cx.boundary_contacts[e as usize] as usize);
+                let plane = &planes[cn.plane as usize];
+                let (impulse, status) = contact_impulse(
+                    &mut v,
+                    cn.gap,
+                    plane.normal,
+                    plane_v_new[cn.plane as usize],
+                    cn.mu,
+                    m,
+                );
+                cn.contact_impulse = impulse.map(|c| c / cn.area.max(f64::MIN_POSITIVE));
+                cn.contact = status;
+                if nc < 4 {
+                    contact_p[nc] = impulse;
+                    contact_plane[nc] = cn.plane as usize;
+                    nc += 1;
+                }
+            }
+        }
+        *v_all.get(i) = v;
+        // Ledger: forward halves with the final velocity, corrections of the node loop.
+        let dv = [v[0] - v_free0[0], v[1] - v_free0[1], v[2] - v_free0[2]];
+        let pint = [
+            -h_bar * cx.f_int[i][0],
+            -h_bar * cx.f_int[i][1],
+            -h_bar * cx.f_int[i][2],
+        ];
+        let pg = [h_bar * m * g[0], h_bar * m * g[1], h_bar * m * g[2]];
+        out.int_a += 0.5 * dot(dv, pint);
+        out.grav_a += 0.5 * dot(dv, pg);
+        out.kinetic += 0.5 * m * dot(vo, dv);
+        out.kinetic_half += 0.5 * m * (dot(v, v) - dot(v_free0, v_free0));
+        for e in b.tractions.clone() {
+            let (tk, fv) = cx.boundary_tractions[e as usize];
+            let p: [f64; 3] = fv.map(|c| h_bar * cx.amplitudes[tk as usize] * c);
+            out.trac_a += 0.5 * dot(v, p);
+        }
+        for c in 0..3 {
+            if b.prescribed[c] != NONE {
+                out.reac_a += 0.5 * v[c] * m * (v[c] - v_free[c]);
+            }
+        }
+        // Glue of moving planes: the plane's share ½ v_plane·P_coh of the cohesive work.
+        for (slot, e) in b.interfaces.clone().enumerate().take(4) {
+            let itf = &*itfs.get(cx.boundary_interfaces[e as usize] as usize);
+            let k = cx.model.interfaces[itf.interface as usize].plane;
+            out.plane_b += 0.5 * dot(plane_v_old[k], coh[slot]);
+            out.plane_a += 0.5 * dot(plane_v_new[k], coh[slot]);
+        }
+        // Contact: split the work on the relative velocity (dissipation, normal and
+        // tangential) and on the plane's velocity (external work).
+        for j in 0..nc {
+            let k = contact_plane[j];
+            let n = planes[k].normal;
+            let p = contact_p[j];
+            let pn = dot(p, n);
+            let pt = [p[0] - pn * n[0], p[1] - pn * n[1], p[2] - pn * n[2]];
+            let rel_o = [
+                vo[0] - plane_v_old[k][0],
+                vo[1] - plane_v_old[k][1],
+                vo[2] - plane_v_old[k][2],
+            ];
+            let rel_n = [
+                v[0] - plane_v_new[k][0],
+                v[1] - plane_v_new[k][1],
+                v[2] - plane_v_new[k][2],
+            ];
+            out.cn_b += 0.5 * dot(rel_o, n) * pn;
+            out.cn_a += 0.5 * dot(rel_n, n) * pn;
+            out.ct_b += 0.5 * dot(rel_o, pt);
+            out.ct_a += 0.5 * dot(rel_n, pt);
+            out.plane_b += 0.5 * dot(plane_v_old[k], p);
+            out.plane_a += 0.5 * dot(plane_v_new[k], p);
+        }
+        // 8. Damage rate after the dynamics: αₙ₊₂ = min(u_r, max(αₙ₊₁, fₙ₊₂)),
+        //    fₙ₊₂ = |[u]ₙ₊₁ + h (V_{n+3/2} − v_plane)| (normal part counted when positive).
+        for e in b.interfaces.clone() {
+            let itf = itfs.get(cx.boundary_interfaces[e as usize] as usize);
+            let spec = &cx.model.interfaces[itf.interface as usize];
+            let vp = plane_v_new[spec.plane];
+            let next: [f64; 3] = std::array::from_fn(|c| itf.jump[c] + h_next * (v[c] - vp[c]));
+            let f = damage_measure(next, planes[spec.plane].normal);
+            itf.alpha_next = spec.law.u_r.min(itf.alpha.max(f));
+        }
+    }
+    out
 }
 
 /// Stage 7 for one node against one plane (PHYSICS.md §4, paper eqs. 19–20, 22): if gₙ₊₁ ≤ 0
@@ -1805,6 +1968,7 @@ impl Simulation {
         let mask = self.prescribed_mask();
         let sqrt_inv_m: Vec<f64> = (0..n).map(|k| self.inv_mass[k / 3].sqrt()).collect();
         let mut f0 = vec![[0.0; 3]; self.u.len()];
+        let mut parts = Vec::new();
         assemble_internal_forces(
             &self.model.mesh,
             &self.classes,
@@ -1815,6 +1979,7 @@ impl Simulation {
             &mut f0,
             false,
             self.team.as_ref(),
+            &mut parts,
         );
         let springs: Vec<(usize, f64)> = self
             .interface_nodes
@@ -1859,6 +2024,7 @@ impl Simulation {
                 &mut fp,
                 false,
                 self.team.as_ref(),
+                &mut parts,
             );
             for i in 0..self.u.len() {
                 for c in 0..3 {

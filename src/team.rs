@@ -19,6 +19,7 @@
 //! reductions.
 
 use crossbeam_utils::sync::{Parker, Unparker};
+use crossbeam_utils::CachePadded;
 use std::any::Any;
 use std::cell::UnsafeCell;
 use std::panic::{catch_unwind, resume_unwind, AssertUnwindSafe};
@@ -54,6 +55,8 @@ unsafe impl Send for Shared {}
 /// A fixed set of `size` participants: the calling thread (index 0) and `size − 1` workers.
 pub struct Team {
     shared: Arc<Shared>,
+    /// Next unclaimed item of each participant's share in [`Team::map`].
+    next: Vec<CachePadded<AtomicUsize>>,
     unparkers: Vec<Unparker>,
     workers: Vec<JoinHandle<()>>,
 }
@@ -82,6 +85,9 @@ impl Team {
         }
         Team {
             shared,
+            next: (0..size.max(1))
+                .map(|_| CachePadded::new(AtomicUsize::new(0)))
+                .collect(),
             unparkers,
             workers,
         }
@@ -128,21 +134,50 @@ impl Team {
         }
     }
 
-    /// `f(i)` for every i in 0..n, participant t taking the contiguous share
-    /// [t·n/T, (t+1)·n/T); the results in index order.
+    /// `f(i)` for every i in 0..n; the results in index order (allocates the result; see
+    /// [`Team::map_into`]).
+    ///
+    /// Participant t works through its contiguous share [t·n/T, (t+1)·n/T) first, so it keeps
+    /// touching the same part of the data from one call to the next; once done it takes the
+    /// items still unclaimed in the other shares, so a thread the machine slows down (another
+    /// process, a hypervisor) delays the section by at most about one item.
     pub fn map<R: Send>(&self, n: usize, f: impl Fn(usize) -> R + Sync) -> Vec<R> {
-        let mut out: Vec<Option<R>> = (0..n).map(|_| None).collect();
-        let slots = SharedSlice::new(&mut out);
+        let mut out = Vec::new();
+        self.map_into(n, &mut out, f);
+        out
+    }
+
+    /// [`Team::map`] into `out` (cleared first), reusing its capacity: a step that keeps its
+    /// result buffers allocates nothing.
+    pub fn map_into<R: Send>(&self, n: usize, out: &mut Vec<R>, f: impl Fn(usize) -> R + Sync) {
+        out.clear();
+        out.reserve(n);
+        let slots = SharedSlice {
+            ptr: out.as_mut_ptr(),
+            len: n,
+        };
         let size = self.size();
-        // SAFETY: the shares are disjoint, so every slot is written by one participant only.
+        for (t, next) in self.next.iter().enumerate() {
+            next.store(share(n, t, size).start, Ordering::Relaxed);
+        }
+        // SAFETY: every index is claimed once (fetch_add on its share's counter), so every slot
+        // is written by one participant only; `run` publishes the counters (Release) and
+        // returns after all writes (Acquire). A panic leaves `out` empty (written items leak,
+        // none is dropped twice).
         self.run(&|t| {
-            for i in share(n, t, size) {
-                unsafe { *slots.as_ptr().add(i) = Some(f(i)) };
+            for k in 0..size {
+                let owner = (t + k) % size;
+                let end = share(n, owner, size).end;
+                loop {
+                    let i = self.next[owner].fetch_add(1, Ordering::Relaxed);
+                    if i >= end {
+                        break;
+                    }
+                    unsafe { slots.as_ptr().add(i).write(f(i)) };
+                }
             }
         });
-        out.into_iter()
-            .map(|r| r.expect("every item of a team map is computed"))
-            .collect()
+        unsafe { out.set_len(n) };
     }
 }
 
@@ -204,11 +239,18 @@ fn worker(sh: &Shared, parker: &Parker, index: usize) {
 }
 
 /// A mutable slice handed to the participants of a team, each taking its own disjoint parts.
-#[derive(Clone, Copy)]
 pub struct SharedSlice<T> {
     ptr: *mut T,
     len: usize,
 }
+
+// Copy whatever T is (a derive would ask T: Copy).
+impl<T> Clone for SharedSlice<T> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+impl<T> Copy for SharedSlice<T> {}
 
 // SAFETY: the users of a SharedSlice only ever create references to disjoint parts.
 unsafe impl<T: Send> Send for SharedSlice<T> {}
@@ -230,6 +272,16 @@ impl<T> SharedSlice<T> {
     pub unsafe fn range(&self, a: usize, b: usize) -> &mut [T] {
         let (a, b) = (a.min(self.len), b.min(self.len));
         std::slice::from_raw_parts_mut(self.ptr.add(a), b.saturating_sub(a))
+    }
+
+    /// Item i.
+    ///
+    /// # Safety
+    /// No other live reference to item i; i < len; the slice must outlive the reference.
+    #[allow(clippy::mut_from_ref)]
+    pub unsafe fn get(&self, i: usize) -> &mut T {
+        debug_assert!(i < self.len);
+        &mut *self.ptr.add(i)
     }
 
     /// Raw pointer to the first item.
@@ -258,6 +310,27 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// A participant that stalls (here: sleeps on its first item) delays the section by that
+    /// item only: the caller takes the rest of the stalled share.
+    #[test]
+    fn idle_participants_take_unclaimed_items_of_a_stalled_share() {
+        let team = Team::new(2);
+        let caller = std::thread::current().id();
+        let out = team.map(10, |i| {
+            let me = std::thread::current().id();
+            if me != caller && i >= 5 {
+                std::thread::sleep(Duration::from_millis(50));
+            }
+            me == caller
+        });
+        assert!(out[..5].iter().all(|&c| c), "the caller runs its own share");
+        let taken = out[5..].iter().filter(|&&c| c).count();
+        assert!(
+            taken >= 4,
+            "the caller took {taken} of the 5 items of the stalled share"
+        );
     }
 
     /// A panic on a worker reaches the caller, and the team still works afterwards.

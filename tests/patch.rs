@@ -59,6 +59,7 @@ fn forces(
         &mut f,
         true,
         Some(&team),
+        &mut Vec::new(),
     );
     assert!((asm.min_j - f_def.determinant()).abs() < 1e-10);
     // γ·(affine field) = 0: the hourglass energy is round-off, ½k(ε|u|)² per element.
