@@ -43,6 +43,8 @@ struct Shared {
     /// Workers still running the current job.
     running: AtomicUsize,
     stop: AtomicBool,
+    /// A job is in progress (see [`Team::run`] for calls made meanwhile).
+    busy: AtomicBool,
     panic: Mutex<Option<Box<dyn Any + Send>>>,
 }
 
@@ -69,6 +71,7 @@ impl Team {
             job: UnsafeCell::new(None),
             running: AtomicUsize::new(0),
             stop: AtomicBool::new(false),
+            busy: AtomicBool::new(false),
             panic: Mutex::new(None),
         });
         let mut unparkers = Vec::new();
@@ -100,7 +103,23 @@ impl Team {
 
     /// Runs `f(t)` once on every participant t (the caller runs t = 0) and returns when all
     /// have finished. A panic in any of them is re-raised here, after all have finished.
+    ///
+    /// A call made while the team is busy (from inside one of its jobs, or from another thread)
+    /// runs f(0), f(1), … on the calling thread instead: same work, no deadlock, no race.
     pub fn run(&self, f: &(dyn Fn(usize) + Sync)) {
+        match self.claim() {
+            Some(_busy) => self.run_claimed(f),
+            None => (0..self.size()).for_each(f),
+        }
+    }
+
+    /// Marks the team busy until the guard drops; None if it already is.
+    fn claim(&self) -> Option<Busy<'_>> {
+        // `then`, not `then_some`: a guard built for a failed claim would release the holder's.
+        (!self.shared.busy.swap(true, Ordering::Acquire)).then(|| Busy(&self.shared.busy))
+    }
+
+    fn run_claimed(&self, f: &(dyn Fn(usize) + Sync)) {
         if self.workers.is_empty() {
             f(0);
             return;
@@ -151,6 +170,10 @@ impl Team {
     /// result buffers allocates nothing.
     pub fn map_into<R: Send>(&self, n: usize, out: &mut Vec<R>, f: impl Fn(usize) -> R + Sync) {
         out.clear();
+        let Some(_busy) = self.claim() else {
+            out.extend((0..n).map(f));
+            return;
+        };
         out.reserve(n);
         let slots = SharedSlice {
             ptr: out.as_mut_ptr(),
@@ -164,7 +187,7 @@ impl Team {
         // is written by one participant only; `run` publishes the counters (Release) and
         // returns after all writes (Acquire). A panic leaves `out` empty (written items leak,
         // none is dropped twice).
-        self.run(&|t| {
+        self.run_claimed(&|t| {
             for k in 0..size {
                 let owner = (t + k) % size;
                 let end = share(n, owner, size).end;
@@ -178,6 +201,15 @@ impl Team {
             }
         });
         unsafe { out.set_len(n) };
+    }
+}
+
+/// Holds a team busy; releases it when dropped (also on a panic).
+struct Busy<'a>(&'a AtomicBool);
+
+impl Drop for Busy<'_> {
+    fn drop(&mut self) {
+        self.0.store(false, Ordering::Release);
     }
 }
 
@@ -331,6 +363,20 @@ mod tests {
             taken >= 4,
             "the caller took {taken} of the 5 items of the stalled share"
         );
+    }
+
+    /// A map inside a job of the same team, and maps from two threads at once, run (serially
+    /// where the team is busy) and give every item.
+    #[test]
+    fn nested_and_concurrent_calls_complete() {
+        let team = Team::new(2);
+        let out = team.map(4, |i| team.map(3, |j| 10 * i + j).iter().sum::<usize>());
+        assert_eq!(out, vec![3, 33, 63, 93]);
+        std::thread::scope(|s| {
+            let a = s.spawn(|| (0..200).map(|_| team.map(50, |i| i).len()).sum::<usize>());
+            let b = s.spawn(|| (0..200).map(|_| team.map(50, |i| i).len()).sum::<usize>());
+            assert_eq!(a.join().unwrap() + b.join().unwrap(), 2 * 200 * 50);
+        });
     }
 
     /// A panic on a worker reaches the caller, and the team still works afterwards.
