@@ -5,13 +5,13 @@
 //! outright, and a directory that cannot be written.
 
 use decohesion::scene::load_scene;
-use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
-use vtkio::model::{Attribute, CellType, DataSet, Piece, UnstructuredGridPiece, Vtk};
+use vtkio::model::CellType;
 
 mod common;
 use common::cli::{decohesion, summary, BIN};
+use common::paraview::{read_pvd, read_vtu, state_counts, Grid};
 const SCENE: &str = "scenes/pull_off.toml";
 
 fn scratch(name: &str) -> PathBuf {
@@ -27,105 +27,6 @@ fn simulated_time(dir: &Path) -> f64 {
         text[text.find(key).expect("simulated_time in the summary") + key.len()..].trim_start();
     let end = rest.find([',', '\n', '}']).unwrap();
     rest[..end].trim().parse().unwrap()
-}
-
-/// The `(timestep, file)` entries of a `.pvd` collection, parsed as XML (an error if the file
-/// is not well-formed or not a collection).
-fn read_pvd(path: &Path) -> Vec<(f64, String)> {
-    use quick_xml::events::Event;
-    let text = std::fs::read_to_string(path)
-        .unwrap_or_else(|e| panic!("{} unreadable: {e}", path.display()));
-    let mut reader = quick_xml::Reader::from_str(&text);
-    let (mut entries, mut depth, mut root) = (vec![], 0usize, None);
-    loop {
-        match reader.read_event() {
-            Ok(Event::Start(e)) => {
-                if depth == 0 {
-                    root = e
-                        .try_get_attribute("type")
-                        .unwrap()
-                        .map(|a| String::from_utf8(a.value.to_vec()).unwrap());
-                }
-                depth += 1;
-            }
-            Ok(Event::End(_)) => depth -= 1,
-            Ok(Event::Empty(e)) if e.name().as_ref() == b"DataSet" => {
-                let attr = |k: &str| {
-                    let a = e.try_get_attribute(k).unwrap().expect(k);
-                    String::from_utf8(a.value.to_vec()).unwrap()
-                };
-                entries.push((attr("timestep").parse::<f64>().unwrap(), attr("file")));
-            }
-            Ok(Event::Eof) => break,
-            Ok(_) => {}
-            Err(e) => panic!("{} is not well-formed XML: {e}\n{text}", path.display()),
-        }
-    }
-    assert_eq!(depth, 0, "{} is not closed:\n{text}", path.display());
-    assert_eq!(root.as_deref(), Some("Collection"));
-    entries
-}
-
-/// One frame read back: mesh and arrays by name, as f64.
-struct Grid {
-    points: Vec<f64>,
-    connectivity: Vec<u64>,
-    types: Vec<CellType>,
-    point: BTreeMap<String, Vec<f64>>,
-    cell: BTreeMap<String, Vec<f64>>,
-}
-
-fn arrays(attributes: Vec<Attribute>) -> BTreeMap<String, Vec<f64>> {
-    attributes
-        .into_iter()
-        .map(|a| match a {
-            Attribute::DataArray(d) => {
-                let v = d.data.cast_into::<f64>().expect("numeric array");
-                (d.name, v)
-            }
-            Attribute::Field { name, .. } => panic!("unexpected field {name}"),
-        })
-        .collect()
-}
-
-fn read_vtu(path: &Path) -> Grid {
-    let vtk =
-        Vtk::import(path).unwrap_or_else(|e| panic!("{} does not read: {e:?}", path.display()));
-    let DataSet::UnstructuredGrid { mut pieces, .. } = vtk.data else {
-        panic!("{} is not an unstructured grid", path.display())
-    };
-    assert_eq!(pieces.len(), 1);
-    let Piece::Inline(piece) = pieces.remove(0) else {
-        panic!("inline piece expected")
-    };
-    let UnstructuredGridPiece {
-        points,
-        cells,
-        data,
-    } = *piece;
-    let (connectivity, offsets) = cells.cell_verts.into_xml();
-    assert_eq!(
-        offsets,
-        (1..=cells.types.len() as u64)
-            .map(|k| 8 * k)
-            .collect::<Vec<_>>()
-    );
-    Grid {
-        points: points.cast_into::<f64>().unwrap(),
-        connectivity,
-        types: cells.types,
-        point: arrays(data.point),
-        cell: arrays(data.cell),
-    }
-}
-
-/// States of the points of a frame: (not interface, elastic, transition, ruptured).
-fn state_counts(g: &Grid) -> [usize; 4] {
-    let mut c = [0; 4];
-    for &s in &g.point["state"] {
-        c[(s + 1.0) as usize] += 1;
-    }
-    c
 }
 
 fn pull_off_3(dir: &Path, end_time: &str, extra: &[&str]) -> (Output, serde_json::Value) {

@@ -3,6 +3,7 @@
 
 pub mod capture;
 pub mod cli;
+pub mod paraview;
 
 use decohesion::law::{LawFamily, StiffnessLaw};
 use decohesion::material::{Material, MaterialModel};
