@@ -12,6 +12,7 @@ use crate::record::{find_on_path, Cadence, ColourField, Recorder, Sink, RERUN_VE
 use crate::report::RunSummary;
 use crate::scene::{parse_scene, Scene};
 use crate::solver::{Simulation, SolverError, StateCounts};
+use crate::vtk::VtkWriter;
 use egui_plot::{Legend, Line, Plot, VLine};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
@@ -175,7 +176,10 @@ pub struct Settings {
     /// κ of the hourglass control (reduced integration).
     pub hourglass: f64,
     pub record: RecordChoice,
-    /// Folder of saved recordings and CSV exports.
+    /// Also write ParaView files (`.vtu` per frame and a `.pvd` index, as `run --vtk`) to
+    /// `<output_dir>/runNNN_<scene>_vtk/`.
+    pub paraview: bool,
+    /// Folder of saved recordings, ParaView files and CSV exports.
     pub output_dir: String,
 }
 
@@ -192,6 +196,7 @@ impl Default for Settings {
             integration: "full".into(),
             hourglass: 0.05,
             record: RecordChoice::Viewer,
+            paraview: false,
             output_dir: "out/gui".into(),
         }
     }
@@ -218,6 +223,9 @@ pub struct HistoryRow {
     pub wall_seconds: f64,
     /// Where the recording went.
     pub recording: Option<String>,
+    /// The ParaView index (`.pvd`) of the run's files, when written.
+    #[serde(default)]
+    pub paraview: Option<String>,
 }
 
 /// A scene offered by the picker.
@@ -648,6 +656,12 @@ impl App {
                         "cancelled" => "stopped".to_string(),
                         _ => format!("failed: {}", row.error.clone().unwrap_or_default()),
                     });
+                    if let Some(pvd) = &row.paraview {
+                        self.notes.push(format!(
+                            "run {}: ParaView files indexed by {pvd} (open it in ParaView)",
+                            row.id
+                        ));
+                    }
                     self.history.push(*row);
                     self.job = None;
                     return false;
@@ -668,14 +682,14 @@ impl App {
         let mut s = String::from(
             "id,scene,family,g_n0_Pa_per_m,alpha_e_m,u_r_m,mu_inf,cells,time_step_factor,end_time_s,material,integration,\
              status,steps,simulated_time_s,time_first_damage_s,time_full_rupture_s,peak_force_N,\
-             damage_dissipated_J,max_relative_residual,elastic,transition,ruptured,wall_s,recording,error\n",
+             damage_dissipated_J,max_relative_residual,elastic,transition,ruptured,wall_s,recording,paraview,error\n",
         );
         let opt = |v: Option<f64>| v.map_or(String::new(), |v| format!("{v:e}"));
         let quote = |v: &str| format!("\"{}\"", v.replace('"', "\"\""));
         for r in &self.history {
             let st = &r.settings;
             s.push_str(&format!(
-                "{},{},{},{:e},{:e},{:e},{},{},{},{},{},{},{},{},{:e},{},{},{},{:e},{:e},{},{},{},{:.3},{},{}\n",
+                "{},{},{},{:e},{:e},{:e},{},{},{},{},{},{},{},{},{:e},{},{},{},{:e},{:e},{},{},{},{:.3},{},{},{}\n",
                 r.id,
                 quote(&st.scene),
                 st.law.family.key(),
@@ -701,6 +715,7 @@ impl App {
                 r.counts.ruptured,
                 r.wall_seconds,
                 quote(r.recording.as_deref().unwrap_or("")),
+                quote(r.paraview.as_deref().unwrap_or("")),
                 quote(r.error.as_deref().unwrap_or("")),
             ));
         }
@@ -886,6 +901,10 @@ impl App {
             ui.radio_value(&mut s.record, RecordChoice::File, ".rrd files");
             ui.radio_value(&mut s.record, RecordChoice::Off, "off");
         });
+        ui.checkbox(
+            &mut s.paraview,
+            "also write ParaView files (.vtu per frame + .pvd, in the output folder)",
+        );
         match self.check() {
             Ok(c) if c.h.is_finite() => {
                 ui.label(format!(
@@ -1222,6 +1241,7 @@ fn failed_row(id: u32, settings: &Settings, error: String, started: Instant) -> 
         interface_nodes: 0,
         wall_seconds: started.elapsed().as_secs_f64(),
         recording: None,
+        paraview: None,
     }
 }
 
@@ -1252,7 +1272,21 @@ fn run_job(
             Some(Err(e)) => return failed_row(id, settings, format!("recording: {e}"), started),
             None => None,
         };
+    let mut paraview = if settings.paraview {
+        let stem = Path::new(&settings.scene)
+            .file_stem()
+            .map(|s| s.to_string_lossy().to_string())
+            .unwrap_or_else(|| "run".into());
+        let dir = Path::new(&settings.output_dir).join(format!("run{id:03}_{stem}_vtk"));
+        match VtkWriter::new(&dir, &sim, cadence) {
+            Ok(w) => Some(w),
+            Err(e) => return failed_row(id, settings, format!("ParaView files: {e}"), started),
+        }
+    } else {
+        None
+    };
     let mut record_error = None;
+    let mut paraview_error = None;
     let mut last_report = Instant::now();
     // Progress goes out every 50 ms of wall time (the bar) and every end_time/300 of simulated
     // time (the curve of states over time), whichever comes first.
@@ -1262,6 +1296,12 @@ fn run_job(
         if let Some(r) = recorder.as_mut() {
             if let Err(e) = r.on_step(s) {
                 record_error = Some(e.to_string());
+                return false;
+            }
+        }
+        if let Some(w) = paraview.as_mut() {
+            if let Err(e) = w.on_step(s) {
+                paraview_error = Some(e.to_string());
                 return false;
             }
         }
@@ -1285,6 +1325,15 @@ fn run_job(
             record_error.get_or_insert(e.to_string());
         }
     }
+    // The last frame and the index are written whatever the outcome (also after Stop).
+    let paraview_index = match paraview.map(|w| w.finish(&sim)) {
+        Some(Ok(report)) => Some(report.pvd),
+        Some(Err(e)) => {
+            paraview_error.get_or_insert(e.to_string());
+            None
+        }
+        None => None,
+    };
     let summary = RunSummary::new(
         &sim,
         started.elapsed().as_secs_f64(),
@@ -1292,6 +1341,10 @@ fn run_job(
     );
     let error = match (&outcome, record_error) {
         (_, Some(e)) => Some(format!("recording: {e}")),
+        (_, None) if paraview_error.is_some() => Some(format!(
+            "ParaView files: {}",
+            paraview_error.unwrap_or_default()
+        )),
         (Err(SolverError::Cancelled { .. }), None) => None,
         (Err(e), None) => Some(e.to_string()),
         (Ok(()), None) => None,
@@ -1316,6 +1369,7 @@ fn run_job(
         interface_nodes: summary.interface_nodes,
         wall_seconds: summary.wall_seconds,
         recording: recording_target,
+        paraview: paraview_index,
     }
 }
 

@@ -1,10 +1,12 @@
 //! The explorer window, headless (egui_kittest drives the real UI code through AccessKit):
 //! an inadmissible law disables Run and says why; Run on a small scene reaches "finished" and
-//! adds a history row; Stop during a run leaves a complete recording.
+//! adds a history row; Stop during a run leaves a complete recording; the ParaView option writes
+//! frames that read back with the run's outcome.
 
 mod common;
 
 use common::capture::{read_capture, steps_with};
+use common::paraview::{read_pvd, read_vtu, state_counts};
 use decohesion::gui::{App, RecordChoice, Status};
 use egui_kittest::kittest::{NodeT, Queryable};
 use egui_kittest::Harness;
@@ -186,4 +188,47 @@ fn the_regime_warnings_show_before_a_run() {
     h.run();
     assert!(h.query_by_label_contains("locks volumetrically").is_none());
     h.get_by_label_contains("the interface stiffness sets the stable step");
+}
+
+/// With "also write ParaView files", a run leaves a `.pvd` index in the output folder whose
+/// frames go from t = 0 to the run's end time, the last one with every interface node
+/// ruptured (the history row's count), and the CSV export names it.
+#[test]
+fn paraview_option_writes_frames_that_read_back() {
+    let dir = std::env::temp_dir().join(format!("decohesion-gui-vtk-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let mut app = small_pull_off(3);
+    app.settings.paraview = true;
+    app.settings.frames = 20;
+    app.settings.output_dir = dir.display().to_string();
+    let mut h = harness(app);
+    h.run();
+    h.get_by_label_contains("also write ParaView files");
+    h.get_by_label("Run").click();
+    h.step();
+    wait_for_end(&mut h, Duration::from_secs(60));
+    assert_eq!(h.state().status, Status::Ended("finished".into()));
+    let row = h.state().history[0].clone();
+    let pvd = std::path::PathBuf::from(row.paraview.clone().expect("the .pvd of the run"));
+    assert!(
+        pvd.starts_with(&dir),
+        "{} outside the output folder",
+        pvd.display()
+    );
+    let frames = read_pvd(&pvd);
+    // 20 frames over the run, plus step 0 and the last step.
+    assert!((20..=22).contains(&frames.len()), "{} frames", frames.len());
+    assert_eq!(frames[0].0, 0.0);
+    assert!(frames.windows(2).all(|w| w[0].0 < w[1].0));
+    let (t_last, file) = frames.last().unwrap();
+    assert!((t_last - row.simulated_time).abs() <= 1e-12 * row.simulated_time);
+    let last = read_vtu(&pvd.parent().unwrap().join(file));
+    let [_, elastic, transition, ruptured] = state_counts(&last);
+    assert_eq!((elastic, transition), (0, 0));
+    assert_eq!(ruptured, row.counts.ruptured);
+    assert_eq!(ruptured, 16);
+    let csv = dir.join("history.csv");
+    h.state_mut().export_csv(&csv).unwrap();
+    let text = std::fs::read_to_string(&csv).unwrap();
+    assert!(text.contains(&pvd.display().to_string()), "{text}");
 }
