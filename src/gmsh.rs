@@ -394,7 +394,9 @@ pub fn parse_msh(bytes: &[u8], file: &str) -> Result<Mesh, MshError> {
         }
         mesh.face_sets.insert(name, set);
     }
-    Ok(mesh)
+    // A Gmsh file numbers its nodes by geometric entity, not by position: renumber them slab by
+    // slab for the element loop's caches (a no-op for a file written along its longest axis).
+    Ok(mesh.with_nodes_in_slabs())
 }
 
 /// Writes `mesh` as a `.msh` 4.1 ASCII file: one volume entity (physical group "body") holding

@@ -31,6 +31,25 @@ pub struct Mesh {
     pub face_sets: BTreeMap<String, Vec<[u32; 4]>>,
 }
 
+/// Slabs across the longest axis of a mesh ([`Mesh::slabs`]).
+#[derive(Debug, Clone, Copy)]
+pub struct Slabs {
+    /// The axis (0 = x, 1 = y, 2 = z).
+    pub axis: usize,
+    /// Lowest coordinate along it [m].
+    pub lo: f64,
+    /// Slab thickness [m], at least the largest element extent along the axis.
+    pub width: f64,
+    pub count: usize,
+}
+
+impl Slabs {
+    /// Slab of a coordinate along the axis (clamped to the slabs).
+    pub fn of(&self, z: f64) -> usize {
+        (((z - self.lo) / self.width).floor().max(0.0) as usize).min(self.count - 1)
+    }
+}
+
 /// The 12 edges of a hex8 (local node pairs).
 const HEX_EDGES: [(usize, usize); 12] = [
     (0, 1),
@@ -375,6 +394,84 @@ impl Mesh {
         })
     }
 
+    /// The slabs of [`Mesh::element_blocks`]: across the longest axis, each as thick as the
+    /// largest element extent along it (None for a mesh without elements).
+    pub fn slabs(&self) -> Option<Slabs> {
+        if self.elements.is_empty() {
+            return None;
+        }
+        let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+        for x in &self.nodes {
+            for c in 0..3 {
+                lo[c] = lo[c].min(x[c]);
+                hi[c] = hi[c].max(x[c]);
+            }
+        }
+        // Equal sides: the last (z) wins, the slowest index of a box.
+        let axis = (0..3)
+            .max_by(|&a, &b| (hi[a] - lo[a]).total_cmp(&(hi[b] - lo[b])))
+            .unwrap_or(2);
+        let mut thickness = 0.0f64;
+        for conn in &self.elements {
+            let (mut a, mut b) = (f64::INFINITY, f64::NEG_INFINITY);
+            for &n in conn {
+                let z = self.nodes[n as usize][axis];
+                a = a.min(z);
+                b = b.max(z);
+            }
+            thickness = thickness.max(b - a);
+        }
+        let span = hi[axis] - lo[axis];
+        let count = if thickness > 0.0 && span.is_finite() {
+            // The tolerance keeps a layer of a structured mesh whole when the node
+            // coordinates make its extent an ulp larger than span/layers.
+            ((span / thickness + 1e-9).floor() as usize).clamp(1, self.elements.len())
+        } else {
+            1
+        };
+        Some(Slabs {
+            axis,
+            lo: lo[axis],
+            width: span / count as f64,
+            count,
+        })
+    }
+
+    /// The same mesh with its nodes renumbered slab by slab across the longest axis ([`Slabs`]),
+    /// keeping their order inside a slab. The nodes of an element then sit close together in
+    /// memory, and each thread's share of the node loops matches its element blocks. A mesh
+    /// already numbered along that axis (a box whose longest side is z, or a cube) keeps its
+    /// numbering: the sort is stable and the slab index never decreases along it.
+    pub fn with_nodes_in_slabs(self) -> Mesh {
+        let Some(slabs) = self.slabs() else {
+            return self;
+        };
+        let mut order: Vec<u32> = (0..self.nodes.len() as u32).collect();
+        order.sort_by_key(|&i| slabs.of(self.nodes[i as usize][slabs.axis]));
+        let mut new_index = vec![0u32; self.nodes.len()];
+        for (new, &old) in order.iter().enumerate() {
+            new_index[old as usize] = new as u32;
+        }
+        Mesh {
+            nodes: order.iter().map(|&i| self.nodes[i as usize]).collect(),
+            elements: self
+                .elements
+                .iter()
+                .map(|e| e.map(|n| new_index[n as usize]))
+                .collect(),
+            face_sets: self
+                .face_sets
+                .into_iter()
+                .map(|(k, q)| {
+                    (
+                        k,
+                        q.iter().map(|f| f.map(|n| new_index[n as usize])).collect(),
+                    )
+                })
+                .collect(),
+        }
+    }
+
     /// Slab blocks for the parallel element loop: colours → blocks → elements.
     ///
     /// The elements are cut into slabs across the longest axis of the mesh, each slab at least
@@ -393,45 +490,16 @@ impl Mesh {
     /// needs 2 parallel sections instead of 8; the elements of a block also share most of their
     /// nodes with the previous ones, still in cache.
     pub fn element_blocks(&self, min_block: usize) -> Vec<Vec<Vec<u32>>> {
-        if self.elements.is_empty() {
+        let Some(slabs) = self.slabs() else {
             return Vec::new();
-        }
-        let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
-        for x in &self.nodes {
-            for c in 0..3 {
-                lo[c] = lo[c].min(x[c]);
-                hi[c] = hi[c].max(x[c]);
-            }
-        }
-        let axis = (0..3)
-            .max_by(|&a, &b| (hi[a] - lo[a]).total_cmp(&(hi[b] - lo[b])))
-            .unwrap_or(2);
-        let mut centre = Vec::with_capacity(self.elements.len());
-        let mut thickness = 0.0f64;
-        for conn in &self.elements {
-            let (mut a, mut b, mut s) = (f64::INFINITY, f64::NEG_INFINITY, 0.0);
-            for &n in conn {
-                let z = self.nodes[n as usize][axis];
-                a = a.min(z);
-                b = b.max(z);
-                s += z;
-            }
-            centre.push(s / 8.0);
-            thickness = thickness.max(b - a);
-        }
-        let span = hi[axis] - lo[axis];
-        let slabs = if thickness > 0.0 && span.is_finite() {
-            // The tolerance keeps a layer of a structured mesh whole when the node
-            // coordinates make its extent an ulp larger than span/layers.
-            ((span / thickness + 1e-9).floor() as usize).clamp(1, self.elements.len())
-        } else {
-            1
         };
-        let mut layers: Vec<Vec<u32>> = vec![Vec::new(); slabs];
-        let width = span / slabs as f64;
-        for (e, &c) in centre.iter().enumerate() {
-            let k = (((c - lo[axis]) / width).floor().max(0.0) as usize).min(slabs - 1);
-            layers[k].push(e as u32);
+        let mut layers: Vec<Vec<u32>> = vec![Vec::new(); slabs.count];
+        for (e, conn) in self.elements.iter().enumerate() {
+            let c = conn
+                .iter()
+                .fold(0.0, |s, &n| s + self.nodes[n as usize][slabs.axis])
+                / 8.0;
+            layers[slabs.of(c)].push(e as u32);
         }
         // Merge thin slabs forward until each block holds at least `min_block` elements.
         let mut blocks: Vec<Vec<u32>> = Vec::new();
@@ -672,6 +740,70 @@ pub(crate) fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Renumbering in slabs: the identity on a box numbered along its longest side (z); on a
+    /// randomly numbered box, every element and face keeps its coordinates and the slab index
+    /// of the nodes never decreases with their number.
+    #[test]
+    fn nodes_in_slabs_keep_the_geometry_and_sort_the_numbering() {
+        let m = Mesh::boxed([0.0; 3], [1.0, 2.0, 3.0], [3, 4, 5]);
+        let same = m.clone().with_nodes_in_slabs();
+        assert_eq!(same.nodes, m.nodes);
+        assert_eq!(same.elements, m.elements);
+        let n = m.nodes.len();
+        let mut p: Vec<u32> = (0..n as u32).collect();
+        let mut state = 12345u64;
+        for i in (1..n).rev() {
+            state = state.wrapping_mul(6364136223846793005).wrapping_add(1);
+            p.swap(i, (state >> 33) as usize % (i + 1));
+        }
+        let mut nodes = vec![[0.0; 3]; n];
+        for (i, x) in m.nodes.iter().enumerate() {
+            nodes[p[i] as usize] = *x;
+        }
+        let shuffled = Mesh {
+            nodes,
+            elements: m
+                .elements
+                .iter()
+                .map(|e| e.map(|k| p[k as usize]))
+                .collect(),
+            face_sets: m
+                .face_sets
+                .iter()
+                .map(|(k, q)| {
+                    (
+                        k.clone(),
+                        q.iter().map(|f| f.map(|k| p[k as usize])).collect(),
+                    )
+                })
+                .collect(),
+        };
+        let sorted = shuffled.clone().with_nodes_in_slabs();
+        let xyz = |mesh: &Mesh, conn: &[u32]| -> Vec<[f64; 3]> {
+            conn.iter().map(|&k| mesh.nodes[k as usize]).collect()
+        };
+        for (a, b) in m.elements.iter().zip(&sorted.elements) {
+            assert_eq!(xyz(&m, a), xyz(&sorted, b));
+        }
+        for (name, quads) in &m.face_sets {
+            for (a, b) in quads.iter().zip(&sorted.face_sets[name]) {
+                assert_eq!(xyz(&m, a), xyz(&sorted, b));
+            }
+        }
+        let slabs = sorted.slabs().unwrap();
+        assert_eq!((slabs.axis, slabs.count), (2, 5));
+        let k: Vec<usize> = sorted.nodes.iter().map(|x| slabs.of(x[2])).collect();
+        assert!(k.windows(2).all(|w| w[0] <= w[1]));
+        assert!(
+            shuffled
+                .nodes
+                .iter()
+                .map(|x| slabs.of(x[2]))
+                .collect::<Vec<_>>()
+                != k
+        );
+    }
 
     #[test]
     fn box_counts_classes_and_colours() {
