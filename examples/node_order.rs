@@ -7,36 +7,9 @@
 //! cargo run --release --example node_order
 //! ```
 
-use decohesion::mesh::Mesh;
 use decohesion::scene::load_scene;
 use decohesion::solver::Simulation;
 use std::time::Instant;
-
-/// The mesh with node i renamed p[i].
-fn permuted(mesh: &Mesh, p: &[u32]) -> Mesh {
-    let mut nodes = vec![[0.0; 3]; mesh.nodes.len()];
-    for (i, x) in mesh.nodes.iter().enumerate() {
-        nodes[p[i] as usize] = *x;
-    }
-    Mesh {
-        nodes,
-        elements: mesh
-            .elements
-            .iter()
-            .map(|e| e.map(|n| p[n as usize]))
-            .collect(),
-        face_sets: mesh
-            .face_sets
-            .iter()
-            .map(|(k, q)| {
-                (
-                    k.clone(),
-                    q.iter().map(|f| f.map(|n| p[n as usize])).collect(),
-                )
-            })
-            .collect(),
-    }
-}
 
 fn main() {
     let n = 28;
@@ -58,7 +31,7 @@ fn main() {
             p.swap(i, (state >> 33) as usize % (i + 1));
         }
         let mut shuffled = scene.model.clone();
-        shuffled.mesh = permuted(&scene.model.mesh, &p);
+        shuffled.mesh = scene.model.mesh.renumbered(&p);
         let mut resorted = shuffled.clone();
         resorted.mesh = resorted.mesh.with_nodes_in_slabs();
         let mut sims = [

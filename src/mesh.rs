@@ -437,6 +437,30 @@ impl Mesh {
         })
     }
 
+    /// The same mesh with node i renamed `new_index[i]` (a permutation of 0..nodes): positions,
+    /// connectivity and face sets follow.
+    pub fn renumbered(&self, new_index: &[u32]) -> Mesh {
+        assert_eq!(new_index.len(), self.nodes.len());
+        let mut nodes = vec![[0.0; 3]; self.nodes.len()];
+        for (i, x) in self.nodes.iter().enumerate() {
+            nodes[new_index[i] as usize] = *x;
+        }
+        let map = |n: &u32| new_index[*n as usize];
+        Mesh {
+            nodes,
+            elements: self
+                .elements
+                .iter()
+                .map(|e| e.each_ref().map(map))
+                .collect(),
+            face_sets: self
+                .face_sets
+                .iter()
+                .map(|(k, q)| (k.clone(), q.iter().map(|f| f.each_ref().map(map)).collect()))
+                .collect(),
+        }
+    }
+
     /// The same mesh with its nodes renumbered slab by slab across the longest axis ([`Slabs`]),
     /// keeping their order inside a slab. The nodes of an element then sit close together in
     /// memory, and each thread's share of the node loops matches its element blocks. A mesh
@@ -452,24 +476,7 @@ impl Mesh {
         for (new, &old) in order.iter().enumerate() {
             new_index[old as usize] = new as u32;
         }
-        Mesh {
-            nodes: order.iter().map(|&i| self.nodes[i as usize]).collect(),
-            elements: self
-                .elements
-                .iter()
-                .map(|e| e.map(|n| new_index[n as usize]))
-                .collect(),
-            face_sets: self
-                .face_sets
-                .into_iter()
-                .map(|(k, q)| {
-                    (
-                        k,
-                        q.iter().map(|f| f.map(|n| new_index[n as usize])).collect(),
-                    )
-                })
-                .collect(),
-        }
+        self.renumbered(&new_index)
     }
 
     /// Slab blocks for the parallel element loop: colours → blocks → elements.
@@ -757,28 +764,7 @@ mod tests {
             state = state.wrapping_mul(6364136223846793005).wrapping_add(1);
             p.swap(i, (state >> 33) as usize % (i + 1));
         }
-        let mut nodes = vec![[0.0; 3]; n];
-        for (i, x) in m.nodes.iter().enumerate() {
-            nodes[p[i] as usize] = *x;
-        }
-        let shuffled = Mesh {
-            nodes,
-            elements: m
-                .elements
-                .iter()
-                .map(|e| e.map(|k| p[k as usize]))
-                .collect(),
-            face_sets: m
-                .face_sets
-                .iter()
-                .map(|(k, q)| {
-                    (
-                        k.clone(),
-                        q.iter().map(|f| f.map(|k| p[k as usize])).collect(),
-                    )
-                })
-                .collect(),
-        };
+        let shuffled = m.renumbered(&p);
         let sorted = shuffled.clone().with_nodes_in_slabs();
         let xyz = |mesh: &Mesh, conn: &[u32]| -> Vec<[f64; 3]> {
             conn.iter().map(|&k| mesh.nodes[k as usize]).collect()
