@@ -181,6 +181,15 @@ fn main() {
             .num_threads(n)
             .build_global()
             .ok();
+        let cores = std::thread::available_parallelism().map_or(1, |c| c.get());
+        if n > cores {
+            eprintln!(
+                "warning: --threads {n} is more than the {cores} cores of this machine: the \
+                 step's threads wait for each other by spinning, so extra threads slow every step \
+                 (one point at 28³: 23 ns per element-step on 2 threads, 73 on 4, on 2 cores). \
+                 Results do not depend on the thread count."
+            );
+        }
     }
     let result = match cli.command {
         Command::Run {

@@ -265,3 +265,25 @@ fn spawn_without_a_viewer_says_how_to_install_it() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("pip install rerun-sdk==0.36.3"), "{err}");
 }
+
+/// `--threads` beyond the machine's cores runs (results do not depend on the thread count) but
+/// warns that the spinning threads then slow every step; `--threads 0` is refused.
+#[test]
+fn more_threads_than_cores_warns_and_zero_is_refused() {
+    let cores = std::thread::available_parallelism().map_or(1, |c| c.get());
+    let many = (cores + 1).to_string();
+    let out = decohesion(&["--threads", &many, "check", "scenes/pull_off.toml"]);
+    assert!(out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains(&format!("--threads {many} is more than the {cores} cores")),
+        "{err}"
+    );
+    let fits = cores.to_string();
+    let out = decohesion(&["--threads", &fits, "check", "scenes/pull_off.toml"]);
+    assert!(out.status.success());
+    assert!(!String::from_utf8_lossy(&out.stderr).contains("warning: --threads"));
+    let out = decohesion(&["--threads", "0", "check", "scenes/pull_off.toml"]);
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--threads must be ≥ 1"));
+}
