@@ -16,6 +16,7 @@ pub struct RunSummary {
     pub nodes: usize,
     pub elements: usize,
     pub interface_nodes: usize,
+    /// Threads that ran the step's loops (1 below the size where they run in parallel).
     pub threads: usize,
     pub steps: u64,
     /// Last time step h [s].
@@ -67,7 +68,7 @@ impl RunSummary {
             nodes: sim.model.mesh.nodes.len(),
             elements: sim.model.mesh.elements.len(),
             interface_nodes: sim.interface_nodes.len(),
-            threads: rayon::current_num_threads(),
+            threads: sim.threads(),
             steps: sim.step_count,
             time_step: sim.h,
             h_crit_initial: sim.stats.h_crit_initial,
@@ -127,10 +128,11 @@ impl RunSummary {
         row(
             "speed",
             format!(
-                "{:.1} ns/element-step, {:.3e} element-steps/s, {} threads, {:.3} s wall",
+                "{:.1} ns/element-step, {:.3e} element-steps/s, {} thread{}, {:.3} s wall",
                 self.ns_per_element_step,
                 self.element_steps_per_second,
                 self.threads,
+                if self.threads == 1 { "" } else { "s" },
                 self.wall_seconds
             ),
         );

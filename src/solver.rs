@@ -1136,6 +1136,12 @@ impl Simulation {
         Ok(())
     }
 
+    /// Threads that run the step's loops: the team's size, or 1 when the mesh is below the size
+    /// where parallel sections pay off (or one thread was asked for).
+    pub fn threads(&self) -> usize {
+        self.team.as_ref().map_or(1, Team::size)
+    }
+
     /// One CD-Lagrange step tₙ → tₙ₊₁ (PHYSICS.md §4, stages 1–9).
     pub fn step(&mut self) -> Result<(), SolverError> {
         let t0 = Instant::now();

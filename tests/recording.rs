@@ -267,7 +267,8 @@ fn spawn_without_a_viewer_says_how_to_install_it() {
 }
 
 /// `--threads` beyond the machine's cores runs (results do not depend on the thread count) but
-/// warns that the spinning threads then slow every step; `--threads 0` is refused.
+/// warns that the spinning threads then slow every step; `--threads 0` is refused; the summary
+/// says how many threads ran the step.
 #[test]
 fn more_threads_than_cores_warns_and_zero_is_refused() {
     let cores = std::thread::available_parallelism().map_or(1, |c| c.get());
@@ -286,4 +287,30 @@ fn more_threads_than_cores_warns_and_zero_is_refused() {
     let out = decohesion(&["--threads", "0", "check", "scenes/pull_off.toml"]);
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("--threads must be ≥ 1"));
+    // The summary reports the threads that ran the step: 1 below the parallel size (7³ = 343
+    // elements), the team's size above it (14³ = 2744).
+    let dir = scratch("threads");
+    for (cells, expect) in [(7, 1), (14, 2)] {
+        let json = dir.join(format!("{cells}.json"));
+        let mesh = format!("mesh.cells=[{cells},{cells},{cells}]");
+        let out = decohesion(&[
+            "--threads",
+            "2",
+            "run",
+            "scenes/pull_off.toml",
+            "--quiet",
+            "--set",
+            &mesh,
+            "--set",
+            "end_time=0.005",
+            "--summary",
+            json.to_str().unwrap(),
+        ]);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        assert_eq!(summary(&json)["threads"], expect, "{cells}³");
+    }
 }
