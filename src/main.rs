@@ -579,10 +579,11 @@ fn bench(
     }
     decohesion::tradeoff::require_box_mesh(&load_scene(path, &[])?, "--sizes")?;
     println!(
-        "decohesion bench: {} on {} threads ({}), interface on; full = 2×2×2 Gauss, reduced = one point + hourglass control",
+        "decohesion bench: {} on {} threads ({}; meshes under {} elements on one), interface on; full = 2×2×2 Gauss, reduced = one point + hourglass control",
         path.display(),
         rayon::current_num_threads(),
-        std::env::consts::ARCH
+        std::env::consts::ARCH,
+        decohesion::solver::PARALLEL_MIN_ELEMENTS
     );
     println!(
         "{:>8} {:>4} {:>9} {:>9} {:>7} {:>14} {:>16} {:>18} {:>12} {:>10} {:>13}",

@@ -27,7 +27,7 @@ const NODE_GRAIN: usize = 4096;
 const BOUNDARY_GRAIN: usize = 256;
 /// Below this many elements the loops run on the calling thread (a parallel section would
 /// cost more than it saves).
-const PARALLEL_MIN_ELEMENTS: usize = 2048;
+pub const PARALLEL_MIN_ELEMENTS: usize = 2048;
 
 /// Why a simulation could not be built or could not go on.
 #[derive(Debug, Clone, thiserror::Error)]
