@@ -610,6 +610,8 @@ fn bench(
         steps: u64,
         ns: Vec<f64>,
         iface: Vec<f64>,
+        /// Stage times at the start of the first repetition [s].
+        stages0: decohesion::solver::StageTimes,
     }
     let mut configs = Vec::new();
     for integration in integrations {
@@ -632,8 +634,12 @@ fn bench(
                 steps: (work / elements).max(10),
                 ns: Vec::new(),
                 iface: Vec::new(),
+                stages0: Default::default(),
             });
         }
+    }
+    for c in configs.iter_mut() {
+        c.stages0 = c.sim.stats.stage_times.clone();
     }
     for _ in 0..repeats {
         for c in configs.iter_mut() {
@@ -678,6 +684,40 @@ fn bench(
             state_bytes(sim) as f64 / elements as f64,
             c.setup,
             wall_per_sim
+        );
+    }
+    // Where the step goes: each stage's share of the summed stage times over all repetitions.
+    println!("share of the step by stage (PHYSICS.md §4), all repetitions:");
+    println!(
+        "{:>8} {:>4} {:>11} {:>15} {:>14} {:>17} {:>12}",
+        "rule",
+        "n",
+        "positions",
+        "internal forces",
+        "free velocity",
+        "interface/contact",
+        "bookkeeping"
+    );
+    for c in &configs {
+        let (a, b) = (&c.stages0, &c.sim.stats.stage_times);
+        let d = [
+            b.positions - a.positions,
+            b.internal_forces - a.internal_forces,
+            b.free_velocity - a.free_velocity,
+            b.interface_contact - a.interface_contact,
+            b.bookkeeping - a.bookkeeping,
+        ];
+        let total: f64 = d.iter().sum();
+        let pct = |x: f64| format!("{:.1} %", 100.0 * x / total.max(f64::MIN_POSITIVE));
+        println!(
+            "{:>8} {:>4} {:>11} {:>15} {:>14} {:>17} {:>12}",
+            c.integration,
+            c.n,
+            pct(d[0]),
+            pct(d[1]),
+            pct(d[2]),
+            pct(d[3]),
+            pct(d[4])
         );
     }
     for (integration, points) in fits {
