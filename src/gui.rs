@@ -1339,15 +1339,12 @@ fn run_job(
         started.elapsed().as_secs_f64(),
         outcome.as_ref().err(),
     );
-    let error = match (&outcome, record_error) {
-        (_, Some(e)) => Some(format!("recording: {e}")),
-        (_, None) if paraview_error.is_some() => Some(format!(
-            "ParaView files: {}",
-            paraview_error.unwrap_or_default()
-        )),
-        (Err(SolverError::Cancelled { .. }), None) => None,
-        (Err(e), None) => Some(e.to_string()),
-        (Ok(()), None) => None,
+    let error = match (&outcome, record_error, paraview_error) {
+        (_, Some(e), _) => Some(format!("recording: {e}")),
+        (_, None, Some(e)) => Some(format!("ParaView files: {e}")),
+        (Err(SolverError::Cancelled { .. }), None, None) => None,
+        (Err(e), None, None) => Some(e.to_string()),
+        (Ok(()), None, None) => None,
     };
     HistoryRow {
         id,

@@ -792,7 +792,7 @@ mod tests {
     }
 
     #[test]
-    fn box_counts_classes_and_colours() {
+    fn box_counts_classes_and_blocks() {
         let m = Mesh::boxed([0.0; 3], [1.0, 2.0, 3.0], [3, 4, 5]);
         assert_eq!(m.nodes.len(), 4 * 5 * 6);
         assert_eq!(m.elements.len(), 60);
