@@ -3,8 +3,8 @@
 //! growing with damage). See `PHYSICS.md` of the project for the model; every function that
 //! implements an equation names it.
 //!
-//! Usable as a library: `Scene -> Model -> Simulation::step()`. The physics modules know nothing
-//! of the command line or of any viewer; `record` (Rerun) and `vtk` (ParaView files) read them
+//! The physics is the crate `decohesion_physics` (folder `physics/`), re-exported here: it knows
+//! nothing of the command line or of any viewer, by its dependencies; `record` (Rerun) and `vtk` (ParaView files) read them
 //! and are read by none of them.
 
 // Index loops over tensor components and Gauss lanes read like the equations they implement.
@@ -12,24 +12,18 @@
 // `!(x > 0.0)` is used on purpose: it is also true for NaN, which must be caught.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
-pub mod energy;
-/// Gmsh `.msh` 4.1 hexahedral meshes in and out.
-pub mod gmsh;
+// The physics crate's modules, under the names the command line, the outputs and the tests use.
+pub use decohesion_physics::{
+    energy, gmsh, kernels, law, material, mesh, model, scene, solver, team,
+};
+
 /// The explorer window (egui): reads scenes, runs simulations on a thread; not used by the physics.
 pub mod gui;
-pub mod law;
-pub mod material;
-pub mod mesh;
-pub mod model;
 /// What the outputs share: frame cadence, writer-thread priority.
 pub mod output;
 /// Rerun recording (live or `.rrd`): reads a simulation, is not read by the physics.
 pub mod record;
 pub mod report;
-pub mod scene;
-pub mod solver;
-/// The persistent thread team of the step's parallel loops.
-pub mod team;
 /// Speed against accuracy: a grid of configurations of one scene compared with the finest.
 pub mod tradeoff;
 /// ParaView output (`.vtu` frames and a `.pvd` index): reads a simulation, uses no Rerun.

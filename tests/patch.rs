@@ -5,9 +5,9 @@
 //! hourglass control (the hourglass shape vectors are orthogonal to affine fields, so the patch
 //! test holds exactly and the hourglass energy is round-off).
 
+use decohesion::kernels::{assemble_internal_forces, ElementRule};
 use decohesion::material::{Material, MaterialModel};
 use decohesion::mesh::Mesh;
-use decohesion::solver::{assemble_internal_forces, ElementRule};
 use decohesion::team::Team;
 
 const RULES: [ElementRule; 2] = [ElementRule::Full, ElementRule::Reduced { kappa: 0.1 }];

@@ -1,0 +1,27 @@
+//! The physics of decohesion: explicit non-smooth dynamics (CD-Lagrange scheme) of a
+//! hyperelastic solid glued to rigid surfaces by the RCCM cohesive law (damageable adhesion,
+//! unilateral contact, friction growing with damage). See `PHYSICS.md` of the project for the
+//! model; every function that implements an equation names it.
+//!
+//! `Scene -> Model -> Simulation::step()`. This crate depends on no viewer, GUI or command-line
+//! crate (rerun, egui, eframe, clap, indicatif): the compiler enforces it, since none is in its
+//! `Cargo.toml`, and `.ci/run` checks its dependency tree.
+
+// Index loops over tensor components and Gauss lanes read like the equations they implement.
+#![allow(clippy::needless_range_loop)]
+// `!(x > 0.0)` is used on purpose: it is also true for NaN, which must be caught.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
+pub mod energy;
+/// Gmsh `.msh` 4.1 hexahedral meshes in and out.
+pub mod gmsh;
+/// The element loop (stage 3) and the node loop (stage 5), built per instruction set.
+pub mod kernels;
+pub mod law;
+pub mod material;
+pub mod mesh;
+pub mod model;
+pub mod scene;
+pub mod solver;
+/// The persistent thread team of the step's parallel loops.
+pub mod team;
