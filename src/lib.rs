@@ -14,7 +14,7 @@
 
 // The physics crate's modules, under the names the command line, the outputs and the tests use.
 pub use decohesion_physics::{
-    energy, gmsh, kernels, law, material, mesh, model, scene, solver, team,
+    energy, gmsh, interface, kernels, law, material, mesh, model, scene, solver, team,
 };
 
 /// The explorer window (egui): reads scenes, runs simulations on a thread; not used by the physics.

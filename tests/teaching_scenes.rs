@@ -464,7 +464,7 @@ fn mixed_mode_opens_along_the_norm_of_the_jump() {
     while !sim.finished() {
         sim.step().unwrap();
         let itf = &sim.interface_nodes[centre];
-        let n = decohesion::solver::damage_measure(itf.jump, base.normal);
+        let n = decohesion::interface::damage::damage_measure(itf.jump, base.normal);
         if itf.alpha < law.u_r && n > 0.05 * law.u_r {
             // Tangential over normal jump (the base moves in x and −z: the jump is (+, 0, +)).
             ratio_worst = ratio_worst.max((itf.jump[0] / itf.jump[2] - 1.0).abs());
@@ -477,7 +477,7 @@ fn mixed_mode_opens_along_the_norm_of_the_jump() {
             angle_worst = angle_worst.max((f[0] - f[1]).abs() / 2f64.sqrt() / (tmax * area));
         }
         for (k, itf) in sim.interface_nodes.iter().enumerate() {
-            let m = decohesion::solver::damage_measure(itf.jump, base.normal);
+            let m = decohesion::interface::damage::damage_measure(itf.jump, base.normal);
             if rupture_steps[k].is_none() && itf.alpha >= law.u_r {
                 rupture_steps[k] = Some(sim.time);
                 rupture_jumps.push((before[k], m));

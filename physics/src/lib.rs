@@ -15,6 +15,7 @@
 pub mod energy;
 /// Gmsh `.msh` 4.1 hexahedral meshes in and out.
 pub mod gmsh;
+pub mod interface;
 /// The element loop (stage 3) and the node loop (stage 5), built per instruction set.
 pub mod kernels;
 pub mod law;

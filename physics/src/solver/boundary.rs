@@ -1,0 +1,477 @@
+//! Stages 4–8 of PHYSICS.md §4 at the boundary nodes: what acts on each node (glue, contact,
+//! tractions, prescribed components) and the fused pass that applies, node by node, the stage
+//! functions in their order: external tractions, cohesion (4), the free velocity (5) completed,
+//! prescribed components (6), contact (7), the node's ledger halves (summed here, closed in
+//! stage 9), and the damage prediction (8). A node's stages read and write only that node, so
+//! the pass runs in fixed chunks on the thread team.
+
+use super::state::{ContactNode, InterfaceNode};
+use super::{Simulation, BOUNDARY_GRAIN};
+use crate::interface::contact::contact_impulse;
+use crate::interface::damage::{cohesive_traction, damage_measure, damage_update};
+use crate::mesh::dot;
+use crate::model::Model;
+use crate::team::SharedSlice;
+use std::ops::Range;
+
+/// No prescribed condition on this component.
+pub(super) const NONE: u16 = u16::MAX;
+
+/// Contact constraints on one node kept for the ledger (a node on a cavity corner has a few).
+const MAX_CONSTRAINTS: usize = 4;
+
+/// Per boundary node: which interface entries, contact entries, traction entries and prescribed
+/// components act on it.
+#[derive(Debug, Clone)]
+pub(super) struct BoundaryNode {
+    pub node: u32,
+    pub interfaces: Range<u32>,
+    pub contacts: Range<u32>,
+    pub tractions: Range<u32>,
+    /// Index of the prescribed-displacement condition of each component (`NONE` if free).
+    pub prescribed: [u16; 3],
+}
+
+/// The boundary nodes and, per node, ranges into the flat lists of its entries.
+#[derive(Debug, Clone, Default)]
+pub(super) struct Boundary {
+    pub nodes: Vec<BoundaryNode>,
+    /// Indices into `Simulation::interface_nodes`.
+    pub interfaces: Vec<u32>,
+    /// Indices into `Simulation::contact_nodes`.
+    pub contacts: Vec<u32>,
+    /// (traction index, nodal force at amplitude 1 [N]).
+    pub tractions: Vec<(u16, [f64; 3])>,
+}
+
+impl Boundary {
+    /// Gathers the entries per node: `interfaces` and `contacts` are the nodes of
+    /// `Simulation::interface_nodes` and `contact_nodes` in order, `tractions` (node, traction,
+    /// nodal force), `prescribed` the prescribed condition of each component per node.
+    pub fn gather(
+        interfaces: impl Iterator<Item = u32>,
+        contacts: impl Iterator<Item = u32>,
+        mut tractions: Vec<(u32, u16, [f64; 3])>,
+        prescribed: &std::collections::BTreeMap<u32, [u16; 3]>,
+    ) -> Boundary {
+        let by_node = |nodes: &mut dyn Iterator<Item = u32>| {
+            let mut v: Vec<(u32, u32)> = nodes.enumerate().map(|(k, n)| (n, k as u32)).collect();
+            v.sort_unstable();
+            v
+        };
+        let by_node_i = by_node(&mut { interfaces });
+        let by_node_c = by_node(&mut { contacts });
+        tractions.sort_by_key(|t| (t.0, t.1));
+        let mut touched: Vec<u32> = by_node_i
+            .iter()
+            .chain(&by_node_c)
+            .map(|e| e.0)
+            .chain(tractions.iter().map(|t| t.0))
+            .chain(prescribed.keys().copied())
+            .collect();
+        touched.sort_unstable();
+        touched.dedup();
+        let mut out = Boundary::default();
+        let (mut pi, mut pc, mut pt) = (0usize, 0usize, 0usize);
+        // The entries of `node` from a list sorted by node, from cursor `p` on.
+        fn take<T: Copy>(
+            list: &[(u32, T)],
+            p: &mut usize,
+            node: u32,
+            out: &mut Vec<T>,
+        ) -> Range<u32> {
+            let start = out.len() as u32;
+            while *p < list.len() && list[*p].0 == node {
+                out.push(list[*p].1);
+                *p += 1;
+            }
+            start..out.len() as u32
+        }
+        let tr: Vec<(u32, (u16, [f64; 3]))> = tractions.iter().map(|t| (t.0, (t.1, t.2))).collect();
+        for &node in &touched {
+            out.nodes.push(BoundaryNode {
+                node,
+                interfaces: take(&by_node_i, &mut pi, node, &mut out.interfaces),
+                contacts: take(&by_node_c, &mut pc, node, &mut out.contacts),
+                tractions: take(&tr, &mut pt, node, &mut out.tractions),
+                prescribed: prescribed.get(&node).copied().unwrap_or([NONE; 3]),
+            });
+        }
+        out
+    }
+}
+
+/// Read-only data of the boundary pass for one step.
+struct BoundaryStep<'a> {
+    model: &'a Model,
+    boundary: &'a Boundary,
+    /// V_{n+½} of the boundary nodes (by boundary index).
+    v_old: &'a [[f64; 3]],
+    mass: &'a [f64],
+    inv_mass: &'a [f64],
+    f_int: &'a [[f64; 3]],
+    plane_v_old: &'a [[f64; 3]],
+    plane_v_new: &'a [[f64; 3]],
+    bc_velocity: &'a [f64],
+    amplitudes: &'a [f64],
+    h_bar: f64,
+    h_next: f64,
+    g: [f64; 3],
+}
+
+/// Sums of the boundary pass over a chunk of boundary nodes, reduced in chunk order: the
+/// ledger halves (before/after) of tractions, reactions, planes, contact (normal, tangential),
+/// and the node loop's corrections.
+#[derive(Default, Clone, Copy)]
+pub(super) struct BoundarySums {
+    pub trac_b: f64,
+    pub trac_a: f64,
+    pub reac_b: f64,
+    pub reac_a: f64,
+    pub plane_b: f64,
+    pub plane_a: f64,
+    pub cn_b: f64,
+    pub cn_a: f64,
+    pub ct_b: f64,
+    pub ct_a: f64,
+    pub int_a: f64,
+    pub grav_a: f64,
+    pub kinetic: f64,
+    pub kinetic_half: f64,
+}
+
+impl BoundarySums {
+    pub fn add(mut self, o: BoundarySums) -> BoundarySums {
+        self.trac_b += o.trac_b;
+        self.trac_a += o.trac_a;
+        self.reac_b += o.reac_b;
+        self.reac_a += o.reac_a;
+        self.plane_b += o.plane_b;
+        self.plane_a += o.plane_a;
+        self.cn_b += o.cn_b;
+        self.cn_a += o.cn_a;
+        self.ct_b += o.ct_b;
+        self.ct_a += o.ct_a;
+        self.int_a += o.int_a;
+        self.grav_a += o.grav_a;
+        self.kinetic += o.kinetic;
+        self.kinetic_half += o.kinetic_half;
+        self
+    }
+}
+
+/// The impulses that acted on one node in this step, kept for its ledger halves: cohesion
+/// (per interface entry) and contact (per constraint, with its plane).
+#[derive(Default)]
+struct NodeImpulses {
+    cohesion: [[f64; 3]; MAX_CONSTRAINTS],
+    cohesion_plane: [usize; MAX_CONSTRAINTS],
+    cohesions: usize,
+    contact: [[f64; 3]; MAX_CONSTRAINTS],
+    contact_plane: [usize; MAX_CONSTRAINTS],
+    contacts: usize,
+}
+
+impl BoundaryStep<'_> {
+    /// External traction impulse of entry `e` over the step, P = h̄ a(tₙ₊₁) W t (a dead load on
+    /// the reference area W; `fv` = W t is stored per entry) [N·s].
+    #[inline]
+    fn traction_impulse(&self, e: u32) -> [f64; 3] {
+        let (tk, fv) = self.boundary.tractions[e as usize];
+        fv.map(|c| self.h_bar * self.amplitudes[tk as usize] * c)
+    }
+
+    /// External tractions on node `b` (part of F_ext in stage 5): V += M⁻¹P, and their
+    /// backward ledger halves ½V_{n+½}·P.
+    fn tractions(&self, b: &BoundaryNode, vo: [f64; 3], v: &mut [f64; 3], out: &mut BoundarySums) {
+        let im = self.inv_mass[b.node as usize];
+        for e in b.tractions.clone() {
+            let p = self.traction_impulse(e);
+            // v is updated after all smooth impulses; the forward half uses the final v.
+            out.trac_b += 0.5 * dot(vo, p);
+            for c in 0..3 {
+                v[c] += p[c] * im;
+            }
+        }
+    }
+
+    /// Stage 4 (and its share of 5) on node `b`: g_N(αₙ₊₁), R_d = g_N(αₙ₊₁)[u]ₙ₊₁ and the
+    /// cohesive impulse P_coh = −h̄ W R_d added to the velocity.
+    ///
+    /// # Safety
+    /// No other thread may touch the interface entries of `b`.
+    unsafe fn cohesion(
+        &self,
+        b: &BoundaryNode,
+        itfs: SharedSlice<InterfaceNode>,
+        v: &mut [f64; 3],
+        impulses: &mut NodeImpulses,
+    ) {
+        let im = self.inv_mass[b.node as usize];
+        for (slot, e) in b.interfaces.clone().enumerate() {
+            let itf = itfs.get(self.boundary.interfaces[e as usize] as usize);
+            let law = &self.model.interfaces[itf.interface as usize].law;
+            itf.stiffness = law.g_n(itf.alpha);
+            itf.cohesive_traction = cohesive_traction(itf.stiffness, itf.jump);
+            let p = itf.cohesive_traction.map(|c| -self.h_bar * itf.area * c);
+            if slot < MAX_CONSTRAINTS {
+                impulses.cohesion[slot] = p;
+                impulses.cohesion_plane[slot] = self.model.interfaces[itf.interface as usize].plane;
+                impulses.cohesions = slot + 1;
+            }
+            for c in 0..3 {
+                v[c] += p[c] * im;
+            }
+        }
+    }
+
+    /// Stage 6 on node `b`: V_{n+3/2} = (Ū(tₙ₊₂) − Ū(tₙ₊₁))/h on the prescribed components; the
+    /// reaction is what it took, M(V − V_free)/h̄. Returns whether a component is prescribed.
+    fn prescribed(
+        &self,
+        b: &BoundaryNode,
+        vo: [f64; 3],
+        v: &mut [f64; 3],
+        reactions: &mut [f64],
+        out: &mut BoundarySums,
+    ) -> bool {
+        let m = self.mass[b.node as usize];
+        let v_free = *v;
+        let mut any = false;
+        for c in 0..3 {
+            let bc = b.prescribed[c];
+            if bc != NONE {
+                any = true;
+                v[c] = self.bc_velocity[bc as usize];
+                let p = m * (v[c] - v_free[c]);
+                reactions[bc as usize] += p / self.h_bar;
+                out.reac_b += 0.5 * vo[c] * p;
+            }
+        }
+        any
+    }
+
+    /// Stage 7 on node `b`: each glued entry (μ(αₙ₊₁) of its law) and each contact entry
+    /// against its plane, in closed form ([`contact_impulse`]).
+    ///
+    /// # Safety
+    /// No other thread may touch the interface and contact entries of `b`.
+    unsafe fn contact(
+        &self,
+        b: &BoundaryNode,
+        itfs: SharedSlice<InterfaceNode>,
+        cns: SharedSlice<ContactNode>,
+        v: &mut [f64; 3],
+        impulses: &mut NodeImpulses,
+    ) {
+        let m = self.mass[b.node as usize];
+        let planes = &self.model.planes;
+        let mut solve = |gap: f64, plane: usize, mu: f64, area: f64| {
+            let (impulse, status) =
+                contact_impulse(v, gap, planes[plane].normal, self.plane_v_new[plane], mu, m);
+            let k = impulses.contacts;
+            if k < MAX_CONSTRAINTS {
+                impulses.contact[k] = impulse;
+                impulses.contact_plane[k] = plane;
+                impulses.contacts += 1;
+            }
+            (impulse.map(|c| c / area.max(f64::MIN_POSITIVE)), status)
+        };
+        for e in b.interfaces.clone() {
+            let itf = itfs.get(self.boundary.interfaces[e as usize] as usize);
+            let spec = &self.model.interfaces[itf.interface as usize];
+            let mu = spec.law.mu(itf.alpha, spec.mu_inf);
+            (itf.contact_impulse, itf.contact) = solve(itf.gap, spec.plane, mu, itf.area);
+        }
+        for e in b.contacts.clone() {
+            let cn = cns.get(self.boundary.contacts[e as usize] as usize);
+            (cn.contact_impulse, cn.contact) = solve(cn.gap, cn.plane as usize, cn.mu, cn.area);
+        }
+    }
+
+    /// The node's forward ledger halves with its final velocity V_{n+3/2} (PHYSICS.md §5), and
+    /// the corrections of the all-node loop's sums (which used the free velocity).
+    #[allow(clippy::too_many_arguments)]
+    fn ledger_halves(
+        &self,
+        b: &BoundaryNode,
+        vo: [f64; 3],
+        v_free0: [f64; 3],
+        v_free: [f64; 3],
+        v: [f64; 3],
+        impulses: &NodeImpulses,
+        out: &mut BoundarySums,
+    ) {
+        let (h_bar, g) = (self.h_bar, self.g);
+        let i = b.node as usize;
+        let m = self.mass[i];
+        let dv = [v[0] - v_free0[0], v[1] - v_free0[1], v[2] - v_free0[2]];
+        let pint = [
+            -h_bar * self.f_int[i][0],
+            -h_bar * self.f_int[i][1],
+            -h_bar * self.f_int[i][2],
+        ];
+        let pg = [h_bar * m * g[0], h_bar * m * g[1], h_bar * m * g[2]];
+        out.int_a += 0.5 * dot(dv, pint);
+        out.grav_a += 0.5 * dot(dv, pg);
+        out.kinetic += 0.5 * m * dot(vo, dv);
+        out.kinetic_half += 0.5 * m * (dot(v, v) - dot(v_free0, v_free0));
+        for e in b.tractions.clone() {
+            out.trac_a += 0.5 * dot(v, self.traction_impulse(e));
+        }
+        for c in 0..3 {
+            if b.prescribed[c] != NONE {
+                out.reac_a += 0.5 * v[c] * m * (v[c] - v_free[c]);
+            }
+        }
+        let (plane_v_old, plane_v_new) = (self.plane_v_old, self.plane_v_new);
+        // Glue of moving planes: the plane's share ½ v_plane·P_coh of the cohesive work.
+        for slot in 0..impulses.cohesions {
+            let k = impulses.cohesion_plane[slot];
+            out.plane_b += 0.5 * dot(plane_v_old[k], impulses.cohesion[slot]);
+            out.plane_a += 0.5 * dot(plane_v_new[k], impulses.cohesion[slot]);
+        }
+        // Contact: split the work on the relative velocity (dissipation, normal and
+        // tangential) and on the plane's velocity (external work).
+        for j in 0..impulses.contacts {
+            let k = impulses.contact_plane[j];
+            let n = self.model.planes[k].normal;
+            let p = impulses.contact[j];
+            let pn = dot(p, n);
+            let pt = [p[0] - pn * n[0], p[1] - pn * n[1], p[2] - pn * n[2]];
+            let rel_o = [
+                vo[0] - plane_v_old[k][0],
+                vo[1] - plane_v_old[k][1],
+                vo[2] - plane_v_old[k][2],
+            ];
+            let rel_n = [
+                v[0] - plane_v_new[k][0],
+                v[1] - plane_v_new[k][1],
+                v[2] - plane_v_new[k][2],
+            ];
+            out.cn_b += 0.5 * dot(rel_o, n) * pn;
+            out.cn_a += 0.5 * dot(rel_n, n) * pn;
+            out.ct_b += 0.5 * dot(rel_o, pt);
+            out.ct_a += 0.5 * dot(rel_n, pt);
+            out.plane_b += 0.5 * dot(plane_v_old[k], p);
+            out.plane_a += 0.5 * dot(plane_v_new[k], p);
+        }
+    }
+
+    /// Stage 8 on node `b`: αₙ₊₂ = min(u_r, max(αₙ₊₁, fₙ₊₂)) with
+    /// fₙ₊₂ = |[u]ₙ₊₁ + h (V_{n+3/2} − v_plane)| (normal part counted when positive): eq. 12
+    /// evaluated exactly on the next configuration.
+    ///
+    /// # Safety
+    /// No other thread may touch the interface entries of `b`.
+    unsafe fn damage(&self, b: &BoundaryNode, itfs: SharedSlice<InterfaceNode>, v: [f64; 3]) {
+        for e in b.interfaces.clone() {
+            let itf = itfs.get(self.boundary.interfaces[e as usize] as usize);
+            let spec = &self.model.interfaces[itf.interface as usize];
+            let vp = self.plane_v_new[spec.plane];
+            let next: [f64; 3] =
+                std::array::from_fn(|c| itf.jump[c] + self.h_next * (v[c] - vp[c]));
+            let f = damage_measure(next, self.model.planes[spec.plane].normal);
+            itf.alpha_next = damage_update(itf.alpha, f, spec.law.u_r);
+        }
+    }
+}
+
+/// Stages 4–8 on boundary nodes `range` (indices into `cx.boundary.nodes`), node by node in the
+/// order of PHYSICS.md §4. `v_all` holds the free velocities of stage 5's node loop on entry
+/// and V_{n+3/2} on exit; `reactions` (one entry per prescribed condition, zeroed) receives
+/// this chunk's reaction forces.
+///
+/// # Safety
+/// Chunks run concurrently must cover disjoint boundary nodes (each boundary node has its own
+/// node, interface and contact entries), and the slices must outlive the call.
+unsafe fn boundary_chunk(
+    cx: &BoundaryStep,
+    range: Range<usize>,
+    v_all: SharedSlice<[f64; 3]>,
+    itfs: SharedSlice<InterfaceNode>,
+    cns: SharedSlice<ContactNode>,
+    reactions: &mut [f64],
+) -> BoundarySums {
+    let mut out = BoundarySums::default();
+    for k in range {
+        let b = &cx.boundary.nodes[k];
+        let vo = cx.v_old[k];
+        let v_free0 = *v_all.get(b.node as usize);
+        let mut v = v_free0;
+        let mut impulses = NodeImpulses::default();
+        // 5 (F_ext): surface tractions.
+        cx.tractions(b, vo, &mut v, &mut out);
+        // 4–5. Cohesion: P_coh = −h̄ W g_N(αₙ₊₁)[u]ₙ₊₁.
+        cx.cohesion(b, itfs, &mut v, &mut impulses);
+        let v_free = v;
+        // 6. Prescribed components.
+        let prescribed = cx.prescribed(b, vo, &mut v, reactions, &mut out);
+        // 7. Contact and friction, on nodes with no prescribed component.
+        if !prescribed {
+            cx.contact(b, itfs, cns, &mut v, &mut impulses);
+        }
+        *v_all.get(b.node as usize) = v;
+        // 9 (this node's share): forward halves of the ledger.
+        cx.ledger_halves(b, vo, v_free0, v_free, v, &impulses, &mut out);
+        // 8. Damage rate after the dynamics.
+        cx.damage(b, itfs, v);
+    }
+    out
+}
+
+impl Simulation {
+    /// Stages 4–8 at every boundary node (PHYSICS.md §4), in fixed chunks on the thread team.
+    /// `h_bar` = (h_{n+½} + h_{n+3/2})/2 scales forces into impulses, `h_next` = h_{n+3/2} is
+    /// the interval the new velocities act over. Needs [`Simulation::prescribed_motion`] and
+    /// [`Simulation::free_velocity`] of this step; leaves the chunks' sums and the reactions in
+    /// the step's scratch for stage 9.
+    pub(super) fn boundary_pass(&mut self, h_bar: f64, h_next: f64) {
+        let sc = &mut self.scratch;
+        let cx = BoundaryStep {
+            model: &self.model,
+            boundary: &self.boundary,
+            v_old: &sc.v_old,
+            mass: &self.mass,
+            inv_mass: &self.inv_mass,
+            f_int: &self.f_int,
+            plane_v_old: &sc.plane_v_old,
+            plane_v_new: &sc.plane_v_new,
+            bc_velocity: &sc.bc_velocity,
+            amplitudes: &sc.amplitudes,
+            h_bar,
+            h_next,
+            g: self.model.gravity,
+        };
+        let (v_all, itfs, cns) = (
+            SharedSlice::new(&mut self.v),
+            SharedSlice::new(&mut self.interface_nodes),
+            SharedSlice::new(&mut self.contact_nodes),
+        );
+        let n_b = self.boundary.nodes.len();
+        let n_bc = self.model.displacements.len();
+        let chunks = n_b.div_ceil(BOUNDARY_GRAIN);
+        self.parts_reactions.clear();
+        self.parts_reactions.resize(chunks * n_bc, 0.0);
+        let reaction_parts = SharedSlice::new(&mut self.parts_reactions);
+        // SAFETY: each boundary node has its own node, interface and contact entries, and the
+        // chunks are disjoint ranges of boundary nodes with their own rows of reactions.
+        let run = |c: usize| unsafe {
+            let range = c * BOUNDARY_GRAIN..((c + 1) * BOUNDARY_GRAIN).min(n_b);
+            let reactions = reaction_parts.range(c * n_bc, (c + 1) * n_bc);
+            boundary_chunk(&cx, range, v_all, itfs, cns, reactions)
+        };
+        let parts = &mut self.parts_boundary;
+        match &self.team {
+            Some(team) if chunks > 1 => team.map_into(chunks, parts, run),
+            _ => {
+                parts.clear();
+                parts.extend((0..chunks).map(run));
+            }
+        }
+        sc.boundary_sums = parts.iter().fold(BoundarySums::default(), |a, &b| a.add(b));
+        for (k, r) in sc.reactions.iter_mut().enumerate() {
+            *r = (0..chunks).fold(0.0, |acc, c| acc + self.parts_reactions[c * n_bc + k]);
+        }
+    }
+}

@@ -1,0 +1,111 @@
+//! What the user is told: the blow-up diagnostic (where, with which h and h_crit, what to
+//! change; PHYSICS.md §6) and the regime warnings printed before a run.
+
+use super::state::SolverError;
+use super::Simulation;
+
+impl Simulation {
+    /// The blow-up diagnostic: where, with which h and h_crit, and what to change.
+    pub(super) fn unstable(&self, reason: String) -> SolverError {
+        let factor = self.h / self.h_crit;
+        let configured = self.model.scheme.time_step_factor;
+        let advice = if configured >= 1.0 {
+            format!("scheme.time_step_factor = {configured} is at or above the stability limit 1: set it ≤ 0.9 (default 0.5).")
+        } else if factor > 0.95 {
+            format!("The time step factor {factor:.3} is at or above the stability limit 1: set scheme.time_step_factor ≤ 0.9 (default 0.5).")
+        } else {
+            "The step is below the estimated limit: stiffening under large strain may have lowered h_crit (lower scheme.h_crit_update_interval or scheme.time_step_factor), or the loading is too violent for the mesh (refine it or slow the load).".to_string()
+        };
+        SolverError::Unstable {
+            step: self.step_count,
+            time: self.time,
+            h: self.h,
+            h_crit: self.h_crit,
+            factor,
+            reason,
+            advice,
+        }
+    }
+    /// Plain-words warnings about the regime of this model, for the user before the run: the
+    /// parameters are admissible, but the results or the cost need reading with care.
+    ///
+    /// - Near incompressibility (ν ≥ 0.49): K/G = 2(1+ν)/(3(1−2ν)) and c_p/c_s =
+    ///   √(2(1−ν)/(1−2ν)); with full integration the hex8 locks volumetrically.
+    /// - Interfaces that set the stable step: h_crit with the glue springs W g_N(α) in K
+    ///   (PHYSICS.md §6) at least 1.5× below [`Simulation::h_crit_bulk`], the bulk's alone; the
+    ///   run is then that many times longer.
+    /// - A brittle law, (u_r − α_e)/α_e < 1 %: the softening branch is crossed within a step.
+    /// - Elongated elements (aspect ratio ≥ 10): the shortest edge sets the step.
+    /// - A time-step factor above 1: unstable by design (PHYSICS.md §6).
+    pub fn advisories(&self) -> Vec<String> {
+        let m = &self.model;
+        let mat = &m.material;
+        let mut out = Vec::new();
+        let nu = mat.poisson;
+        if nu >= 0.49 {
+            let k_over_g = 2.0 * (1.0 + nu) / (3.0 * (1.0 - 2.0 * nu));
+            let cp_over_cs = (2.0 * (1.0 - nu) / (1.0 - 2.0 * nu)).sqrt();
+            // The hourglass stiffness κ(λ+2μ) grows with λ: scaled to the default's share of the
+            // shear modulus, κ = 0.05·2μ/(λ+2μ).
+            let kappa_shear = 0.05 * 2.0 * mat.mu / (mat.lambda + 2.0 * mat.mu);
+            let kappa = m.scheme.hourglass_coefficient;
+            let quadrature = match m.scheme.integration {
+                crate::model::Integration::Full => format!(
+                    "with full 2×2×2 integration the hex8 locks volumetrically: it is far too stiff in bending and in any deformation that keeps the volume; use scheme.integration = \"reduced\" with scheme.hourglass_coefficient = {kappa_shear:.1e} (the hourglass stiffness κ(λ+2μ) grows with λ and locks as well at the default κ = 0.05)"
+                ),
+                crate::model::Integration::Reduced if kappa > 2.0 * kappa_shear => format!(
+                    "one-point integration does not lock volumetrically, but its hourglass stiffness κ(λ+2μ) grows with λ: at κ = {kappa} it stiffens bending as locking would; scheme.hourglass_coefficient = {kappa_shear:.1e} scales it to the shear modulus"
+                ),
+                crate::model::Integration::Reduced => format!(
+                    "one-point integration with κ = {kappa} does not lock"
+                ),
+            };
+            out.push(format!(
+                "material.poisson = {nu} is nearly incompressible (K/G = {k_over_g:.0}): {quadrature}. The stable step follows the pressure wave, c_p = {cp_over_cs:.1} c_s, so shear motion costs {cp_over_cs:.1}× more steps than at ν = 0."
+            ));
+        }
+        let le = m.mesh.min_edge();
+        if let Some(h_bulk) = self
+            .h_crit_bulk
+            .filter(|&hb| hb >= 1.5 * self.stats.h_crit_initial)
+        {
+            let h0 = self.stats.h_crit_initial;
+            let names: Vec<String> = m
+                .interfaces
+                .iter()
+                .enumerate()
+                .map(|(k, itf)| format!("interface[{k}] (g_N(0) = {:.3e} Pa/m)", itf.law.g_n0))
+                .collect();
+            out.push(format!(
+                "the interface stiffness sets the stable step: h_crit = {h0:.3e} s with the glue springs of {}, {h_bulk:.3e} s for the bulk alone, so the run takes {:.1}× the steps. A glued node's spring against its mass has ω² = W g_N(0)/m: g_N(0) about {:.0}× smaller would no longer limit the step.",
+                names.join(", "),
+                h_bulk / h0,
+                (h_bulk / h0).powi(2)
+            ));
+        }
+        for (k, itf) in m.interfaces.iter().enumerate() {
+            let law = &itf.law;
+            if law.alpha_e > 0.0 && (law.u_r - law.alpha_e) < 0.01 * law.alpha_e {
+                out.push(format!(
+                    "interface[{k}] is brittle: u_r − α_e = {:.3e} m is {:.2} % of α_e; a node goes from damage onset to rupture within a step or two, the softening branch T(δ) is not resolved in time (the dissipation still is, by the ledger's ΔD).",
+                    law.u_r - law.alpha_e,
+                    100.0 * (law.u_r - law.alpha_e) / law.alpha_e
+                ));
+            }
+        }
+        let aspect = m.mesh.max_aspect_ratio();
+        if aspect >= 10.0 {
+            out.push(format!(
+                "elements with aspect ratio up to {aspect:.0}: the shortest edge ({le:.3e} m) sets the stable step, h_crit = {:.3e} s.",
+                self.h_crit
+            ));
+        }
+        let factor = m.scheme.time_step_factor;
+        if factor > 1.0 {
+            out.push(format!(
+                "scheme.time_step_factor = {factor} > 1: the central-difference scheme is unstable above h_crit (PHYSICS.md §6); the run will stop when its energy grows, with a diagnostic."
+            ));
+        }
+        out
+    }
+}

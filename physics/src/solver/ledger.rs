@@ -1,0 +1,171 @@
+//! Stage 9 of PHYSICS.md §4: the energy ledger of §5 closed for the step, the run statistics
+//! (reactions and their peaks, first damage, full rupture), and the blow-up checks.
+
+use super::state::{SolverError, StateCounts};
+use super::Simulation;
+use crate::energy::Work;
+use crate::interface::damage::{dissipation_increment, stored_energy};
+
+/// What the interface nodes hold after a step: Σ Ψ_d, Σ ΔD, the most negative ΔD and the
+/// state counts.
+struct InterfaceSums {
+    stored: f64,
+    dissipated: f64,
+    worst: f64,
+    counts: StateCounts,
+}
+
+impl Simulation {
+    /// Stage 9: the step's work halves into the ledger (trapezoid pairing, PHYSICS.md §5), the
+    /// reactions and their peaks, the interface energies and damage dissipation, the ledger's
+    /// closing, the run statistics and the blow-up checks (non-finite values, negative damage
+    /// dissipation, contact creating energy, energy growing without a source). `first`: the
+    /// start of the run, where only the forward halves exist.
+    pub(super) fn ledger(&mut self, first: bool) -> Result<(), SolverError> {
+        self.reactions_and_peaks();
+        self.push_work(first);
+        let itf = self.interface_sums();
+        let l = &mut self.ledger;
+        l.interface_stored = itf.stored;
+        l.damage_dissipated += itf.dissipated;
+        if first {
+            l.initial_kinetic = l.kinetic;
+            l.initial_strain = l.strain;
+            l.initial_hourglass = l.hourglass;
+            l.initial_interface_stored = l.interface_stored;
+            self.energy_budget =
+                (self.kinetic_half + l.strain + l.hourglass + l.interface_stored).abs();
+        }
+        l.close_step();
+        // The budget is compared with ½V_{n+½}ᵀMV_{n+½}, so it takes the works up to the forward
+        // halves of this step's impulses: with the work up to tₙ only, a load ramped from zero
+        // (no work yet at t₁, a velocity already) reads as energy created at step 1.
+        let ext = l.external_work_settled();
+        self.energy_budget += (ext - self.last_external_work).abs();
+        self.last_external_work = ext;
+        self.damage_times(itf.counts);
+        self.blow_up_checks(itf.worst)
+    }
+
+    /// The reaction of each prescribed condition and its peak (excluding steps where the
+    /// prescribed velocity jumps, and after full rupture, when the body is free and the
+    /// reaction only measures its vibration).
+    fn reactions_and_peaks(&mut self) {
+        let t = self.time;
+        let sc = &self.scratch;
+        for (k, r) in sc.reactions.iter().enumerate() {
+            self.stats.reactions[k] = *r;
+            let peak = &mut self.stats.peaks[k];
+            let before_rupture =
+                self.interface_nodes.is_empty() || self.stats.time_full_rupture.is_none();
+            if before_rupture && !sc.bc_jump[k] && r.abs() > peak.force.abs() {
+                peak.force = *r;
+                peak.time = t;
+                peak.imposed_displacement = self.model.displacements[k].history.value(t)[0];
+            }
+        }
+    }
+
+    /// Kₙ and each force's half contributions of this step (backward ½V_{n−½}·P, forward
+    /// ½V_{n+½}·P) from the node loop and the boundary pass, into the ledger.
+    fn push_work(&mut self, first: bool) {
+        let (mut s, bs) = (self.scratch.node_sums, self.scratch.boundary_sums);
+        s.int_a += bs.int_a;
+        s.grav_a += bs.grav_a;
+        s.kinetic += bs.kinetic;
+        s.kinetic_half += bs.kinetic_half;
+        let l = &mut self.ledger;
+        l.kinetic = s.kinetic;
+        let works: [(&mut Work, f64, f64); 7] = [
+            (&mut l.internal_work, s.int_b, s.int_a),
+            (&mut l.gravity_work, s.grav_b, s.grav_a),
+            (&mut l.traction_work, bs.trac_b, bs.trac_a),
+            (&mut l.reaction_work, bs.reac_b, bs.reac_a),
+            (&mut l.plane_work, bs.plane_b, bs.plane_a),
+            (&mut l.contact_normal_work, bs.cn_b, bs.cn_a),
+            (&mut l.contact_tangential_work, bs.ct_b, bs.ct_a),
+        ];
+        for (work, b, a) in works {
+            if first {
+                work.start(a);
+            } else {
+                work.push(b, a);
+            }
+        }
+        self.kinetic_half = s.kinetic_half;
+    }
+
+    /// Σ Ψ_d = Σ W ½ g_N(αₙ)|[u]ₙ|² and Σ ΔDₙ over the interface nodes (PHYSICS.md §5), and
+    /// their states; moves [u]ₙ, g_N(αₙ) into the "previous" slots for the next ΔD.
+    fn interface_sums(&mut self) -> InterfaceSums {
+        let mut out = InterfaceSums {
+            stored: 0.0,
+            dissipated: 0.0,
+            worst: 0.0,
+            counts: StateCounts::default(),
+        };
+        for itf in self.interface_nodes.iter_mut() {
+            let law = &self.model.interfaces[itf.interface as usize].law;
+            out.stored += stored_energy(itf.area, itf.stiffness, itf.jump);
+            let dd = dissipation_increment(
+                itf.area,
+                itf.prev_stiffness,
+                itf.stiffness,
+                itf.prev_jump,
+                itf.jump,
+            );
+            out.worst = out.worst.min(dd);
+            out.dissipated += dd;
+            itf.prev_stiffness = itf.stiffness;
+            itf.prev_jump = itf.jump;
+            out.counts.add(law.state(itf.alpha));
+        }
+        out
+    }
+
+    /// Times of first damage and of full rupture (paper fig. 6).
+    fn damage_times(&mut self, counts: StateCounts) {
+        let n = self.interface_nodes.len();
+        if counts.elastic < n && self.stats.time_first_damage.is_none() {
+            self.stats.time_first_damage = Some(self.time);
+        }
+        if counts.ruptured == n && n > 0 && self.stats.time_full_rupture.is_none() {
+            self.stats.time_full_rupture = Some(self.time);
+        }
+    }
+
+    /// The ledger's blow-up checks (PHYSICS.md §6): non-finite energy, a negative damage
+    /// dissipation increment `worst`, a negative cumulative contact dissipation, mechanical
+    /// energy grown past `energy_growth_limit` × what was supplied.
+    fn blow_up_checks(&self, worst: f64) -> Result<(), SolverError> {
+        let l = &self.ledger;
+        let mech = self.kinetic_half + l.strain + l.hourglass + l.interface_stored;
+        if !(mech.is_finite() && l.residual().is_finite()) {
+            return Err(
+                self.unstable("non-finite energy (NaN or infinity in velocities or forces)".into())
+            );
+        }
+        if worst < -1e-9 * l.max_energy_seen.max(self.energy_floor) {
+            return Err(self.unstable(format!(
+                "negative damage dissipation increment ({worst:.3e} J): the jump turned by more than 90° in one step"
+            )));
+        }
+        // Contact dissipation is not ≥ 0 step by step with the trapezoid pairing (PHYSICS.md §5),
+        // but it must be cumulatively, to the ledger's own accuracy: 1e-3 of the largest energy.
+        let contact = l.contact_normal_dissipated + l.friction_dissipated;
+        if contact < -1e-3 * l.max_energy_seen.max(self.energy_floor) {
+            return Err(self.unstable(format!(
+                "the cumulative contact dissipation is negative ({contact:.3e} J, beyond 1e-3 of the largest energy {:.3e} J): contact is creating energy",
+                l.max_energy_seen
+            )));
+        }
+        let limit = self.model.scheme.energy_growth_limit * self.energy_budget + self.energy_floor;
+        if mech > limit {
+            return Err(self.unstable(format!(
+                "the mechanical energy ({mech:.4e} J) grew past {}× the energy supplied ({:.4e} J) with no source",
+                self.model.scheme.energy_growth_limit, self.energy_budget
+            )));
+        }
+        Ok(())
+    }
+}

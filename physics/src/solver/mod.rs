@@ -1,0 +1,226 @@
+//! The CD-Lagrange time step (PHYSICS.md §4) with the RCCM interface, contact, friction,
+//! prescribed displacements, the energy ledger (§5) and the stable-step estimate (§6).
+//!
+//! State at integer times tₙ: displacements U, damage α; at half times: velocities V. One call of
+//! [`Simulation::step`] goes from tₙ to tₙ₊₁ through the numbered stages of PHYSICS.md §4, each a
+//! named function:
+//!
+//! | stage | function | file |
+//! |---|---|---|
+//! | 1 positions and state | [`Simulation::advance_positions`] | `stages.rs` |
+//! | 2 surfaces, gaps, prescribed values | [`Simulation::surfaces_and_gaps`], [`Simulation::prescribed_motion`] | `stages.rs` |
+//! | 3 internal forces | [`Simulation::internal_forces`] | `stages.rs` |
+//! | §6 next step | [`Simulation::next_time_step`] | `stable_step.rs` |
+//! | 5 free velocity, all nodes | [`Simulation::free_velocity`] | `stages.rs` |
+//! | 4–8 at boundary nodes | [`Simulation::boundary_pass`]: per node, tractions, cohesion (4), free velocity (5), prescribed components (6), contact (7), the ledger's halves, damage (8) | `boundary.rs` |
+//! | 9 ledger | [`Simulation::ledger`] | `ledger.rs` |
+//!
+//! Nothing is solved globally: every stage is a loop of local computations, the element loop in
+//! parallel ([`Team`]: persistent threads, static shares) and deterministic whatever the thread
+//! count (node-disjoint element blocks, fixed-size chunks, fixed-order reductions). Stages 4–8
+//! are one fused pass over the boundary nodes (a node's stages need only that node), which calls
+//! the stage functions in order.
+
+mod boundary;
+mod diagnostics;
+mod ledger;
+mod setup;
+mod stable_step;
+mod stages;
+mod state;
+
+pub use state::{
+    ContactNode, ContactStatus, InterfaceNode, PeakReaction, RunStats, SolverError, StableStep,
+    StageTimes, StateCounts,
+};
+
+use crate::energy::{EnergySnapshot, Ledger};
+use crate::kernels::{ElementSums, NodeSums};
+use crate::law::InterfaceState;
+use crate::mesh::ElementClasses;
+use crate::model::Model;
+use crate::team::Team;
+use boundary::{Boundary, BoundarySums};
+use stages::StepScratch;
+use std::time::Instant;
+
+/// Smallest element block ([`crate::mesh::Mesh::element_blocks`]), and nodes per chunk in node
+/// loops. Fixed, so the reduction order never depends on the thread count.
+const ELEMENT_GRAIN: usize = 256;
+const NODE_GRAIN: usize = 4096;
+/// Boundary nodes per chunk of the boundary loop (stages 4–8).
+const BOUNDARY_GRAIN: usize = 256;
+/// Below this many elements the loops run on the calling thread (a parallel section would
+/// cost more than it saves).
+pub const PARALLEL_MIN_ELEMENTS: usize = 2048;
+
+/// A simulation in progress. Build it with [`Simulation::new`], advance it with
+/// [`Simulation::step`] or [`Simulation::run`].
+pub struct Simulation {
+    pub model: Model,
+    classes: ElementClasses,
+    /// Colours → node-disjoint blocks → elements ([`crate::mesh::Mesh::element_blocks`]).
+    blocks: Vec<Vec<Vec<u32>>>,
+    /// The threads of the parallel loops (None: everything on the calling thread).
+    team: Option<Team>,
+    /// Per-block / per-chunk results of the parallel loops, reused from step to step.
+    parts_elements: Vec<ElementSums>,
+    parts_nodes: Vec<NodeSums>,
+    parts_boundary: Vec<BoundarySums>,
+    /// Reaction impulse of each prescribed condition from each boundary chunk.
+    parts_reactions: Vec<f64>,
+    /// Lumped nodal masses [kg] and their inverses.
+    pub mass: Vec<f64>,
+    inv_mass: Vec<f64>,
+    /// Displacements Uₙ [m].
+    pub u: Vec<[f64; 3]>,
+    /// Velocities V_{n+½} [m/s].
+    pub v: Vec<[f64; 3]>,
+    /// Internal forces F_int(Uₙ) [N].
+    pub f_int: Vec<[f64; 3]>,
+    pub interface_nodes: Vec<InterfaceNode>,
+    pub contact_nodes: Vec<ContactNode>,
+    /// What acts on each boundary node (glue, contact, tractions, prescribed components).
+    boundary: Boundary,
+    /// Per-step values and sums, in buffers reused from step to step.
+    scratch: StepScratch,
+    /// Current time tₙ [s] and step count n.
+    pub time: f64,
+    pub step_count: u64,
+    /// h_{n+½} = tₙ₊₁ − tₙ, the interval about to be taken [s].
+    pub h: f64,
+    pub h_crit: f64,
+    pub ledger: Ledger,
+    pub stats: RunStats,
+    /// Smallest Jacobian seen at the last force evaluation.
+    pub min_jacobian: f64,
+    /// Ritz vector of the last stable-step estimate (warm start of the next one).
+    ritz_vector: Vec<f64>,
+    /// h_crit of the bulk alone (interface springs left out) at t = 0 [s], measured when a glued
+    /// node's spring comes near the system's ω_max, i.e. when an interface may set the step.
+    pub h_crit_bulk: Option<f64>,
+    /// Smallest Jacobian when h_crit was last estimated.
+    jacobian_at_estimate: f64,
+    /// ½ V_{n+½}ᵀ M V_{n+½}, for the energy-growth check.
+    pub kinetic_half: f64,
+    /// Initial energy plus Σ|ΔW_ext|: what may have entered the system [J].
+    energy_budget: f64,
+    last_external_work: f64,
+    /// Energy below which growth is round-off, E·V·1e-14 [J].
+    energy_floor: f64,
+    /// Largest |reference coordinate| of the mesh [m]: the scale of position round-off.
+    coordinate_scale: f64,
+}
+
+impl Simulation {
+    /// One CD-Lagrange step tₙ → tₙ₊₁ (PHYSICS.md §4, stages 1–9), written with the index of
+    /// the step just completed as n − 1: on entry Uₙ, αₙ, V_{n+½}; on exit Uₙ₊₁, αₙ₊₁, V_{n+3/2}.
+    pub fn step(&mut self) -> Result<(), SolverError> {
+        let t0 = Instant::now();
+        let h = self.h;
+        // 1. Uₙ₊₁ = Uₙ + h V_{n+½}; αₙ₊₁ = αₙ + h α̇_{n+½}.
+        self.advance_positions(h);
+        // 2. Rigid surfaces to tₙ₊₁: jumps [u]ₙ₊₁ and gaps gₙ₊₁.
+        self.surfaces_and_gaps();
+        let t1 = Instant::now();
+        // 3. F_int,ₙ₊₁ from Uₙ₊₁ (parallel element loop); an inverted element stops the run.
+        self.internal_forces(true, true)?;
+        let t2 = Instant::now();
+        // §6. Re-estimate h_crit as the stiffness changes; fixes h_{n+3/2}.
+        let h_next = self.next_time_step();
+        let t3 = Instant::now();
+        // 2. Surface and prescribed velocities over the interval about to be taken.
+        self.prescribed_motion(h_next, false);
+        let h_bar = 0.5 * (h + h_next);
+        // 5. Free velocity on every node (internal forces and gravity).
+        self.free_velocity(h_bar);
+        let t4 = Instant::now();
+        // 4–8. Boundary nodes: tractions, cohesion, prescribed components, contact, damage.
+        self.boundary_pass(h_bar, h_next);
+        let t5 = Instant::now();
+        // 9. Energy ledger and blow-up checks.
+        self.ledger(false)?;
+        self.h = h_next;
+        let t6 = Instant::now();
+        let st = &mut self.stats.stage_times;
+        st.positions += (t1 - t0).as_secs_f64();
+        st.internal_forces += (t2 - t1).as_secs_f64();
+        st.h_crit += (t3 - t2).as_secs_f64();
+        st.free_velocity += (t4 - t3).as_secs_f64();
+        st.interface_contact += (t5 - t4).as_secs_f64();
+        st.bookkeeping += (t6 - t5).as_secs_f64();
+        self.stats.steps_wall += t6 - t0;
+        Ok(())
+    }
+
+    /// Steps until `model.end_time`, calling `on_step` after each step; `on_step` returning
+    /// `false` cancels the run.
+    pub fn run(&mut self, mut on_step: impl FnMut(&Simulation) -> bool) -> Result<(), SolverError> {
+        while !self.finished() {
+            self.step()?;
+            if !on_step(self) {
+                return Err(SolverError::Cancelled {
+                    step: self.step_count,
+                    time: self.time,
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// True once tₙ has reached the end time (to within a millionth of a step).
+    pub fn finished(&self) -> bool {
+        self.time >= self.model.end_time - 1e-6 * self.h
+    }
+
+    /// Threads that run the step's loops: the team's size, or 1 when the mesh is below the size
+    /// where parallel sections pay off (or one thread was asked for).
+    pub fn threads(&self) -> usize {
+        self.team.as_ref().map_or(1, Team::size)
+    }
+
+    /// Runs the step's loops on a team of `threads` threads from now on (1: on the calling
+    /// thread), whatever the mesh size. Results do not depend on it.
+    pub fn use_threads(&mut self, threads: usize) {
+        self.team = (threads > 1).then(|| Team::new(threads));
+    }
+
+    /// Number of elements times steps done.
+    pub fn element_steps(&self) -> u64 {
+        self.model.mesh.elements.len() as u64 * self.step_count
+    }
+
+    /// Number of distinct element shapes (each has its own precomputed Gauss data).
+    pub fn element_class_count(&self) -> usize {
+        self.classes.data.len()
+    }
+
+    /// Interface state counts now (paper fig. 6, right).
+    pub fn state_counts(&self) -> StateCounts {
+        let mut c = StateCounts::default();
+        for itf in &self.interface_nodes {
+            c.add(
+                self.model.interfaces[itf.interface as usize]
+                    .law
+                    .state(itf.alpha),
+            );
+        }
+        c
+    }
+
+    /// The ledger's values now.
+    pub fn energies(&self) -> EnergySnapshot {
+        self.ledger.snapshot()
+    }
+}
+
+impl StateCounts {
+    /// Counts one more node in `state`.
+    pub fn add(&mut self, state: InterfaceState) {
+        match state {
+            InterfaceState::Elastic => self.elastic += 1,
+            InterfaceState::Transition => self.transition += 1,
+            InterfaceState::Ruptured => self.ruptured += 1,
+        }
+    }
+}

@@ -1,0 +1,356 @@
+//! Building a simulation: lumped masses (PHYSICS.md §2), the interface, contact, traction and
+//! prescribed entries per boundary node, the first stable-step estimate (§6), and the start of
+//! the leapfrog at t₀ (§4: V_{−½}, then the first impulses give V_{½}).
+
+use super::boundary::{Boundary, NONE};
+use super::stages::StepScratch;
+use super::state::{
+    ContactNode, ContactStatus, InterfaceNode, PeakReaction, RunStats, SolverError,
+};
+use super::{Simulation, ELEMENT_GRAIN, PARALLEL_MIN_ELEMENTS};
+use crate::energy::Ledger;
+use crate::interface::damage::{damage_measure, damage_update};
+use crate::mesh::{dot, sub, ElementClasses, Mesh};
+use crate::model::Model;
+use crate::team::Team;
+use std::collections::BTreeMap;
+
+/// The face set `name` of `mesh`.
+fn face<'a>(mesh: &'a Mesh, name: &str) -> Result<&'a Vec<[u32; 4]>, SolverError> {
+    mesh.face_sets
+        .get(name)
+        .ok_or_else(|| SolverError::Setup(format!("no face set named `{name}`")))
+}
+
+/// Lumped nodal masses mₐ = Σ_e ρ₀ Vₐᵉ, the row sums of the consistent mass (PHYSICS.md §2);
+/// a node of no element (zero mass) is refused.
+fn lumped_masses(model: &Model, classes: &ElementClasses) -> Result<Vec<f64>, SolverError> {
+    let rho = model.material.density;
+    let mut mass = vec![0.0; model.mesh.nodes.len()];
+    for (e, conn) in model.mesh.elements.iter().enumerate() {
+        let lv = classes.data[classes.class_of[e] as usize].lumped_volumes();
+        for a in 0..8 {
+            mass[conn[a] as usize] += rho * lv[a];
+        }
+    }
+    if let Some(i) = mass.iter().position(|&m| !(m > 0.0)) {
+        return Err(SolverError::Setup(format!(
+            "node {i} belongs to no element (zero mass)"
+        )));
+    }
+    Ok(mass)
+}
+
+/// The glued nodes of every interface, each bonded to its projection y₀ on the plane at t₀,
+/// with its tributary reference area W (PHYSICS.md §3, §4 stage 4).
+fn glued_nodes(model: &Model) -> Result<Vec<InterfaceNode>, SolverError> {
+    let mesh = &model.mesh;
+    let mut out = Vec::new();
+    for (k, itf) in model.interfaces.iter().enumerate() {
+        let plane = &model.planes[itf.plane];
+        for (node, area) in mesh.nodal_areas(face(mesh, &itf.faces)?) {
+            let x = mesh.nodes[node as usize];
+            let gap0 = dot(plane.normal, sub(x, plane.point));
+            let y0 = [
+                x[0] - gap0 * plane.normal[0],
+                x[1] - gap0 * plane.normal[1],
+                x[2] - gap0 * plane.normal[2],
+            ];
+            out.push(InterfaceNode {
+                node,
+                interface: k as u32,
+                area,
+                bonded_point: y0,
+                alpha: 0.0,
+                alpha_next: 0.0,
+                jump: [0.0; 3],
+                gap: gap0,
+                stiffness: itf.law.g_n0,
+                cohesive_traction: [0.0; 3],
+                contact_impulse: [0.0; 3],
+                contact: ContactStatus::Open,
+                prev_jump: [0.0; 3],
+                prev_stiffness: itf.law.g_n0,
+            });
+        }
+    }
+    Ok(out)
+}
+
+/// The nodes of every contact face set, with their area and friction coefficient.
+fn contact_nodes(model: &Model) -> Result<Vec<ContactNode>, SolverError> {
+    let mut out = Vec::new();
+    for c in &model.contacts {
+        for (node, area) in model.mesh.nodal_areas(face(&model.mesh, &c.faces)?) {
+            out.push(ContactNode {
+                node,
+                plane: c.plane as u32,
+                mu: c.mu,
+                area,
+                gap: 0.0,
+                contact_impulse: [0.0; 3],
+                contact: ContactStatus::Open,
+            });
+        }
+    }
+    Ok(out)
+}
+
+/// (node, traction index, nodal force W t at amplitude 1 [N]) of every traction.
+fn traction_entries(model: &Model) -> Result<Vec<(u32, u16, [f64; 3])>, SolverError> {
+    let mut out = Vec::new();
+    for (k, t) in model.tractions.iter().enumerate() {
+        for (node, area) in model.mesh.nodal_areas(face(&model.mesh, &t.faces)?) {
+            out.push((node, k as u16, t.vector.map(|c| c * area)));
+        }
+    }
+    Ok(out)
+}
+
+/// The prescribed condition of each component per node; a component prescribed twice with
+/// different histories is refused.
+fn prescribed_components(model: &Model) -> Result<BTreeMap<u32, [u16; 3]>, SolverError> {
+    let mut prescribed: BTreeMap<u32, [u16; 3]> = BTreeMap::new();
+    for (k, d) in model.displacements.iter().enumerate() {
+        for node in model.mesh.face_set_nodes(face(&model.mesh, &d.faces)?) {
+            let slot = &mut prescribed.entry(node).or_insert([NONE; 3])[d.component];
+            if *slot != NONE && model.displacements[*slot as usize].history != d.history {
+                return Err(SolverError::Setup(format!(
+                    "node {node} has component {} prescribed twice with different histories (displacement[{}] on `{}` and displacement[{k}] on `{}`)",
+                    ["x", "y", "z"][d.component],
+                    *slot,
+                    model.displacements[*slot as usize].faces,
+                    d.faces
+                )));
+            }
+            if *slot == NONE {
+                *slot = k as u16;
+            }
+        }
+    }
+    Ok(prescribed)
+}
+
+impl Simulation {
+    /// Builds the simulation: reference gradients, colours, lumped masses, boundary bookkeeping,
+    /// the first stable-step estimate, and the start of the leapfrog (V_{−½}, V_{½}).
+    ///
+    /// The initial velocity field is the rigid motion V₀(X) = v₀ + ω₀ × (X − X_c) of the scene's
+    /// `initial_velocity` v₀ and `initial_angular_velocity` ω₀ about the centre of mass X_c.
+    pub fn new(model: Model) -> Result<Simulation, SolverError> {
+        let v0 = model.initial_velocity;
+        let w = model.initial_angular_velocity;
+        let mesh = &model.mesh;
+        let n = mesh.nodes.len();
+        let velocities = if w == [0.0; 3] {
+            vec![v0; n]
+        } else {
+            let xc = mesh
+                .centre_of_volume()
+                .map_err(|e| SolverError::Setup(e.to_string()))?;
+            mesh.nodes
+                .iter()
+                .map(|x| {
+                    let r = sub(*x, xc);
+                    [
+                        v0[0] + w[1] * r[2] - w[2] * r[1],
+                        v0[1] + w[2] * r[0] - w[0] * r[2],
+                        v0[2] + w[0] * r[1] - w[1] * r[0],
+                    ]
+                })
+                .collect()
+        };
+        Self::with_initial_state(model, vec![[0.0; 3]; n], velocities)
+    }
+
+    /// As [`Simulation::new`], from given initial displacements U₀ and velocities V₀ per node
+    /// (prescribed components of U₀ are overwritten by their histories at t = 0).
+    pub fn with_initial_state(
+        model: Model,
+        u0: Vec<[f64; 3]>,
+        v0: Vec<[f64; 3]>,
+    ) -> Result<Simulation, SolverError> {
+        let n_nodes = model.mesh.nodes.len();
+        if u0.len() != n_nodes || v0.len() != n_nodes {
+            return Err(SolverError::Setup(format!(
+                "initial state has {} displacements and {} velocities for {} nodes",
+                u0.len(),
+                v0.len(),
+                n_nodes
+            )));
+        }
+        let mesh = &model.mesh;
+        let classes = mesh
+            .element_classes()
+            .map_err(|e| SolverError::Setup(e.to_string()))?;
+        let mass = lumped_masses(&model, &classes)?;
+        let interface_nodes = glued_nodes(&model)?;
+        let contact_nodes = contact_nodes(&model)?;
+        let boundary = Boundary::gather(
+            interface_nodes.iter().map(|i| i.node),
+            contact_nodes.iter().map(|c| c.node),
+            traction_entries(&model)?,
+            &prescribed_components(&model)?,
+        );
+        let volume: f64 = classes
+            .class_of
+            .iter()
+            .map(|&c| classes.data[c as usize].volume())
+            .sum();
+        let threads = rayon::current_num_threads();
+        let team = (mesh.elements.len() >= PARALLEL_MIN_ELEMENTS && threads > 1)
+            .then(|| Team::new(threads));
+        let coordinate_scale = mesh
+            .nodes
+            .iter()
+            .flatten()
+            .fold(0.0f64, |a, x| a.max(x.abs()));
+        let mut sim = Simulation {
+            blocks: mesh.element_blocks(ELEMENT_GRAIN),
+            classes,
+            team,
+            parts_elements: Vec::new(),
+            parts_nodes: Vec::new(),
+            parts_boundary: Vec::new(),
+            parts_reactions: Vec::new(),
+            inv_mass: mass.iter().map(|m| 1.0 / m).collect(),
+            mass,
+            u: u0,
+            v: v0,
+            f_int: vec![[0.0; 3]; n_nodes],
+            interface_nodes,
+            contact_nodes,
+            boundary,
+            scratch: StepScratch::default(),
+            time: 0.0,
+            step_count: 0,
+            h: 0.0,
+            h_crit: 0.0,
+            ledger: Ledger::default(),
+            stats: RunStats {
+                peaks: model
+                    .displacements
+                    .iter()
+                    .map(|d| PeakReaction {
+                        faces: d.faces.clone(),
+                        component: ["x", "y", "z"][d.component].into(),
+                        force: 0.0,
+                        imposed_displacement: d.history.value(0.0)[0],
+                        time: 0.0,
+                    })
+                    .collect(),
+                reactions: vec![0.0; model.displacements.len()],
+                ..Default::default()
+            },
+            min_jacobian: 1.0,
+            ritz_vector: Vec::new(),
+            h_crit_bulk: None,
+            jacobian_at_estimate: 1.0,
+            kinetic_half: 0.0,
+            energy_budget: 0.0,
+            last_external_work: 0.0,
+            energy_floor: model.material.young * volume * 1e-14,
+            coordinate_scale,
+            model,
+        };
+        sim.start()?;
+        Ok(sim)
+    }
+
+    /// t = 0: U₀ (prescribed values), [u]₀, g₀, α₀, the first h_crit and h, F₀; then
+    /// V_{−½} = V₀ − ½h M⁻¹F₀ and the first step's stages 2 (velocities), 5, 4–8 and 9 give V_{½}
+    /// (so K₀ = ½V_{−½}ᵀMV_{½}).
+    fn start(&mut self) -> Result<(), SolverError> {
+        for b in &self.boundary.nodes {
+            for c in 0..3 {
+                if b.prescribed[c] != NONE {
+                    self.u[b.node as usize][c] = self.model.displacements[b.prescribed[c] as usize]
+                        .history
+                        .value(0.0)[0];
+                }
+            }
+        }
+        self.surfaces_and_gaps();
+        self.initial_damage();
+        self.first_time_step()?;
+        self.internal_forces(true, false)?;
+        let h = self.h;
+        self.half_step_back(h);
+        self.prescribed_motion(h, true);
+        self.free_velocity(h);
+        self.boundary_pass(h, h);
+        self.ledger(true)
+    }
+
+    /// α₀ = min(u_r, max(initial damage, f₀)): eq. 12's "largest jump ever reached", with the
+    /// damage the interface had before the run.
+    fn initial_damage(&mut self) {
+        for itf in self.interface_nodes.iter_mut() {
+            let spec = &self.model.interfaces[itf.interface as usize];
+            let (law, n) = (&spec.law, self.model.planes[spec.plane].normal);
+            itf.alpha = damage_update(spec.initial_damage, damage_measure(itf.jump, n), law.u_r);
+            itf.alpha_next = itf.alpha;
+            itf.stiffness = law.g_n(itf.alpha);
+            itf.prev_stiffness = itf.stiffness;
+            itf.prev_jump = itf.jump;
+        }
+    }
+
+    /// The first h_crit estimate and h = factor × h_crit (PHYSICS.md §6); when a glued node's
+    /// own spring (ω_i² = W g_N/m) is near the whole system's ω_max, the interface may set the
+    /// step: the bulk alone is then measured once, for [`Simulation::advisories`].
+    fn first_time_step(&mut self) -> Result<(), SolverError> {
+        let est = self.estimate_stable_step(None);
+        self.h_crit = est.h_crit;
+        let omega_itf_sq = self
+            .interface_nodes
+            .iter()
+            .map(|n| n.area * n.stiffness * self.inv_mass[n.node as usize])
+            .fold(0.0, f64::max);
+        if omega_itf_sq > 0.0 && 2.0 / omega_itf_sq.sqrt() < 1.5 * est.h_crit {
+            let ritz = std::mem::take(&mut self.ritz_vector);
+            self.h_crit_bulk = Some(self.stable_step_estimate(None, false).h_crit);
+            self.ritz_vector = ritz;
+        }
+        self.stats.h_crit_initial = est.h_crit;
+        self.stats.h_crit_min = est.h_crit;
+        self.h = self.model.scheme.time_step_factor * est.h_crit;
+        if !(self.h.is_finite() && self.h > 0.0) {
+            return Err(SolverError::Setup(format!(
+                "the stable time step estimate is not usable (ω_max² = {:e}); check the material and interface stiffness",
+                est.omega_max_sq
+            )));
+        }
+        Ok(())
+    }
+
+    /// V_{−½} = V₀ − ½h M⁻¹F₀ with the smooth forces (internal, gravity, tractions, glue).
+    fn half_step_back(&mut self, h: f64) {
+        let g = self.model.gravity;
+        for i in 0..self.v.len() {
+            for c in 0..3 {
+                self.v[i][c] -= 0.5 * h * (g[c] - self.f_int[i][c] * self.inv_mass[i]);
+            }
+        }
+        for b in &self.boundary.nodes {
+            let i = b.node as usize;
+            let mut force = [0.0; 3];
+            for k in b.tractions.clone() {
+                let (t, fv) = self.boundary.tractions[k as usize];
+                let amp = self.model.tractions[t as usize].amplitude.value(0.0)[0];
+                for c in 0..3 {
+                    force[c] += amp * fv[c];
+                }
+            }
+            for k in b.interfaces.clone() {
+                let itf = &self.interface_nodes[self.boundary.interfaces[k as usize] as usize];
+                for c in 0..3 {
+                    force[c] -= itf.area * itf.stiffness * itf.jump[c];
+                }
+            }
+            for c in 0..3 {
+                self.v[i][c] -= 0.5 * h * force[c] * self.inv_mass[i];
+            }
+        }
+    }
+}

@@ -1,0 +1,264 @@
+//! Stages 1, 2, 3 and 5 of PHYSICS.md §4 (the boundary's stages 4–8 are in `boundary.rs`, the
+//! ledger's stage 9 in `ledger.rs`), and the per-step buffers they fill.
+
+use super::boundary::BoundarySums;
+use super::state::SolverError;
+use super::{Simulation, NODE_GRAIN};
+use crate::kernels::{assemble_internal_forces, free_velocity_chunk, ElementRule, NodeSums};
+use crate::team::SharedSlice;
+
+/// A chunk of displacements and the matching velocities (stage 1).
+type PositionChunk<'a> = (&'a mut [[f64; 3]], &'a [[f64; 3]]);
+/// One chunk of the node loop: (velocities, internal forces), (masses, inverse masses).
+type NodeChunk<'a> = ((&'a mut [[f64; 3]], &'a [[f64; 3]]), (&'a [f64], &'a [f64]));
+
+/// Per-step values of the planes, prescribed conditions and tractions, computed once per step
+/// (not per node), and the step's sums, in buffers that are reused, so the step allocates
+/// nothing after the first.
+#[derive(Default)]
+pub(super) struct StepScratch {
+    /// Plane displacement d(tₙ₊₁) and the round-off tolerance of its gaps.
+    pub plane_disp: Vec<[f64; 3]>,
+    pub plane_tol: Vec<f64>,
+    /// Plane velocity over the interval just taken and the next one.
+    pub plane_v_old: Vec<[f64; 3]>,
+    pub plane_v_new: Vec<[f64; 3]>,
+    /// Prescribed velocity of each condition over the next interval, whether it jumps here,
+    /// and its reaction force.
+    pub bc_velocity: Vec<f64>,
+    pub bc_jump: Vec<bool>,
+    pub reactions: Vec<f64>,
+    /// Amplitude of each traction at tₙ₊₁.
+    pub amplitudes: Vec<f64>,
+    /// V_{n+½} of the boundary nodes (by boundary index), before stage 5, for the ledger.
+    pub v_old: Vec<[f64; 3]>,
+    /// Sums of the all-node loop (stage 5) and of the boundary pass (4–8), for stage 9.
+    pub node_sums: NodeSums,
+    pub boundary_sums: BoundarySums,
+}
+
+impl Simulation {
+    /// Stage 1: Uₙ₊₁ = Uₙ + h V_{n+½}, αₙ₊₁ = αₙ + h α̇_{n+½} (the αₙ₊₁ predicted by stage 8),
+    /// tₙ₊₁ = tₙ + h; and F_int ← 0 for stage 3.
+    pub(super) fn advance_positions(&mut self, h: f64) {
+        let grain = NODE_GRAIN;
+        // The same pass zeroes F_int for stage 3 (nothing reads it in between).
+        // Flat component slices, so the loop vectorises.
+        let body = |((u, v), f): (PositionChunk, &mut [[f64; 3]])| {
+            for (ui, vi) in u.as_flattened_mut().iter_mut().zip(v.as_flattened()) {
+                *ui += h * vi;
+            }
+            f.as_flattened_mut().fill(0.0);
+        };
+        if let Some(team) = &self.team {
+            let (u, f) = (
+                SharedSlice::new(&mut self.u),
+                SharedSlice::new(&mut self.f_int),
+            );
+            let v = &self.v;
+            let n = v.len();
+            // SAFETY: chunk i of u and f is touched by item i only.
+            team.map(n.div_ceil(grain), |i| unsafe {
+                let (a, b) = (i * grain, ((i + 1) * grain).min(n));
+                body(((u.range(a, b), &v[a..b]), f.range(a, b)))
+            });
+        } else {
+            self.u
+                .chunks_mut(grain)
+                .zip(self.v.chunks(grain))
+                .zip(self.f_int.chunks_mut(grain))
+                .for_each(body);
+        }
+        for itf in self.interface_nodes.iter_mut() {
+            itf.alpha = itf.alpha_next;
+        }
+        self.time += h;
+        self.step_count += 1;
+    }
+
+    /// Stage 2: the rigid surfaces at tₙ₊₁ (plane displacement d(t)), and at every interface
+    /// node the jump [u] = x − y(t) and gap g = n·(x − p(t)), at every contact node the gap.
+    ///
+    /// A gap within the round-off of positions, |g| ≤ 16 ε (max|X| + |p(t)|), is set to 0:
+    /// below that, "g ≤ 0" is not a property of the motion but of the last bit of a velocity
+    /// that an impulse brought to zero (V + (−mV)/m can be one ulp off). Without it, a node
+    /// held on a plane drifts by h·ulp(V), reads g = +3e-22 m, is declared open, and the next
+    /// step takes it through the plane with the full free velocity (a spurious inelastic
+    /// impact of h·V depth inside a persistent contact).
+    pub(super) fn surfaces_and_gaps(&mut self) {
+        let t = self.time;
+        let planes = &self.model.planes;
+        let sc = &mut self.scratch;
+        sc.plane_disp.clear();
+        sc.plane_disp
+            .extend(planes.iter().map(|p| p.displacement(t)));
+        sc.plane_tol.clear();
+        sc.plane_tol
+            .extend(planes.iter().zip(&sc.plane_disp).map(|(p, d)| {
+                let scale = (0..3).fold(self.coordinate_scale, |a, c| {
+                    a.max(p.point[c].abs()).max((p.point[c] + d[c]).abs())
+                });
+                16.0 * f64::EPSILON * scale
+            }));
+        let (disp, tol) = (&sc.plane_disp, &sc.plane_tol);
+        let snap = |g: f64, tol: f64| if g.abs() <= tol { 0.0 } else { g };
+        let nodes = &self.model.mesh.nodes;
+        for itf in self.interface_nodes.iter_mut() {
+            let k = self.model.interfaces[itf.interface as usize].plane;
+            let (p, d) = (&planes[k], disp[k]);
+            let i = itf.node as usize;
+            let x: [f64; 3] = std::array::from_fn(|c| nodes[i][c] + self.u[i][c]);
+            itf.jump = std::array::from_fn(|c| x[c] - (itf.bonded_point[c] + d[c]));
+            itf.gap = snap(
+                (0..3)
+                    .map(|c| p.normal[c] * (x[c] - p.point[c] - d[c]))
+                    .sum(),
+                tol[k],
+            );
+        }
+        for cn in self.contact_nodes.iter_mut() {
+            let (p, d) = (&planes[cn.plane as usize], disp[cn.plane as usize]);
+            let i = cn.node as usize;
+            cn.gap = snap(
+                (0..3)
+                    .map(|c| p.normal[c] * (nodes[i][c] + self.u[i][c] - p.point[c] - d[c]))
+                    .sum(),
+                tol[cn.plane as usize],
+            );
+        }
+    }
+
+    /// Stage 3: F_int(Uₙ₊₁) = Σ_e fₑ(Uₙ₊₁) (PHYSICS.md §2) and Ψₙ₊₁; an inverted element
+    /// (J ≤ 0) stops the run. `zeroed`: F_int is already 0 (stage 1 clears it), else it is
+    /// cleared here.
+    pub(super) fn internal_forces(
+        &mut self,
+        energy: bool,
+        zeroed: bool,
+    ) -> Result<(), SolverError> {
+        if !zeroed {
+            // (Else F_int was zeroed by stage 1.)
+            self.f_int.fill([0.0; 3]);
+        }
+        let asm = assemble_internal_forces(
+            &self.model.mesh,
+            &self.classes,
+            &self.blocks,
+            &self.model.material,
+            ElementRule::of(&self.model.scheme),
+            &self.u,
+            &mut self.f_int,
+            energy,
+            self.team.as_ref(),
+            &mut self.parts_elements,
+        );
+        let (min_j, min_e) = (asm.min_j, asm.min_element);
+        self.min_jacobian = min_j;
+        if energy {
+            self.ledger.strain = asm.strain;
+            self.ledger.hourglass = asm.hourglass;
+        }
+        if !(min_j > 0.0) {
+            if min_j.is_nan() {
+                return Err(
+                    self.unstable("non-finite displacements (NaN) in the element loop".into())
+                );
+            }
+            return Err(SolverError::Inverted {
+                element: min_e,
+                j: min_j,
+                step: self.step_count,
+                time: self.time,
+                h: self.h,
+                h_crit: self.h_crit,
+            });
+        }
+        Ok(())
+    }
+
+    /// Stage 2, second half, once h_{n+3/2} is fixed: the velocity of each plane over the
+    /// interval just taken and the next one, the prescribed velocity of each condition over the
+    /// next interval (Ū(tₙ₊₂) − Ū(tₙ₊₁))/h and whether it jumps at tₙ₊₁ (then the reaction is
+    /// that jump's impulse, not a force to report), and the traction amplitudes at tₙ₊₁.
+    /// `first`: the start of the run (nothing moved before t₀).
+    pub(super) fn prescribed_motion(&mut self, h_next: f64, first: bool) {
+        let t = self.time;
+        let t_next = t + h_next;
+        let planes = &self.model.planes;
+        let h_prev = self.h;
+        let sc = &mut self.scratch;
+        sc.plane_v_old.clear();
+        sc.plane_v_old.extend(planes.iter().map(|p| {
+            if first || h_prev <= 0.0 {
+                [0.0; 3]
+            } else {
+                let (a, b) = (p.displacement(t - h_prev), p.displacement(t));
+                std::array::from_fn(|c| (b[c] - a[c]) / h_prev)
+            }
+        }));
+        sc.plane_v_new.clear();
+        sc.plane_v_new.extend(planes.iter().map(|p| {
+            let (a, b) = (p.displacement(t), p.displacement(t_next));
+            std::array::from_fn(|c| (b[c] - a[c]) / h_next)
+        }));
+        sc.bc_velocity.clear();
+        sc.bc_jump.clear();
+        for d in &self.model.displacements {
+            let u = |t: f64| d.history.value(t)[0];
+            let target = (u(t_next) - u(t)) / h_next;
+            let jump = first || {
+                let prev = (u(t) - u(t - h_prev)) / h_prev;
+                (target - prev).abs() > 1e-9 * (target.abs() + prev.abs())
+            };
+            sc.bc_velocity.push(target);
+            sc.bc_jump.push(jump);
+        }
+        sc.reactions.clear();
+        sc.reactions.resize(self.model.displacements.len(), 0.0);
+        sc.amplitudes.clear();
+        sc.amplitudes.extend(
+            self.model
+                .tractions
+                .iter()
+                .map(|tr| tr.amplitude.value(t)[0]),
+        );
+    }
+
+    /// Stage 5 on every node: V_free = V + h̄ M⁻¹(m g − F_int), with the ledger's halves
+    /// b = ½V_old·P and a = ½V_free·P of the internal and gravity impulses P; keeps V_{n+½} of
+    /// the boundary nodes first (their stages 4–8 follow in [`Simulation::boundary_pass`]).
+    pub(super) fn free_velocity(&mut self, h_bar: f64) {
+        // Keep V_{n+½} of boundary nodes for the ledger's backward halves.
+        let sc = &mut self.scratch;
+        sc.v_old.clear();
+        sc.v_old
+            .extend(self.boundary.nodes.iter().map(|b| self.v[b.node as usize]));
+        let g = self.model.gravity;
+        // SAFETY: the dispatch runs the build the CPU supports; the slices have one length.
+        let body = |((v, f), (m, im)): NodeChunk| -> NodeSums {
+            unsafe { free_velocity_chunk(v, f, m, im, h_bar, g) }
+        };
+        let grain = NODE_GRAIN;
+        let parts = &mut self.parts_nodes;
+        if let Some(team) = &self.team {
+            let v = SharedSlice::new(&mut self.v);
+            let (f, m, im) = (&self.f_int, &self.mass, &self.inv_mass);
+            let n = f.len();
+            // SAFETY: chunk i of v is touched by item i only.
+            team.map_into(n.div_ceil(grain), parts, |i| unsafe {
+                let (a, b) = (i * grain, ((i + 1) * grain).min(n));
+                body(((v.range(a, b), &f[a..b]), (&m[a..b], &im[a..b])))
+            })
+        } else {
+            parts.clear();
+            parts.extend(
+                self.v
+                    .chunks_mut(grain)
+                    .zip(self.f_int.chunks(grain))
+                    .zip(self.mass.chunks(grain).zip(self.inv_mass.chunks(grain)))
+                    .map(body),
+            );
+        };
+        self.scratch.node_sums = parts.iter().fold(NodeSums::default(), |a, &b| a.add(b));
+    }
+}

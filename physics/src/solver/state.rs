@@ -1,0 +1,159 @@
+//! The public data of a simulation: its interface and contact nodes, run statistics, stage
+//! timings, stable-step estimates and errors. Sign conventions (PHYSICS.md §3): the rigid
+//! surface's normal n points into the solid, a gap g > 0 is open, impulses and tractions are per
+//! unit reference area (Pa·s, Pa), the damage α and the jump [u] are in metres.
+
+use serde::Serialize;
+use std::time::Duration;
+
+/// Why a simulation could not be built or could not go on.
+#[derive(Debug, Clone, thiserror::Error)]
+pub enum SolverError {
+    #[error("cannot set up the model: {0}")]
+    Setup(String),
+    #[error("the run became unstable at step {step} (t = {time:.6e} s): {reason}. Current time step h = {h:.4e} s, estimated h_crit = {h_crit:.4e} s (factor {factor:.3}). {advice}")]
+    Unstable {
+        step: u64,
+        time: f64,
+        h: f64,
+        h_crit: f64,
+        factor: f64,
+        reason: String,
+        advice: String,
+    },
+    #[error("element {element} inverted (J = {j:.3e} ≤ 0) at step {step} (t = {time:.6e} s), h = {h:.4e} s, h_crit = {h_crit:.4e} s. The mesh is too coarse for this deformation, the load too fast, or the step too large: refine the mesh, slow the loading, lower scheme.time_step_factor, or use material.model = \"neo_hookean\" (SVK softens and collapses under strong compression)")]
+    Inverted {
+        element: usize,
+        j: f64,
+        step: u64,
+        time: f64,
+        h: f64,
+        h_crit: f64,
+    },
+    #[error("cancelled at step {step} (t = {time:.6e} s)")]
+    Cancelled { step: u64, time: f64 },
+}
+
+/// Contact status of a node against a plane, for output and debugging.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum ContactStatus {
+    /// Gap > 0, or approaching velocity ≥ 0: no impulse.
+    #[default]
+    Open,
+    /// |r_T| ≤ μ r_N: no sliding.
+    Stick,
+    /// |r_T| = μ r_N opposing the sliding velocity.
+    Slip,
+}
+
+/// An interface node: a node of the solid bonded to a material point of a rigid plane.
+#[derive(Debug, Clone)]
+pub struct InterfaceNode {
+    pub node: u32,
+    /// Index of the interface in `Model::interfaces`.
+    pub interface: u32,
+    /// Tributary reference area W [m²].
+    pub area: f64,
+    /// Bonded point of the plane at t = 0 (projection of the node on the plane) [m].
+    pub bonded_point: [f64; 3],
+    /// Damage αₙ [m].
+    pub alpha: f64,
+    /// αₙ₊₁, predicted by stage 8 [m].
+    pub alpha_next: f64,
+    /// Displacement jump [u]ₙ [m].
+    pub jump: [f64; 3],
+    /// Normal gap gₙ [m].
+    pub gap: f64,
+    /// g_N(αₙ) [Pa/m].
+    pub stiffness: f64,
+    /// Cohesive traction R_d = g_N(α)[u] [Pa] (acting on the solid as −R_d).
+    pub cohesive_traction: [f64; 3],
+    /// Contact impulse per unit area R_c of the last step [Pa·s].
+    pub contact_impulse: [f64; 3],
+    pub contact: ContactStatus,
+    /// [u]ₙ₋₁ and g_N(αₙ₋₁), for the damage dissipation increment.
+    pub(crate) prev_jump: [f64; 3],
+    pub(crate) prev_stiffness: f64,
+}
+
+/// A node of a contact face set (no glue) against a plane.
+#[derive(Debug, Clone)]
+pub struct ContactNode {
+    pub node: u32,
+    pub plane: u32,
+    /// Coulomb coefficient μ.
+    pub mu: f64,
+    /// Tributary reference area W [m²].
+    pub area: f64,
+    pub gap: f64,
+    pub contact_impulse: [f64; 3],
+    pub contact: ContactStatus,
+}
+
+/// Wall time spent in each stage of the step (rapier-style counters).
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct StageTimes {
+    /// Stage 1: positions and damage update [s].
+    pub positions: f64,
+    /// Stage 3: element loop [s].
+    pub internal_forces: f64,
+    /// Stages 4–8 on the boundary: cohesion, prescribed displacements, contact, damage [s].
+    pub interface_contact: f64,
+    /// Stage 5 on all nodes: free velocity and the ledger dot products [s].
+    pub free_velocity: f64,
+    /// Stage 9: ledger closing and checks [s].
+    pub bookkeeping: f64,
+    /// Stable-step estimates [s].
+    pub h_crit: f64,
+}
+
+/// Peak of the reaction force of one prescribed-displacement condition.
+#[derive(Debug, Clone, Serialize)]
+pub struct PeakReaction {
+    pub faces: String,
+    pub component: String,
+    /// Largest |reaction| (signed) along the prescribed component, excluding steps where the
+    /// prescribed velocity jumps (their impulse is the jump itself) [N].
+    pub force: f64,
+    /// Imposed displacement at that step [m].
+    pub imposed_displacement: f64,
+    /// Time of the peak [s].
+    pub time: f64,
+}
+
+/// Counts of interface nodes per state (paper fig. 6, right).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, serde::Deserialize)]
+pub struct StateCounts {
+    pub elastic: usize,
+    pub transition: usize,
+    pub ruptured: usize,
+}
+
+/// Running statistics of a simulation, kept as it steps.
+#[derive(Debug, Clone, Default)]
+pub struct RunStats {
+    pub h_crit_initial: f64,
+    pub h_crit_min: f64,
+    pub time_first_damage: Option<f64>,
+    pub time_full_rupture: Option<f64>,
+    pub peaks: Vec<PeakReaction>,
+    /// Current reaction force of each prescribed condition [N].
+    pub reactions: Vec<f64>,
+    pub stage_times: StageTimes,
+    pub steps_wall: Duration,
+    /// Number of h_crit estimates after the first (scheduled or triggered by strain).
+    pub h_crit_estimates: u64,
+}
+
+/// Result of a stable-step estimate (PHYSICS.md §6).
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct StableStep {
+    /// Upper estimate of ω_max² = λ_max(M⁻¹K) [1/s²]: Ritz value θ plus its residual bound.
+    pub omega_max_sq: f64,
+    /// Largest Ritz value θ alone [1/s²].
+    pub ritz_value: f64,
+    /// h_crit = 2/ω_max [s].
+    pub h_crit: f64,
+    pub iterations: usize,
+}
