@@ -5,6 +5,7 @@
 //! stage 9), and the damage prediction (8). A node's stages read and write only that node, so
 //! the pass runs in fixed chunks on the thread team.
 
+use super::stages::StepScratch;
 use super::state::{ContactNode, InterfaceNode};
 use super::{Simulation, BOUNDARY_GRAIN};
 use crate::interface::contact::contact_impulse;
@@ -105,18 +106,14 @@ impl Boundary {
 struct BoundaryStep<'a> {
     model: &'a Model,
     boundary: &'a Boundary,
-    /// V_{n+½} of the boundary nodes (by boundary index).
-    v_old: &'a [[f64; 3]],
+    /// The step's surface and prescribed velocities, traction amplitudes, and V_{n+½} of the
+    /// boundary nodes (stage 2 and 5).
+    scratch: &'a StepScratch,
     mass: &'a [f64],
     inv_mass: &'a [f64],
     f_int: &'a [[f64; 3]],
-    plane_v_old: &'a [[f64; 3]],
-    plane_v_new: &'a [[f64; 3]],
-    bc_velocity: &'a [f64],
-    amplitudes: &'a [f64],
     h_bar: f64,
     h_next: f64,
-    g: [f64; 3],
 }
 
 /// Sums of the boundary pass over a chunk of boundary nodes, reduced in chunk order: the
@@ -178,7 +175,7 @@ impl BoundaryStep<'_> {
     #[inline]
     fn traction_impulse(&self, e: u32) -> [f64; 3] {
         let (tk, fv) = self.boundary.tractions[e as usize];
-        fv.map(|c| self.h_bar * self.amplitudes[tk as usize] * c)
+        fv.map(|c| self.h_bar * self.scratch.amplitudes[tk as usize] * c)
     }
 
     /// External tractions on node `b` (part of F_ext in stage 5): V += M⁻¹P, and their
@@ -242,7 +239,7 @@ impl BoundaryStep<'_> {
             let bc = b.prescribed[c];
             if bc != NONE {
                 any = true;
-                v[c] = self.bc_velocity[bc as usize];
+                v[c] = self.scratch.bc_velocity[bc as usize];
                 let p = m * (v[c] - v_free[c]);
                 reactions[bc as usize] += p / self.h_bar;
                 out.reac_b += 0.5 * vo[c] * p;
@@ -267,8 +264,14 @@ impl BoundaryStep<'_> {
         let m = self.mass[b.node as usize];
         let planes = &self.model.planes;
         let mut solve = |gap: f64, plane: usize, mu: f64, area: f64| {
-            let (impulse, status) =
-                contact_impulse(v, gap, planes[plane].normal, self.plane_v_new[plane], mu, m);
+            let (impulse, status) = contact_impulse(
+                v,
+                gap,
+                planes[plane].normal,
+                self.scratch.plane_v_new[plane],
+                mu,
+                m,
+            );
             let k = impulses.contacts;
             if k < MAX_CONSTRAINTS {
                 impulses.contact[k] = impulse;
@@ -302,7 +305,7 @@ impl BoundaryStep<'_> {
         impulses: &NodeImpulses,
         out: &mut BoundarySums,
     ) {
-        let (h_bar, g) = (self.h_bar, self.g);
+        let (h_bar, g) = (self.h_bar, self.model.gravity);
         let i = b.node as usize;
         let m = self.mass[i];
         let dv = [v[0] - v_free0[0], v[1] - v_free0[1], v[2] - v_free0[2]];
@@ -324,7 +327,7 @@ impl BoundaryStep<'_> {
                 out.reac_a += 0.5 * v[c] * m * (v[c] - v_free[c]);
             }
         }
-        let (plane_v_old, plane_v_new) = (self.plane_v_old, self.plane_v_new);
+        let (plane_v_old, plane_v_new) = (&self.scratch.plane_v_old, &self.scratch.plane_v_new);
         // Glue of moving planes: the plane's share ½ v_plane·P_coh of the cohesive work.
         for slot in 0..impulses.cohesions {
             let k = impulses.cohesion_plane[slot];
@@ -368,7 +371,7 @@ impl BoundaryStep<'_> {
         for e in b.interfaces.clone() {
             let itf = itfs.get(self.boundary.interfaces[e as usize] as usize);
             let spec = &self.model.interfaces[itf.interface as usize];
-            let vp = self.plane_v_new[spec.plane];
+            let vp = self.scratch.plane_v_new[spec.plane];
             let next: [f64; 3] =
                 std::array::from_fn(|c| itf.jump[c] + self.h_next * (v[c] - vp[c]));
             let f = damage_measure(next, self.model.planes[spec.plane].normal);
@@ -396,7 +399,7 @@ unsafe fn boundary_chunk(
     let mut out = BoundarySums::default();
     for k in range {
         let b = &cx.boundary.nodes[k];
-        let vo = cx.v_old[k];
+        let vo = cx.scratch.v_old[k];
         let v_free0 = *v_all.get(b.node as usize);
         let mut v = v_free0;
         let mut impulses = NodeImpulses::default();
@@ -427,21 +430,15 @@ impl Simulation {
     /// [`Simulation::free_velocity`] of this step; leaves the chunks' sums and the reactions in
     /// the step's scratch for stage 9.
     pub(super) fn boundary_pass(&mut self, h_bar: f64, h_next: f64) {
-        let sc = &mut self.scratch;
         let cx = BoundaryStep {
             model: &self.model,
             boundary: &self.boundary,
-            v_old: &sc.v_old,
+            scratch: &self.scratch,
             mass: &self.mass,
             inv_mass: &self.inv_mass,
             f_int: &self.f_int,
-            plane_v_old: &sc.plane_v_old,
-            plane_v_new: &sc.plane_v_new,
-            bc_velocity: &sc.bc_velocity,
-            amplitudes: &sc.amplitudes,
             h_bar,
             h_next,
-            g: self.model.gravity,
         };
         let (v_all, itfs, cns) = (
             SharedSlice::new(&mut self.v),
@@ -469,9 +466,36 @@ impl Simulation {
                 parts.extend((0..chunks).map(run));
             }
         }
+        let sc = &mut self.scratch;
         sc.boundary_sums = parts.iter().fold(BoundarySums::default(), |a, &b| a.add(b));
         for (k, r) in sc.reactions.iter_mut().enumerate() {
             *r = (0..chunks).fold(0.0, |acc, c| acc + self.parts_reactions[c * n_bc + k]);
+        }
+    }
+}
+
+impl Simulation {
+    /// The smooth impulses of stages 4–5 alone at every boundary node (tractions and cohesion,
+    /// no constraint), over h̄ = `h_bar`: how [`Simulation::start`] takes V₀ back to V_{−½}
+    /// with the same formulas as a step.
+    pub(super) fn smooth_impulses(&mut self, h_bar: f64) {
+        let cx = BoundaryStep {
+            model: &self.model,
+            boundary: &self.boundary,
+            scratch: &self.scratch,
+            mass: &self.mass,
+            inv_mass: &self.inv_mass,
+            f_int: &self.f_int,
+            h_bar,
+            h_next: h_bar,
+        };
+        let itfs = SharedSlice::new(&mut self.interface_nodes);
+        let (mut sums, mut impulses) = (BoundarySums::default(), NodeImpulses::default());
+        for (k, b) in self.boundary.nodes.iter().enumerate() {
+            let v = &mut self.v[b.node as usize];
+            cx.tractions(b, cx.scratch.v_old[k], v, &mut sums);
+            // SAFETY: one thread, one node at a time.
+            unsafe { cx.cohesion(b, itfs, v, &mut impulses) };
         }
     }
 }

@@ -276,7 +276,6 @@ impl Simulation {
         self.internal_forces(true, false)?;
         let h = self.h;
         self.half_step_back(h);
-        self.prescribed_motion(h, true);
         self.free_velocity(h);
         self.boundary_pass(h, h);
         self.ledger(true)
@@ -324,33 +323,11 @@ impl Simulation {
         Ok(())
     }
 
-    /// V_{−½} = V₀ − ½h M⁻¹F₀ with the smooth forces (internal, gravity, tractions, glue).
+    /// V_{−½} = V₀ − ½h M⁻¹F₀ with the smooth forces (internal, gravity, tractions, glue):
+    /// stage 5 and the smooth impulses of stage 4 taken for half a step backwards, h̄ = −½h.
     fn half_step_back(&mut self, h: f64) {
-        let g = self.model.gravity;
-        for i in 0..self.v.len() {
-            for c in 0..3 {
-                self.v[i][c] -= 0.5 * h * (g[c] - self.f_int[i][c] * self.inv_mass[i]);
-            }
-        }
-        for b in &self.boundary.nodes {
-            let i = b.node as usize;
-            let mut force = [0.0; 3];
-            for k in b.tractions.clone() {
-                let (t, fv) = self.boundary.tractions[k as usize];
-                let amp = self.model.tractions[t as usize].amplitude.value(0.0)[0];
-                for c in 0..3 {
-                    force[c] += amp * fv[c];
-                }
-            }
-            for k in b.interfaces.clone() {
-                let itf = &self.interface_nodes[self.boundary.interfaces[k as usize] as usize];
-                for c in 0..3 {
-                    force[c] -= itf.area * itf.stiffness * itf.jump[c];
-                }
-            }
-            for c in 0..3 {
-                self.v[i][c] -= 0.5 * h * force[c] * self.inv_mass[i];
-            }
-        }
+        self.prescribed_motion(h, true);
+        self.free_velocity(-0.5 * h);
+        self.smooth_impulses(-0.5 * h);
     }
 }
