@@ -1,0 +1,264 @@
+//! The 8-node trilinear hexahedron in the reference configuration (PHYSICS.md §2): shape
+//! functions, the 2×2×2 Gauss points, and what the total Lagrangian formulation computes once
+//! per element shape — gradients ∇ₓNₐ and weights w·det J₀ at the Gauss points ([`GaussData`]),
+//! the one-point data with hourglass vectors ([`CentreData`]), lumped volumes — grouped by shape
+//! into [`ElementClasses`].
+
+use super::{dot, Mesh};
+use std::collections::HashMap;
+
+/// Parent coordinates (ξ, η, ζ) of the 8 nodes of the reference hexahedron.
+pub const HEX_CORNERS: [[f64; 3]; 8] = [
+    [-1.0, -1.0, -1.0],
+    [1.0, -1.0, -1.0],
+    [1.0, 1.0, -1.0],
+    [-1.0, 1.0, -1.0],
+    [-1.0, -1.0, 1.0],
+    [1.0, -1.0, 1.0],
+    [1.0, 1.0, 1.0],
+    [-1.0, 1.0, 1.0],
+];
+
+/// Trilinear shape functions Nₐ(ξ) of the hexahedron.
+#[inline]
+pub fn shape(xi: [f64; 3]) -> [f64; 8] {
+    let mut n = [0.0; 8];
+    for (a, c) in HEX_CORNERS.iter().enumerate() {
+        n[a] = 0.125 * (1.0 + c[0] * xi[0]) * (1.0 + c[1] * xi[1]) * (1.0 + c[2] * xi[2]);
+    }
+    n
+}
+
+/// Parent derivatives ∂Nₐ/∂ξⱼ of the hexahedron.
+#[inline]
+pub fn shape_derivatives(xi: [f64; 3]) -> [[f64; 3]; 8] {
+    let mut d = [[0.0; 3]; 8];
+    for (a, c) in HEX_CORNERS.iter().enumerate() {
+        let f = [1.0 + c[0] * xi[0], 1.0 + c[1] * xi[1], 1.0 + c[2] * xi[2]];
+        d[a] = [
+            0.125 * c[0] * f[1] * f[2],
+            0.125 * c[1] * f[0] * f[2],
+            0.125 * c[2] * f[0] * f[1],
+        ];
+    }
+    d
+}
+
+/// The 2×2×2 Gauss points (ξ = ±1/√3, weight 1 each), in the same order as `HEX_CORNERS`.
+pub fn gauss_points() -> [[f64; 3]; 8] {
+    let g = 1.0 / 3f64.sqrt();
+    HEX_CORNERS.map(|c| [c[0] * g, c[1] * g, c[2] * g])
+}
+
+/// Reference-configuration data of one element shape at its 8 Gauss points, laid out with the
+/// Gauss point index innermost so the per-step kernel runs over 8 lanes (SIMD-friendly).
+#[derive(Debug, Clone, PartialEq)]
+pub struct GaussData {
+    /// ∇ₓNₐ at each Gauss point: `grad[a][j][q]` = ∂Nₐ/∂Xⱼ (ξ_q) [1/m].
+    pub grad: [[[f64; 8]; 3]; 8],
+    /// The same gradient times the weight w_q det J₀(ξ_q): `wgrad[a][j][q]` [m²].
+    pub wgrad: [[[f64; 8]; 3]; 8],
+    /// Integration weight times reference Jacobian, w_q det J₀(ξ_q) [m³].
+    pub wdet: [f64; 8],
+}
+
+/// Error in the reference geometry of an element (inverted or degenerate hexahedron).
+#[derive(Debug, Clone, thiserror::Error)]
+#[error("element {element} is degenerate or inverted in the reference configuration (det J₀ = {det_j0:e} at a Gauss point); check the node order")]
+pub struct GeometryError {
+    pub element: usize,
+    pub det_j0: f64,
+}
+
+impl GaussData {
+    /// ∇ₓNₐ = J₀⁻ᵀ ∂Nₐ/∂ξ at the Gauss points, J₀ = ∂X/∂ξ (PHYSICS.md §2: computed once).
+    pub fn new(x: &[[f64; 3]; 8]) -> Result<Self, f64> {
+        let mut gd = GaussData {
+            grad: [[[0.0; 8]; 3]; 8],
+            wgrad: [[[0.0; 8]; 3]; 8],
+            wdet: [0.0; 8],
+        };
+        for (q, xi) in gauss_points().iter().enumerate() {
+            let dn = shape_derivatives(*xi);
+            let mut j = nalgebra::Matrix3::<f64>::zeros();
+            for a in 0..8 {
+                for r in 0..3 {
+                    for c in 0..3 {
+                        j[(r, c)] += x[a][r] * dn[a][c];
+                    }
+                }
+            }
+            let det = j.determinant();
+            if !(det > 0.0 && det.is_finite()) {
+                return Err(det);
+            }
+            let jinv = j.try_inverse().ok_or(det)?;
+            for a in 0..8 {
+                for jdir in 0..3 {
+                    // ∂N/∂X_j = Σ_c ∂N/∂ξ_c ∂ξ_c/∂X_j, ∂ξ/∂X = J⁻¹.
+                    let g: f64 = (0..3).map(|c| dn[a][c] * jinv[(c, jdir)]).sum();
+                    gd.grad[a][jdir][q] = g;
+                    gd.wgrad[a][jdir][q] = g * det;
+                }
+            }
+            gd.wdet[q] = det;
+        }
+        Ok(gd)
+    }
+
+    /// Reference volume of the element, Σ_q w_q det J₀ [m³].
+    pub fn volume(&self) -> f64 {
+        self.wdet.iter().sum()
+    }
+
+    /// Consistent-mass row sums per unit density, ∫ Nₐ dV (PHYSICS.md §2, lumped mass) [m³].
+    pub fn lumped_volumes(&self) -> [f64; 8] {
+        let mut m = [0.0; 8];
+        for (q, xi) in gauss_points().iter().enumerate() {
+            let n = shape(*xi);
+            for a in 0..8 {
+                m[a] += n[a] * self.wdet[q];
+            }
+        }
+        m
+    }
+}
+
+/// Hourglass base vectors hᵅ of the hexahedron (α = 1..4: ξη, ηζ, ζξ, ξηζ at the nodes), in the
+/// node order of [`HEX_CORNERS`] (Flanagan & Belytschko 1981).
+pub fn hourglass_vectors() -> [[f64; 8]; 4] {
+    let mut h = [[0.0; 8]; 4];
+    for (a, c) in HEX_CORNERS.iter().enumerate() {
+        h[0][a] = c[0] * c[1];
+        h[1][a] = c[1] * c[2];
+        h[2][a] = c[2] * c[0];
+        h[3][a] = c[0] * c[1] * c[2];
+    }
+    h
+}
+
+/// Reference data of one element shape for one-point integration with Flanagan–Belytschko
+/// hourglass control (PHYSICS.md §2: "one-point integration with hourglass control").
+#[derive(Debug, Clone, PartialEq)]
+pub struct CentreData {
+    /// Mean gradients bₐ = (1/V) ∫ ∇ₓNₐ dV (FB's uniform gradient; exact by 2×2×2 Gauss) [1/m].
+    pub b: [[f64; 3]; 8],
+    /// Hourglass shape vectors γₐᵅ = hₐᵅ − (Σ_c h_cᵅ X_c)·bₐ: orthogonal to every affine field,
+    /// so rigid motions and homogeneous strains excite no hourglass force.
+    pub gamma: [[f64; 8]; 4],
+    /// Reference volume V [m³].
+    pub volume: f64,
+    /// Σₐ bₐ·bₐ [1/m²], for the hourglass stiffness.
+    pub bb: f64,
+}
+
+impl CentreData {
+    /// From the node coordinates of the element and its Gauss data.
+    pub fn new(x: &[[f64; 3]; 8], gd: &GaussData) -> CentreData {
+        let volume = gd.volume();
+        let mut b = [[0.0; 3]; 8];
+        for a in 0..8 {
+            for j in 0..3 {
+                b[a][j] = gd.wgrad[a][j].iter().sum::<f64>() / volume;
+            }
+        }
+        let h = hourglass_vectors();
+        let mut gamma = [[0.0; 8]; 4];
+        for al in 0..4 {
+            let mut hx = [0.0; 3];
+            for c in 0..8 {
+                for j in 0..3 {
+                    hx[j] += h[al][c] * x[c][j];
+                }
+            }
+            for a in 0..8 {
+                gamma[al][a] = h[al][a] - (hx[0] * b[a][0] + hx[1] * b[a][1] + hx[2] * b[a][2]);
+            }
+        }
+        let bb = b.iter().map(|v| dot(*v, *v)).sum();
+        CentreData {
+            b,
+            gamma,
+            volume,
+            bb,
+        }
+    }
+}
+
+/// Element shapes deduplicated: elements that are translates of each other share their
+/// Gauss data (a structured box has a single class), which keeps memory per element small and
+/// the gradients hot in cache.
+#[derive(Debug, Clone)]
+pub struct ElementClasses {
+    pub data: Vec<GaussData>,
+    /// One-point data of the same classes.
+    pub centre: Vec<CentreData>,
+    /// Class index of each element.
+    pub class_of: Vec<u32>,
+}
+
+impl Mesh {
+    /// Reference coordinates of the nodes of element `e`.
+    pub fn element_coords(&self, e: usize) -> [[f64; 3]; 8] {
+        self.elements[e].map(|n| self.nodes[n as usize])
+    }
+
+    /// Groups elements by shape (translation-invariant, tolerance 1e-9 of the element size) and
+    /// computes the Gauss data of each class once.
+    pub fn element_classes(&self) -> Result<ElementClasses, GeometryError> {
+        let mut index: HashMap<[i64; 21], u32> = HashMap::new();
+        let mut data = Vec::new();
+        let mut centre = Vec::new();
+        let mut class_of = Vec::with_capacity(self.elements.len());
+        for e in 0..self.elements.len() {
+            let x = self.element_coords(e);
+            let size = (1..8)
+                .flat_map(|a| (0..3).map(move |c| (a, c)))
+                .map(|(a, c)| (x[a][c] - x[0][c]).abs())
+                .fold(0.0, f64::max);
+            let tol = (size * 1e-9).max(f64::MIN_POSITIVE);
+            let mut key = [0i64; 21];
+            for a in 1..8 {
+                for c in 0..3 {
+                    key[(a - 1) * 3 + c] = ((x[a][c] - x[0][c]) / tol).round() as i64;
+                }
+            }
+            let next = data.len() as u32;
+            let class = *index.entry(key).or_insert(next);
+            if class == next {
+                let gd =
+                    GaussData::new(&x).map_err(|det_j0| GeometryError { element: e, det_j0 })?;
+                centre.push(CentreData::new(&x, &gd));
+                data.push(gd);
+            }
+            class_of.push(class);
+        }
+        Ok(ElementClasses {
+            data,
+            centre,
+            class_of,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn gradients_reproduce_linear_fields() {
+        // Σ_a X_a ⊗ ∇N_a = I at every Gauss point of a distorted element.
+        let mut x = HEX_CORNERS.map(|c| [c[0] * 0.5 + 1.0, c[1] * 0.3, c[2] * 0.7]);
+        x[6][0] += 0.1;
+        x[3][2] -= 0.05;
+        let gd = GaussData::new(&x).unwrap();
+        for q in 0..8 {
+            for i in 0..3 {
+                for j in 0..3 {
+                    let s: f64 = (0..8).map(|a| x[a][i] * gd.grad[a][j][q]).sum();
+                    assert!((s - if i == j { 1.0 } else { 0.0 }).abs() < 1e-12);
+                }
+            }
+        }
+    }
+}

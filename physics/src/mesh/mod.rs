@@ -1,0 +1,415 @@
+//! Hexahedral meshes: nodes, 8-node trilinear elements, named boundary face sets, and the
+//! reference-configuration quantities that the total Lagrangian formulation computes once
+//! (PHYSICS.md §2): shape-function gradients ∇ₓNₐ and weights w·det J₀ at the Gauss points,
+//! lumped masses, tributary areas of boundary faces.
+//!
+//! Node numbering of an element follows the usual convention: nodes 0–3 on the ζ = −1 face
+//! counter-clockwise seen from +ζ, nodes 4–7 above them.
+
+use std::collections::{BTreeMap, HashMap};
+mod element;
+mod order;
+
+pub use element::{
+    gauss_points, hourglass_vectors, shape, shape_derivatives, CentreData, ElementClasses,
+    GaussData, GeometryError, HEX_CORNERS,
+};
+pub use order::Slabs;
+
+/// A hexahedral mesh in its reference configuration. Lengths in metres.
+#[derive(Debug, Clone)]
+pub struct Mesh {
+    /// Reference positions X of the nodes [m].
+    pub nodes: Vec<[f64; 3]>,
+    /// Element connectivity (8 node indices, see module docs for the order).
+    pub elements: Vec<[u32; 8]>,
+    /// Named boundary face sets: quadrilaterals whose node order gives an outward normal.
+    pub face_sets: BTreeMap<String, Vec<[u32; 4]>>,
+}
+
+/// The 12 edges of a hex8 (local node pairs).
+const HEX_EDGES: [(usize, usize); 12] = [
+    (0, 1),
+    (1, 2),
+    (2, 3),
+    (3, 0),
+    (4, 5),
+    (5, 6),
+    (6, 7),
+    (7, 4),
+    (0, 4),
+    (1, 5),
+    (2, 6),
+    (3, 7),
+];
+impl Mesh {
+    /// A structured box [origin, origin + size] with `cells` hexahedra per axis, and the six face
+    /// sets `x-`, `x+`, `y-`, `y+`, `z-`, `z+`.
+    pub fn boxed(origin: [f64; 3], size: [f64; 3], cells: [usize; 3]) -> Mesh {
+        let [nx, ny, nz] = cells;
+        let nid = |i: usize, j: usize, k: usize| (i + (nx + 1) * (j + (ny + 1) * k)) as u32;
+        let mut nodes = Vec::with_capacity((nx + 1) * (ny + 1) * (nz + 1));
+        for k in 0..=nz {
+            for j in 0..=ny {
+                for i in 0..=nx {
+                    nodes.push([
+                        origin[0] + size[0] * i as f64 / nx as f64,
+                        origin[1] + size[1] * j as f64 / ny as f64,
+                        origin[2] + size[2] * k as f64 / nz as f64,
+                    ]);
+                }
+            }
+        }
+        let mut elements = Vec::with_capacity(nx * ny * nz);
+        for k in 0..nz {
+            for j in 0..ny {
+                for i in 0..nx {
+                    elements.push([
+                        nid(i, j, k),
+                        nid(i + 1, j, k),
+                        nid(i + 1, j + 1, k),
+                        nid(i, j + 1, k),
+                        nid(i, j, k + 1),
+                        nid(i + 1, j, k + 1),
+                        nid(i + 1, j + 1, k + 1),
+                        nid(i, j + 1, k + 1),
+                    ]);
+                }
+            }
+        }
+        let mut face_sets = BTreeMap::new();
+        // Each quad is ordered counter-clockwise seen from outside (outward normal).
+        let mut xm = vec![];
+        let mut xp = vec![];
+        for k in 0..nz {
+            for j in 0..ny {
+                xm.push([
+                    nid(0, j, k),
+                    nid(0, j, k + 1),
+                    nid(0, j + 1, k + 1),
+                    nid(0, j + 1, k),
+                ]);
+                xp.push([
+                    nid(nx, j, k),
+                    nid(nx, j + 1, k),
+                    nid(nx, j + 1, k + 1),
+                    nid(nx, j, k + 1),
+                ]);
+            }
+        }
+        let mut ym = vec![];
+        let mut yp = vec![];
+        for k in 0..nz {
+            for i in 0..nx {
+                ym.push([
+                    nid(i, 0, k),
+                    nid(i + 1, 0, k),
+                    nid(i + 1, 0, k + 1),
+                    nid(i, 0, k + 1),
+                ]);
+                yp.push([
+                    nid(i, ny, k),
+                    nid(i, ny, k + 1),
+                    nid(i + 1, ny, k + 1),
+                    nid(i + 1, ny, k),
+                ]);
+            }
+        }
+        let mut zm = vec![];
+        let mut zp = vec![];
+        for j in 0..ny {
+            for i in 0..nx {
+                zm.push([
+                    nid(i, j, 0),
+                    nid(i, j + 1, 0),
+                    nid(i + 1, j + 1, 0),
+                    nid(i + 1, j, 0),
+                ]);
+                zp.push([
+                    nid(i, j, nz),
+                    nid(i + 1, j, nz),
+                    nid(i + 1, j + 1, nz),
+                    nid(i, j + 1, nz),
+                ]);
+            }
+        }
+        for (name, set) in [
+            ("x-", xm),
+            ("x+", xp),
+            ("y-", ym),
+            ("y+", yp),
+            ("z-", zm),
+            ("z+", zp),
+        ] {
+            face_sets.insert(name.to_string(), set);
+        }
+        Mesh {
+            nodes,
+            elements,
+            face_sets,
+        }
+    }
+    /// Distinct nodes of a face set, in increasing order.
+    pub fn face_set_nodes(&self, quads: &[[u32; 4]]) -> Vec<u32> {
+        let mut v: Vec<u32> = quads.iter().flatten().copied().collect();
+        v.sort_unstable();
+        v.dedup();
+        v
+    }
+
+    /// Tributary reference areas W_a = ∫ Nₐ dA over the quads of a face set (2×2 Gauss on each
+    /// bilinear quad), as (node, W) pairs sorted by node (PHYSICS.md §4, step 4: reference W).
+    pub fn nodal_areas(&self, quads: &[[u32; 4]]) -> Vec<(u32, f64)> {
+        let mut acc: BTreeMap<u32, f64> = BTreeMap::new();
+        let g = 1.0 / 3f64.sqrt();
+        for quad in quads {
+            let x = quad.map(|n| self.nodes[n as usize]);
+            for (s, t) in [(-g, -g), (g, -g), (g, g), (-g, g)] {
+                let n = [
+                    0.25 * (1.0 - s) * (1.0 - t),
+                    0.25 * (1.0 + s) * (1.0 - t),
+                    0.25 * (1.0 + s) * (1.0 + t),
+                    0.25 * (1.0 - s) * (1.0 + t),
+                ];
+                let ds = [-(1.0 - t), 1.0 - t, 1.0 + t, -(1.0 + t)].map(|v| 0.25 * v);
+                let dt = [-(1.0 - s), -(1.0 + s), 1.0 + s, 1.0 - s].map(|v| 0.25 * v);
+                let mut a = [0.0; 3];
+                let mut b = [0.0; 3];
+                for k in 0..4 {
+                    for c in 0..3 {
+                        a[c] += ds[k] * x[k][c];
+                        b[c] += dt[k] * x[k][c];
+                    }
+                }
+                let cr = cross(a, b);
+                let da = norm(cr);
+                for k in 0..4 {
+                    *acc.entry(quad[k]).or_insert(0.0) += n[k] * da;
+                }
+            }
+        }
+        acc.into_iter().collect()
+    }
+
+    /// Outward unit normal of a quad in the reference configuration (from its diagonals).
+    pub fn quad_normal(&self, quad: &[u32; 4]) -> [f64; 3] {
+        let x = quad.map(|n| self.nodes[n as usize]);
+        let d1 = sub(x[2], x[0]);
+        let d2 = sub(x[3], x[1]);
+        let c = cross(d1, d2);
+        let l = norm(c);
+        [c[0] / l, c[1] / l, c[2] / l]
+    }
+
+    /// Smallest edge length of the mesh [m] (for messages and scales).
+    /// Faces of the hexahedra that belong to one element only: the boundary of the body, each
+    /// quad ordered counter-clockwise seen from outside (outward normal), and the element it
+    /// belongs to. Used to draw the surface; not needed by the time loop.
+    pub fn boundary_faces(&self) -> Vec<([u32; 4], u32)> {
+        /// Local faces of a hexahedron, outward (see the module docs for the node order).
+        const FACES: [[usize; 4]; 6] = [
+            [0, 3, 2, 1],
+            [4, 5, 6, 7],
+            [0, 1, 5, 4],
+            [1, 2, 6, 5],
+            [2, 3, 7, 6],
+            [3, 0, 4, 7],
+        ];
+        let mut seen: HashMap<[u32; 4], (usize, [u32; 4], u32)> = HashMap::new();
+        for (e, conn) in self.elements.iter().enumerate() {
+            for f in FACES {
+                let quad = f.map(|a| conn[a]);
+                let mut key = quad;
+                key.sort_unstable();
+                seen.entry(key)
+                    .and_modify(|v| v.0 += 1)
+                    .or_insert((1, quad, e as u32));
+            }
+        }
+        let mut out: Vec<([u32; 4], u32)> = seen
+            .into_values()
+            .filter(|v| v.0 == 1)
+            .map(|v| (v.1, v.2))
+            .collect();
+        out.sort_unstable_by_key(|v| (v.1, v.0));
+        out
+    }
+
+    /// Deformation gradient F = I + Σₐ uₐ ⊗ ∇ₓNₐ at the centre (ξ = 0) of element `e`
+    /// (PHYSICS.md §2), for post-processing (von Mises stress, J) of a displacement field `u`.
+    pub fn centre_deformation_gradient(&self, e: usize, u: &[[f64; 3]]) -> [[f64; 3]; 3] {
+        let x = self.element_coords(e);
+        let d = shape_derivatives([0.0; 3]);
+        // J₀ = ∂X/∂ξ, then ∇ₓNₐ = J₀⁻ᵀ ∂Nₐ/∂ξ.
+        let mut j0 = nalgebra::Matrix3::<f64>::zeros();
+        for a in 0..8 {
+            for i in 0..3 {
+                for k in 0..3 {
+                    j0[(i, k)] += x[a][i] * d[a][k];
+                }
+            }
+        }
+        let inv_t = j0
+            .try_inverse()
+            .unwrap_or_else(|| nalgebra::Matrix3::from_element(f64::NAN))
+            .transpose();
+        let mut f = [[0.0; 3]; 3];
+        for (i, row) in f.iter_mut().enumerate() {
+            row[i] = 1.0;
+        }
+        for a in 0..8 {
+            let g = inv_t * nalgebra::Vector3::new(d[a][0], d[a][1], d[a][2]);
+            let ua = u[self.elements[e][a] as usize];
+            for i in 0..3 {
+                for j in 0..3 {
+                    f[i][j] += ua[i] * g[j];
+                }
+            }
+        }
+        f
+    }
+
+    /// Centre of volume X_c = ∫X dV / ∫dV of the reference mesh (the centre of mass for a
+    /// uniform density), from the lumped nodal volumes: row-sum lumping keeps first moments,
+    /// Σₐ Vₐ Xₐ = ∫ Σₐ Nₐ Xₐ dV = ∫ X dV.
+    pub fn centre_of_volume(&self) -> Result<[f64; 3], GeometryError> {
+        let classes = self.element_classes()?;
+        let (mut moment, mut volume) = ([0.0; 3], 0.0);
+        for (e, conn) in self.elements.iter().enumerate() {
+            let lv = classes.data[classes.class_of[e] as usize].lumped_volumes();
+            for a in 0..8 {
+                let x = self.nodes[conn[a] as usize];
+                for c in 0..3 {
+                    moment[c] += lv[a] * x[c];
+                }
+                volume += lv[a];
+            }
+        }
+        Ok(moment.map(|m| m / volume))
+    }
+
+    /// Largest ratio of the longest to the shortest edge over the elements (1 for cubes).
+    pub fn max_aspect_ratio(&self) -> f64 {
+        self.elements
+            .iter()
+            .map(|conn| {
+                let (lo, hi) =
+                    HEX_EDGES
+                        .iter()
+                        .fold((f64::INFINITY, 0.0f64), |(lo, hi), &(a, b)| {
+                            let l = norm(sub(
+                                self.nodes[conn[a] as usize],
+                                self.nodes[conn[b] as usize],
+                            ));
+                            (lo.min(l), hi.max(l))
+                        });
+                hi / lo
+            })
+            .fold(0.0, f64::max)
+    }
+
+    pub fn min_edge(&self) -> f64 {
+        let mut m = f64::INFINITY;
+        for conn in &self.elements {
+            for &(a, b) in &HEX_EDGES {
+                m = m.min(norm(sub(
+                    self.nodes[conn[a] as usize],
+                    self.nodes[conn[b] as usize],
+                )));
+            }
+        }
+        m
+    }
+}
+
+#[inline]
+pub fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+#[inline]
+pub fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+#[inline]
+pub fn norm(a: [f64; 3]) -> f64 {
+    dot(a, a).sqrt()
+}
+#[inline]
+pub fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The boundary of an n₁×n₂×n₃ box has 2(n₁n₂ + n₂n₃ + n₁n₃) quads, each pointing away
+    /// from the centre of its element; F at the centre is exact for an affine field.
+    #[test]
+    fn boundary_faces_and_centre_gradient() {
+        let mut m = Mesh::boxed([0.0; 3], [1.0, 2.0, 3.0], [3, 4, 5]);
+        m.nodes[30][0] += 0.05; // a distorted interior node must not matter
+        let faces = m.boundary_faces();
+        assert_eq!(faces.len(), 2 * (3 * 4 + 4 * 5 + 3 * 5));
+        for (q, e) in &faces {
+            let c_face = q.iter().fold([0.0; 3], |acc, &n| {
+                let x = m.nodes[n as usize];
+                [
+                    acc[0] + x[0] / 4.0,
+                    acc[1] + x[1] / 4.0,
+                    acc[2] + x[2] / 4.0,
+                ]
+            });
+            let c_el = m.elements[*e as usize].iter().fold([0.0; 3], |acc, &n| {
+                let x = m.nodes[n as usize];
+                [
+                    acc[0] + x[0] / 8.0,
+                    acc[1] + x[1] / 8.0,
+                    acc[2] + x[2] / 8.0,
+                ]
+            });
+            assert!(dot(m.quad_normal(q), sub(c_face, c_el)) > 0.0);
+        }
+        let g = [[0.1, -0.02, 0.03], [0.05, 0.2, 0.0], [0.0, 0.01, -0.1]];
+        let u: Vec<[f64; 3]> = m
+            .nodes
+            .iter()
+            .map(|x| [dot(g[0], *x), dot(g[1], *x), dot(g[2], *x)])
+            .collect();
+        for e in [0, 17, 59] {
+            let f = m.centre_deformation_gradient(e, &u);
+            for i in 0..3 {
+                for j in 0..3 {
+                    let expect = g[i][j] + if i == j { 1.0 } else { 0.0 };
+                    assert!(
+                        (f[i][j] - expect).abs() < 1e-13,
+                        "F[{i}][{j}] of element {e}"
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn face_areas_and_normals() {
+        let m = Mesh::boxed([0.0; 3], [1.0, 2.0, 3.0], [3, 4, 5]);
+        let expect = [
+            ("x-", 6.0, [-1.0, 0.0, 0.0]),
+            ("y+", 3.0, [0.0, 1.0, 0.0]),
+            ("z-", 2.0, [0.0, 0.0, -1.0]),
+        ];
+        for (name, area, normal) in expect {
+            let quads = &m.face_sets[name];
+            let w: f64 = m.nodal_areas(quads).iter().map(|p| p.1).sum();
+            assert!((w - area).abs() < 1e-12, "{name}: {w}");
+            for q in quads {
+                let n = m.quad_normal(q);
+                assert!(norm(sub(n, normal)) < 1e-12, "{name}: {n:?}");
+            }
+        }
+    }
+}
