@@ -116,25 +116,45 @@ fn free_vibration_conserves_energy_with_hourglass_control() {
 
 /// The pull-off with one-point integration: the interface tears off as with full integration
 /// (same window, dissipation within 10 %) and the ledger, hourglass energy included, still
-/// closes to the same standard. The hourglass share is measured, not bounded here (README).
+/// closes to the same standard.
+///
+/// Two bounds from the physics rather than from the full-integration run:
+/// - the damage dissipation D against G_c·A: with |[u]| = α while damage grows, a node's
+///   dissipation to rupture is ∫ −½ g_N′(α) α² dα = ∫ g_N(δ) δ dδ = G_c (by parts, g_N(u_r) = 0),
+///   so the whole interface gives G_c·A exactly in the time-continuous limit. The pull-off law
+///   (plateau g_N(0) = 5e8 Pa/m to α_e = 2 mm, linear to 0 at u_r = 4 mm) has
+///   G_c = g_N(0)α_e²/2 + g_N(0)/(u_r − α_e)·[u_r δ²/2 − δ³/3] from α_e to u_r
+///   = 1000 + 4000/3 = 7000/3 J/m², and A = 1 m². The scheme adds an O(h) excess (a node's jump
+///   passes α within a step): measured +4.3 % on a single element at h = 0.5 h_crit and +0.09 %
+///   at 0.05 h_crit (README, extreme scenes), so D/(G_c·A) − 1 must lie in [−2 %, +8 %];
+/// - the hourglass energy: the usual acceptance rule for one-point elements in explicit codes
+///   is hourglass energy below 10 % of the strain energy; it must hold while the cube is loaded,
+///   at the peak of the strain energy (measured 8 %). During and after the tear-off the
+///   unevenly released bottom layer excites hourglass modes: up to 11 % of the largest energy
+///   of the run (printed here, stated in the README), which is what the rule is there to show.
 #[test]
 fn pull_off_with_one_point_integration() {
     let run = |set: &[&str]| {
         let set: Vec<String> = set.iter().map(|s| s.to_string()).collect();
         let scene = load_scene("scenes/pull_off.toml".as_ref(), &set).unwrap();
         let mut sim = Simulation::new(scene.model).unwrap();
-        let mut max_ratio = 0.0f64;
+        let (mut peak_strain, mut hg_at_peak, mut hg_after) = (0.0f64, 0.0f64, 0.0f64);
         sim.run(|s| {
-            if s.ledger.strain > 1e-3 * s.ledger.max_energy_seen {
-                max_ratio = max_ratio.max(s.ledger.hourglass / s.ledger.strain);
+            let l = &s.ledger;
+            if l.strain > peak_strain {
+                peak_strain = l.strain;
+                hg_at_peak = l.hourglass / l.strain;
+            }
+            if s.stats.time_full_rupture.is_some() {
+                hg_after = hg_after.max(l.hourglass / l.max_energy_seen);
             }
             true
         })
         .unwrap();
-        (sim, max_ratio)
+        (sim, hg_at_peak, hg_after)
     };
-    let (full, _) = run(&[]);
-    let (reduced, hg_ratio) = run(&["scheme.integration=\"reduced\""]);
+    let (full, _, _) = run(&[]);
+    let (reduced, hg_at_peak, hg_after) = run(&["scheme.integration=\"reduced\""]);
     assert_eq!(reduced.state_counts().ruptured, 64);
     let t_full = full.stats.time_full_rupture.unwrap();
     let t_red = reduced.stats.time_full_rupture.unwrap();
@@ -148,6 +168,18 @@ fn pull_off_with_one_point_integration() {
         (d_red / d_full - 1.0).abs() < 0.1,
         "dissipation {d_red} vs {d_full}"
     );
+    let gc_area = 7000.0 / 3.0 * 1.0;
+    let excess = d_red / gc_area - 1.0;
+    assert!(
+        (-0.02..=0.08).contains(&excess),
+        "D = {d_red} J is {:+.2} % of G_c·A = {gc_area} J",
+        100.0 * excess
+    );
+    assert!(
+        hg_at_peak < 0.10,
+        "hourglass energy {:.1} % of the strain energy at its peak",
+        100.0 * hg_at_peak
+    );
     assert!(
         reduced.ledger.max_relative_residual < 1e-3,
         "residual {}",
@@ -155,7 +187,11 @@ fn pull_off_with_one_point_integration() {
     );
     assert!(reduced.ledger.hourglass >= 0.0);
     eprintln!(
-        "one-point pull-off: rupture {t_red:.5} s (full {t_full:.5}), D = {d_red:.1} J \
-         (full {d_full:.1}), largest hourglass/strain energy {hg_ratio:.3}"
+        "one-point pull-off: rupture {t_red:.5} s (full {t_full:.5}), D = {d_red:.1} J = \
+         {:+.2} % of G_c·A (full {d_full:.1}), hourglass/strain energy {:.1} % at the peak of \
+         the strain energy; after the tear-off, hourglass energy up to {:.1} % of the largest energy",
+        100.0 * excess,
+        100.0 * hg_at_peak,
+        100.0 * hg_after
     );
 }
