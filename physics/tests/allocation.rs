@@ -4,8 +4,11 @@
 //! estimates off (an estimate builds its Lanczos vectors). The team is asked for explicitly, so
 //! a one-core machine tests it too.
 
-use decohesion::scene::load_scene;
-use decohesion::solver::Simulation;
+mod common;
+use common::scene_file;
+
+use decohesion_physics::scene::load_scene;
+use decohesion_physics::solver::Simulation;
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
@@ -37,7 +40,7 @@ fn steps_allocate_nothing() {
             "scheme.h_crit_update_interval=0".to_string(),
             format!("scheme.integration=\"{integration}\""),
         ];
-        let scene = load_scene("scenes/pull_off.toml".as_ref(), &set).unwrap();
+        let scene = load_scene(&scene_file("pull_off.toml"), &set).unwrap();
         let mut sim = Simulation::new(scene.model).unwrap();
         sim.use_threads(2);
         assert_eq!(sim.threads(), 2);

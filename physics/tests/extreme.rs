@@ -5,14 +5,16 @@
 
 mod common;
 use common::face_nodes;
-use decohesion::scene::load_scene;
-use decohesion::solver::{Simulation, SolverError};
+use common::scene_file;
+use decohesion_physics::scene::load_scene;
+use decohesion_physics::solver::{Simulation, SolverError};
 
 fn scene(name: &str, set: &[&str]) -> Simulation {
     let set: Vec<String> = set.iter().map(|s| s.to_string()).collect();
-    let path = format!("scenes/extreme/{name}.toml");
-    let scene = load_scene(path.as_ref(), &set).unwrap_or_else(|e| panic!("{path}: {e}"));
-    Simulation::new(scene.model).unwrap_or_else(|e| panic!("{path}: {e}"))
+    let path = scene_file(&format!("extreme/{name}.toml"));
+    let scene =
+        load_scene(path.as_ref(), &set).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    Simulation::new(scene.model).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
 }
 
 /// Runs to the end, checking after every step that the ledger has no NaN.

@@ -14,11 +14,12 @@
 //! The second test runs the teaching scene scenes/impact.toml, the same bar (a cork column,
 //! ν = 0) dropped from a height, whose landings happen inside the run and inside the ledger.
 
-use decohesion::material::{Material, MaterialModel};
+use decohesion_physics::material::{Material, MaterialModel};
 mod common;
+use common::scene_file;
 use common::{face_nodes, on_floor};
-use decohesion::model::Model;
-use decohesion::solver::Simulation;
+use decohesion_physics::model::Model;
+use decohesion_physics::solver::Simulation;
 
 const E: f64 = 2.0e11;
 const RHO: f64 = 7800.0;
@@ -197,7 +198,7 @@ fn bar_rebounds_after_2l_over_c_without_penetration() {
 /// losses the inelastic stops of the bottom layer, ½ m_b v_b², at each landing.
 #[test]
 fn dropped_column_scene() {
-    let scene = decohesion::scene::load_scene("scenes/impact.toml".as_ref(), &[]).unwrap();
+    let scene = decohesion_physics::scene::load_scene(&scene_file("impact.toml"), &[]).unwrap();
     let model = scene.model;
     let (young, rho) = (model.material.young, model.material.density);
     let c = (young / rho).sqrt();

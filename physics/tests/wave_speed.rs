@@ -11,10 +11,10 @@
 //! test's yardstick: the arrival must be within one front width of L/c, and its lag must be the
 //! predicted one.
 
-use decohesion::material::{Material, MaterialModel};
-use decohesion::mesh::Mesh;
-use decohesion::model::{Model, PiecewiseLinear, PrescribedDisplacement, SchemeParams};
-use decohesion::solver::Simulation;
+use decohesion_physics::material::{Material, MaterialModel};
+use decohesion_physics::mesh::Mesh;
+use decohesion_physics::model::{Model, PiecewiseLinear, PrescribedDisplacement, SchemeParams};
+use decohesion_physics::solver::Simulation;
 
 const E: f64 = 2.0e11;
 const RHO: f64 = 7800.0;

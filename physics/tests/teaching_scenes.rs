@@ -3,15 +3,16 @@
 
 mod common;
 use common::centre_of_mass;
-use decohesion::scene::load_scene;
-use decohesion::solver::Simulation;
+use common::scene_file;
+use decohesion_physics::scene::load_scene;
+use decohesion_physics::solver::Simulation;
 use std::f64::consts::FRAC_PI_2;
 
 /// The simulation of `scenes/NAME.toml` after `overrides`, at t = 0.
 fn start(name: &str, overrides: &[&str]) -> Simulation {
     let set: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
     let scene =
-        load_scene(format!("scenes/{name}.toml").as_ref(), &set).unwrap_or_else(|e| panic!("{e}"));
+        load_scene(&scene_file(&format!("{name}.toml")), &set).unwrap_or_else(|e| panic!("{e}"));
     Simulation::new(scene.model).unwrap_or_else(|e| panic!("{e}"))
 }
 
@@ -464,7 +465,7 @@ fn mixed_mode_opens_along_the_norm_of_the_jump() {
     while !sim.finished() {
         sim.step().unwrap();
         let itf = &sim.interface_nodes[centre];
-        let n = decohesion::interface::damage::damage_measure(itf.jump, base.normal);
+        let n = decohesion_physics::interface::damage::damage_measure(itf.jump, base.normal);
         if itf.alpha < law.u_r && n > 0.05 * law.u_r {
             // Tangential over normal jump (the base moves in x and −z: the jump is (+, 0, +)).
             ratio_worst = ratio_worst.max((itf.jump[0] / itf.jump[2] - 1.0).abs());
@@ -477,7 +478,7 @@ fn mixed_mode_opens_along_the_norm_of_the_jump() {
             angle_worst = angle_worst.max((f[0] - f[1]).abs() / 2f64.sqrt() / (tmax * area));
         }
         for (k, itf) in sim.interface_nodes.iter().enumerate() {
-            let m = decohesion::interface::damage::damage_measure(itf.jump, base.normal);
+            let m = decohesion_physics::interface::damage::damage_measure(itf.jump, base.normal);
             if rupture_steps[k].is_none() && itf.alpha >= law.u_r {
                 rupture_steps[k] = Some(sim.time);
                 rupture_jumps.push((before[k], m));

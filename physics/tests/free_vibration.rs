@@ -5,8 +5,8 @@
 
 mod common;
 use common::*;
-use decohesion::material::{Material, MaterialModel};
-use decohesion::solver::Simulation;
+use decohesion_physics::material::{Material, MaterialModel};
+use decohesion_physics::solver::Simulation;
 
 #[test]
 fn free_vibration_conserves_the_leapfrog_invariant() {

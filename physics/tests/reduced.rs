@@ -5,13 +5,13 @@
 
 mod common;
 use common::*;
-use decohesion::material::{
+use decohesion_physics::material::{
     element_forces, element_forces_reduced, hourglass_stiffness, Material, MaterialModel,
 };
-use decohesion::mesh::{hourglass_vectors, CentreData, GaussData, HEX_CORNERS};
-use decohesion::model::Integration;
-use decohesion::scene::load_scene;
-use decohesion::solver::Simulation;
+use decohesion_physics::mesh::{hourglass_vectors, CentreData, GaussData, HEX_CORNERS};
+use decohesion_physics::model::Integration;
+use decohesion_physics::scene::load_scene;
+use decohesion_physics::solver::Simulation;
 
 /// On a cube γ = h, so the ξη hourglass mode u = δ h¹ eₓ has q¹ = 8δ eₓ and Ψ_hg = 32 k δ²,
 /// with forces k h¹ q¹; one point alone sees no strain in it (a zero-energy mode), while 2×2×2
@@ -136,7 +136,7 @@ fn free_vibration_conserves_energy_with_hourglass_control() {
 fn pull_off_with_one_point_integration() {
     let run = |set: &[&str]| {
         let set: Vec<String> = set.iter().map(|s| s.to_string()).collect();
-        let scene = load_scene("scenes/pull_off.toml".as_ref(), &set).unwrap();
+        let scene = load_scene(&scene_file("pull_off.toml"), &set).unwrap();
         let mut sim = Simulation::new(scene.model).unwrap();
         let (mut peak_strain, mut hg_at_peak, mut hg_after) = (0.0f64, 0.0f64, 0.0f64);
         sim.run(|s| {

@@ -13,11 +13,11 @@
 //! (c) The same with 1.5 μMg: the base slides and the centre of mass accelerates at
 //!     T/M − μg (the test that (b) would fail if the friction were unbounded).
 
-use decohesion::material::{Material, MaterialModel};
+use decohesion_physics::material::{Material, MaterialModel};
 mod common;
 use common::{centre_of_mass, face_nodes, on_floor};
-use decohesion::model::{Model, PiecewiseLinear, Traction};
-use decohesion::solver::{ContactStatus, Simulation};
+use decohesion_physics::model::{Model, PiecewiseLinear, Traction};
+use decohesion_physics::solver::{ContactStatus, Simulation};
 
 const E: f64 = 2.0e11;
 const RHO: f64 = 7800.0;

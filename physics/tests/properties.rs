@@ -7,10 +7,10 @@
 
 mod common;
 use common::*;
-use decohesion::law::{LawFamily, StiffnessLaw};
-use decohesion::material::{Material, MaterialModel};
-use decohesion::model::{Interface, PiecewiseLinear, PrescribedDisplacement};
-use decohesion::solver::{ContactStatus, Simulation};
+use decohesion_physics::law::{LawFamily, StiffnessLaw};
+use decohesion_physics::material::{Material, MaterialModel};
+use decohesion_physics::model::{Interface, PiecewiseLinear, PrescribedDisplacement};
+use decohesion_physics::solver::{ContactStatus, Simulation};
 use proptest::prelude::*;
 use proptest::strategy::ValueTree;
 use proptest::test_runner::TestRunner;

@@ -2,12 +2,15 @@
 //! a third of the run, a free cube afterwards, a ledger that closes, and its residual falling as
 //! h² (PHYSICS.md §5).
 
-use decohesion::scene::load_scene;
-use decohesion::solver::Simulation;
+mod common;
+use common::scene_file;
+
+use decohesion_physics::scene::load_scene;
+use decohesion_physics::solver::Simulation;
 
 fn run(overrides: &[&str]) -> Simulation {
     let set: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
-    let scene = load_scene("scenes/pull_off.toml".as_ref(), &set).unwrap();
+    let scene = load_scene(&scene_file("pull_off.toml"), &set).unwrap();
     let mut sim = Simulation::new(scene.model).unwrap();
     sim.run(|_| true).unwrap();
     sim

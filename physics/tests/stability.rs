@@ -1,15 +1,18 @@
 //! Stability boundary (PHYSICS.md §6): stable at 0.9 h_crit, and at 1.1 h_crit the blow-up is
 //! caught with a diagnostic naming the step, the time, h and h_crit.
 
-use decohesion::scene::load_scene;
-use decohesion::solver::{Simulation, SolverError};
+mod common;
+use common::scene_file;
+
+use decohesion_physics::scene::load_scene;
+use decohesion_physics::solver::{Simulation, SolverError};
 
 fn run(factor: f64) -> (Simulation, Result<(), SolverError>) {
     let set = vec![
         format!("scheme.time_step_factor={factor}"),
         "end_time=0.05".to_string(),
     ];
-    let scene = load_scene("scenes/pull_off.toml".as_ref(), &set).unwrap();
+    let scene = load_scene(&scene_file("pull_off.toml"), &set).unwrap();
     let mut sim = Simulation::new(scene.model).unwrap();
     let r = sim.run(|_| true);
     (sim, r)
@@ -67,7 +70,7 @@ fn a_load_ramped_from_zero_is_not_a_blow_up() {
         "end_time=0.02",
     ]
     .map(String::from);
-    let scene = load_scene("scenes/pull_off.toml".as_ref(), &set).unwrap();
+    let scene = load_scene(&scene_file("pull_off.toml"), &set).unwrap();
     let mut sim = Simulation::new(scene.model).unwrap();
     sim.run(|_| true)
         .expect("a ramped pressure is not an instability");

@@ -1,0 +1,114 @@
+//! Models built in code for the verification tests, and the project's scene files.
+#![allow(dead_code)]
+
+use decohesion_physics::law::{LawFamily, StiffnessLaw};
+use decohesion_physics::material::{Material, MaterialModel};
+use decohesion_physics::mesh::Mesh;
+use decohesion_physics::model::*;
+use decohesion_physics::solver::Simulation;
+use std::path::{Path, PathBuf};
+
+/// The scene file `scenes/<name>` of the project (these tests run in `physics/`).
+pub fn scene_file(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../scenes")
+        .join(name)
+}
+
+/// Node indices of the face set `name`.
+pub fn face_nodes(model: &Model, name: &str) -> Vec<usize> {
+    model
+        .mesh
+        .face_set_nodes(&model.mesh.face_sets[name])
+        .iter()
+        .map(|&n| n as usize)
+        .collect()
+}
+
+/// Centre-of-mass value Σmᵢxᵢ[c] / Σmᵢ of a nodal field's component c.
+pub fn centre_of_mass(sim: &Simulation, field: &[[f64; 3]], c: usize) -> f64 {
+    let m: f64 = sim.mass.iter().sum();
+    field
+        .iter()
+        .zip(&sim.mass)
+        .map(|(x, mi)| mi * x[c])
+        .sum::<f64>()
+        / m
+}
+
+/// A box with no loads, no planes: the caller adds what the test needs.
+pub fn bare_box(size: [f64; 3], cells: [usize; 3], mat: Material, end_time: f64) -> Model {
+    Model {
+        name: "test".into(),
+        description: String::new(),
+        mesh: Mesh::boxed([0.0; 3], size, cells),
+        material: mat,
+        gravity: [0.0; 3],
+        initial_velocity: [0.0; 3],
+        initial_angular_velocity: [0.0; 3],
+        planes: vec![],
+        interfaces: vec![],
+        contacts: vec![],
+        displacements: vec![],
+        tractions: vec![],
+        scheme: SchemeParams::default(),
+        end_time,
+    }
+}
+
+pub fn mould() -> RigidPlane {
+    RigidPlane {
+        name: "mould".into(),
+        point: [0.0; 3],
+        normal: [0.0, 0.0, 1.0],
+        velocity: None,
+    }
+}
+
+pub fn ramp(t_end: f64, u_end: f64) -> PiecewiseLinear<1> {
+    PiecewiseLinear {
+        points: vec![(0.0, [0.0]), (t_end, [u_end])],
+    }
+}
+
+/// The reference pull-off cube of PHYSICS.md §7 with `n` cells per side (same values as
+/// scenes/pull_off.toml).
+pub fn pull_off(n: usize, end_time: f64) -> Model {
+    let mut m = bare_box(
+        [1.0; 3],
+        [n, n, n],
+        Material::new(MaterialModel::Svk, 5e6, 0.45, 1100.0),
+        end_time,
+    );
+    m.gravity = [0.0, 0.0, -9.81];
+    m.planes.push(mould());
+    m.interfaces.push(Interface {
+        faces: "z-".into(),
+        plane: 0,
+        law: StiffnessLaw::new(LawFamily::PlateauLinear, 5e8, 2e-3, 4e-3).unwrap(),
+        mu_inf: 0.5,
+        initial_damage: 0.0,
+    });
+    m.displacements.push(PrescribedDisplacement {
+        faces: "z+".into(),
+        component: 2,
+        history: ramp(0.33, 0.33),
+    });
+    m
+}
+
+/// A box resting on a fixed floor (the plane z = 0) through unilateral contact with Coulomb
+/// friction μ on its `z-` face, no glue.
+pub fn on_floor(size: [f64; 3], cells: [usize; 3], mat: Material, mu: f64, end_time: f64) -> Model {
+    let mut m = bare_box(size, cells, mat, end_time);
+    m.planes.push(RigidPlane {
+        name: "floor".into(),
+        ..mould()
+    });
+    m.contacts.push(ContactFaces {
+        faces: "z-".into(),
+        plane: 0,
+        mu,
+    });
+    m
+}
