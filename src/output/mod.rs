@@ -2,7 +2,7 @@
 //! ([`crate::vtk`]): when a frame is due ([`Cadence`], [`FrameClock`]), the state a frame shows
 //! ([`Snapshot`], copied once per frame by the run driver, [`crate::driver`]), the per-element
 //! fields both show ([`fields`]), the writer threads ([`worker`]) and the interface an output
-//! offers the driver ([`Output`]). Depends on neither Rerun nor any file format.
+//! offers the driver ([`Output`]). Uses neither the Rerun SDK nor any file format itself.
 
 pub mod fields;
 pub mod snapshot;
