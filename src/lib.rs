@@ -17,9 +17,13 @@ pub use decohesion_physics::{
     energy, gmsh, interface, kernels, law, material, mesh, model, scene, solver, team,
 };
 
+/// The `decohesion` subcommands behind the command line's parsing (run, check, tradeoff, bench).
+pub mod cli;
+/// The run driver: the outputs of a run, its loop, cancellation, progress, the summary.
+pub mod driver;
 /// The explorer window (egui): reads scenes, runs simulations on a thread; not used by the physics.
 pub mod gui;
-/// What the outputs share: frame cadence, writer-thread priority.
+/// What the outputs share: frame cadence, snapshot, per-element fields, writer threads.
 pub mod output;
 /// Rerun recording (live or `.rrd`): reads a simulation, is not read by the physics.
 pub mod record;

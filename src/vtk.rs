@@ -19,7 +19,7 @@
 //! | `velocity` | points | 3 | V_{n+½} [m/s], the CD-Lagrange velocity of the step that follows tₙ (PHYSICS.md §4: Uₙ₊₁ = Uₙ + h V_{n+½}) |
 //! | `alpha` | points | 1 | damage α of an interface node [m] (eq. 12); [`NOT_INTERFACE`] elsewhere |
 //! | `state` | points | 1 (Int8) | 0 elastic, 1 transition, 2 ruptured ([`crate::law::InterfaceState`]); [`NOT_INTERFACE`] on nodes off the interfaces |
-//! | `J` | cells | 1 | J = det F at the element centre ξ = 0 ([`crate::mesh::Mesh::centre_deformation_gradient`]) [-] |
+//! | `J` | cells | 1 | J = det F at the element centre ξ = 0 ([`crate::output::fields`]) [-] |
 //! | `cauchy_stress` | cells | 9 | σ = J⁻¹ F S Fᵀ at the centre, row-major σ_xx σ_xy σ_xz σ_yx … [Pa] |
 //! | `von_mises` | cells | 1 | √(3/2 s:s) of that σ [Pa] |
 //!
@@ -37,20 +37,22 @@
 //! this writer.
 //!
 //! # Threads
-//! The solver thread copies U, V and α (three memcpys) and hands them to a writer thread over a
-//! bounded channel (back-pressure, nothing dropped); the writer thread, at a lower priority,
-//! computes the element fields, encodes and writes the files. This module uses no Rerun.
+//! The run driver ([`crate::driver`]) copies the state once per frame ([`Snapshot`]) and hands
+//! it to every output; this one passes it to a writer thread over a bounded channel
+//! (back-pressure, nothing dropped, [`crate::output::worker`]), which computes the element
+//! fields, encodes and writes the files at a lower priority. This module uses no Rerun.
 
 use crate::law::InterfaceState;
-use crate::material::von_mises_equivalent;
 use crate::model::Model;
-use crate::output::{lower_thread_priority, Cadence, FrameClock};
+use crate::output::fields::centre_fields;
+use crate::output::worker::Worker;
+use crate::output::{Ending, Output, OutputError, OutputReport, Snapshot, QUEUE_BYTES};
 use crate::solver::Simulation;
 use std::fs::File;
 use std::io::{Seek, SeekFrom, Write};
 use std::path::{Path, PathBuf};
-use std::sync::mpsc::{sync_channel, SyncSender};
-use std::thread::JoinHandle;
+use std::sync::mpsc::Receiver;
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 /// Value of `alpha` and `state` on nodes that are not interface nodes (α ≥ 0 and states ≥ 0
@@ -59,9 +61,6 @@ pub const NOT_INTERFACE: i8 = -1;
 
 /// VTK cell type of the 8-node hexahedron (`VTK_HEXAHEDRON`).
 pub const VTK_HEXAHEDRON: u8 = 12;
-
-/// Memory that frames waiting for the writer thread may take before the solver waits [bytes].
-pub const QUEUE_BYTES: usize = 64 << 20;
 
 /// Opening and closing of the `.pvd` collection.
 const PVD_HEAD: &str = "<?xml version=\"1.0\"?>\n\
@@ -102,26 +101,6 @@ pub struct VtkReport {
     pub writer_thread_seconds: f64,
 }
 
-/// The state a frame shows, copied on the solver thread.
-struct Frame {
-    time: f64,
-    u: Vec<[f64; 3]>,
-    v: Vec<[f64; 3]>,
-    /// α of each interface node, in `Simulation::interface_nodes` order.
-    alpha: Vec<f64>,
-}
-
-impl Frame {
-    fn capture(sim: &Simulation) -> Frame {
-        Frame {
-            time: sim.time,
-            u: sim.u.clone(),
-            v: sim.v.clone(),
-            alpha: sim.interface_nodes.iter().map(|n| n.alpha).collect(),
-        }
-    }
-}
-
 /// What the writer thread reports when it ends.
 struct WriterEnd {
     frames: u64,
@@ -129,22 +108,18 @@ struct WriterEnd {
     busy: Duration,
 }
 
-/// Writes a running [`Simulation`] as a ParaView time series. Build it once the simulation is
-/// set up (it writes the current state as the first frame), call [`VtkWriter::on_step`] after
-/// every step and [`VtkWriter::finish`] at the end, whatever the outcome.
+/// Writes a running [`Simulation`] as a ParaView time series: an [`Output`] of the run driver,
+/// which feeds it the frames and finishes it whatever the outcome.
 pub struct VtkWriter {
-    tx: Option<SyncSender<Frame>>,
-    thread: Option<JoinHandle<Result<WriterEnd, VtkError>>>,
-    clock: FrameClock,
+    worker: Worker<Arc<Snapshot>, WriterEnd, VtkError>,
     pvd: PathBuf,
-    solver_time: Duration,
 }
 
 impl VtkWriter {
-    /// Creates `dir` (and its parents) and an empty index `dir/NAME.pvd`, starts the writer
-    /// thread and sends the current state as frame 0. A directory that cannot be created or
-    /// written is reported here, before the run starts, naming it.
-    pub fn new(dir: &Path, sim: &Simulation, cadence: Cadence) -> Result<VtkWriter, VtkError> {
+    /// Creates `dir` (and its parents) and an empty index `dir/NAME.pvd` and starts the
+    /// writer thread. A directory that cannot be created or written is reported here, before
+    /// the run starts, naming it.
+    pub fn new(dir: &Path, sim: &Simulation) -> Result<VtkWriter, VtkError> {
         let started = Instant::now();
         let dir_err = |source| VtkError::Dir {
             dir: dir.to_path_buf(),
@@ -155,93 +130,53 @@ impl VtkWriter {
         let pvd_path = dir.join(format!("{stem}.pvd"));
         let pvd = Pvd::create(&pvd_path).map_err(dir_err)?;
         let mut series = Series::new(sim, dir.to_path_buf(), stem, pvd);
-        let frame_bytes = 48 * sim.u.len() + 8 * sim.interface_nodes.len() + 64;
-        let (tx, rx) = sync_channel::<Frame>((QUEUE_BYTES / frame_bytes).clamp(2, 1024));
-        let thread = std::thread::Builder::new()
-            .name("decohesion-vtk".into())
-            .spawn(move || -> Result<WriterEnd, VtkError> {
-                lower_thread_priority();
-                let mut busy = Duration::ZERO;
-                while let Ok(frame) = rx.recv() {
-                    let t = Instant::now();
-                    series.write(&frame)?;
-                    busy += t.elapsed();
-                }
-                Ok(WriterEnd {
-                    frames: series.frames,
-                    bytes: series.written + series.pvd.len,
-                    busy,
-                })
+        let queue = (QUEUE_BYTES / Snapshot::bytes(sim)).clamp(2, 1024);
+        let thread_error = |what: &str| VtkError::Thread(what.to_string());
+        let body = move |rx: Receiver<Arc<Snapshot>>| {
+            let mut busy = Duration::ZERO;
+            while let Ok(frame) = rx.recv() {
+                let t = Instant::now();
+                series.write(&frame)?;
+                busy += t.elapsed();
+            }
+            Ok(WriterEnd {
+                frames: series.frames,
+                bytes: series.written + series.pvd.len,
+                busy,
             })
-            .map_err(|e| VtkError::Thread(format!("cannot start: {e}")))?;
-        let mut writer = VtkWriter {
-            tx: Some(tx),
-            thread: Some(thread),
-            clock: FrameClock::new(cadence, sim.model.end_time),
-            pvd: pvd_path,
-            solver_time: started.elapsed(),
         };
-        writer.frame(sim)?;
-        Ok(writer)
+        let mut worker = Worker::spawn("decohesion-vtk", queue, thread_error, body)?;
+        worker.charge(started.elapsed());
+        Ok(VtkWriter {
+            worker,
+            pvd: pvd_path,
+        })
     }
+}
 
-    /// Called after every step: sends a frame when the cadence asks for one.
-    pub fn on_step(&mut self, sim: &Simulation) -> Result<(), VtkError> {
-        if self.clock.due(sim.step_count, sim.time) {
-            self.frame(sim)?;
-        }
-        Ok(())
-    }
-
-    /// Sends the state of `sim` as one frame (once per step at most). An error of the writer
-    /// thread (a full disk, a removed directory) is returned by the next call.
-    pub fn frame(&mut self, sim: &Simulation) -> Result<(), VtkError> {
-        let started = Instant::now();
-        if !self.clock.take(sim.step_count, sim.time) {
-            return Ok(());
-        }
-        let sent = self.tx.as_ref().map(|tx| tx.send(Frame::capture(sim)));
-        self.solver_time += started.elapsed();
-        match sent {
-            Some(Ok(())) => Ok(()),
-            _ => Err(self
-                .join()
-                .err()
-                .unwrap_or_else(|| VtkError::Thread("stopped early".into()))),
-        }
-    }
-
-    fn join(&mut self) -> Result<WriterEnd, VtkError> {
-        self.tx = None;
-        match self.thread.take() {
-            Some(t) => t
-                .join()
-                .unwrap_or_else(|_| Err(VtkError::Thread("panicked".into()))),
-            None => Err(VtkError::Thread("already ended".into())),
-        }
+impl Output for VtkWriter {
+    /// Sends one frame to the writer thread. An error of the writer thread (a full disk, a
+    /// removed directory) is returned by the next call.
+    fn frame(&mut self, snapshot: &Arc<Snapshot>) -> Result<(), OutputError> {
+        Ok(self.worker.send(snapshot.clone(), snapshot.capture_time)?)
     }
 
     /// Sends the last state (if not sent yet) and waits until every frame is written and
-    /// indexed, whatever the outcome of the run.
-    pub fn finish(mut self, sim: &Simulation) -> Result<VtkReport, VtkError> {
-        let last = self.frame(sim);
-        let started = Instant::now();
-        let end = self.join();
-        self.solver_time += started.elapsed();
-        last?;
-        let end = end?;
-        Ok(VtkReport {
+    /// indexed.
+    fn finish(
+        self: Box<Self>,
+        last: Option<Arc<Snapshot>>,
+        _end: &Ending<'_>,
+    ) -> Result<OutputReport, OutputError> {
+        let capture = last.as_ref().map_or(Duration::ZERO, |s| s.capture_time);
+        let (end, solver_time) = self.worker.finish(last, capture)?;
+        Ok(OutputReport::Paraview(VtkReport {
             pvd: self.pvd.display().to_string(),
             frames: end.frames,
             bytes: end.bytes,
-            solver_seconds: self.solver_time.as_secs_f64(),
+            solver_seconds: solver_time.as_secs_f64(),
             writer_thread_seconds: end.busy.as_secs_f64(),
-        })
-    }
-
-    /// Frames sent so far.
-    pub fn frames(&self) -> u64 {
-        self.clock.frames()
+        }))
     }
 }
 
@@ -408,14 +343,14 @@ impl Series {
     }
 
     /// The `.vtu` text of one frame, in `self.text`.
-    fn grid(&mut self, f: &Frame) {
+    fn grid(&mut self, f: &Snapshot) {
         let m = &self.model;
         let nodes = m.mesh.nodes.len();
         let cells = m.mesh.elements.len();
         let mut alpha = vec![NOT_INTERFACE as f64; nodes];
         let mut state = vec![NOT_INTERFACE; nodes];
-        for (&(n, itf), &a) in self.interface_nodes.iter().zip(&f.alpha) {
-            let n = n as usize;
+        for (&(n, itf), node) in self.interface_nodes.iter().zip(&f.interface) {
+            let (n, a) = (n as usize, node.alpha);
             if a >= alpha[n] {
                 alpha[n] = a;
                 state[n] = match m.interfaces[itf as usize].law.state(a) {
@@ -429,16 +364,14 @@ impl Series {
         let mut sigma = Vec::with_capacity(9 * cells);
         let mut vm = Vec::with_capacity(cells);
         for e in 0..cells {
-            let f = m.mesh.centre_deformation_gradient(e, &f.u);
-            let f = nalgebra::Matrix3::from_fn(|i, j| f[i][j]);
-            let s = m.material.cauchy_stress(&f);
-            jac.push(f.determinant());
+            let c = centre_fields(m, e, &f.u);
+            jac.push(c.jacobian);
             for i in 0..3 {
                 for j in 0..3 {
-                    sigma.push(s[(i, j)]);
+                    sigma.push(c.cauchy[(i, j)]);
                 }
             }
-            vm.push(von_mises_equivalent(&s));
+            vm.push(c.von_mises);
         }
         let flat = |v: &[[f64; 3]]| -> Vec<f64> { v.iter().flatten().copied().collect() };
         let (out, bytes) = (&mut self.text, &mut self.bytes);
@@ -483,7 +416,7 @@ impl Series {
     }
 
     /// Writes frame k under a hidden name, renames it into place, then indexes it.
-    fn write(&mut self, f: &Frame) -> Result<(), VtkError> {
+    fn write(&mut self, f: &Snapshot) -> Result<(), VtkError> {
         let name = format!("{}_{:06}.vtu", self.stem, self.frames);
         let path = self.dir.join(&name);
         let part = self.dir.join(format!(".{name}.part"));

@@ -1,6 +1,67 @@
 //! What the run outputs share — the Rerun recording ([`crate::record`]) and the ParaView files
-//! ([`crate::vtk`]): when a frame is due ([`Cadence`], [`FrameClock`]) and the priority of their
-//! writer threads. Depends on neither Rerun nor any file format, and on no physics module.
+//! ([`crate::vtk`]): when a frame is due ([`Cadence`], [`FrameClock`]), the state a frame shows
+//! ([`Snapshot`], copied once per frame by the run driver, [`crate::driver`]), the per-element
+//! fields both show ([`fields`]), the writer threads ([`worker`]) and the interface an output
+//! offers the driver ([`Output`]). Uses neither the Rerun SDK nor any file format itself.
+
+pub mod fields;
+pub mod snapshot;
+pub mod worker;
+
+pub use snapshot::{InterfaceSnapshot, Snapshot};
+
+use crate::record::{RecordError, RecordingReport};
+use crate::solver::SolverError;
+use crate::vtk::{VtkError, VtkReport};
+use std::sync::Arc;
+
+/// One output of a run (the Rerun recording, the ParaView files), fed by the run driver
+/// ([`crate::driver::Driver`]) with one shared [`Snapshot`] per frame, at the cadence of the
+/// driver's one [`FrameClock`]: every output of a run holds the same steps.
+pub trait Output {
+    /// Takes one frame. An error stops the run; the output is still finished.
+    fn frame(&mut self, snapshot: &Arc<Snapshot>) -> Result<(), OutputError>;
+
+    /// Ends the output whatever the outcome of the run: `last` is the final state when it was
+    /// not a frame already. When it returns, what was written is complete (a closed recording,
+    /// an index of every frame).
+    fn finish(
+        self: Box<Self>,
+        last: Option<Arc<Snapshot>>,
+        end: &Ending<'_>,
+    ) -> Result<OutputReport, OutputError>;
+}
+
+/// How a run ended, for the outputs' closing words.
+#[derive(Debug, Clone, Copy)]
+pub struct Ending<'a> {
+    /// Steps taken.
+    pub step: u64,
+    /// Simulated time reached [s].
+    pub time: f64,
+    /// Why the run stopped early (a failure or a cancellation), `None` when it completed.
+    pub error: Option<&'a SolverError>,
+}
+
+/// What an output reports at the end, for the run summary.
+#[derive(Debug, Clone)]
+pub enum OutputReport {
+    Recording(RecordingReport),
+    Paraview(VtkReport),
+}
+
+/// The error of one output, naming which.
+#[derive(Debug, thiserror::Error)]
+pub enum OutputError {
+    #[error("{0}")]
+    Recording(#[from] RecordError),
+    #[error("{0}")]
+    Paraview(#[from] VtkError),
+}
+
+/// Memory that frames waiting for an output's writer thread may take before the solver waits
+/// (back-pressure) [bytes].
+pub const QUEUE_BYTES: usize = 64 << 20;
 
 /// Default number of frames over the scene's `end_time` (see [`Cadence::Default`]).
 pub const DEFAULT_FRAMES: f64 = 200.0;
@@ -19,8 +80,8 @@ pub enum Cadence {
 
 /// Decides, step by step, whether a frame is due: the first call (step 0) always, then every N
 /// steps or at the first step at or past each k·interval of simulated time; `finish` code adds
-/// the last step with [`FrameClock::take`]. One clock per output, built from the same
-/// [`Cadence`], so a Rerun capture and a ParaView series of one run hold the same steps.
+/// the last step with [`FrameClock::take`]. One clock per run, the driver's, so a Rerun capture
+/// and a ParaView series of one run hold the same steps.
 #[derive(Debug, Clone)]
 pub struct FrameClock {
     every: Option<u64>,

@@ -1,0 +1,229 @@
+//! `decohesion bench`: ns per element-step on cubes of n³ hex8 elements, the share of each stage
+//! of the step, and the scaling of the wall time with the mesh size.
+
+use crate::report::state_bytes;
+use crate::scene::load_scene;
+use crate::solver::Simulation;
+use anyhow::{bail, Result};
+use std::path::Path;
+use std::time::Instant;
+
+/// The median of `v` (sorted in place).
+fn median(v: &mut [f64]) -> f64 {
+    v.sort_by(f64::total_cmp);
+    let n = v.len();
+    if n % 2 == 1 {
+        v[n / 2]
+    } else {
+        0.5 * (v[n / 2 - 1] + v[n / 2])
+    }
+}
+
+/// Measures and prints the cost of a step on cubes of `sizes`³ elements.
+pub fn bench(
+    path: &Path,
+    sizes: &[usize],
+    repeats: usize,
+    work: u64,
+    integrations: &[String],
+) -> Result<()> {
+    if repeats == 0 {
+        bail!("--repeats must be ≥ 1");
+    }
+    crate::tradeoff::require_box_mesh(&load_scene(path, &[])?, "--sizes")?;
+    println!(
+        "decohesion bench: {} on {} threads ({}; meshes under {} elements on one), interface on; full = 2×2×2 Gauss, reduced = one point + hourglass control",
+        path.display(),
+        rayon::current_num_threads(),
+        std::env::consts::ARCH,
+        crate::solver::PARALLEL_MIN_ELEMENTS
+    );
+    println!(
+        "{:>8} {:>4} {:>9} {:>9} {:>7} {:>14} {:>16} {:>18} {:>12} {:>10} {:>13}",
+        "rule",
+        "n",
+        "elements",
+        "nodes",
+        "steps",
+        "ns/elem-step",
+        "elem-steps/s",
+        "iface ns/node-step",
+        "bytes/elem",
+        "setup s",
+        "wall s/sim s"
+    );
+    // Every configuration is built first and the repetitions go round-robin over them, so a
+    // burst of load on the machine (this is a shared VM) lands in one repetition of several
+    // configurations instead of all the repetitions of one: the medians see it as an outlier.
+    let mut configs = configs(path, sizes, work, integrations)?;
+    for _ in 0..repeats {
+        for c in configs.iter_mut() {
+            c.repeat()?;
+        }
+    }
+    let fits = print_times(&mut configs);
+    print_shares(&configs);
+    for (integration, points) in fits {
+        if points.len() >= 2 {
+            println!(
+                "scaling ({integration}): wall time at fixed simulated time ∝ N^{:.3} over N = {:.0}…{:.0} elements (N^4/3 if the cost per element-step were constant: h ∝ N^-1/3)",
+                log_log_slope(&points),
+                points[0].0,
+                points[points.len() - 1].0
+            );
+        }
+    }
+    Ok(())
+}
+
+/// One configuration (quadrature, size) and its measurements.
+struct Config {
+    integration: String,
+    n: usize,
+    sim: Simulation,
+    setup: f64,
+    steps: u64,
+    ns: Vec<f64>,
+    iface: Vec<f64>,
+    /// Stage times at the start of the first repetition [s].
+    stages0: crate::solver::StageTimes,
+}
+
+impl Config {
+    /// One repetition: the steps, timed; the time per element-step and per interface
+    /// node-step.
+    fn repeat(&mut self) -> Result<()> {
+        let sim = &mut self.sim;
+        let elements = sim.model.mesh.elements.len() as u64;
+        let before = sim.stats.stage_times.interface_contact;
+        let t = Instant::now();
+        for _ in 0..self.steps {
+            sim.step()?;
+        }
+        let dt = t.elapsed().as_secs_f64();
+        self.ns.push(dt * 1e9 / (self.steps * elements) as f64);
+        let di = sim.stats.stage_times.interface_contact - before;
+        let per_node = self.steps as f64 * sim.interface_nodes.len().max(1) as f64;
+        self.iface.push(di * 1e9 / per_node);
+        Ok(())
+    }
+}
+
+/// Every configuration, set up, with the steps of one repetition.
+fn configs(
+    path: &Path,
+    sizes: &[usize],
+    work: u64,
+    integrations: &[String],
+) -> Result<Vec<Config>> {
+    let mut configs = Vec::new();
+    for integration in integrations {
+        for &n in sizes {
+            let set = vec![
+                format!("mesh.cells=[{n},{n},{n}]"),
+                "scheme.h_crit_update_interval=0".into(),
+                format!("scheme.integration=\"{integration}\""),
+            ];
+            let scene = load_scene(path, &set)?;
+            let t0 = Instant::now();
+            let sim = Simulation::new(scene.model)?;
+            let setup = t0.elapsed().as_secs_f64();
+            let elements = sim.model.mesh.elements.len() as u64;
+            configs.push(Config {
+                integration: integration.clone(),
+                n,
+                sim,
+                setup,
+                steps: (work / elements).max(10),
+                ns: Vec::new(),
+                iface: Vec::new(),
+                stages0: Default::default(),
+            });
+        }
+    }
+    for c in configs.iter_mut() {
+        c.stages0 = c.sim.stats.stage_times.clone();
+    }
+    Ok(configs)
+}
+
+/// The table of times, one row per configuration; returns the (elements, wall seconds per
+/// simulated second) of each size by quadrature, for the scaling exponent.
+fn print_times(configs: &mut [Config]) -> Vec<(String, Vec<(f64, f64)>)> {
+    let mut fits: Vec<(String, Vec<(f64, f64)>)> = Vec::new();
+    for c in configs.iter_mut() {
+        let sim = &c.sim;
+        let elements = sim.model.mesh.elements.len() as u64;
+        let med = median(&mut c.ns);
+        // At fixed simulated time: steps ∝ 1/h, so wall = elements × ns/element-step / h.
+        let wall_per_sim = elements as f64 * med * 1e-9 / sim.h;
+        match fits.last_mut() {
+            Some((name, points)) if *name == c.integration => {
+                points.push((elements as f64, wall_per_sim))
+            }
+            _ => fits.push((c.integration.clone(), vec![(elements as f64, wall_per_sim)])),
+        }
+        println!(
+            "{:>8} {:>4} {:>9} {:>9} {:>7} {:>14.1} {:>16.3e} {:>18.1} {:>12.0} {:>10.2} {:>13.3e}",
+            c.integration,
+            c.n,
+            elements,
+            sim.model.mesh.nodes.len(),
+            c.steps,
+            med,
+            1e9 / med,
+            median(&mut c.iface),
+            state_bytes(sim) as f64 / elements as f64,
+            c.setup,
+            wall_per_sim
+        );
+    }
+    fits
+}
+
+/// Where the step goes: each stage's share of the summed stage times over all repetitions.
+fn print_shares(configs: &[Config]) {
+    println!("share of the step by stage (PHYSICS.md §4), all repetitions:");
+    println!(
+        "{:>8} {:>4} {:>11} {:>15} {:>14} {:>17} {:>12}",
+        "rule",
+        "n",
+        "positions",
+        "internal forces",
+        "free velocity",
+        "interface/contact",
+        "bookkeeping"
+    );
+    for c in configs {
+        let (a, b) = (&c.stages0, &c.sim.stats.stage_times);
+        let d = [
+            b.positions - a.positions,
+            b.internal_forces - a.internal_forces,
+            b.free_velocity - a.free_velocity,
+            b.interface_contact - a.interface_contact,
+            b.bookkeeping - a.bookkeeping,
+        ];
+        let total: f64 = d.iter().sum();
+        let pct = |x: f64| format!("{:.1} %", 100.0 * x / total.max(f64::MIN_POSITIVE));
+        println!(
+            "{:>8} {:>4} {:>11} {:>15} {:>14} {:>17} {:>12}",
+            c.integration,
+            c.n,
+            pct(d[0]),
+            pct(d[1]),
+            pct(d[2]),
+            pct(d[3]),
+            pct(d[4])
+        );
+    }
+}
+
+/// Least-squares slope of log y against log x: the exponent p of y ∝ x^p.
+fn log_log_slope(points: &[(f64, f64)]) -> f64 {
+    let n = points.len() as f64;
+    let (lx, ly): (Vec<f64>, Vec<f64>) = points.iter().map(|&(x, y)| (x.ln(), y.ln())).unzip();
+    let (mx, my) = (lx.iter().sum::<f64>() / n, ly.iter().sum::<f64>() / n);
+    let sxy: f64 = lx.iter().zip(&ly).map(|(x, y)| (x - mx) * (y - my)).sum();
+    let sxx: f64 = lx.iter().map(|x| (x - mx).powi(2)).sum();
+    sxy / sxx
+}

@@ -1,0 +1,140 @@
+//! `decohesion run`: a scene headless through the run driver ([`crate::driver`]), with a
+//! progress bar on a terminal (or a line every 10 % of the simulated time otherwise), Ctrl-C to
+//! stop, the summary printed and written as JSON.
+
+use crate::driver::{cancel_on_ctrl_c, Driver, Plan, Progress};
+use crate::output::OutputError;
+use crate::scene::load_scene;
+use crate::solver::Simulation;
+use anyhow::{bail, Context, Result};
+use indicatif::{ProgressBar, ProgressStyle};
+use std::io::IsTerminal;
+use std::path::Path;
+use std::sync::atomic::AtomicBool;
+use std::sync::Arc;
+use std::time::Instant;
+
+/// Runs the scene at `path` with the `set` overrides and the outputs of `plan`; prints the
+/// summary and writes it to `summary_path` (also when the run fails). The error is the first
+/// output's, else the solver's.
+pub fn run(
+    path: &Path,
+    set: &[String],
+    summary_path: Option<&Path>,
+    quiet: bool,
+    plan: &Plan,
+) -> Result<()> {
+    let wall = Instant::now();
+    let scene = load_scene(path, set)?;
+    let mut sim = Simulation::new(scene.model.clone())
+        .with_context(|| format!("setting up {}", path.display()))?;
+    let driver = Driver::open(plan, &scene, &sim, wall).map_err(|e| match e {
+        OutputError::Recording(e) => anyhow::Error::new(e).context("starting the recording"),
+        OutputError::Paraview(e) => anyhow::Error::new(e),
+    })?;
+    // Ctrl-C: stop after the current step, then write the recording, the ParaView index and
+    // the summary.
+    let interrupted = Arc::new(AtomicBool::new(false));
+    cancel_on_ctrl_c(interrupted.clone());
+    let mut progress = Terminal::new(&sim, quiet);
+    let done = driver.run(&mut sim, &interrupted, &mut progress);
+    println!("{}", done.summary.table());
+    if let Some(p) = summary_path {
+        let json = serde_json::to_string_pretty(&done.summary)?;
+        std::fs::write(p, json)
+            .with_context(|| format!("writing the summary to {}", p.display()))?;
+    }
+    match done.output_error {
+        Some(OutputError::Recording(e)) => bail!(anyhow::Error::new(e).context("recording")),
+        Some(OutputError::Paraview(e)) => bail!(anyhow::Error::new(e).context("ParaView output")),
+        None => {}
+    }
+    if let Err(e) = done.outcome {
+        bail!(e);
+    }
+    Ok(())
+}
+
+/// Progress on stderr: a bar on a terminal, else a line every 10 % of the simulated time
+/// (nothing with `--quiet`).
+struct Terminal {
+    bar: Option<ProgressBar>,
+    quiet: bool,
+    end_time: f64,
+    /// Fraction of the end time of the next line.
+    next_line: f64,
+}
+
+impl Terminal {
+    /// Prints the run's size and advisories and starts the bar.
+    fn new(sim: &Simulation, quiet: bool) -> Terminal {
+        let end_time = sim.model.end_time;
+        let expected = (end_time / sim.h).ceil() as u64;
+        let tty = std::io::stderr().is_terminal() && !quiet;
+        let bar = tty.then(|| {
+            let pb = ProgressBar::new(expected);
+            pb.set_style(
+                ProgressStyle::with_template(
+                    "{spinner} [{elapsed_precise}] {bar:40} {pos}/{len} steps  {msg}  ETA {eta}",
+                )
+                .expect("static template"),
+            );
+            pb
+        });
+        if !quiet {
+            eprintln!(
+                "{}: {} elements, h = {:.4e} s (h_crit {:.4e} s), ~{} steps to t = {} s",
+                sim.model.name,
+                sim.model.mesh.elements.len(),
+                sim.h,
+                sim.h_crit,
+                expected,
+                end_time
+            );
+            for w in sim.advisories() {
+                eprintln!("warning: {w}");
+            }
+        }
+        Terminal {
+            bar,
+            quiet,
+            end_time,
+            next_line: 0.1,
+        }
+    }
+}
+
+impl Progress for Terminal {
+    fn step(&mut self, s: &Simulation) {
+        if let Some(pb) = &self.bar {
+            if s.step_count.is_multiple_of(16) {
+                pb.set_position(s.step_count);
+                let c = s.state_counts();
+                pb.set_message(format!(
+                    "t = {:.4} s, ruptured {}/{}",
+                    s.time,
+                    c.ruptured,
+                    s.interface_nodes.len()
+                ));
+            }
+        } else if !self.quiet && s.time >= self.next_line * self.end_time {
+            self.next_line += 0.1;
+            let c = s.state_counts();
+            eprintln!(
+                "  {:>3.0} %  t = {:.5} s  step {}  ruptured {}/{}  residual {:.2e}",
+                100.0 * s.time / self.end_time,
+                s.time,
+                s.step_count,
+                c.ruptured,
+                s.interface_nodes.len(),
+                s.ledger.relative_residual()
+            );
+        }
+    }
+
+    fn stopped(&mut self) {
+        if let Some(pb) = self.bar.take() {
+            pb.finish_and_clear();
+        }
+    }
+}

@@ -1,0 +1,331 @@
+//! The run driver: one loop for the command line (`decohesion run`, [`crate::cli::run`]) and
+//! the explorer's job thread ([`crate::gui`]). It opens the outputs of a run (ParaView files,
+//! the Rerun recording), steps the simulation, takes one [`Snapshot`] per output frame at the
+//! cadence of its [`FrameClock`] and hands it to every output, reports progress, stops on
+//! cancellation (Ctrl-C, Stop) or on an output's error, and finishes every output whatever the
+//! outcome, so the recording and the ParaView index are complete; then it builds the run's
+//! [`RunSummary`] with the outputs' reports.
+
+use crate::output::{Cadence, Ending, FrameClock, Output, OutputError, OutputReport, Snapshot};
+use crate::record::{ColourField, Recorder, Sink};
+use crate::report::RunSummary;
+use crate::scene::Scene;
+use crate::solver::{Simulation, SolverError};
+use crate::vtk::VtkWriter;
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+/// The outputs a run writes.
+#[derive(Debug, Clone)]
+pub struct Plan {
+    /// When frames are taken (one clock for every output).
+    pub cadence: Cadence,
+    /// ParaView files in this directory (`.vtu` per frame and a `.pvd` index).
+    pub paraview: Option<PathBuf>,
+    /// A Rerun recording to this sink, the surface coloured by this field.
+    pub recording: Option<(Sink, ColourField)>,
+}
+
+/// Told of every step, on the solver thread: the command line's progress bar, the explorer's
+/// channel.
+pub trait Progress {
+    /// After every step (and its frame, if one was due).
+    fn step(&mut self, sim: &Simulation);
+    /// The simulation stopped (before the outputs are finished).
+    fn stopped(&mut self) {}
+}
+
+/// How a run went.
+pub struct Finished {
+    /// The solver's outcome (`Cancelled` also when an output stopped the run).
+    pub outcome: Result<(), SolverError>,
+    /// The summary, with what each output wrote.
+    pub summary: RunSummary,
+    /// The first error of an output: the one that stopped the run, or one of finishing.
+    pub output_error: Option<OutputError>,
+}
+
+/// Runs a simulation with its outputs.
+pub struct Driver {
+    outputs: Vec<Box<dyn Output>>,
+    clock: FrameClock,
+    /// Solver-thread time spent on the outputs: snapshots, sends.
+    spent: Duration,
+    /// When the run started (set-up included), for the summary's wall time.
+    started: Instant,
+}
+
+impl Driver {
+    /// Opens the outputs of `plan` for a simulation that is set up, and takes the frame of the
+    /// current state (step 0). ParaView first: a directory that cannot be written is refused
+    /// before a viewer starts or a capture file is created. `started` is when the run started.
+    pub fn open(
+        plan: &Plan,
+        scene: &Scene,
+        sim: &Simulation,
+        started: Instant,
+    ) -> Result<Driver, OutputError> {
+        let paraview = match &plan.paraview {
+            Some(dir) => Some(VtkWriter::new(dir, sim)?),
+            None => None,
+        };
+        let mut outputs: Vec<Box<dyn Output>> = Vec::new();
+        if let Some((sink, colour)) = &plan.recording {
+            outputs.push(Box::new(Recorder::new(sink.clone(), scene, sim, *colour)?));
+        }
+        // The recording's error comes first when both fail.
+        outputs.extend(paraview.map(|w| Box::new(w) as Box<dyn Output>));
+        Driver::with_outputs(outputs, plan.cadence, sim, started)
+    }
+
+    /// A driver over outputs built by the caller; takes the frame of the current state.
+    pub fn with_outputs(
+        outputs: Vec<Box<dyn Output>>,
+        cadence: Cadence,
+        sim: &Simulation,
+        started: Instant,
+    ) -> Result<Driver, OutputError> {
+        let mut driver = Driver {
+            outputs,
+            clock: FrameClock::new(cadence, sim.model.end_time),
+            spent: Duration::ZERO,
+            started,
+        };
+        driver.frame(sim)?;
+        Ok(driver)
+    }
+
+    /// The snapshot of `sim` if its step was not taken yet and there is an output to take it.
+    fn snapshot(&mut self, sim: &Simulation) -> Option<Arc<Snapshot>> {
+        (self.clock.take(sim.step_count, sim.time) && !self.outputs.is_empty())
+            .then(|| Arc::new(Snapshot::capture(sim, self.spent)))
+    }
+
+    /// Hands the state of `sim` to every output as one frame (once per step at most): every
+    /// output gets it, also when another fails; the first error is returned.
+    fn frame(&mut self, sim: &Simulation) -> Result<(), OutputError> {
+        let started = Instant::now();
+        let Some(snapshot) = self.snapshot(sim) else {
+            return Ok(());
+        };
+        let mut sent = Ok(());
+        for output in self.outputs.iter_mut() {
+            let r = output.frame(&snapshot);
+            if sent.is_ok() {
+                sent = r;
+            }
+        }
+        self.spent += started.elapsed();
+        sent
+    }
+
+    /// Steps `sim` to its end time, or until `cancel` is set or an output fails; then
+    /// finishes every output with the last state and builds the summary.
+    pub fn run(
+        mut self,
+        sim: &mut Simulation,
+        cancel: &AtomicBool,
+        progress: &mut dyn Progress,
+    ) -> Finished {
+        let mut output_error = None;
+        let outcome = sim.run(|s| {
+            if self.clock.due(s.step_count, s.time) {
+                if let Err(e) = self.frame(s) {
+                    output_error = Some(e);
+                    return false;
+                }
+            }
+            progress.step(s);
+            !cancel.load(Ordering::SeqCst)
+        });
+        progress.stopped();
+        let last = self.snapshot(sim);
+        let end = Ending {
+            step: sim.step_count,
+            time: sim.time,
+            error: outcome.as_ref().err(),
+        };
+        let mut reports = Vec::new();
+        for output in self.outputs {
+            match output.finish(last.clone(), &end) {
+                Ok(r) => reports.push(r),
+                Err(e) => {
+                    output_error.get_or_insert(e);
+                }
+            }
+        }
+        let wall = self.started.elapsed().as_secs_f64();
+        let mut summary = RunSummary::new(sim, wall, outcome.as_ref().err());
+        for r in reports {
+            match r {
+                OutputReport::Recording(r) => summary.recording = Some(r),
+                OutputReport::Paraview(p) => summary.paraview = Some(p),
+            }
+        }
+        Finished {
+            outcome,
+            summary,
+            output_error,
+        }
+    }
+}
+
+/// Sets `flag` on Ctrl-C (SIGINT): the run stops after the current step and its outputs and
+/// summary are written. A second Ctrl-C leaves at once (a recording then lacks its footer; the
+/// ParaView index holds the frames written so far).
+pub fn cancel_on_ctrl_c(flag: Arc<AtomicBool>) {
+    let _ = ctrlc::set_handler(move || {
+        if flag.swap(true, Ordering::SeqCst) {
+            std::process::exit(130);
+        }
+    });
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::vtk::{VtkError, VtkReport};
+    use std::sync::Mutex;
+
+    /// What a probe output saw: the steps of its frames (the last one included) and, once
+    /// finished, (step of the last snapshot if any, the end's step, whether it had an error).
+    #[derive(Default)]
+    struct Seen {
+        frames: Vec<u64>,
+        finished: Vec<(Option<u64>, u64, bool)>,
+    }
+
+    /// An output that notes what it is given, and fails at step `fail_at`.
+    struct Probe {
+        seen: Arc<Mutex<Seen>>,
+        fail_at: Option<u64>,
+    }
+
+    impl Output for Probe {
+        fn frame(&mut self, s: &Arc<Snapshot>) -> Result<(), OutputError> {
+            self.seen.lock().unwrap().frames.push(s.step);
+            if self.fail_at == Some(s.step) {
+                return Err(VtkError::Thread("disk full".into()).into());
+            }
+            Ok(())
+        }
+
+        fn finish(
+            self: Box<Self>,
+            last: Option<Arc<Snapshot>>,
+            end: &Ending<'_>,
+        ) -> Result<OutputReport, OutputError> {
+            let mut seen = self.seen.lock().unwrap();
+            let last = last.map(|s| s.step);
+            seen.frames.extend(last);
+            seen.finished.push((last, end.step, end.error.is_some()));
+            Ok(OutputReport::Paraview(VtkReport::default()))
+        }
+    }
+
+    /// Counts the steps and sets the cancel flag at step `stop_at`.
+    struct Counter {
+        steps: u64,
+        stop_at: u64,
+        cancel: Arc<AtomicBool>,
+    }
+
+    impl Progress for Counter {
+        fn step(&mut self, sim: &Simulation) {
+            self.steps += 1;
+            if sim.step_count == self.stop_at {
+                self.cancel.store(true, Ordering::SeqCst);
+            }
+        }
+    }
+
+    /// The 2³ pull-off cube to `end_time`, and two probes (the first failing at `fail_at`).
+    fn run(end_time: f64, stop_at: u64, fail_at: Option<u64>) -> (Finished, [Seen; 2], u64) {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/pull_off.toml");
+        let set = ["mesh.cells=[2,2,2]".into(), format!("end_time={end_time}")];
+        let scene = crate::scene::load_scene(&path, &set).unwrap();
+        let mut sim = Simulation::new(scene.model).unwrap();
+        let seen = [(); 2].map(|_| Arc::new(Mutex::new(Seen::default())));
+        let outputs: Vec<Box<dyn Output>> = vec![
+            Box::new(Probe {
+                seen: seen[0].clone(),
+                fail_at,
+            }),
+            Box::new(Probe {
+                seen: seen[1].clone(),
+                fail_at: None,
+            }),
+        ];
+        let driver =
+            Driver::with_outputs(outputs, Cadence::EverySteps(4), &sim, Instant::now()).unwrap();
+        let cancel = Arc::new(AtomicBool::new(false));
+        let mut counter = Counter {
+            steps: 0,
+            stop_at,
+            cancel: cancel.clone(),
+        };
+        let done = driver.run(&mut sim, &cancel, &mut counter);
+        let seen = seen.map(|s| std::mem::take(&mut *s.lock().unwrap()));
+        (done, seen, counter.steps)
+    }
+
+    /// A completed run: step 0, every 4th step and the last step, once each, to every output;
+    /// each output finished once; the summary completed.
+    #[test]
+    fn a_completed_run_feeds_every_output_the_same_frames() {
+        let (done, seen, steps) = run(0.02, u64::MAX, None);
+        assert!(done.outcome.is_ok());
+        assert!(done.output_error.is_none());
+        assert_eq!(done.summary.status, "completed");
+        let n = done.summary.steps;
+        assert!(n > 8, "{n} steps");
+        assert_eq!(steps, n, "progress after every step");
+        let off_grid = n % 4 != 0;
+        let expect: Vec<u64> = (0..=n)
+            .filter(|k| k % 4 == 0)
+            .chain(off_grid.then_some(n))
+            .collect();
+        for s in &seen {
+            assert_eq!(s.frames, expect);
+            assert_eq!(s.finished, vec![(off_grid.then_some(n), n, false)]);
+        }
+        assert!(
+            done.summary.paraview.is_some(),
+            "the reports reach the summary"
+        );
+    }
+
+    /// Cancelled at step 6: frames 0 and 4, then step 6 as the last one; the outputs are told.
+    #[test]
+    fn a_cancelled_run_finishes_every_output_with_the_last_step() {
+        let (done, seen, _) = run(1.0, 6, None);
+        assert!(matches!(
+            done.outcome,
+            Err(SolverError::Cancelled { step: 6, .. })
+        ));
+        assert_eq!(done.summary.status, "cancelled");
+        for s in &seen {
+            assert_eq!(s.frames, vec![0, 4, 6]);
+            assert_eq!(s.finished, vec![(Some(6), 6, true)]);
+        }
+    }
+
+    /// An output failing at step 8 stops the run there; the other output still got that
+    /// frame; both are finished; the error is reported.
+    #[test]
+    fn an_output_error_stops_the_run_and_is_reported() {
+        let (done, seen, _) = run(1.0, u64::MAX, Some(8));
+        assert!(matches!(
+            done.outcome,
+            Err(SolverError::Cancelled { step: 8, .. })
+        ));
+        let err = done.output_error.expect("the output's error");
+        assert!(err.to_string().contains("disk full"), "{err}");
+        for s in &seen {
+            assert_eq!(s.frames, vec![0, 4, 8]);
+            assert_eq!(s.finished, vec![(None, 8, true)]);
+        }
+    }
+}

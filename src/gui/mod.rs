@@ -1,0 +1,103 @@
+//! The explorer window (`decohesion gui`): pick a scene, reshape the interface law, run it on a
+//! background thread, stream each run to the Rerun viewer as its own recording, keep a history.
+//!
+//! The UI never blocks: the solver runs on its own thread ([`Job`]) and reports over a channel;
+//! Stop sets a flag the solver reads after every step. Parameters edited during a run apply to
+//! the next one. The edited scene goes through the same parser and validation as a scene file
+//! ([`crate::scene::parse_scene`]), so the window can run nothing the CLI would refuse.
+//! The physics modules know nothing of this one.
+//!
+//! Modules: [`state`] (the state and logic, no egui), [`settings`] (what the user sets, the
+//! edited scene), [`law`] (the law editor's settings), [`history`] (history rows, CSV),
+//! [`job`] (the run thread, through the run driver [`crate::driver`]), `views` and `plots`
+//! (the egui code), and here the eframe application.
+
+pub mod history;
+pub mod job;
+pub mod law;
+mod plots;
+pub mod settings;
+pub mod state;
+mod views;
+
+pub use history::HistoryRow;
+pub use job::{Job, JobMessage};
+pub use law::{Family, LawSettings};
+pub use settings::{list_scenes, RecordChoice, SceneEntry, Settings};
+pub use state::{App, Curve, Status, CHECK_MAX_ELEMENTS};
+
+use state::Persisted;
+
+/// Key of the persisted settings in eframe's storage.
+pub const STORAGE_KEY: &str = "decohesion-explorer";
+
+impl App {
+    /// Restores the settings and history saved by a previous launch, then opens `scene` if
+    /// given.
+    pub fn from_storage(storage: Option<&dyn eframe::Storage>, scene: Option<String>) -> App {
+        let p: Persisted = storage
+            .and_then(|s| eframe::get_value(s, STORAGE_KEY))
+            .unwrap_or_default();
+        let mut app = App::new(p.settings, p.history);
+        if let Some(scene) = scene {
+            app.load_scene(&scene);
+        }
+        app
+    }
+}
+
+/// The eframe application around [`App`].
+pub struct Explorer {
+    pub app: App,
+    run_on_start: bool,
+}
+
+impl Explorer {
+    pub fn new(
+        cc: &eframe::CreationContext<'_>,
+        scene: Option<String>,
+        run_on_start: bool,
+        record: Option<RecordChoice>,
+    ) -> Explorer {
+        let mut app = App::from_storage(cc.storage, scene);
+        if let Some(r) = record {
+            app.settings.record = r;
+        }
+        app.repaint = Some(views::repaint_handle(&cc.egui_ctx));
+        Explorer { app, run_on_start }
+    }
+}
+
+impl eframe::App for Explorer {
+    fn ui(&mut self, ui: &mut egui::Ui, _frame: &mut eframe::Frame) {
+        if self.run_on_start {
+            self.run_on_start = false;
+            self.app.start();
+        }
+        self.app.ui(ui);
+    }
+
+    fn save(&mut self, storage: &mut dyn eframe::Storage) {
+        eframe::set_value(storage, STORAGE_KEY, &self.app.persisted());
+    }
+}
+
+/// Opens the window (blocks until it is closed).
+pub fn run_window(
+    scene: Option<String>,
+    run_on_start: bool,
+    record: Option<RecordChoice>,
+) -> Result<(), String> {
+    let options = eframe::NativeOptions {
+        viewport: egui::ViewportBuilder::default()
+            .with_inner_size([1500.0, 950.0])
+            .with_title("decohesion explorer"),
+        ..Default::default()
+    };
+    eframe::run_native(
+        "decohesion explorer",
+        options,
+        Box::new(move |cc| Ok(Box::new(Explorer::new(cc, scene, run_on_start, record)))),
+    )
+    .map_err(|e| format!("cannot open the window: {e}"))
+}

@@ -1,0 +1,126 @@
+//! The explorer's plots (egui_plot): the edited law's curves g_N(α), T(δ), μ(α), and the
+//! interface states and balance residual of the running or last run.
+
+use super::App;
+use crate::solver::StateCounts;
+use egui_plot::{Legend, Line, Plot, VLine};
+
+impl App {
+    /// The law's curves, with α_e and u_r marked.
+    pub(super) fn plots_ui(&mut self, ui: &mut egui::Ui) {
+        let Ok(law) = self.settings.law.law() else {
+            ui.label("(no plot: the law is inadmissible)");
+            return;
+        };
+        let mu_inf = self.settings.law.mu_inf;
+        let n = 300;
+        let span = law.u_r * 1.15;
+        let xs: Vec<f64> = (0..=n).map(|k| span * k as f64 / n as f64).collect();
+        let g: Vec<[f64; 2]> = xs.iter().map(|&a| [1e3 * a, law.g_n(a)]).collect();
+        let t: Vec<[f64; 2]> = xs
+            .iter()
+            .map(|&d| [1e3 * d, 1e-6 * law.traction(d)])
+            .collect();
+        let mu: Vec<[f64; 2]> = xs.iter().map(|&a| [1e3 * a, law.mu(a, mu_inf)]).collect();
+        let (ae, ur) = (1e3 * law.alpha_e, 1e3 * law.u_r);
+        let marks = |p: &mut egui_plot::PlotUi| {
+            p.vline(VLine::new("α_e", ae));
+            p.vline(VLine::new("u_r", ur));
+        };
+        let w = (ui.available_width() / 3.0 - 8.0).max(150.0);
+        ui.horizontal(|ui| {
+            titled_plot(ui, "stiffness g_N(α) [Pa/m]", "g_n", "α [mm]", w, |p| {
+                p.line(Line::new("g_N(α)", g));
+                marks(p);
+            });
+            titled_plot(
+                ui,
+                "traction T(δ) = g_N(δ)δ [MPa]",
+                "traction",
+                "δ [mm]",
+                w,
+                |p| {
+                    p.line(Line::new("T(δ)", t));
+                    marks(p);
+                },
+            );
+            titled_plot(
+                ui,
+                "friction μ(α) = μ_inf (1 − g_N(α)/g_N(0))",
+                "mu",
+                "α [mm]",
+                w,
+                |p| {
+                    p.line(Line::new("μ(α)", mu));
+                    marks(p);
+                },
+            );
+        });
+    }
+
+    pub(super) fn progress_plot_ui(&mut self, ui: &mut egui::Ui) {
+        let Some(run) = self.curve_run else {
+            ui.label("Run a scene to see its interface states over time here.");
+            return;
+        };
+        let pick = |f: fn(&StateCounts) -> usize| -> Vec<[f64; 2]> {
+            self.curve
+                .iter()
+                .map(|(t, c, _)| [*t, f(c) as f64])
+                .collect()
+        };
+        let residual: Vec<[f64; 2]> = self
+            .curve
+            .iter()
+            .filter(|p| p.2.is_finite())
+            .map(|(t, _, r)| [*t, *r])
+            .collect();
+        let w = (ui.available_width() / 2.0 - 8.0).max(200.0);
+        let colour = |c: [u8; 3]| egui::Color32::from_rgb(c[0], c[1], c[2]);
+        ui.horizontal(|ui| {
+            titled_plot(
+                ui,
+                &format!("run {run}: interface nodes by state (paper fig. 6, right)"),
+                "counts",
+                "t [s]",
+                w,
+                |p| {
+                    p.line(Line::new("elastic", pick(|c| c.elastic)).color(colour([46, 160, 67])));
+                    p.line(
+                        Line::new("transition", pick(|c| c.transition))
+                            .color(colour([245, 166, 35])),
+                    );
+                    p.line(Line::new("ruptured", pick(|c| c.ruptured)).color(colour([208, 2, 27])));
+                },
+            );
+            titled_plot(
+                ui,
+                &format!("run {run}: balance residual / largest energy"),
+                "residual",
+                "t [s]",
+                w,
+                |p| p.line(Line::new("residual", residual)),
+            );
+        });
+    }
+}
+
+/// A plot of width `w` under its title, with a legend.
+fn titled_plot<'a>(
+    ui: &mut egui::Ui,
+    title: &str,
+    id: &str,
+    x_label: &str,
+    w: f32,
+    add: impl FnOnce(&mut egui_plot::PlotUi<'a>) + 'a,
+) {
+    ui.vertical(|ui| {
+        ui.label(title);
+        Plot::new(id)
+            .width(w)
+            .height(210.0)
+            .x_axis_label(x_label.to_string())
+            .legend(Legend::default())
+            .show(ui, add);
+    });
+}

@@ -1,0 +1,392 @@
+//! The explorer's views (egui): the settings panel (scene, law editor, run settings), the run
+//! bar, the history table; the plots are in [`super::plots`]. They draw the state of
+//! [`App`] and call its methods ([`super::state`]).
+
+use super::job::Repaint;
+use super::{App, Family, RecordChoice, Status};
+use crate::solver::StateCounts;
+use std::path::Path;
+use std::sync::Arc;
+use std::time::Duration;
+
+/// A repaint request for the window of `ctx`, callable from the solver thread.
+pub(super) fn repaint_handle(ctx: &egui::Context) -> Repaint {
+    let ctx = ctx.clone();
+    Arc::new(move || ctx.request_repaint())
+}
+
+impl App {
+    /// The whole window.
+    pub fn ui(&mut self, ui: &mut egui::Ui) {
+        if self.repaint.is_none() {
+            self.repaint = Some(repaint_handle(ui.ctx()));
+        }
+        let running = self.poll();
+        if running {
+            ui.ctx().request_repaint_after(Duration::from_millis(100));
+        }
+        egui::Panel::left("settings")
+            .resizable(true)
+            .default_size(430.0)
+            .show(ui, |ui| {
+                egui::ScrollArea::vertical().show(ui, |ui| self.settings_ui(ui));
+            });
+        egui::Panel::bottom("history")
+            .resizable(true)
+            .default_size(230.0)
+            .show(ui, |ui| self.history_ui(ui));
+        egui::CentralPanel::default().show(ui, |ui| {
+            egui::ScrollArea::vertical().show(ui, |ui| {
+                self.run_ui(ui);
+                ui.separator();
+                self.plots_ui(ui);
+                ui.separator();
+                self.progress_plot_ui(ui);
+            });
+        });
+    }
+
+    /// The left panel: scene, interface law, run settings.
+    fn settings_ui(&mut self, ui: &mut egui::Ui) {
+        self.scene_ui(ui);
+        ui.separator();
+        self.law_ui(ui);
+        ui.separator();
+        self.run_settings_ui(ui);
+    }
+
+    /// The scene picker.
+    fn scene_ui(&mut self, ui: &mut egui::Ui) {
+        ui.heading("Scene");
+        let current = self.settings.scene.clone();
+        egui::ComboBox::from_label("scene file")
+            .selected_text(&current)
+            .width(300.0)
+            .show_ui(ui, |ui| {
+                for s in self.scenes.clone() {
+                    if ui
+                        .selectable_label(s.path == current, &s.path)
+                        .on_hover_text(&s.description)
+                        .clicked()
+                    {
+                        self.load_scene(&s.path);
+                    }
+                }
+            });
+        if let Some(s) = self.scenes.iter().find(|s| s.path == current) {
+            ui.label(egui::RichText::new(&s.description).small());
+        }
+    }
+
+    /// The law editor: family, parameters or table points, and what the law gives.
+    fn law_ui(&mut self, ui: &mut egui::Ui) {
+        ui.heading("Interface law");
+        let law = &mut self.settings.law;
+        egui::ComboBox::from_label("family")
+            .selected_text(law.family.label())
+            .show_ui(ui, |ui| {
+                for f in Family::ALL {
+                    ui.selectable_value(&mut law.family, f, f.label());
+                }
+            });
+        if law.family == Family::Table {
+            ui.label("points (α [m], g_N [Pa/m]); the last g_N must be 0, its α is u_r");
+            let mut remove = None;
+            egui::Grid::new("points").striped(true).show(ui, |ui| {
+                for (i, p) in law.points.iter_mut().enumerate() {
+                    ui.add(egui::DragValue::new(&mut p[0]).speed(1e-5).suffix(" m"));
+                    ui.add(egui::DragValue::new(&mut p[1]).speed(1e6).suffix(" Pa/m"));
+                    if ui
+                        .small_button("−")
+                        .on_hover_text("remove this point")
+                        .clicked()
+                    {
+                        remove = Some(i);
+                    }
+                    ui.end_row();
+                }
+            });
+            if let Some(i) = remove {
+                if law.points.len() > 2 {
+                    law.points.remove(i);
+                }
+            }
+            if ui.button("add a point").clicked() {
+                let last = *law.points.last().unwrap_or(&[0.0, 0.0]);
+                law.points.push([last[0] * 1.25 + 1e-4, 0.0]);
+            }
+        } else {
+            ui.add(
+                egui::Slider::new(&mut law.g_n0, 1e5..=1e12)
+                    .logarithmic(true)
+                    .text("g_N(0)")
+                    .suffix(" Pa/m"),
+            );
+            ui.add(
+                egui::Slider::new(&mut law.alpha_e, 0.0..=0.05)
+                    .logarithmic(true)
+                    .smallest_positive(1e-6)
+                    .text("α_e")
+                    .suffix(" m"),
+            );
+            ui.add(
+                egui::Slider::new(&mut law.u_r, 1e-6..=0.1)
+                    .logarithmic(true)
+                    .text("u_r")
+                    .suffix(" m"),
+            );
+            if law.family == Family::Exponential {
+                ui.add(egui::Slider::new(&mut law.decay, 0.1..=50.0).text("decay k"));
+            }
+        }
+        ui.add(egui::Slider::new(&mut law.mu_inf, 0.0..=2.0).text("μ_inf"));
+        match law.law() {
+            Ok(l) => {
+                let (t_max, at) = l.peak_traction();
+                ui.label(format!(
+                    "peak traction {t_max:.4e} Pa at δ = {at:.3e} m;  G_c = {:.4e} J/m²",
+                    l.fracture_energy()
+                ));
+            }
+            Err(e) => {
+                ui.colored_label(
+                    egui::Color32::from_rgb(220, 50, 50),
+                    format!("inadmissible law — {e}"),
+                );
+            }
+        }
+    }
+
+    /// Mesh, time step, end time, frames, material, integration, outputs; what they give.
+    fn run_settings_ui(&mut self, ui: &mut egui::Ui) {
+        ui.heading("Run settings");
+        let s = &mut self.settings;
+        if s.cells == 0 {
+            ui.label("mesh from the scene's Gmsh file (cells per side: box meshes only)");
+        } else {
+            ui.add(egui::Slider::new(&mut s.cells, 1..=40).text("cells per side"));
+        }
+        ui.add(egui::Slider::new(&mut s.factor, 0.05..=1.0).text("time-step factor h/h_crit"));
+        ui.add(
+            egui::Slider::new(&mut s.end_time, 1e-4..=10.0)
+                .logarithmic(true)
+                .text("end time")
+                .suffix(" s"),
+        );
+        ui.add(
+            egui::Slider::new(&mut s.frames, 1..=2000)
+                .logarithmic(true)
+                .text("frames per run (Rerun)"),
+        );
+        egui::ComboBox::from_label("material")
+            .selected_text(s.material.as_str())
+            .show_ui(ui, |ui| {
+                ui.selectable_value(
+                    &mut s.material,
+                    "svk".to_string(),
+                    "svk (Saint-Venant–Kirchhoff)",
+                );
+                ui.selectable_value(&mut s.material, "neo_hookean".to_string(), "neo_hookean");
+            });
+        ui.horizontal(|ui| {
+            ui.label("integration");
+            ui.radio_value(&mut s.integration, "full".to_string(), "2×2×2");
+            ui.radio_value(
+                &mut s.integration,
+                "reduced".to_string(),
+                "one point + hourglass",
+            );
+        });
+        if s.integration == "reduced" {
+            ui.add(egui::Slider::new(&mut s.hourglass, 0.0..=0.3).text("hourglass κ"));
+        }
+        ui.horizontal(|ui| {
+            ui.label("record to");
+            ui.radio_value(&mut s.record, RecordChoice::Viewer, "Rerun viewer");
+            ui.radio_value(&mut s.record, RecordChoice::File, ".rrd files");
+            ui.radio_value(&mut s.record, RecordChoice::Off, "off");
+        });
+        ui.checkbox(
+            &mut s.paraview,
+            "also write ParaView files (.vtu per frame + .pvd, in the output folder)",
+        );
+        match self.check() {
+            Ok(c) if c.h.is_finite() => {
+                ui.label(format!(
+                    "{} hex8, {} interface nodes; h = {:.4e} s, h_crit = {:.4e} s (Lanczos); ≈ {} steps",
+                    c.elements, c.interface_nodes, c.h, c.h_crit, c.steps
+                ));
+                for w in &c.warnings {
+                    ui.colored_label(
+                        egui::Color32::from_rgb(230, 150, 20),
+                        format!("warning: {w}"),
+                    );
+                }
+            }
+            Ok(c) => {
+                ui.label(format!(
+                    "{} hex8 (h_crit is estimated when the run starts)",
+                    c.elements
+                ));
+            }
+            Err(e) => {
+                ui.colored_label(egui::Color32::from_rgb(220, 50, 50), e);
+            }
+        }
+    }
+
+    fn run_ui(&mut self, ui: &mut egui::Ui) {
+        let blocker = self.blocker();
+        let running = self.job.is_some();
+        ui.horizontal(|ui| {
+            let run = ui.add_enabled(!running && blocker.is_none(), egui::Button::new("Run"));
+            if run.clicked() {
+                self.start();
+            }
+            if ui.add_enabled(running, egui::Button::new("Stop")).clicked() {
+                self.stop();
+            }
+            if ui
+                .add_enabled(!running, egui::Button::new("Reset"))
+                .on_hover_text("back to the scene file's values")
+                .clicked()
+            {
+                self.reset();
+            }
+            let status = match &self.status {
+                Status::Idle => "ready".to_string(),
+                Status::Running => "running".to_string(),
+                Status::Ended(s) => s.clone(),
+            };
+            ui.label(format!("status: {status}"));
+        });
+        if let Some(b) = &blocker {
+            ui.colored_label(
+                egui::Color32::from_rgb(220, 50, 50),
+                format!("Run is disabled: {b}"),
+            );
+        }
+        if let Some(job) = &self.job {
+            let (step, time, counts, residual) =
+                job.last.unwrap_or((0, 0.0, StateCounts::default(), 0.0));
+            let frac = (time / job.end_time).clamp(0.0, 1.0);
+            let wall = job.started.elapsed().as_secs_f64();
+            let rate = step as f64 / wall.max(1e-9);
+            let eta = if frac > 0.0 {
+                wall * (1.0 - frac) / frac
+            } else {
+                f64::NAN
+            };
+            ui.add(
+                egui::ProgressBar::new(frac as f32)
+                    .show_percentage()
+                    .text(format!(
+                        "run {}: t = {time:.4} s of {:.4} s, {rate:.0} steps/s, ETA {eta:.1} s",
+                        job.id, job.end_time
+                    )),
+            );
+            ui.label(format!(
+                "interface nodes: {} elastic, {} transition, {} ruptured; balance residual {residual:.2e}",
+                counts.elastic, counts.transition, counts.ruptured
+            ));
+        }
+        for n in &self.notes {
+            ui.colored_label(egui::Color32::from_rgb(230, 160, 40), n);
+        }
+    }
+
+    fn history_ui(&mut self, ui: &mut egui::Ui) {
+        ui.horizontal(|ui| {
+            ui.heading("Runs");
+            let sel = self.selected.filter(|&i| i < self.history.len());
+            if ui
+                .add_enabled(
+                    sel.is_some() && self.job.is_none(),
+                    egui::Button::new("load these parameters"),
+                )
+                .clicked()
+            {
+                if let Some(i) = sel {
+                    self.load_row(i);
+                }
+            }
+            if ui
+                .add_enabled(!self.history.is_empty(), egui::Button::new("export CSV"))
+                .clicked()
+            {
+                let path = Path::new(&self.settings.output_dir).join("history.csv");
+                match self.export_csv(&path) {
+                    Ok(()) => self
+                        .notes
+                        .push(format!("history written to {}", path.display())),
+                    Err(e) => self.notes.push(format!("export failed: {e}")),
+                }
+            }
+        });
+        egui::ScrollArea::both().show(ui, |ui| {
+            egui::Grid::new("history_grid")
+                .striped(true)
+                .num_columns(13)
+                .show(ui, |ui| {
+                    for h in [
+                        "#",
+                        "scene",
+                        "law",
+                        "g_N(0) Pa/m",
+                        "α_e m",
+                        "u_r m",
+                        "μ_inf",
+                        "cells",
+                        "status",
+                        "rupture s",
+                        "peak N",
+                        "dissipated J",
+                        "residual",
+                        "ruptured",
+                        "wall s",
+                    ] {
+                        ui.strong(h);
+                    }
+                    ui.end_row();
+                    let opt = |v: Option<f64>, p: usize| {
+                        v.map_or("—".to_string(), |v| format!("{v:.p$e}"))
+                    };
+                    for (i, r) in self.history.iter().enumerate().rev() {
+                        let st = &r.settings;
+                        if ui
+                            .selectable_label(self.selected == Some(i), format!("{}", r.id))
+                            .clicked()
+                        {
+                            self.selected = Some(i);
+                        }
+                        ui.label(
+                            Path::new(&st.scene)
+                                .file_stem()
+                                .map(|s| s.to_string_lossy().to_string())
+                                .unwrap_or_default(),
+                        );
+                        ui.label(st.law.family.key());
+                        ui.label(format!("{:.2e}", st.law.g_n0));
+                        ui.label(format!("{:.2e}", st.law.alpha_e));
+                        ui.label(format!("{:.2e}", st.law.u_r));
+                        ui.label(format!("{}", st.law.mu_inf));
+                        ui.label(match st.cells {
+                            0 => "file".to_string(),
+                            n => n.to_string(),
+                        });
+                        let status = ui.label(&r.status);
+                        if let Some(e) = &r.error {
+                            status.on_hover_text(e);
+                        }
+                        ui.label(opt(r.time_full_rupture, 4));
+                        ui.label(opt(r.peak_force, 3));
+                        ui.label(format!("{:.4e}", r.damage_dissipated));
+                        ui.label(format!("{:.2e}", r.max_relative_residual));
+                        ui.label(format!("{}/{}", r.counts.ruptured, r.interface_nodes));
+                        ui.label(format!("{:.2}", r.wall_seconds));
+                        ui.end_row();
+                    }
+                });
+        });
+    }
+}

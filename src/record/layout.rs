@@ -1,0 +1,484 @@
+//! The static layout of a recording: entity paths and names, the recording's name, the
+//! blueprint (the viewer's default layout), and what is logged once before the first frame
+//! (scene text, annotation context, styles, surface topology, planes, law curves, series names,
+//! the legend).
+
+use super::geometry::Geometry;
+use super::{log_err, ColourField, RecordError, Statics, ARROW_FRACTION};
+use crate::mesh::{cross, dot, norm, sub};
+use crate::model::Model;
+use crate::solver::Simulation;
+use rerun::blueprint::components::{PanelState, PlayState};
+use rerun::blueprint::{
+    Blueprint, BlueprintPanel, Horizontal, SelectionPanel, Spatial2DView, Spatial3DView, Tabs,
+    TextDocumentView, TimePanel, TimeSeriesView, Vertical,
+};
+use rerun::{
+    AnnotationContext, Arrows3D, LineStrips2D, Mesh3D, Points2D, Points3D, RecordingStream, Rgba32,
+    SeriesLines, TextDocument, TextLog,
+};
+
+/// A name usable as one entity path part: `z+` → `z_plus`.
+pub(super) fn path_part(s: &str) -> String {
+    let mut out = String::new();
+    for ch in s.chars() {
+        match ch {
+            '+' => out.push_str("_plus"),
+            '-' => out.push_str("_minus"),
+            c if c.is_ascii_alphanumeric() || c == '_' => out.push(c),
+            _ => out.push('_'),
+        }
+    }
+    out
+}
+
+pub(super) const AXES: [&str; 3] = ["x", "y", "z"];
+
+/// The ledger terms logged as the instances of `energy` [J], in this order.
+pub(super) const ENERGY_TERMS: [&str; 13] = [
+    "kinetic",
+    "strain",
+    "hourglass",
+    "interface_stored",
+    "damage_dissipated",
+    "contact_normal_dissipated",
+    "friction_dissipated",
+    "external_work",
+    "gravity_work",
+    "traction_work",
+    "reaction_work",
+    "plane_work",
+    "residual",
+];
+
+/// Stages logged as the instances of `timing` [µs per step], in this order.
+pub(super) const STAGES: [&str; 8] = [
+    "positions",
+    "internal_forces",
+    "interface_contact",
+    "free_velocity",
+    "bookkeeping",
+    "h_crit",
+    "logging",
+    "logger_thread",
+];
+
+/// The recording name: scene name and the parameters a reader compares runs by.
+pub fn recording_name(sim: &Simulation) -> String {
+    let m = &sim.model;
+    let mut name = format!(
+        "{} · {} hex8 · {:?} E={:.3e} Pa ν={}",
+        m.name,
+        m.mesh.elements.len(),
+        m.material.model,
+        m.material.young,
+        m.material.poisson
+    );
+    for itf in &m.interfaces {
+        let fam = match &itf.law.family {
+            crate::law::LawFamily::PlateauLinear => "plateau_linear".to_string(),
+            crate::law::LawFamily::Bilinear => "bilinear".to_string(),
+            crate::law::LawFamily::Exponential { decay } => format!("exponential({decay})"),
+            crate::law::LawFamily::Table { .. } => "table".to_string(),
+        };
+        name.push_str(&format!(
+            " · {fam} g_N0={:.3e} α_e={:.3e} u_r={:.3e} μ_inf={}",
+            itf.law.g_n0, itf.law.alpha_e, itf.law.u_r, itf.mu_inf
+        ));
+    }
+    name.push_str(&format!(" · h={}·h_crit", m.scheme.time_step_factor));
+    name
+}
+
+/// The default layout: 3-D view on the left; energies and state counts on the right, with
+/// reactions, α(t), the law, the time step, timings and the scene text in tabs below.
+pub fn default_blueprint() -> Blueprint {
+    Blueprint::new(Horizontal::new([
+        Spatial3DView::new("body and interface")
+            .with_origin("/")
+            .with_contents(["/body/**", "/planes/**", "/interface/**", "/contact/**"])
+            .into(),
+        Vertical::new([
+            TimeSeriesView::new("energy [J]")
+                .with_origin("/energy")
+                .into(),
+            TimeSeriesView::new("interface nodes: elastic / transition / ruptured")
+                .with_origin("/interface/count")
+                .into(),
+            Tabs::new([
+                TimeSeriesView::new("reaction [N]")
+                    .with_origin("/reaction")
+                    .into(),
+                TimeSeriesView::new("imposed displacement [m]")
+                    .with_origin("/imposed_displacement")
+                    .into(),
+                TimeSeriesView::new("balance residual / largest energy")
+                    .with_origin("/balance")
+                    .into(),
+                Spatial2DView::new("reaction vs displacement (mm, kN)")
+                    .with_origin("/plots")
+                    .into(),
+                TimeSeriesView::new("damage α [m]")
+                    .with_origin("/interface/alpha")
+                    .into(),
+                Spatial2DView::new("stiffness law")
+                    .with_origin("/law")
+                    .into(),
+                TimeSeriesView::new("time step [s]")
+                    .with_origin("/time_step")
+                    .into(),
+                TimeSeriesView::new("wall time per step [µs]")
+                    .with_origin("/timing")
+                    .into(),
+                TextDocumentView::new("scene").with_origin("/scene").into(),
+                TextDocumentView::new("run").with_origin("/run").into(),
+            ])
+            .into(),
+        ])
+        .into(),
+    ]))
+    // Follow the run as it arrives (live), i.e. open a file at its last frame.
+    .with_time_panel(
+        TimePanel::new()
+            .with_timeline("sim_time")
+            .with_play_state(PlayState::Following)
+            .with_state(PanelState::Collapsed),
+    )
+    .with_blueprint_panel(BlueprintPanel::new().with_state(PanelState::Collapsed))
+    .with_selection_panel(SelectionPanel::new().with_state(PanelState::Collapsed))
+}
+
+/// Logs everything static, before the first frame.
+pub(super) fn log_static(
+    rec: &RecordingStream,
+    st: &Statics,
+    geometry: &Geometry,
+    colour: ColourField,
+    alpha_per_node: bool,
+) -> Result<(), RecordError> {
+    scene_text(rec, st)?;
+    classes_and_styles(rec, st, geometry.scales.point_radius)?;
+    // Surface topology once; positions and colours per frame.
+    rec.log_static(
+        "body/surface",
+        &Mesh3D::update_fields().with_triangle_indices(geometry.surface.triangles.iter().copied()),
+    )
+    .map_err(log_err("the surface topology"))?;
+    planes(
+        rec,
+        &st.model,
+        geometry.scales.extent,
+        geometry.scales.centre,
+    )?;
+    law_curves(rec, &st.model)?;
+    series_names(rec, st, alpha_per_node)?;
+    legend(
+        rec,
+        colour,
+        geometry.scales.arrow_scale,
+        geometry.scales.extent,
+    )
+}
+
+/// The scene file, the resolved parameters, and the model's advisories in the run log.
+fn scene_text(rec: &RecordingStream, st: &Statics) -> Result<(), RecordError> {
+    let m = &st.model;
+    rec.log_static(
+        "scene/file",
+        &TextDocument::from_markdown(format!(
+            "# {}\n\n{}\n\nFile `{}`:\n\n```toml\n{}\n```\n",
+            m.name, m.description, st.file, st.text
+        )),
+    )
+    .map_err(log_err("the scene text"))?;
+    rec.log_static(
+        "scene/resolved",
+        &TextDocument::from_markdown(format!(
+            "# Resolved parameters (after --set overrides)\n\n```toml\n{}\n```\n\n\
+             h = {:.5e} s = {} × h_crit, h_crit = {:.5e} s (Lanczos, PHYSICS.md §6); \
+             {} nodes, {} hex8 elements, {} interface nodes.\n",
+            st.resolved,
+            st.h,
+            m.scheme.time_step_factor,
+            st.h_crit,
+            m.mesh.nodes.len(),
+            m.mesh.elements.len(),
+            st.interface_nodes.len()
+        )),
+    )
+    .map_err(log_err("the resolved parameters"))?;
+    rec.set_time_sequence("step", 0);
+    rec.set_duration_secs("sim_time", 0.0);
+    for text in &st.advisories {
+        rec.log("run/log", &TextLog::new(text.clone()).with_level("WARN"))
+            .map_err(log_err("a warning"))?;
+    }
+    Ok(())
+}
+
+/// Class ids for interface and contact nodes, and the styles that do not change: radii, arrow
+/// colours, curve labels.
+fn classes_and_styles(rec: &RecordingStream, st: &Statics, r: f32) -> Result<(), RecordError> {
+    let m = &st.model;
+    // Class ids for interface and contact nodes, for the whole subtree.
+    let classes = AnnotationContext::new([
+        (0, "elastic", Rgba32::from_rgb(46, 160, 67)),
+        (1, "transition", Rgba32::from_rgb(245, 166, 35)),
+        (2, "ruptured", Rgba32::from_rgb(208, 2, 27)),
+        (10, "open", Rgba32::from_rgb(160, 160, 160)),
+        (11, "stick", Rgba32::from_rgb(30, 120, 220)),
+        (12, "slip", Rgba32::from_rgb(200, 60, 200)),
+    ]);
+    rec.log_static("interface", &classes)
+        .map_err(log_err("the annotation context"))?;
+    if !st.contact_nodes.is_empty() {
+        rec.log_static("contact", &classes)
+            .map_err(log_err("the annotation context"))?;
+    }
+
+    let styles: [(&str, &dyn rerun::AsComponents); 7] = [
+        (
+            "interface/nodes",
+            &Points3D::update_fields().with_radii([r]),
+        ),
+        (
+            "interface/contact_status",
+            &Points3D::update_fields().with_radii([0.5 * r]),
+        ),
+        ("contact/nodes", &Points3D::update_fields().with_radii([r])),
+        (
+            "interface/cohesive_traction",
+            &Arrows3D::update_fields().with_colors([Rgba32::from_rgb(245, 166, 35)]),
+        ),
+        (
+            "interface/contact_pressure",
+            &Arrows3D::update_fields().with_colors([Rgba32::from_rgb(30, 120, 220)]),
+        ),
+        (
+            "contact/pressure",
+            &Arrows3D::update_fields().with_colors([Rgba32::from_rgb(30, 120, 220)]),
+        ),
+        (
+            "plots/reaction_vs_displacement",
+            &LineStrips2D::update_fields().with_labels(
+                m.displacements
+                    .iter()
+                    .map(|d| format!("{} {}", d.faces, AXES[d.component.min(2)])),
+            ),
+        ),
+    ];
+    for (path, style) in styles {
+        let used = if path.starts_with("contact/") {
+            !st.contact_nodes.is_empty()
+        } else if path.starts_with("plots/") {
+            !m.displacements.is_empty()
+        } else if path.starts_with("interface/") {
+            !st.interface_nodes.is_empty()
+        } else {
+            true
+        };
+        if used {
+            rec.log_static(path, style).map_err(log_err("a style"))?;
+        }
+    }
+    Ok(())
+}
+
+/// Planes: a square of 1.6 × the body extent centred under the body's centre.
+fn planes(
+    rec: &RecordingStream,
+    m: &Model,
+    extent: f64,
+    centre: [f64; 3],
+) -> Result<(), RecordError> {
+    for p in &m.planes {
+        let n = p.normal;
+        let a = if n[0].abs() < 0.9 {
+            [1.0, 0.0, 0.0]
+        } else {
+            [0.0, 1.0, 0.0]
+        };
+        let t1 = normalise(cross(n, a));
+        let t2 = cross(n, t1);
+        let d = dot(sub(centre, p.point), n);
+        let c = [0, 1, 2].map(|i| centre[i] - d * n[i]);
+        let s = 0.8 * extent;
+        let corner =
+            |a: f64, b: f64| [0, 1, 2].map(|i| (c[i] + s * (a * t1[i] + b * t2[i])) as f32);
+        let verts = [
+            corner(-1.0, -1.0),
+            corner(1.0, -1.0),
+            corner(1.0, 1.0),
+            corner(-1.0, 1.0),
+        ];
+        rec.log_static(
+            format!("planes/{}", path_part(&p.name)),
+            &Mesh3D::new(verts)
+                .with_triangle_indices([[0, 1, 2], [0, 2, 3], [0, 2, 1], [0, 3, 2]])
+                .with_albedo_factor(Rgba32::from_unmultiplied_rgba(150, 155, 165, 160)),
+        )
+        .map_err(log_err("a plane"))?;
+    }
+    Ok(())
+}
+
+/// Stiffness laws, normalised: x = α/u_r ∈ [0, 1] → 0..100, y = value/peak → 0..−100 (2-D views
+/// point y down).
+fn law_curves(rec: &RecordingStream, m: &Model) -> Result<(), RecordError> {
+    for itf in &m.interfaces {
+        let law = &itf.law;
+        let base = format!("law/{}", path_part(&itf.faces));
+        let n = 200;
+        let (t_max, at) = law.peak_traction();
+        let g: Vec<[f32; 2]> = (0..=n)
+            .map(|k| {
+                let a = law.u_r * k as f64 / n as f64;
+                [
+                    (100.0 * a / law.u_r) as f32,
+                    (-100.0 * law.g_n(a) / law.g_n0) as f32,
+                ]
+            })
+            .collect();
+        let t: Vec<[f32; 2]> = (0..=n)
+            .map(|k| {
+                let d = law.u_r * k as f64 / n as f64;
+                [
+                    (100.0 * d / law.u_r) as f32,
+                    (-100.0 * law.traction(d) / t_max) as f32,
+                ]
+            })
+            .collect();
+        rec.log_static(
+            format!("{base}/g_n"),
+            &LineStrips2D::new([g])
+                .with_colors([Rgba32::from_rgb(30, 120, 220)])
+                .with_labels([format!("g_N(α)/g_N(0), g_N(0) = {:.3e} Pa/m", law.g_n0)]),
+        )
+        .map_err(log_err("the law curve"))?;
+        rec.log_static(
+            format!("{base}/traction"),
+            &LineStrips2D::new([t])
+                .with_colors([Rgba32::from_rgb(208, 2, 27)])
+                .with_labels([format!(
+                    "T(δ)/T_max, T_max = {t_max:.3e} Pa at δ = {at:.3e} m; G_c = {:.3e} J/m²",
+                    law.fracture_energy()
+                )]),
+        )
+        .map_err(log_err("the law curve"))?;
+        rec.log_static(
+            format!("{base}/axes"),
+            &LineStrips2D::new([
+                vec![[0.0f32, 0.0], [105.0, 0.0]],
+                vec![[0.0f32, 0.0], [0.0, -105.0]],
+            ])
+            .with_colors([Rgba32::from_rgb(120, 120, 120)])
+            .with_labels(["α/u_r, δ/u_r →", "↑ normalised value"]),
+        )
+        .map_err(log_err("the law axes"))?;
+        rec.log_static(
+            format!("{base}/marks"),
+            &Points2D::new([
+                [(100.0 * law.alpha_e / law.u_r) as f32, 0.0],
+                [100.0f32, 0.0],
+            ])
+            .with_radii([1.5f32])
+            .with_labels([
+                format!("α_e = {:.3e} m", law.alpha_e),
+                format!("u_r = {:.3e} m", law.u_r),
+            ]),
+        )
+        .map_err(log_err("the law marks"))?;
+    }
+    Ok(())
+}
+
+/// Scalar series: one entity per quantity, one named instance per series.
+fn series_names(
+    rec: &RecordingStream,
+    st: &Statics,
+    alpha_per_node: bool,
+) -> Result<(), RecordError> {
+    let mut styles: Vec<(String, SeriesLines)> = vec![
+        ("energy".into(), SeriesLines::new().with_names(ENERGY_TERMS)),
+        (
+            "interface/count".into(),
+            SeriesLines::new()
+                .with_names(["elastic", "transition", "ruptured"])
+                .with_colors([
+                    Rgba32::from_rgb(46, 160, 67),
+                    Rgba32::from_rgb(245, 166, 35),
+                    Rgba32::from_rgb(208, 2, 27),
+                ]),
+        ),
+        (
+            "time_step".into(),
+            SeriesLines::new().with_names(["h", "h_crit"]),
+        ),
+        ("timing".into(), SeriesLines::new().with_names(STAGES)),
+        (
+            "body/colour_range".into(),
+            SeriesLines::new().with_names(["min", "max"]),
+        ),
+    ];
+    if !st.interface_nodes.is_empty() {
+        let names: Vec<String> = if alpha_per_node {
+            st.interface_nodes
+                .iter()
+                .map(|n| format!("node {}", n.0))
+                .collect()
+        } else {
+            vec!["min".into(), "mean".into(), "max".into()]
+        };
+        styles.push((
+            "interface/alpha".into(),
+            SeriesLines::new().with_names(names),
+        ));
+    }
+    for (path, style) in styles {
+        rec.log_static(path, &style)
+            .map_err(log_err("a series style"))?;
+    }
+    Ok(())
+}
+
+/// What the colours and arrows mean.
+fn legend(
+    rec: &RecordingStream,
+    colour: ColourField,
+    arrow_scale: f64,
+    extent: f64,
+) -> Result<(), RecordError> {
+    let (field, unit) = colour.label();
+    rec.log_static(
+        "body/legend",
+        &TextDocument::from_markdown(format!(
+            "Surface coloured by **{field}** [{unit}], viridis colormap (dark purple = min, \
+             yellow = max) over the range seen so far in the run (see `body/colour_range`).\n\n\
+             Arrows: {:.3e} m per Pa (the law's peak traction, or E without glue, draws \
+             {ARROW_FRACTION} × the body extent {extent:.3e} m). Cohesive arrows show −R_d = −g_N(α)[u] \
+             on the solid; contact arrows show R_c/h.\n\nInterface nodes: green elastic, \
+             orange transition, red ruptured; contact status: grey open, blue stick, \
+             magenta slip.",
+            arrow_scale
+        )),
+    )
+    .map_err(log_err("the legend"))?;
+    Ok(())
+}
+
+fn normalise(a: [f64; 3]) -> [f64; 3] {
+    let n = norm(a);
+    [a[0] / n, a[1] / n, a[2] / n]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn path_parts_are_plain() {
+        assert_eq!(path_part("z+"), "z_plus");
+        assert_eq!(path_part("x-"), "x_minus");
+        assert_eq!(path_part("mould 2"), "mould_2");
+    }
+}

@@ -1,0 +1,330 @@
+//! Recording a run to Rerun, live (a spawned or running viewer) or into an `.rrd` file.
+//!
+//! This module reads a [`Simulation`] and turns it into Rerun entities; the physics modules
+//! (`mesh`, `material`, `law`, `solver`, `energy`) know nothing of it.
+//!
+//! # Timelines
+//! `step` (sequence: the step count n) and `sim_time` (duration: tₙ in seconds).
+//!
+//! # Entity paths (stable; the README lists them with units)
+//! | path | archetype | when |
+//! |---|---|---|
+//! | `scene/file`, `scene/resolved` | TextDocument | static |
+//! | `body/surface` | Mesh3D: triangles static, positions and vertex colours per frame | frame |
+//! | `body/legend` | TextDocument: field, colormap, range | frame |
+//! | `planes/<name>` | Mesh3D quad (static) + Transform3D when the plane moves | static / frame |
+//! | `interface` | AnnotationContext: 0 elastic, 1 transition, 2 ruptured, 10 open, 11 stick, 12 slip | static |
+//! | `interface/nodes` | Points3D, class = state; `alpha_m`, `gap_m` per node (hover) | frame |
+//! | `interface/contact_status` | Points3D, class = open / stick / slip | frame |
+//! | `interface/cohesive_traction` | Arrows3D: −R_d on the solid [Pa] × arrow scale | frame |
+//! | `interface/contact_pressure` | Arrows3D: R_c / h [Pa] × arrow scale | frame |
+//! | `contact/nodes`, `contact/pressure` | the same for contact-only faces | frame |
+//! | `energy` | Scalars [J], one named series per ledger term (PHYSICS.md §5; hourglass with one-point integration) and the residual | frame |
+//! | `balance/relative_residual` | Scalars: residual / largest energy seen | frame |
+//! | `reaction/<faces>_<axis>` | Scalars [N]: reaction of a prescribed displacement | frame |
+//! | `imposed_displacement/<faces>_<axis>` | Scalars [m] | frame |
+//! | `plots/reaction_vs_displacement` | LineStrips2D: (U [mm], F [kN], y up as −y) | frame |
+//! | `interface/count` | Scalars: elastic, transition, ruptured node counts (paper fig. 6 right) | frame |
+//! | `interface/alpha` | Scalars [m]: α of every node (≤ 64 nodes) or min/mean/max | frame |
+//! | `time_step` | Scalars [s]: h and h_crit | frame |
+//! | `timing` | Scalars [µs per step] per stage, averaged since the previous frame (`logging` = the solver thread's time on the outputs, `logger_thread` = the recorder's thread) | frame |
+//! | `body/colour_range` | Scalars: min and max of the colour field so far | frame |
+//! | `law/<faces>/...` | LineStrips2D: g_N(α)/g_N(0) and T(δ)/T_max against α/u_r, δ/u_r | static |
+//! | `run/status`, `run/log` | TextDocument, TextLog: completed / failed / cancelled and why | end |
+//!
+//! # Modules
+//! [`stream`] (the Rerun stream: sink, columnar buffering, flushing), [`geometry`] (the
+//! per-frame geometry: surface, colours, nodes, arrows), [`layout`] (the static layout: entity
+//! names, blueprint, annotation context, law curves), [`logger`] (the logger thread),
+//! [`frontier`] (the speed–accuracy study's own recording).
+//!
+//! # Threads
+//! The run driver ([`crate::driver`]) copies a [`Snapshot`] of the state once per frame and
+//! hands it to every output; the [`Recorder`] passes it to a logger thread over a bounded
+//! channel ([`crate::output::worker`]); the logger thread builds the Rerun entities (Arrow
+//! arrays built directly from flat buffers) and the SDK's own threads encode and write them,
+//! all at a lower priority than the solver. A slow sink applies back-pressure once
+//! [`QUEUE_BYTES`] of frames wait, instead of dropping any.
+//!
+//! Frames are buffered and sent as columns (`send_columns`, one chunk per entity) every
+//! [`FLUSH_ROWS`] frames, [`FLUSH_BYTES`] or at most [`FLUSH_WALL`] of wall time, and always before the
+//! file is closed, so a live viewer lags at most that much and nothing is lost when a run fails.
+//! The reaction–displacement curve is re-sent whole at each flush.
+
+mod frontier;
+mod geometry;
+mod layout;
+mod logger;
+mod stream;
+
+pub use crate::output::{Cadence, InterfaceSnapshot, Snapshot, DEFAULT_FRAMES, QUEUE_BYTES};
+pub use frontier::log_frontier;
+pub use layout::{default_blueprint, recording_name};
+pub use stream::find_on_path;
+
+use crate::model::Model;
+use crate::output::worker::Worker;
+use crate::output::{Ending, Output, OutputError, OutputReport};
+use crate::scene::Scene;
+use crate::solver::{Simulation, SolverError};
+use logger::LoggerEnd;
+use std::path::PathBuf;
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+/// Application id of every recording.
+pub const APPLICATION_ID: &str = "decohesion";
+/// Buffered frames are sent at least every this many frames…
+pub const FLUSH_ROWS: usize = 1000;
+/// …or when they take this much memory [bytes]…
+pub const FLUSH_BYTES: usize = 16 << 20;
+/// …or after a tenth of the wall time the run has taken so far, between 10 ms and this (the
+/// lag of a live viewer): short runs encode beside the solver rather than all at the end,
+/// long runs do not make thousands of small chunks.
+pub const FLUSH_WALL: Duration = Duration::from_millis(500);
+/// Interfaces with at most this many nodes get one α(t) series per node (paper fig. 6 left).
+pub const ALPHA_PER_NODE_MAX: usize = 64;
+/// Longest arrow, drawn for the peak traction T_max of the law, as a fraction of the body's
+/// largest extent.
+pub const ARROW_FRACTION: f64 = 0.2;
+/// Version of the Rerun viewer that reads our files (same as the SDK).
+pub const RERUN_VERSION: &str = "0.36.3";
+
+/// Where the recording goes.
+#[derive(Debug, Clone)]
+pub enum Sink {
+    /// An `.rrd` file.
+    Save(PathBuf),
+    /// A Rerun viewer started from PATH, listening on 127.0.0.1 only.
+    Spawn,
+    /// A running viewer at this URL (default `rerun+http://127.0.0.1:9876/proxy`).
+    Connect(Option<String>),
+}
+
+/// The field that colours the body surface.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum ColourField {
+    /// |U| [m], nodal.
+    #[default]
+    Displacement,
+    /// Von Mises stress of the Cauchy stress at element centres, averaged to the nodes [Pa].
+    VonMises,
+    /// J = det F at element centres, averaged to the nodes [-].
+    Jacobian,
+}
+
+impl std::str::FromStr for ColourField {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s {
+            "displacement" => Ok(ColourField::Displacement),
+            "von_mises" => Ok(ColourField::VonMises),
+            "jacobian" => Ok(ColourField::Jacobian),
+            _ => Err(format!(
+                "unknown colour field `{s}`; admissible: displacement, von_mises, jacobian"
+            )),
+        }
+    }
+}
+
+impl ColourField {
+    fn label(self) -> (&'static str, &'static str) {
+        match self {
+            ColourField::Displacement => ("displacement magnitude |U|", "m"),
+            ColourField::VonMises => ("von Mises stress (Cauchy)", "Pa"),
+            ColourField::Jacobian => ("volume ratio J = det F", "-"),
+        }
+    }
+}
+
+/// What was recorded, for the run summary.
+#[derive(Debug, Clone, Default, serde::Serialize)]
+pub struct RecordingReport {
+    /// "file", "spawn" or "connect".
+    pub sink: String,
+    pub path: Option<String>,
+    /// Frames logged (3-D state + one row of every scalar series).
+    pub frames: u64,
+    /// Wall time the solver thread spent on recording: snapshots, waiting on a full queue,
+    /// and waiting at the end until the file was complete [s].
+    pub logging_seconds: f64,
+    /// Busy time of the logger thread, which runs beside the solver [s].
+    pub logger_thread_seconds: f64,
+    /// Size of the file [bytes] (file sink only).
+    pub bytes: Option<u64>,
+}
+
+/// Errors of the recorder (the SDK's, with what we were doing).
+#[derive(Debug, thiserror::Error)]
+pub enum RecordError {
+    #[error("{0}")]
+    Setup(String),
+    #[error("logging {what}: {source}")]
+    Log {
+        what: String,
+        #[source]
+        source: rerun::RecordingStreamError,
+    },
+}
+
+fn log_err(what: &str) -> impl FnOnce(rerun::RecordingStreamError) -> RecordError + '_ {
+    move |source| RecordError::Log {
+        what: what.to_string(),
+        source,
+    }
+}
+
+/// What the solver side sends to the logger thread.
+enum Msg {
+    Frame(Arc<Snapshot>),
+    Finish {
+        snapshot: Option<Arc<Snapshot>>,
+        status: &'static str,
+        text: String,
+        level: &'static str,
+    },
+}
+
+/// Records a running [`Simulation`] to Rerun: an [`Output`] of the run driver, which feeds it
+/// the frames and finishes it whatever the outcome; the recording is then complete.
+pub struct Recorder {
+    worker: Worker<Msg, LoggerEnd, RecordError>,
+    sink: Sink,
+    frames: u64,
+}
+
+/// Frames that may wait for the logger thread: [`QUEUE_BYTES`] worth of snapshots, at least 4.
+fn queue_frames(sim: &Simulation) -> usize {
+    (QUEUE_BYTES / Snapshot::bytes(sim)).clamp(4, 4096)
+}
+
+impl Recorder {
+    /// Starts the logger thread, which opens the sink and logs everything static (scene text,
+    /// annotation context, surface topology, planes, law curves, series styles; the blueprint
+    /// goes with the stream) while the solver starts. A file that cannot be written is reported
+    /// here; a sink that cannot be opened otherwise (no viewer executable, a malformed URL) by
+    /// the first frames at the latest.
+    pub fn new(
+        sink: Sink,
+        scene: &Scene,
+        sim: &Simulation,
+        colour: ColourField,
+    ) -> Result<Recorder, RecordError> {
+        let started = Instant::now();
+        if let Sink::Save(path) = &sink {
+            // Fail now, not a few steps into the run, when the file cannot be written.
+            std::fs::File::create(path).map_err(|e| {
+                RecordError::Setup(format!(
+                    "cannot write the recording {}: {e}",
+                    path.display()
+                ))
+            })?;
+        }
+        let statics = Statics {
+            model: sim.model.clone(),
+            file: scene.file.clone(),
+            text: scene.text.clone(),
+            resolved: scene.resolved.clone(),
+            h: sim.h,
+            h_crit: sim.h_crit,
+            interface_nodes: sim
+                .interface_nodes
+                .iter()
+                .map(|n| (n.node, n.interface))
+                .collect(),
+            contact_nodes: sim.contact_nodes.iter().map(|n| n.node).collect(),
+            advisories: sim.advisories(),
+        };
+        let name = recording_name(sim);
+        let thread_sink = sink.clone();
+        let thread_error = |what: &str| RecordError::Setup(format!("the recorder thread {what}"));
+        let mut worker = Worker::spawn(
+            "decohesion-recorder",
+            queue_frames(sim),
+            thread_error,
+            move |rx| logger::run(rx, thread_sink, name, statics, colour),
+        )?;
+        worker.charge(started.elapsed());
+        Ok(Recorder {
+            worker,
+            sink,
+            frames: 0,
+        })
+    }
+}
+
+impl Output for Recorder {
+    /// Sends one frame to the logger thread; when that thread has stopped, its error.
+    fn frame(&mut self, snapshot: &Arc<Snapshot>) -> Result<(), OutputError> {
+        self.frames += 1;
+        let frame = Msg::Frame(snapshot.clone());
+        Ok(self.worker.send(frame, snapshot.capture_time)?)
+    }
+
+    /// Sends the last state (if not sent yet) and the outcome, waits until everything is
+    /// written and the sink closed: the file is complete and readable whatever the outcome.
+    fn finish(
+        self: Box<Self>,
+        last: Option<Arc<Snapshot>>,
+        end: &Ending<'_>,
+    ) -> Result<OutputReport, OutputError> {
+        let Recorder {
+            worker,
+            sink,
+            mut frames,
+        } = *self;
+        let capture = last.as_ref().map_or(Duration::ZERO, |s| s.capture_time);
+        frames += u64::from(last.is_some());
+        let (status, text, level) = match end.error {
+            None => (
+                "completed",
+                format!(
+                    "Run completed: {} steps to t = {:.6} s.",
+                    end.step, end.time
+                ),
+                "INFO",
+            ),
+            Some(e @ SolverError::Cancelled { .. }) => ("cancelled", e.to_string(), "WARN"),
+            Some(e) => ("failed", e.to_string(), "ERROR"),
+        };
+        let finish = Msg::Finish {
+            snapshot: last,
+            status,
+            text,
+            level,
+        };
+        let (logged, solver_time) = worker.finish(Some(finish), capture)?;
+        let (sink, path, bytes) = match &sink {
+            Sink::Save(p) => (
+                "file",
+                Some(p.display().to_string()),
+                std::fs::metadata(p).ok().map(|m| m.len()),
+            ),
+            Sink::Spawn => ("spawn", None, None),
+            Sink::Connect(_) => ("connect", None, None),
+        };
+        Ok(OutputReport::Recording(RecordingReport {
+            sink: sink.into(),
+            path,
+            frames,
+            logging_seconds: solver_time.as_secs_f64(),
+            logger_thread_seconds: logged.busy.as_secs_f64(),
+            bytes,
+        }))
+    }
+}
+
+/// What the logger thread needs to know of the run, owned.
+struct Statics {
+    model: Model,
+    file: String,
+    text: String,
+    resolved: String,
+    h: f64,
+    h_crit: f64,
+    /// (node, interface index) of each interface node.
+    interface_nodes: Vec<(u32, u32)>,
+    contact_nodes: Vec<u32>,
+    /// [`Simulation::advisories`]: warnings about the regime of the model.
+    advisories: Vec<String>,
+}
