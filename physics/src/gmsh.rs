@@ -179,44 +179,88 @@ fn physical_names(
 /// Parses the bytes of a `.msh` file; `file` names it in messages.
 pub fn parse_msh(bytes: &[u8], file: &str) -> Result<Mesh, MshError> {
     let binary = is_binary(bytes);
-    let msh = mshio::parse_msh_bytes(bytes).map_err(|e| {
-        let trace = e.filtered_backtrace();
-        let offset = trace
-            .first()
-            .map_or(0, |(rest, _)| bytes.len().saturating_sub(rest.len()));
-        // The innermost error kind, and the contexts from the outermost section inwards.
-        let what = trace
-            .iter()
-            .find(|(_, k)| k.context().is_none())
-            .map_or_else(|| "unexpected content".to_string(), |(_, k)| k.to_string());
-        let mut within: Vec<&str> = trace
-            .iter()
-            .rev()
-            .filter_map(|(_, k)| k.context())
-            .collect();
-        within.dedup();
-        let within = if within.is_empty() {
-            String::new()
-        } else {
-            format!(" (in {})", within.join(" › "))
-        };
-        MshError::Syntax {
-            file: file.to_string(),
-            at: location(bytes, offset, binary),
-            message: format!("{}{within}", what.trim_end_matches('.')),
-        }
-    })?;
-    let mesh_err = |message: String| MshError::Mesh {
-        file: file.to_string(),
-        message,
-    };
+    let msh = mshio::parse_msh_bytes(bytes).map_err(|e| syntax_error(&e, bytes, file, binary))?;
+    let err = MeshErr(file);
     let names = physical_names(bytes, file, binary)?;
+    let nodes = FileNodes::read(&msh, &err)?;
+    let group_name = |tag: i32| {
+        names
+            .get(&(2, tag))
+            .cloned()
+            .unwrap_or_else(|| format!("physical_{tag}"))
+    };
+    let (hexes, group_quads) = read_elements(&msh, &nodes, &group_name, &err)?;
+    let (mesh, new_index) = hexahedra(&nodes.coords, &hexes, &err)?;
+    let mesh = with_face_sets(mesh, &new_index, group_quads, &group_name, &err)?;
+    // A Gmsh file numbers its nodes by geometric entity, not by position: renumber them slab by
+    // slab for the element loop's caches (a no-op for a file written along its longest axis).
+    Ok(mesh.with_nodes_in_slabs())
+}
 
-    // Nodes: tag → index in file order, and coordinates.
-    let mut node_index: HashMap<u64, usize> = HashMap::new();
-    let mut node_tag: Vec<u64> = Vec::new();
-    let mut coords: Vec<[f64; 3]> = Vec::new();
-    if let Some(nodes) = &msh.data.nodes {
+/// mshio's parse error as a [`MshError::Syntax`]: the innermost error kind, the sections it was
+/// in from the outermost inwards, and the line (ASCII) or byte offset (binary).
+fn syntax_error(
+    e: &mshio::MshParserError<&[u8]>,
+    bytes: &[u8],
+    file: &str,
+    binary: bool,
+) -> MshError {
+    let trace = e.filtered_backtrace();
+    let offset = trace
+        .first()
+        .map_or(0, |(rest, _)| bytes.len().saturating_sub(rest.len()));
+    let what = trace
+        .iter()
+        .find(|(_, k)| k.context().is_none())
+        .map_or_else(|| "unexpected content".to_string(), |(_, k)| k.to_string());
+    let mut within: Vec<&str> = trace
+        .iter()
+        .rev()
+        .filter_map(|(_, k)| k.context())
+        .collect();
+    within.dedup();
+    let within = if within.is_empty() {
+        String::new()
+    } else {
+        format!(" (in {})", within.join(" › "))
+    };
+    MshError::Syntax {
+        file: file.to_string(),
+        at: location(bytes, offset, binary),
+        message: format!("{}{within}", what.trim_end_matches('.')),
+    }
+}
+
+/// Builds the [`MshError::Mesh`] errors of one file.
+struct MeshErr<'a>(&'a str);
+
+impl MeshErr<'_> {
+    fn at(&self, message: String) -> MshError {
+        MshError::Mesh {
+            file: self.0.to_string(),
+            message,
+        }
+    }
+}
+
+/// The file's nodes: tag → index in file order, and coordinates.
+struct FileNodes {
+    index: HashMap<u64, usize>,
+    coords: Vec<[f64; 3]>,
+}
+
+/// A file's msh data, as mshio reads it.
+type Msh = mshio::MshFile<u64, i32, f64>;
+
+impl FileNodes {
+    fn read(msh: &Msh, err: &MeshErr) -> Result<FileNodes, MshError> {
+        let mut out = FileNodes {
+            index: HashMap::new(),
+            coords: Vec::new(),
+        };
+        let Some(nodes) = &msh.data.nodes else {
+            return Ok(out);
+        };
         for block in &nodes.node_blocks {
             let tags: Vec<u64> = match &block.node_tags {
                 Some(map) => {
@@ -225,7 +269,7 @@ pub fn parse_msh(bytes: &[u8], file: &str) -> Result<Mesh, MshError> {
                         tags[i] = t;
                     }
                     if map.len() != block.nodes.len() {
-                        return Err(mesh_err(format!(
+                        return Err(err.at(format!(
                             "the node block of entity (dim {}, tag {}) repeats a node tag",
                             block.entity_dim, block.entity_tag
                         )));
@@ -233,103 +277,120 @@ pub fn parse_msh(bytes: &[u8], file: &str) -> Result<Mesh, MshError> {
                     tags
                 }
                 None => (0..block.nodes.len() as u64)
-                    .map(|k| nodes.min_node_tag + node_tag.len() as u64 + k)
+                    .map(|k| nodes.min_node_tag + out.coords.len() as u64 + k)
                     .collect(),
             };
             for (t, n) in tags.into_iter().zip(&block.nodes) {
-                if node_index.insert(t, coords.len()).is_some() {
-                    return Err(mesh_err(format!("node tag {t} is defined twice")));
+                if out.index.insert(t, out.coords.len()).is_some() {
+                    return Err(err.at(format!("node tag {t} is defined twice")));
                 }
-                node_tag.push(t);
-                coords.push([n.x, n.y, n.z]);
+                out.coords.push([n.x, n.y, n.z]);
             }
         }
+        Ok(out)
     }
-    let node = |tag: u64, element: u64| {
-        node_index.get(&tag).copied().ok_or_else(|| {
-            mesh_err(format!(
+
+    /// The file index of node `tag`, referred to by element `element`.
+    fn get(&self, tag: u64, element: u64, err: &MeshErr) -> Result<usize, MshError> {
+        self.index.get(&tag).copied().ok_or_else(|| {
+            err.at(format!(
                 "element {element} refers to node {tag}, which the $Nodes section does not define"
             ))
         })
-    };
+    }
+}
 
-    // Physical tags of the surface entities.
+/// Hexahedra (file node indices, element tag) and quads per physical surface group.
+type Elements = (
+    Vec<([usize; 8], u64)>,
+    BTreeMap<i32, Vec<([usize; 4], u64)>>,
+);
+
+/// The hexahedra of the volume entities and the quads of each physical surface group; any
+/// other volume element, or any other element in a face set, is refused.
+fn read_elements(
+    msh: &Msh,
+    nodes: &FileNodes,
+    group_name: &dyn Fn(i32) -> String,
+    err: &MeshErr,
+) -> Result<Elements, MshError> {
     let mut surface_groups: HashMap<i32, Vec<i32>> = HashMap::new();
     if let Some(ent) = &msh.data.entities {
         for s in &ent.surfaces {
             surface_groups.insert(s.tag, s.physical_tags.iter().map(|t| t.abs()).collect());
         }
     }
-    let group_name = |tag: i32| {
-        names
-            .get(&(2, tag))
-            .cloned()
-            .unwrap_or_else(|| format!("physical_{tag}"))
-    };
-
-    // Elements: hexahedra (file node indices) and the quads of each physical surface group.
     let mut hexes: Vec<([usize; 8], u64)> = Vec::new();
     let mut group_quads: BTreeMap<i32, Vec<([usize; 4], u64)>> = BTreeMap::new();
-    if let Some(elements) = &msh.data.elements {
-        for block in &elements.element_blocks {
-            let ty = block.element_type as i32;
-            match block.entity_dim {
-                3 => {
+    let Some(elements) = &msh.data.elements else {
+        return Ok((hexes, group_quads));
+    };
+    for block in &elements.element_blocks {
+        let ty = block.element_type as i32;
+        match block.entity_dim {
+            3 => {
+                for el in &block.elements {
+                    if ty != HEX8 {
+                        return Err(err.at(format!(
+                            "element {} ({}, in volume {}): only 8-node hexahedra (type 5) \
+                             are supported",
+                            el.element_tag,
+                            type_name(ty),
+                            block.entity_tag
+                        )));
+                    }
+                    let mut conn = [0usize; 8];
+                    for (a, slot) in conn.iter_mut().enumerate() {
+                        *slot = nodes.get(el.nodes[GMSH_HEX8_ORDER[a]], el.element_tag, err)?;
+                    }
+                    hexes.push((conn, el.element_tag));
+                }
+            }
+            2 => {
+                let Some(groups) = surface_groups.get(&block.entity_tag) else {
+                    continue;
+                };
+                for &g in groups {
                     for el in &block.elements {
-                        if ty != HEX8 {
-                            return Err(mesh_err(format!(
-                                "element {} ({}, in volume {}): only 8-node hexahedra (type 5) \
-                                 are supported",
+                        if ty != QUAD4 {
+                            return Err(err.at(format!(
+                                "element {} ({}, in surface {} of physical group \"{}\"): \
+                                 only 4-node quadrangles (type 3) are supported in face sets",
                                 el.element_tag,
                                 type_name(ty),
-                                block.entity_tag
+                                block.entity_tag,
+                                group_name(g)
                             )));
                         }
-                        let mut conn = [0usize; 8];
-                        for (a, slot) in conn.iter_mut().enumerate() {
-                            *slot = node(el.nodes[GMSH_HEX8_ORDER[a]], el.element_tag)?;
+                        let mut q = [0usize; 4];
+                        for (a, slot) in q.iter_mut().enumerate() {
+                            *slot = nodes.get(el.nodes[a], el.element_tag, err)?;
                         }
-                        hexes.push((conn, el.element_tag));
+                        group_quads.entry(g).or_default().push((q, el.element_tag));
                     }
                 }
-                2 => {
-                    let Some(groups) = surface_groups.get(&block.entity_tag) else {
-                        continue;
-                    };
-                    for &g in groups {
-                        for el in &block.elements {
-                            if ty != QUAD4 {
-                                return Err(mesh_err(format!(
-                                    "element {} ({}, in surface {} of physical group \"{}\"): \
-                                     only 4-node quadrangles (type 3) are supported in face sets",
-                                    el.element_tag,
-                                    type_name(ty),
-                                    block.entity_tag,
-                                    group_name(g)
-                                )));
-                            }
-                            let mut q = [0usize; 4];
-                            for (a, slot) in q.iter_mut().enumerate() {
-                                *slot = node(el.nodes[a], el.element_tag)?;
-                            }
-                            group_quads.entry(g).or_default().push((q, el.element_tag));
-                        }
-                    }
-                }
-                _ => {}
             }
+            _ => {}
         }
     }
+    Ok((hexes, group_quads))
+}
+
+/// The mesh of the hexahedra, with only the nodes they use (in file order), each element
+/// checked for inversion (det J₀ > 0 at every Gauss point); and the file-to-mesh node index.
+fn hexahedra(
+    coords: &[[f64; 3]],
+    hexes: &[([usize; 8], u64)],
+    err: &MeshErr,
+) -> Result<(Mesh, Vec<u32>), MshError> {
     if hexes.is_empty() {
-        return Err(mesh_err(
+        return Err(err.at(
             "no 8-node hexahedron (type 5) in the file: the body must be meshed with hexahedra"
                 .into(),
         ));
     }
-
-    // Keep the nodes the hexahedra use, in file order.
     let mut new_index = vec![u32::MAX; coords.len()];
-    for (conn, _) in &hexes {
+    for (conn, _) in hexes {
         for &n in conn {
             new_index[n] = 0;
         }
@@ -348,20 +409,30 @@ pub fn parse_msh(bytes: &[u8], file: &str) -> Result<Mesh, MshError> {
     for (e, (_, tag)) in hexes.iter().enumerate() {
         let x = elements[e].map(|n| nodes[n as usize]);
         if let Err(det) = GaussData::new(&x) {
-            return Err(mesh_err(format!(
+            return Err(err.at(format!(
                 "element {tag} (hexahedron) is inverted or degenerate: det J₀ = {det:e} at a \
                  Gauss point; Gmsh orders its nodes 0–3 counter-clockwise on one face seen from \
                  the opposite face 4–7 (node 4 above 0)"
             )));
         }
     }
-    let mut mesh = Mesh {
+    let mesh = Mesh {
         nodes,
         elements,
         face_sets: BTreeMap::new(),
     };
+    Ok((mesh, new_index))
+}
 
-    // Face sets: each quad becomes the outward face of its hexahedron.
+/// Face sets from the physical surface groups: each quad becomes the outward face of its
+/// hexahedron; a quad off the boundary, or two groups of one name, are refused.
+fn with_face_sets(
+    mut mesh: Mesh,
+    new_index: &[u32],
+    group_quads: BTreeMap<i32, Vec<([usize; 4], u64)>>,
+    group_name: &dyn Fn(i32) -> String,
+    err: &MeshErr,
+) -> Result<Mesh, MshError> {
     let mut boundary: HashMap<[u32; 4], [u32; 4]> = HashMap::new();
     for (quad, _) in mesh.boundary_faces() {
         let mut key = quad;
@@ -372,7 +443,7 @@ pub fn parse_msh(bytes: &[u8], file: &str) -> Result<Mesh, MshError> {
     for (g, quads) in group_quads {
         let name = group_name(g);
         if let Some(other) = seen_names.insert(name.clone(), g) {
-            return Err(mesh_err(format!(
+            return Err(err.at(format!(
                 "physical groups {other} and {g} of dimension 2 are both named \"{name}\": face \
                  set names must be unique"
             )));
@@ -383,7 +454,7 @@ pub fn parse_msh(bytes: &[u8], file: &str) -> Result<Mesh, MshError> {
             let mut key = q.map(|n| new_index[n]);
             key.sort_unstable();
             let outward = boundary.get(&key).ok_or_else(|| {
-                mesh_err(format!(
+                err.at(format!(
                     "element {tag} (a quadrangle of physical group \"{name}\") is not a face on \
                      the boundary of the hexahedra: face sets must lie on the body's surface"
                 ))
@@ -394,9 +465,7 @@ pub fn parse_msh(bytes: &[u8], file: &str) -> Result<Mesh, MshError> {
         }
         mesh.face_sets.insert(name, set);
     }
-    // A Gmsh file numbers its nodes by geometric entity, not by position: renumber them slab by
-    // slab for the element loop's caches (a no-op for a file written along its longest axis).
-    Ok(mesh.with_nodes_in_slabs())
+    Ok(mesh)
 }
 
 /// Writes `mesh` as a `.msh` 4.1 ASCII file: one volume entity (physical group "body") holding
