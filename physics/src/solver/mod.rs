@@ -35,7 +35,7 @@ pub use state::{
 };
 
 use crate::energy::{EnergySnapshot, Ledger};
-use crate::kernels::{ElementSums, NodeSums};
+use crate::kernels::{assemble_internal_forces, Assembly, ElementRule, ElementSums, NodeSums};
 use crate::law::InterfaceState;
 use crate::mesh::ElementClasses;
 use crate::model::Model;
@@ -211,6 +211,40 @@ impl Simulation {
     /// The ledger's values now.
     pub fn energies(&self) -> EnergySnapshot {
         self.ledger.snapshot()
+    }
+}
+
+/// The element loop of stage 3 over one simulation's mesh, material, rule and team: all that
+/// F_int(U) = Σ_e fₑ(U) needs besides U (PHYSICS.md §2). Borrowed field by field, so the step
+/// can write F_int while it holds it.
+struct ElementLoop<'a> {
+    model: &'a Model,
+    classes: &'a ElementClasses,
+    blocks: &'a [Vec<Vec<u32>>],
+    team: Option<&'a Team>,
+}
+
+impl ElementLoop<'_> {
+    /// F_int(`u`) added into `f` (zeroed by the caller), with Ψ and Ψ_hg if `energy`.
+    fn assemble(
+        &self,
+        u: &[[f64; 3]],
+        f: &mut [[f64; 3]],
+        energy: bool,
+        parts: &mut Vec<ElementSums>,
+    ) -> Assembly {
+        assemble_internal_forces(
+            &self.model.mesh,
+            self.classes,
+            self.blocks,
+            &self.model.material,
+            ElementRule::of(&self.model.scheme),
+            u,
+            f,
+            energy,
+            self.team,
+            parts,
+        )
     }
 }
 

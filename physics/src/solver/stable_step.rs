@@ -4,8 +4,9 @@
 
 use super::boundary::NONE;
 use super::state::StableStep;
+use super::ElementLoop;
 use super::Simulation;
-use crate::kernels::{assemble_internal_forces, ElementRule};
+use crate::kernels::ElementSums;
 
 /// Change of the smallest Jacobian since the last h_crit estimate that triggers a new estimate
 /// before its scheduled step, once some element is compressed below [`JACOBIAN_COMPRESSED`]
@@ -82,94 +83,96 @@ impl Simulation {
         warm: Option<Vec<f64>>,
         springs: bool,
     ) -> StableStep {
-        let n = 3 * self.u.len();
-        let mask = self.prescribed_mask();
-        let sqrt_inv_m: Vec<f64> = (0..n).map(|k| self.inv_mass[k / 3].sqrt()).collect();
-        let mut f0 = vec![[0.0; 3]; self.u.len()];
+        let mut op = StiffnessOperator::new(self, springs);
+        let start = op.start_vector(warm);
+        let n = start.len();
+        let tol = self.model.scheme.h_crit_tolerance;
+        let max_iter = 300.min(n);
+        let mut apply = |q: &[f64], y: &mut [f64]| op.apply(q, y);
+        let (alphas, _, theta, resid, s) = lanczos(&mut apply, &start, max_iter, tol, None);
+        // Second pass: regenerate the same Lanczos vectors to form the Ritz vector y = Σ sⱼqⱼ.
+        let mut ritz = vec![0.0; n];
+        if n > 0 {
+            lanczos(&mut apply, &start, alphas.len(), 0.0, Some((&s, &mut ritz)));
+        }
+        self.ritz_vector = ritz;
+        let omega_sq = theta + resid;
+        StableStep {
+            omega_max_sq: omega_sq,
+            ritz_value: theta,
+            h_crit: 2.0 / omega_sq.sqrt(),
+            iterations: alphas.len(),
+        }
+    }
+}
+
+/// The operator of the stable-step estimate, y = M^{-½} K M^{-½} q at the current state
+/// (PHYSICS.md §6): K q matrix-free as the forward difference (F_int(U + ε x) − F_int(U))/ε,
+/// x = M^{-½} q, with ε = 1e-6 of the smallest edge over max|x|, plus the interface springs
+/// W g_N(α) of glued nodes; prescribed components are removed (rows and columns zero).
+struct StiffnessOperator<'a> {
+    sim: &'a Simulation,
+    elements: ElementLoop<'a>,
+    /// Prescribed degrees of freedom (node·3 + component).
+    mask: Vec<bool>,
+    sqrt_inv_m: Vec<f64>,
+    /// F_int(U), the base of the difference.
+    f0: Vec<[f64; 3]>,
+    /// (node, W g_N(α)) of the glued nodes (empty for the bulk alone).
+    springs: Vec<(usize, f64)>,
+    eps_len: f64,
+    up: Vec<[f64; 3]>,
+    fp: Vec<[f64; 3]>,
+    parts: Vec<ElementSums>,
+}
+
+impl<'a> StiffnessOperator<'a> {
+    fn new(sim: &'a Simulation, springs: bool) -> Self {
+        let n = 3 * sim.u.len();
+        let elements = ElementLoop {
+            model: &sim.model,
+            classes: &sim.classes,
+            blocks: &sim.blocks,
+            team: sim.team.as_ref(),
+        };
+        let mut f0 = vec![[0.0; 3]; sim.u.len()];
         let mut parts = Vec::new();
-        assemble_internal_forces(
-            &self.model.mesh,
-            &self.classes,
-            &self.blocks,
-            &self.model.material,
-            ElementRule::of(&self.model.scheme),
-            &self.u,
-            &mut f0,
-            false,
-            self.team.as_ref(),
-            &mut parts,
-        );
-        let springs: Vec<(usize, f64)> = self
+        elements.assemble(&sim.u, &mut f0, false, &mut parts);
+        let springs = sim
             .interface_nodes
             .iter()
             .filter(|_| springs)
             .map(|itf| {
-                let law = &self.model.interfaces[itf.interface as usize].law;
+                let law = &sim.model.interfaces[itf.interface as usize].law;
                 (itf.node as usize, itf.area * law.g_n(itf.alpha))
             })
             .collect();
-        let eps_len = 1e-6 * self.model.mesh.min_edge();
-        let mut up = self.u.clone();
-        let mut fp = vec![[0.0; 3]; self.u.len()];
-        // y = M^{-½} K M^{-½} q.
-        let mut apply = |q: &[f64], y: &mut [f64]| {
-            let mut xmax = 0.0f64;
-            for k in 0..n {
-                if !mask[k] {
-                    xmax = xmax.max((q[k] * sqrt_inv_m[k]).abs());
-                }
-            }
-            if xmax == 0.0 {
-                y.fill(0.0);
-                return;
-            }
-            let eps = eps_len / xmax;
-            for i in 0..self.u.len() {
-                for c in 0..3 {
-                    let k = 3 * i + c;
-                    let x = if mask[k] { 0.0 } else { q[k] * sqrt_inv_m[k] };
-                    up[i][c] = self.u[i][c] + eps * x;
-                }
-            }
-            fp.fill([0.0; 3]);
-            assemble_internal_forces(
-                &self.model.mesh,
-                &self.classes,
-                &self.blocks,
-                &self.model.material,
-                ElementRule::of(&self.model.scheme),
-                &up,
-                &mut fp,
-                false,
-                self.team.as_ref(),
-                &mut parts,
-            );
-            for i in 0..self.u.len() {
-                for c in 0..3 {
-                    let k = 3 * i + c;
-                    y[k] = if mask[k] {
-                        0.0
-                    } else {
-                        (fp[i][c] - f0[i][c]) / eps
-                    };
-                }
-            }
-            for &(i, ks) in &springs {
-                for c in 0..3 {
-                    let k = 3 * i + c;
-                    if !mask[k] {
-                        y[k] += ks * q[k] * sqrt_inv_m[k];
-                    }
-                }
-            }
-            for k in 0..n {
-                y[k] *= sqrt_inv_m[k];
-            }
-        };
-        // Start vector: the previous Ritz vector (warm start) plus a deterministic pseudo-random
-        // vector so that every mode is represented.
+        StiffnessOperator {
+            sim,
+            elements,
+            mask: sim.prescribed_mask(),
+            sqrt_inv_m: (0..n).map(|k| sim.inv_mass[k / 3].sqrt()).collect(),
+            f0,
+            springs,
+            eps_len: 1e-6 * sim.model.mesh.min_edge(),
+            up: sim.u.clone(),
+            fp: vec![[0.0; 3]; sim.u.len()],
+            parts,
+        }
+    }
+
+    /// The Lanczos start: the previous Ritz vector `warm` (warm start) plus a deterministic
+    /// pseudo-random vector so that every mode is represented.
+    fn start_vector(&self, warm: Option<Vec<f64>>) -> Vec<f64> {
+        let n = self.mask.len();
         let mut start: Vec<f64> = (0..n)
-            .map(|k| if mask[k] { 0.0 } else { splitmix(k as u64) })
+            .map(|k| {
+                if self.mask[k] {
+                    0.0
+                } else {
+                    splitmix(k as u64)
+                }
+            })
             .collect();
         if let Some(w) = warm.filter(|w| w.len() == n) {
             let nw = w.iter().map(|x| x * x).sum::<f64>().sqrt();
@@ -180,22 +183,54 @@ impl Simulation {
                 }
             }
         }
-        let tol = self.model.scheme.h_crit_tolerance;
-        let max_iter = 300.min(n);
-        let (alphas, betas, theta, resid, s) = lanczos(&mut apply, &start, max_iter, tol, None);
-        // Second pass: regenerate the same Lanczos vectors to form the Ritz vector y = Σ sⱼqⱼ.
-        let mut ritz = vec![0.0; n];
-        if n > 0 {
-            lanczos(&mut apply, &start, alphas.len(), 0.0, Some((&s, &mut ritz)));
+        start
+    }
+
+    /// y = M^{-½} K M^{-½} q.
+    fn apply(&mut self, q: &[f64], y: &mut [f64]) {
+        let (mask, sqrt_inv_m, u) = (&self.mask, &self.sqrt_inv_m, &self.sim.u);
+        let n = mask.len();
+        let mut xmax = 0.0f64;
+        for k in 0..n {
+            if !mask[k] {
+                xmax = xmax.max((q[k] * sqrt_inv_m[k]).abs());
+            }
         }
-        drop(betas);
-        self.ritz_vector = ritz;
-        let omega_sq = theta + resid;
-        StableStep {
-            omega_max_sq: omega_sq,
-            ritz_value: theta,
-            h_crit: 2.0 / omega_sq.sqrt(),
-            iterations: alphas.len(),
+        if xmax == 0.0 {
+            y.fill(0.0);
+            return;
+        }
+        let eps = self.eps_len / xmax;
+        for i in 0..u.len() {
+            for c in 0..3 {
+                let k = 3 * i + c;
+                let x = if mask[k] { 0.0 } else { q[k] * sqrt_inv_m[k] };
+                self.up[i][c] = u[i][c] + eps * x;
+            }
+        }
+        self.fp.fill([0.0; 3]);
+        self.elements
+            .assemble(&self.up, &mut self.fp, false, &mut self.parts);
+        for i in 0..u.len() {
+            for c in 0..3 {
+                let k = 3 * i + c;
+                y[k] = if mask[k] {
+                    0.0
+                } else {
+                    (self.fp[i][c] - self.f0[i][c]) / eps
+                };
+            }
+        }
+        for &(i, ks) in &self.springs {
+            for c in 0..3 {
+                let k = 3 * i + c;
+                if !mask[k] {
+                    y[k] += ks * q[k] * sqrt_inv_m[k];
+                }
+            }
+        }
+        for k in 0..n {
+            y[k] *= sqrt_inv_m[k];
         }
     }
 }

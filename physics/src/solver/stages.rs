@@ -3,8 +3,8 @@
 
 use super::boundary::BoundarySums;
 use super::state::SolverError;
-use super::{Simulation, NODE_GRAIN};
-use crate::kernels::{assemble_internal_forces, free_velocity_chunk, ElementRule, NodeSums};
+use super::{ElementLoop, Simulation, NODE_GRAIN};
+use crate::kernels::{free_velocity_chunk, NodeSums};
 use crate::team::SharedSlice;
 
 /// A chunk of displacements and the matching velocities (stage 1).
@@ -140,18 +140,13 @@ impl Simulation {
             // (Else F_int was zeroed by stage 1.)
             self.f_int.fill([0.0; 3]);
         }
-        let asm = assemble_internal_forces(
-            &self.model.mesh,
-            &self.classes,
-            &self.blocks,
-            &self.model.material,
-            ElementRule::of(&self.model.scheme),
-            &self.u,
-            &mut self.f_int,
-            energy,
-            self.team.as_ref(),
-            &mut self.parts_elements,
-        );
+        let elements = ElementLoop {
+            model: &self.model,
+            classes: &self.classes,
+            blocks: &self.blocks,
+            team: self.team.as_ref(),
+        };
+        let asm = elements.assemble(&self.u, &mut self.f_int, energy, &mut self.parts_elements);
         let (min_j, min_e) = (asm.min_j, asm.min_element);
         self.min_jacobian = min_j;
         if energy {
