@@ -11,9 +11,10 @@
 //! test's yardstick: the arrival must be within one front width of L/c, and its lag must be the
 //! predicted one.
 
+mod common;
+use common::bare_box;
 use decohesion_physics::material::{Material, MaterialModel};
-use decohesion_physics::mesh::Mesh;
-use decohesion_physics::model::{Model, PiecewiseLinear, PrescribedDisplacement, SchemeParams};
+use decohesion_physics::model::{Model, PiecewiseLinear, PrescribedDisplacement};
 use decohesion_physics::solver::Simulation;
 
 const E: f64 = 2.0e11;
@@ -26,31 +27,20 @@ const V_IMP: f64 = 1.0;
 const AIRY_HALF: f64 = -0.4096;
 
 fn bar_model(cells: usize, end_time: f64) -> Model {
-    let mesh = Mesh::boxed([0.0; 3], [SIDE, SIDE, LENGTH], [1, 1, cells]);
-    Model {
-        name: "wave_speed".into(),
-        description: "velocity step on the z- end of a free bar".into(),
-        mesh,
-        material: Material::new(MaterialModel::Svk, E, 0.0, RHO),
-        gravity: [0.0; 3],
-        initial_velocity: [0.0; 3],
-        initial_angular_velocity: [0.0; 3],
-        planes: vec![],
-        interfaces: vec![],
-        contacts: vec![],
-        // Ū(t) = V_IMP·t: a ramp starting at full speed, i.e. a velocity step at t = 0. The
-        // last point lies beyond the end of the run (the history is constant past it).
-        displacements: vec![PrescribedDisplacement {
-            faces: "z-".into(),
-            component: 2,
-            history: PiecewiseLinear {
-                points: vec![(0.0, [0.0]), (10.0 * end_time, [10.0 * end_time * V_IMP])],
-            },
-        }],
-        tractions: vec![],
-        scheme: SchemeParams::default(),
-        end_time,
-    }
+    let mat = Material::new(MaterialModel::Svk, E, 0.0, RHO);
+    let mut m = bare_box([SIDE, SIDE, LENGTH], [1, 1, cells], mat, end_time);
+    m.name = "wave_speed".into();
+    m.description = "velocity step on the z- end of a free bar".into();
+    // Ū(t) = V_IMP·t: a ramp starting at full speed, i.e. a velocity step at t = 0. The last
+    // point lies beyond the end of the run (the history is constant past it).
+    m.displacements.push(PrescribedDisplacement {
+        faces: "z-".into(),
+        component: 2,
+        history: PiecewiseLinear {
+            points: vec![(0.0, [0.0]), (10.0 * end_time, [10.0 * end_time * V_IMP])],
+        },
+    });
+    m
 }
 
 struct Front {

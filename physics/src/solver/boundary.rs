@@ -116,6 +116,23 @@ struct BoundaryStep<'a> {
     h_next: f64,
 }
 
+/// The [`BoundaryStep`] of simulation `$sim` over h̄ = `$h_bar`, h_{n+3/2} = `$h_next`,
+/// borrowing its fields one by one (the pass writes V and the interface entries meanwhile).
+macro_rules! boundary_step {
+    ($sim:ident, $h_bar:expr, $h_next:expr) => {
+        BoundaryStep {
+            model: &$sim.model,
+            boundary: &$sim.boundary,
+            scratch: &$sim.scratch,
+            mass: &$sim.mass,
+            inv_mass: &$sim.inv_mass,
+            f_int: &$sim.f_int,
+            h_bar: $h_bar,
+            h_next: $h_next,
+        }
+    };
+}
+
 /// Sums of the boundary pass over a chunk of boundary nodes, reduced in chunk order: the
 /// ledger halves (before/after) of tractions, reactions, planes, contact (normal, tangential),
 /// and the node loop's corrections.
@@ -430,16 +447,7 @@ impl Simulation {
     /// [`Simulation::free_velocity`] of this step; leaves the chunks' sums and the reactions in
     /// the step's scratch for stage 9.
     pub(super) fn boundary_pass(&mut self, h_bar: f64, h_next: f64) {
-        let cx = BoundaryStep {
-            model: &self.model,
-            boundary: &self.boundary,
-            scratch: &self.scratch,
-            mass: &self.mass,
-            inv_mass: &self.inv_mass,
-            f_int: &self.f_int,
-            h_bar,
-            h_next,
-        };
+        let cx = boundary_step!(self, h_bar, h_next);
         let (v_all, itfs, cns) = (
             SharedSlice::new(&mut self.v),
             SharedSlice::new(&mut self.interface_nodes),
@@ -479,16 +487,7 @@ impl Simulation {
     /// no constraint), over h̄ = `h_bar`: how [`Simulation::start`] takes V₀ back to V_{−½}
     /// with the same formulas as a step.
     pub(super) fn smooth_impulses(&mut self, h_bar: f64) {
-        let cx = BoundaryStep {
-            model: &self.model,
-            boundary: &self.boundary,
-            scratch: &self.scratch,
-            mass: &self.mass,
-            inv_mass: &self.inv_mass,
-            f_int: &self.f_int,
-            h_bar,
-            h_next: h_bar,
-        };
+        let cx = boundary_step!(self, h_bar, h_bar);
         let itfs = SharedSlice::new(&mut self.interface_nodes);
         let (mut sums, mut impulses) = (BoundarySums::default(), NodeImpulses::default());
         for (k, b) in self.boundary.nodes.iter().enumerate() {
