@@ -7,7 +7,7 @@
 //! check ranges and cross-references while building the model types. Every error names the file,
 //! the key path, the offending value and what is admissible.
 
-use crate::law::{LawFamily, StiffnessLaw};
+use crate::law::{family_or_error, LawError, ParamKind, ParamValue, ParamValues, StiffnessLaw};
 use crate::material::{Material, MaterialModel};
 use crate::mesh::Mesh;
 use crate::model::{
@@ -330,24 +330,13 @@ struct RawInterface {
     law: RawLaw,
 }
 
-#[derive(Deserialize, Clone, Copy, PartialEq)]
-#[serde(rename_all = "snake_case")]
-enum RawFamily {
-    PlateauLinear,
-    Bilinear,
-    Exponential,
-    Table,
-}
-
+/// `[interface.law]`: the family's key and its parameters, which the family's row of the table
+/// ([`crate::law::families`]) checks.
 #[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
 struct RawLaw {
-    family: RawFamily,
-    g_n0: Option<f64>,
-    alpha_e: Option<f64>,
-    u_r: Option<f64>,
-    decay: Option<f64>,
-    points: Option<Vec<[f64; 2]>>,
+    family: String,
+    #[serde(flatten)]
+    params: toml::Table,
 }
 
 #[derive(Deserialize)]
@@ -386,6 +375,20 @@ struct RawTraction {
 /// A number as the messages show it (shortest form that reads back to the same value).
 fn num(x: f64) -> String {
     format!("{x:?}")
+}
+
+/// A TOML value as the messages show it: numbers (integers too) as [`num`], arrays element by
+/// element, anything else as TOML writes it.
+fn show(value: &toml::Value) -> String {
+    match value {
+        toml::Value::Float(x) => num(*x),
+        toml::Value::Integer(i) => num(*i as f64),
+        toml::Value::Array(items) => {
+            let items: Vec<String> = items.iter().map(show).collect();
+            format!("[{}]", items.join(", "))
+        }
+        other => other.to_string(),
+    }
 }
 
 /// Validation of the raw scene; knows the file label for its errors and the directory that
@@ -495,65 +498,49 @@ impl Check<'_> {
         Ok(PiecewiseLinear { points: rows })
     }
 
-    /// The RCCM law of `interface[i]`: the keys its family takes, then [`StiffnessLaw`]'s checks.
+    /// The RCCM law of `interface[i]`: the keys its family takes, then the family's checks.
     fn law(&self, key: &str, raw: RawLaw) -> Result<StiffnessLaw, SceneError> {
-        let (name, takes): (&str, &[&str]) = match raw.family {
-            RawFamily::PlateauLinear => ("plateau_linear", &["g_n0", "alpha_e", "u_r"]),
-            RawFamily::Bilinear => ("bilinear", &["g_n0", "alpha_e", "u_r"]),
-            RawFamily::Exponential => ("exponential", &["g_n0", "alpha_e", "u_r", "decay"]),
-            RawFamily::Table => ("table", &["points"]),
-        };
-        let given = [
-            ("g_n0", raw.g_n0.map(num)),
-            ("alpha_e", raw.alpha_e.map(num)),
-            ("u_r", raw.u_r.map(num)),
-            ("decay", raw.decay.map(num)),
-            ("points", raw.points.as_ref().map(|p| format!("{p:?}"))),
-        ];
-        let takes_list = takes.iter().map(|k| format!("`{k}`")).collect::<Vec<_>>();
-        for (k, value) in given {
-            match (value, takes.contains(&k)) {
-                (Some(value), false) => {
-                    return Err(self.invalid(
-                        format!("{key}.{k}"),
-                        value,
-                        format!(
-                            "not a parameter of the `{name}` law, which takes {}",
-                            takes_list.join(", ")
-                        ),
-                    ))
-                }
-                (None, true) if k != "decay" => {
-                    return Err(SceneError::Missing {
-                        file: self.file.to_string(),
-                        key: format!("{key}.{k}"),
-                        reason: format!("the `{name}` law takes {}", takes_list.join(", ")),
-                    })
-                }
-                _ => {}
-            }
+        let law_error = |e: LawError| self.invalid(format!("{key}.{}", e.key), e.value, e.reason);
+        let spec = family_or_error(&raw.family).map_err(law_error)?;
+        let mut values = ParamValues::default();
+        for (k, value) in raw.params {
+            let Some(param) = spec.param(&k) else {
+                return Err(self.invalid(
+                    format!("{key}.{k}"),
+                    show(&value),
+                    format!(
+                        "not a parameter of the `{}` law, which takes {}",
+                        spec.key,
+                        spec.takes()
+                    ),
+                ));
+            };
+            let shown = show(&value);
+            let typed = match param.kind {
+                ParamKind::Number(_) => value.try_into().map(ParamValue::Number),
+                ParamKind::Points { .. } => value.try_into().map(ParamValue::Points),
+            };
+            let typed = typed.map_err(|e| {
+                let expected = match param.kind {
+                    ParamKind::Number(_) => format!("a number ({})", param.unit),
+                    ParamKind::Points { .. } => "rows [α, g_N] of two numbers".to_string(),
+                };
+                self.invalid(
+                    format!("{key}.{k}"),
+                    shown,
+                    format!("must be {expected}: {e}"),
+                )
+            })?;
+            values.0.insert(k, typed);
         }
-        let (g_n0, alpha_e, u_r) = (
-            raw.g_n0.unwrap_or_default(),
-            raw.alpha_e.unwrap_or_default(),
-            raw.u_r.unwrap_or_default(),
-        );
-        match raw.family {
-            RawFamily::PlateauLinear => {
-                StiffnessLaw::new(LawFamily::PlateauLinear, g_n0, alpha_e, u_r)
-            }
-            RawFamily::Bilinear => StiffnessLaw::new(LawFamily::Bilinear, g_n0, alpha_e, u_r),
-            RawFamily::Exponential => StiffnessLaw::new(
-                LawFamily::Exponential {
-                    decay: raw.decay.unwrap_or(5.0),
-                },
-                g_n0,
-                alpha_e,
-                u_r,
-            ),
-            RawFamily::Table => StiffnessLaw::from_table(raw.points.unwrap_or_default()),
+        if let Some(p) = (spec.params.iter()).find(|p| !p.optional && values.get(p.key).is_none()) {
+            return Err(SceneError::Missing {
+                file: self.file.to_string(),
+                key: format!("{key}.{}", p.key),
+                reason: format!("the `{}` law takes {}", spec.key, spec.takes()),
+            });
         }
-        .map_err(|e| self.invalid(format!("{key}.{}", e.key), e.value, e.reason))
+        spec.build(&values).map_err(law_error)
     }
 
     /// The `[mesh]` section: a box, or a Gmsh file read by [`crate::gmsh::read_msh`] (its path
@@ -954,10 +941,9 @@ vector = [1.0, 0.0, 0.0]
         assert_eq!(m.planes[1].normal, [-0.6, 0.0, 0.8]);
         let velocity = &m.planes[1].velocity.as_ref().unwrap().points;
         assert_eq!(velocity[1], (1.0, [0.0, 0.0, 0.2]));
-        assert_eq!(
-            m.interfaces[0].law.family,
-            LawFamily::Exponential { decay: 5.0 }
-        );
+        let law = &m.interfaces[0].law;
+        assert_eq!(law.spec().key, "exponential");
+        assert_eq!(law.values().number("decay"), Ok(5.0));
         assert_eq!(m.interfaces[0].mu_inf, 0.5);
         assert_eq!(m.interfaces[0].initial_damage, 2e-4);
         assert_eq!(m.interfaces[1].initial_damage, 0.0);
