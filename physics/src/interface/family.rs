@@ -117,6 +117,58 @@ pub struct Param {
 }
 
 impl Param {
+    /// A number parameter that scenes must give, admissible in `range`; the editor starts from
+    /// `default` on a linear slider over [default/10, 10·default] unless [`Param::editor`] says
+    /// otherwise.
+    pub const fn number(
+        key: &'static str,
+        symbol: &'static str,
+        unit: &'static str,
+        range: Range,
+        default: f64,
+    ) -> Self {
+        Param {
+            key,
+            symbol,
+            unit,
+            meaning: "",
+            note: "",
+            optional: false,
+            kind: ParamKind::Number(NumberParam {
+                range,
+                default,
+                typical: [default / 10.0, default * 10.0],
+                logarithmic: false,
+            }),
+        }
+    }
+
+    /// With what it is, in a few words.
+    pub const fn meaning(self, meaning: &'static str) -> Self {
+        Param { meaning, ..self }
+    }
+
+    /// A parameter that scenes may leave out: the default then applies.
+    pub const fn optional(self) -> Self {
+        Param {
+            optional: true,
+            ..self
+        }
+    }
+
+    /// With the span of the editor's slider, and whether it is logarithmic.
+    pub const fn editor(self, typical: [f64; 2], logarithmic: bool) -> Self {
+        let kind = match self.kind {
+            ParamKind::Number(n) => ParamKind::Number(NumberParam {
+                typical,
+                logarithmic,
+                ..n
+            }),
+            points => points,
+        };
+        Param { kind, ..self }
+    }
+
     /// The same parameter with another admissible range, and the reason (a family that narrows
     /// a shared parameter, e.g. the bilinear law's α_e > 0).
     pub const fn narrowed(self, range: Range, note: &'static str) -> Self {
@@ -187,52 +239,19 @@ impl Param {
 }
 
 /// g_N(0), shared by the parametric families.
-pub const G_N0: Param = Param {
-    key: "g_n0",
-    symbol: "g_N(0)",
-    unit: "Pa/m",
-    meaning: "undamaged stiffness",
-    note: "",
-    optional: false,
-    kind: ParamKind::Number(NumberParam {
-        range: Range::above(0.0),
-        default: 5e8,
-        typical: [1e5, 1e12],
-        logarithmic: true,
-    }),
-};
+pub const G_N0: Param = Param::number("g_n0", "g_N(0)", "Pa/m", Range::above(0.0), 5e8)
+    .meaning("undamaged stiffness")
+    .editor([1e5, 1e12], true);
 
 /// α_e, shared by the parametric families.
-pub const ALPHA_E: Param = Param {
-    key: "alpha_e",
-    symbol: "α_e",
-    unit: "m",
-    meaning: "end of the elastic range",
-    note: "",
-    optional: false,
-    kind: ParamKind::Number(NumberParam {
-        range: Range::at_least(0.0),
-        default: 2e-3,
-        typical: [0.0, 0.05],
-        logarithmic: true,
-    }),
-};
+pub const ALPHA_E: Param = Param::number("alpha_e", "α_e", "m", Range::at_least(0.0), 2e-3)
+    .meaning("end of the elastic range")
+    .editor([0.0, 0.05], true);
 
 /// u_r, shared by the parametric families; u_r > α_e is checked by [`Knots::from_values`].
-pub const U_R: Param = Param {
-    key: "u_r",
-    symbol: "u_r",
-    unit: "m",
-    meaning: "rupture opening (> α_e)",
-    note: "",
-    optional: false,
-    kind: ParamKind::Number(NumberParam {
-        range: Range::above(0.0),
-        default: 4e-3,
-        typical: [1e-6, 0.1],
-        logarithmic: true,
-    }),
-};
+pub const U_R: Param = Param::number("u_r", "u_r", "m", Range::above(0.0), 4e-3)
+    .meaning("rupture opening (> α_e)")
+    .editor([1e-6, 0.1], true);
 
 /// The value of one parameter.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

@@ -1,7 +1,6 @@
 //! The RCCM interface (PHYSICS.md §3): the stiffness law g_N(α) and its families.
 
 mod compat;
-/// What a law family declares, and the table of families.
 pub mod family;
 pub mod law;
 pub mod laws;

@@ -1,9 +1,7 @@
 //! `exponential` (PHYSICS.md §3): past α_e, g_N(α) = g_N(0) exp(−k (α − α_e)/(u_r − α_e)), cut
 //! to 0 at u_r; k is the decay over the softening range (dimensionless).
 
-use crate::interface::family::{
-    Family, Knots, NumberParam, Param, ParamKind, ParamValues, Range, ALPHA_E, G_N0, U_R,
-};
+use crate::interface::family::{Family, Knots, Param, ParamValues, Range, ALPHA_E, G_N0, U_R};
 use crate::interface::law::{LawError, StiffnessLaw};
 
 /// Exponential decrease of the stiffness past α_e.
@@ -14,20 +12,10 @@ pub struct Exponential {
 }
 
 /// The decay k: a scene may leave it out (k = 5: g_N falls to 0.7 % of g_N(0) just before u_r).
-const DECAY: Param = Param {
-    key: "decay",
-    symbol: "k",
-    unit: "–",
-    meaning: "decay exponent over the softening range",
-    note: "",
-    optional: true,
-    kind: ParamKind::Number(NumberParam {
-        range: Range::above(0.0),
-        default: 5.0,
-        typical: [0.1, 50.0],
-        logarithmic: false,
-    }),
-};
+const DECAY: Param = Param::number("decay", "k", "–", Range::above(0.0), 5.0)
+    .meaning("decay exponent over the softening range")
+    .editor([0.1, 50.0], false)
+    .optional();
 
 impl Family for Exponential {
     const KEY: &'static str = "exponential";
