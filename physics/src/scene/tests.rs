@@ -86,6 +86,14 @@ fn err(text: &str, overrides: &[&str]) -> String {
         .to_string()
 }
 
+/// The error of `text` after `overrides` contains each of `parts`.
+fn assert_error(text: &str, overrides: &[&str], parts: &[&str]) {
+    let e = err(text, overrides);
+    for part in parts {
+        assert!(e.contains(part), "missing {part:?} in:\n{e}");
+    }
+}
+
 #[test]
 fn complete_scene_builds_the_model() {
     let scene = parse_scene(FULL, "scenes/full.toml", &[]).unwrap();
@@ -197,43 +205,38 @@ fn override_creates_a_missing_table() {
 
 #[test]
 fn ambiguous_override_says_how_to_index() {
-    let e = err(FULL, &["interface.law.u_r=0.02"]);
-    assert!(
-        e.contains("scenes/t.toml: --set `interface.law.u_r=0.02`"),
-        "{e}"
+    assert_error(
+        FULL,
+        &["interface.law.u_r=0.02"],
+        &[
+            "scenes/t.toml: --set `interface.law.u_r=0.02`",
+            "`interface` has 2 elements",
+            "`interface.0.law.u_r`",
+        ],
     );
-    assert!(e.contains("`interface` has 2 elements"), "{e}");
-    assert!(e.contains("`interface.0.law.u_r`"), "{e}");
 }
 
 #[test]
 fn malformed_overrides_are_named() {
-    let e = err(FULL, &["end_time"]);
-    assert!(
-        e.contains("--set `end_time`: expected `key.path=value`"),
-        "{e}"
-    );
-    let e = err(FULL, &["=3"]);
-    assert!(e.contains("--set `=3`: the key `` is empty"), "{e}");
-    let e = err(FULL, &["mesh..size=3"]);
-    assert!(
-        e.contains("--set `mesh..size=3`: the key `mesh..size`"),
-        "{e}"
-    );
-    let e = err(FULL, &["plane.5.name=x"]);
-    assert!(
-        e.contains("index 5 is out of range: `plane` has 2 elements"),
-        "{e}"
-    );
-    let e = err(FULL, &["end_time.x=1"]);
-    assert!(e.contains("`end_time` is a float, not a table"), "{e}");
-    let e = err(FULL, &["mesh.size.x=1"]);
-    assert!(
-        e.contains("`mesh.size` is an array of values: index it"),
-        "{e}"
-    );
-    let e = err(FULL, &["mesh.size.0.x=1"]);
-    assert!(e.contains("`mesh.size` holds values, not tables"), "{e}");
+    let cases = [
+        ("end_time", "--set `end_time`: expected `key.path=value`"),
+        ("=3", "--set `=3`: the key `` is empty"),
+        ("mesh..size=3", "--set `mesh..size=3`: the key `mesh..size`"),
+        (
+            "plane.5.name=x",
+            "index 5 is out of range: `plane` has 2 elements",
+        ),
+        ("end_time.x=1", "`end_time` is a float, not a table"),
+        (
+            "mesh.size.x=1",
+            "`mesh.size` is an array of values: index it",
+        ),
+        ("mesh.size.0.x=1", "`mesh.size` holds values, not tables"),
+    ];
+    for (set, expected) in cases {
+        let e = err(FULL, &[set]);
+        assert!(e.contains(expected), "{e}");
+    }
 }
 
 #[test]
@@ -243,45 +246,47 @@ fn errors_after_overrides_say_so() {
         e.starts_with("scenes/t.toml (after --set overrides): key `material.young` = -1.0:"),
         "{e}"
     );
-    let e = err(FULL, &["mesh.cells=[2,2]"]);
-    assert!(
-        e.contains("(after --set overrides): key `mesh.cells`: TOML parse error at line"),
-        "{e}"
+    assert_error(
+        FULL,
+        &["mesh.cells=[2,2]"],
+        &["(after --set overrides): key `mesh.cells`: TOML parse error at line"],
     );
 }
 
 #[test]
 fn law_keys_must_match_the_family() {
-    let e = err(
-        &FULL.replace(
-            "points = [[0.0, 2e9], [1e-3, 0.0]]",
-            "points = [[0.0, 2e9], [1e-3, 0.0]]\ng_n0 = 1.0",
-        ),
+    let table = "points = [[0.0, 2e9], [1e-3, 0.0]]";
+    assert_error(
+        &FULL.replace(table, &format!("{table}\ng_n0 = 1.0")),
         &[],
+        &[
+            "key `interface[1].law.g_n0` = 1.0: not a parameter of the `table` law, \
+           which takes `points`",
+        ],
     );
-    assert!(e.contains("key `interface[1].law.g_n0` = 1.0: not a parameter of the `table` law, which takes `points`"), "{e}");
-    let e = err(&FULL.replace("u_r = 1.0e-3\n", ""), &[]);
-    assert!(
-        e.contains("key `interface[0].law.u_r` is missing: the `exponential` law takes"),
-        "{e}"
-    );
-    let e = err(
-        &FULL.replace(
-            "family = \"exponential\"",
-            "family = \"bilinear\"\ndecay = 3.0",
-        ),
+    assert_error(
+        &FULL.replace("u_r = 1.0e-3\n", ""),
         &[],
+        &["key `interface[0].law.u_r` is missing: the `exponential` law takes"],
     );
-    assert!(
-        e.contains("key `interface[0].law.decay` = 3.0: not a parameter of the `bilinear` law"),
-        "{e}"
+    let bilinear = "family = \"bilinear\"\ndecay = 3.0";
+    assert_error(
+        &FULL.replace("family = \"exponential\"", bilinear),
+        &[],
+        &["key `interface[0].law.decay` = 3.0: not a parameter of the `bilinear` law"],
     );
 }
 
 #[test]
 fn a_face_set_meets_a_plane_once() {
-    let e = err(&FULL.replace("plane = \"wall\"", "plane = \"mould\""), &[]);
-    assert!(e.contains("key `contact[0].faces` = \"z-\": face set `z-` is already attached to plane `mould` by `interface[0]`"), "{e}");
+    assert_error(
+        &FULL.replace("plane = \"wall\"", "plane = \"mould\""),
+        &[],
+        &[
+            "key `contact[0].faces` = \"z-\": face set `z-` is already attached to plane \
+           `mould` by `interface[0]`",
+        ],
+    );
 }
 
 #[test]
