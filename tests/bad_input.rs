@@ -307,6 +307,68 @@ fn law_key_of_another_family() {
 }
 
 #[test]
+fn unknown_law_family_lists_the_table() {
+    let e = error("family = \"plateau_linear\"", "family = \"trilinear\"", &[]);
+    assert_has(
+        &e,
+        &[
+            FILE,
+            "key `interface[0].law.family` = \"trilinear\"",
+            "no law family of that name; admissible: `bilinear`, `exponential`, \
+             `plateau_linear`, `table`",
+        ],
+    );
+}
+
+#[test]
+fn law_parameter_of_the_wrong_type() {
+    let e = error("g_n0 = 2.0e9", "g_n0 = \"stiff\"", &[]);
+    assert_has(
+        &e,
+        &[
+            FILE,
+            "key `interface[0].law.g_n0` = \"stiff\"",
+            "must be a number (Pa/m)",
+        ],
+    );
+}
+
+#[test]
+fn bilinear_law_without_elastic_range() {
+    let e = error(
+        "family = \"plateau_linear\"\ng_n0 = 2.0e9\nalpha_e = 5.0e-4",
+        "family = \"bilinear\"\ng_n0 = 2.0e9\nalpha_e = 0.0",
+        &[],
+    );
+    assert_has(
+        &e,
+        &[
+            FILE,
+            "key `interface[0].law.alpha_e` = 0",
+            "α_e must be finite and > 0 (m)",
+            "the bilinear law",
+        ],
+    );
+}
+
+#[test]
+fn exponential_decay_not_positive() {
+    let e = error(
+        "family = \"plateau_linear\"",
+        "family = \"exponential\"\ndecay = -2.0",
+        &[],
+    );
+    assert_has(
+        &e,
+        &[
+            FILE,
+            "key `interface[0].law.decay` = -2",
+            "k must be finite and > 0",
+        ],
+    );
+}
+
+#[test]
 fn duplicate_plane_name() {
     let second =
         "[[plane]]\nname = \"mould\"\npoint = [0, 0, 1]\nnormal = [0, 0, -1]\n\n[[interface]]";

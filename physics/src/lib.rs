@@ -15,10 +15,13 @@
 pub mod energy;
 /// Gmsh `.msh` 4.1 hexahedral meshes in and out.
 pub mod gmsh;
+/// The RCCM interface: the stiffness law and its families (one file each), cohesion, damage,
+/// contact.
 pub mod interface;
 /// The element loop (stage 3) and the node loop (stage 5), built per instruction set.
 pub mod kernels;
-pub mod law;
+/// The stiffness law g_N(α) (`interface::law`, under the path the rest of the code uses).
+pub use interface::law;
 pub mod material;
 pub mod mesh;
 pub mod model;

@@ -1,6 +1,11 @@
-//! The interface of PHYSICS.md §3 at one node: the cohesive traction and its energy, the damage
-//! update and its dissipation ([`damage`]), and unilateral contact with Coulomb friction
-//! ([`contact`]). The stiffness laws g_N(α) are in [`crate::law`].
+//! The RCCM interface of PHYSICS.md §3 at one node: the stiffness law g_N(α) and its families
+//! ([`law`], [`family`], one file per family in [`laws`]), the cohesive traction, its energy,
+//! the damage update and its dissipation ([`damage`]), and unilateral contact with Coulomb
+//! friction ([`contact`]).
 
+mod compat;
 pub mod contact;
 pub mod damage;
+pub mod family;
+pub mod law;
+pub mod laws;

@@ -1,0 +1,307 @@
+//! The model from the raw scene: each section checked and turned into the model's types, in the
+//! order of the format (end time, mesh, material, scheme, planes, interfaces, contacts, loads);
+//! the first error found is returned.
+
+use super::check::Check;
+use super::error::SceneError;
+use super::raw::{
+    RawContact, RawDisplacement, RawInterface, RawMaterial, RawPlane, RawScene, RawScheme,
+    RawTraction,
+};
+use crate::material::{Material, MaterialModel};
+use crate::mesh::Mesh;
+use crate::model::{
+    ContactFaces, Interface, Model, PiecewiseLinear, PrescribedDisplacement, RigidPlane,
+    SchemeParams, Traction,
+};
+
+/// The (face set, plane) pairs attached so far, with the key that attached each: a face set
+/// meets a plane through one `[[interface]]` or one `[[contact]]`.
+struct Attachments<'p> {
+    planes: &'p [RigidPlane],
+    pairs: Vec<(String, usize, String)>,
+}
+
+impl Check<'_> {
+    pub(super) fn model(&self, raw: RawScene, default_name: String) -> Result<Model, SceneError> {
+        self.require(
+            raw.end_time > 0.0,
+            "end_time",
+            raw.end_time,
+            "must be > 0 s",
+        )?;
+        let mesh = self.mesh(&raw.mesh)?;
+        let material = self.material(&raw.material)?;
+        let scheme = self.scheme(&raw.scheme)?;
+        let planes = each(raw.plane, "plane", |key, p| self.plane_of(key, p))?;
+        for (i, p) in planes.iter().enumerate() {
+            if let Some(j) = planes[..i].iter().position(|q| q.name == p.name) {
+                return Err(self.invalid(
+                    format!("plane[{i}].name"),
+                    format!("{:?}", p.name),
+                    format!("plane names must be unique (`plane[{j}]` has it already)"),
+                ));
+            }
+        }
+        let mut attached = Attachments {
+            planes: &planes,
+            pairs: vec![],
+        };
+        let interfaces = each(raw.interface, "interface", |key, it| {
+            self.interface(&mesh, &mut attached, key, it)
+        })?;
+        let contacts = each(raw.contact, "contact", |key, c| {
+            self.contact(&mesh, &mut attached, key, c)
+        })?;
+        let displacements = each(raw.displacement, "displacement", |key, d| {
+            self.displacement(&mesh, key, d)
+        })?;
+        let tractions = each(raw.traction, "traction", |key, t| {
+            self.traction(&mesh, key, t)
+        })?;
+        Ok(Model {
+            name: raw.name.unwrap_or(default_name),
+            description: raw.description,
+            mesh,
+            material,
+            gravity: raw.gravity,
+            initial_velocity: raw.initial_velocity,
+            initial_angular_velocity: raw.initial_angular_velocity,
+            planes,
+            interfaces,
+            contacts,
+            displacements,
+            tractions,
+            scheme,
+            end_time: raw.end_time,
+        })
+    }
+
+    /// `[material]`: E > 0, −1 < ν < 0.5, ρ > 0; SVK unless `model` says otherwise.
+    fn material(&self, mat: &RawMaterial) -> Result<Material, SceneError> {
+        self.require(
+            mat.young > 0.0,
+            "material.young",
+            mat.young,
+            "must be > 0 Pa",
+        )?;
+        self.require(
+            mat.poisson > -1.0 && mat.poisson < 0.5,
+            "material.poisson",
+            mat.poisson,
+            "must satisfy -1 < ν < 0.5 (0.5 is incompressible; use 0.49 at most)",
+        )?;
+        self.require(
+            mat.density > 0.0,
+            "material.density",
+            mat.density,
+            "must be > 0 kg/m³",
+        )?;
+        Ok(Material::new(
+            mat.model.unwrap_or(MaterialModel::Svk),
+            mat.young,
+            mat.poisson,
+            mat.density,
+        ))
+    }
+
+    /// `[scheme]`: the defaults of [`SchemeParams`] for what is left out, then the ranges.
+    fn scheme(&self, s: &RawScheme) -> Result<SchemeParams, SceneError> {
+        let d = SchemeParams::default();
+        let scheme = SchemeParams {
+            time_step_factor: s.time_step_factor.unwrap_or(d.time_step_factor),
+            h_crit_update_interval: s.h_crit_update_interval.unwrap_or(d.h_crit_update_interval),
+            h_crit_tolerance: s.h_crit_tolerance.unwrap_or(d.h_crit_tolerance),
+            energy_growth_limit: s.energy_growth_limit.unwrap_or(d.energy_growth_limit),
+            integration: s.integration.unwrap_or(d.integration),
+            hourglass_coefficient: s.hourglass_coefficient.unwrap_or(d.hourglass_coefficient),
+        };
+        let f = scheme.time_step_factor;
+        self.require(
+            f > 0.0 && f < 2.0,
+            "scheme.time_step_factor",
+            f,
+            "must be in (0, 2) (above 1 the scheme is unstable)",
+        )?;
+        let tol = scheme.h_crit_tolerance;
+        self.require(
+            tol > 0.0 && tol <= 1e-2,
+            "scheme.h_crit_tolerance",
+            tol,
+            "must be in (0, 0.01]",
+        )?;
+        let g = scheme.energy_growth_limit;
+        self.require(g > 1.0, "scheme.energy_growth_limit", g, "must be > 1")?;
+        let k = scheme.hourglass_coefficient;
+        self.require(
+            (0.0..=1.0).contains(&k),
+            "scheme.hourglass_coefficient",
+            k,
+            "must be in [0, 1] (typical 0.03–0.1)",
+        )?;
+        Ok(scheme)
+    }
+
+    /// `plane[i]`: its normal normalised (it must not be zero), its velocity history if any.
+    fn plane_of(&self, key: String, p: RawPlane) -> Result<RigidPlane, SceneError> {
+        // Scale before squaring so that neither tiny nor huge normals under/overflow.
+        let scale = p.normal.iter().fold(0.0f64, |m, c| m.max(c.abs()));
+        if scale == 0.0 {
+            return Err(self.invalid(
+                format!("{key}.normal"),
+                format!("{:?}", p.normal),
+                "must be a non-zero vector (it is normalised on load)",
+            ));
+        }
+        let n = p.normal.map(|c| c / scale);
+        let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
+        let velocity = match p.velocity {
+            None => None,
+            Some(rows) => Some(self.history(
+                &format!("{key}.velocity"),
+                rows.iter().map(|r| (r[0], [r[1], r[2], r[3]])).collect(),
+            )?),
+        };
+        Ok(RigidPlane {
+            name: p.name,
+            point: p.point,
+            normal: n.map(|c| c / len),
+            velocity,
+        })
+    }
+
+    /// `interface[i]`: its face set and plane, μ_inf ≥ 0, α₀ ≥ 0, its law.
+    fn interface(
+        &self,
+        mesh: &Mesh,
+        attached: &mut Attachments,
+        key: String,
+        it: RawInterface,
+    ) -> Result<Interface, SceneError> {
+        let (faces, plane) = self.on_plane(mesh, attached, &key, &it.faces, &it.plane)?;
+        self.require(
+            it.mu_inf >= 0.0,
+            format!("{key}.mu_inf"),
+            it.mu_inf,
+            "must be ≥ 0",
+        )?;
+        self.require(
+            it.initial_damage >= 0.0,
+            format!("{key}.initial_damage"),
+            it.initial_damage,
+            "must be ≥ 0 m (the damage α₀ at t = 0; ≥ u_r means ruptured from the start)",
+        )?;
+        let law = self.law(&format!("{key}.law"), it.law)?;
+        self.attach(attached, &faces, plane, key)?;
+        Ok(Interface {
+            faces,
+            plane,
+            law,
+            mu_inf: it.mu_inf,
+            initial_damage: it.initial_damage,
+        })
+    }
+
+    /// `contact[i]`: its face set and plane, μ ≥ 0.
+    fn contact(
+        &self,
+        mesh: &Mesh,
+        attached: &mut Attachments,
+        key: String,
+        c: RawContact,
+    ) -> Result<ContactFaces, SceneError> {
+        let (faces, plane) = self.on_plane(mesh, attached, &key, &c.faces, &c.plane)?;
+        self.require(c.mu >= 0.0, format!("{key}.mu"), c.mu, "must be ≥ 0")?;
+        self.attach(attached, &faces, plane, key)?;
+        Ok(ContactFaces {
+            faces,
+            plane,
+            mu: c.mu,
+        })
+    }
+
+    /// The face set and the plane index that `key` names (`key.faces`, `key.plane`).
+    fn on_plane(
+        &self,
+        mesh: &Mesh,
+        attached: &Attachments,
+        key: &str,
+        faces: &str,
+        plane: &str,
+    ) -> Result<(String, usize), SceneError> {
+        Ok((
+            self.faces(mesh, format!("{key}.faces"), faces)?,
+            self.plane(attached.planes, format!("{key}.plane"), plane)?,
+        ))
+    }
+
+    /// Records that `key` attaches `faces` to `plane`, unless another key did already.
+    fn attach(
+        &self,
+        attached: &mut Attachments,
+        faces: &str,
+        plane: usize,
+        key: String,
+    ) -> Result<(), SceneError> {
+        let first = (attached.pairs.iter()).find(|(f, p, _)| f == faces && *p == plane);
+        if let Some((_, _, first)) = first {
+            return Err(self.invalid(
+                format!("{key}.faces"),
+                format!("{faces:?}"),
+                format!(
+                    "face set `{faces}` is already attached to plane `{}` by `{first}`; \
+                     a face set meets a plane through one [[interface]] or one [[contact]] \
+                     (an interface already gives contact with friction mu_inf once ruptured)",
+                    attached.planes[plane].name
+                ),
+            ));
+        }
+        attached.pairs.push((faces.to_string(), plane, key));
+        Ok(())
+    }
+
+    /// `displacement[i]`: its face set and its history U(t).
+    fn displacement(
+        &self,
+        mesh: &Mesh,
+        key: String,
+        d: RawDisplacement,
+    ) -> Result<PrescribedDisplacement, SceneError> {
+        Ok(PrescribedDisplacement {
+            faces: self.faces(mesh, format!("{key}.faces"), &d.faces)?,
+            component: d.component as usize,
+            history: self.history(
+                &format!("{key}.table"),
+                d.table.iter().map(|r| (r[0], [r[1]])).collect(),
+            )?,
+        })
+    }
+
+    /// `traction[i]`: its face set, vector and amplitude history (constant 1 if none).
+    fn traction(&self, mesh: &Mesh, key: String, t: RawTraction) -> Result<Traction, SceneError> {
+        let faces = self.faces(mesh, format!("{key}.faces"), &t.faces)?;
+        let amplitude = match t.amplitude {
+            None => PiecewiseLinear::constant([1.0]),
+            Some(rows) => self.history(
+                &format!("{key}.amplitude"),
+                rows.iter().map(|r| (r[0], [r[1]])).collect(),
+            )?,
+        };
+        Ok(Traction {
+            faces,
+            vector: t.vector,
+            amplitude,
+        })
+    }
+}
+
+/// `f(key, item)` for each item of the array of tables `name`, with its key `name[i]`.
+fn each<T, U>(
+    items: Vec<T>,
+    name: &str,
+    mut f: impl FnMut(String, T) -> Result<U, SceneError>,
+) -> Result<Vec<U>, SceneError> {
+    (items.into_iter().enumerate())
+        .map(|(i, item)| f(format!("{name}[{i}]"), item))
+        .collect()
+}

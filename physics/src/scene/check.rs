@@ -1,0 +1,130 @@
+//! The checks shared by every section: the file label for errors, ranges, finite numbers, names
+//! that must exist (face sets, planes) and piecewise-linear histories.
+
+use super::error::{num, SceneError};
+use crate::mesh::Mesh;
+use crate::model::{PiecewiseLinear, RigidPlane};
+use std::path::Path;
+
+/// Validation of the raw scene; knows the file label for its errors and the directory that
+/// relative paths in the scene (`mesh.file`) are resolved against.
+pub(super) struct Check<'a> {
+    pub file: &'a str,
+    pub dir: &'a Path,
+}
+
+impl Check<'_> {
+    /// A key whose value is not admissible.
+    pub fn invalid(
+        &self,
+        key: impl Into<String>,
+        value: String,
+        reason: impl Into<String>,
+    ) -> SceneError {
+        SceneError::Invalid {
+            file: self.file.to_string(),
+            key: key.into(),
+            value,
+            reason: reason.into(),
+        }
+    }
+
+    /// A key that the rest of the scene requires but which is absent.
+    pub fn missing(&self, key: impl Into<String>, reason: impl Into<String>) -> SceneError {
+        SceneError::Missing {
+            file: self.file.to_string(),
+            key: key.into(),
+            reason: reason.into(),
+        }
+    }
+
+    /// `Ok` if `ok`, else an [`SceneError::Invalid`] for the number `value` at `key`.
+    pub fn require(
+        &self,
+        ok: bool,
+        key: impl Into<String>,
+        value: f64,
+        reason: &str,
+    ) -> Result<(), SceneError> {
+        if ok {
+            Ok(())
+        } else {
+            Err(self.invalid(key, num(value), reason))
+        }
+    }
+
+    /// Refuses inf and nan anywhere in the document.
+    pub fn finite(&self, key: &str, value: &toml::Value) -> Result<(), SceneError> {
+        match value {
+            toml::Value::Float(x) if !x.is_finite() => {
+                Err(self.invalid(key, num(*x), "must be a finite number"))
+            }
+            toml::Value::Array(items) => items
+                .iter()
+                .enumerate()
+                .try_for_each(|(i, v)| self.finite(&format!("{key}[{i}]"), v)),
+            toml::Value::Table(t) => t
+                .iter()
+                .try_for_each(|(k, v)| self.finite(&format!("{key}.{k}"), v)),
+            _ => Ok(()),
+        }
+    }
+
+    /// A face set name that exists in the mesh.
+    pub fn faces(&self, mesh: &Mesh, key: String, name: &str) -> Result<String, SceneError> {
+        if mesh.face_sets.contains_key(name) {
+            return Ok(name.to_string());
+        }
+        let names: Vec<String> = mesh.face_sets.keys().map(|n| format!("`{n}`")).collect();
+        Err(self.invalid(
+            key,
+            format!("{name:?}"),
+            format!("no face set of that name; admissible: {}", names.join(", ")),
+        ))
+    }
+
+    /// The index of the plane named `name`.
+    pub fn plane(
+        &self,
+        planes: &[RigidPlane],
+        key: String,
+        name: &str,
+    ) -> Result<usize, SceneError> {
+        if let Some(i) = planes.iter().position(|p| p.name == name) {
+            return Ok(i);
+        }
+        let reason = if planes.is_empty() {
+            "no plane of that name: the scene defines no [[plane]]".to_string()
+        } else {
+            let names: Vec<String> = planes.iter().map(|p| format!("`{}`", p.name)).collect();
+            format!("no plane of that name; admissible: {}", names.join(", "))
+        };
+        Err(self.invalid(key, format!("{name:?}"), reason))
+    }
+
+    /// A piecewise-linear history from rows (t, value): ≥ 1 row, t ≥ 0 strictly increasing.
+    pub fn history<const N: usize>(
+        &self,
+        key: &str,
+        rows: Vec<(f64, [f64; N])>,
+    ) -> Result<PiecewiseLinear<N>, SceneError> {
+        if rows.is_empty() {
+            return Err(self.invalid(key, "[]".into(), "needs at least one row [t, …]"));
+        }
+        for (i, row) in rows.iter().enumerate() {
+            let t_key = format!("{key}[{i}][0]");
+            self.require(row.0 >= 0.0, &t_key, row.0, "times must be ≥ 0 s")?;
+            if i > 0 && row.0 <= rows[i - 1].0 {
+                return Err(self.invalid(
+                    t_key,
+                    num(row.0),
+                    format!(
+                        "times must be strictly increasing (the previous row has t = {} s)",
+                        num(rows[i - 1].0)
+                    ),
+                ));
+            }
+        }
+        Ok(PiecewiseLinear { points: rows })
+    }
+}

@@ -1,0 +1,146 @@
+//! The raw serde structs: the file as written. Optional keys are `Option` or
+//! `#[serde(default)]`; unknown keys and wrong types are refused while deserializing, with the key
+//! path and toml's line and column. The module is private to the scene loader: its items are
+//! `pub` for the sibling modules only.
+
+use super::error::SceneError;
+use crate::material::MaterialModel;
+use crate::model::Integration;
+use serde::de::DeserializeOwned;
+use serde::Deserialize;
+
+/// Deserializes TOML text, keeping the key path and toml's line/column in errors.
+pub fn from_toml<T: DeserializeOwned>(text: &str, file: &str) -> Result<T, SceneError> {
+    serde_path_to_error::deserialize(toml::Deserializer::new(text)).map_err(|e| {
+        let key = e.path().to_string();
+        SceneError::Toml {
+            file: file.to_string(),
+            key: (key != ".").then_some(key),
+            message: e.into_inner().to_string().trim_end().to_string(),
+        }
+    })
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawScene {
+    pub name: Option<String>,
+    #[serde(default)]
+    pub description: String,
+    pub end_time: f64,
+    #[serde(default)]
+    pub gravity: [f64; 3],
+    #[serde(default)]
+    pub initial_velocity: [f64; 3],
+    #[serde(default)]
+    pub initial_angular_velocity: [f64; 3],
+    pub mesh: RawMesh,
+    pub material: RawMaterial,
+    #[serde(default)]
+    pub scheme: RawScheme,
+    #[serde(default)]
+    pub plane: Vec<RawPlane>,
+    #[serde(default)]
+    pub interface: Vec<RawInterface>,
+    #[serde(default)]
+    pub contact: Vec<RawContact>,
+    #[serde(default)]
+    pub displacement: Vec<RawDisplacement>,
+    #[serde(default)]
+    pub traction: Vec<RawTraction>,
+}
+
+/// Either a box (`size`, `cells`, optional `origin`) or a Gmsh file (`file`, optional `scale`);
+/// `Check::mesh` (`mesh.rs`) enforces that exactly one form is given.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawMesh {
+    pub origin: Option<[f64; 3]>,
+    pub size: Option<[f64; 3]>,
+    pub cells: Option<[usize; 3]>,
+    pub file: Option<String>,
+    pub scale: Option<f64>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawMaterial {
+    pub model: Option<MaterialModel>,
+    pub young: f64,
+    pub poisson: f64,
+    pub density: f64,
+}
+
+#[derive(Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+pub struct RawScheme {
+    pub time_step_factor: Option<f64>,
+    pub h_crit_update_interval: Option<usize>,
+    pub h_crit_tolerance: Option<f64>,
+    pub energy_growth_limit: Option<f64>,
+    pub integration: Option<Integration>,
+    pub hourglass_coefficient: Option<f64>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawPlane {
+    pub name: String,
+    pub point: [f64; 3],
+    pub normal: [f64; 3],
+    pub velocity: Option<Vec<[f64; 4]>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawInterface {
+    pub faces: String,
+    pub plane: String,
+    #[serde(default)]
+    pub mu_inf: f64,
+    #[serde(default)]
+    pub initial_damage: f64,
+    pub law: RawLaw,
+}
+
+/// `[interface.law]`: the family's key and its parameters, which the family's row of the table
+/// ([`crate::law::families`]) checks.
+#[derive(Deserialize)]
+pub struct RawLaw {
+    pub family: String,
+    #[serde(flatten)]
+    pub params: toml::Table,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawContact {
+    pub faces: String,
+    pub plane: String,
+    #[serde(default)]
+    pub mu: f64,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawDisplacement {
+    pub faces: String,
+    pub component: Axis,
+    pub table: Vec<[f64; 2]>,
+}
+
+#[derive(Deserialize, Clone, Copy)]
+#[serde(rename_all = "lowercase")]
+pub enum Axis {
+    X,
+    Y,
+    Z,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawTraction {
+    pub faces: String,
+    pub vector: [f64; 3],
+    pub amplitude: Option<Vec<[f64; 2]>>,
+}
