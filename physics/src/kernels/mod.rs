@@ -10,7 +10,7 @@ pub(crate) use nodes::{free_velocity_chunk, NodeSums};
 
 use crate::material::{
     element_forces, element_forces_reduced, element_forces_reduced_lanes, hourglass_stiffness,
-    Material,
+    LaneElements, Material,
 };
 use crate::mesh::{CentreData, ElementClasses, GaussData, Mesh};
 use crate::model::Integration;
@@ -156,10 +156,7 @@ unsafe fn chunk_forces_reduced_impl<const FMA: bool, const ISA: u8>(
     let mut min_e = 0usize;
     let groups = chunk.chunks_exact(8);
     let rest = groups.remainder();
-    let mut b = [[[0.0; 8]; 3]; 8];
-    let mut gamma = [[[0.0; 8]; 8]; 4];
-    let mut vol = [0.0; 8];
-    let mut k_hg = [0.0; 8];
+    let mut lanes = LaneElements::default();
     let mut ul = [[[0.0; 8]; 3]; 8];
     let mut fl = [[[0.0; 8]; 3]; 8];
     // Class whose data sits in each lane: most meshes have few classes (a structured box has
@@ -177,18 +174,7 @@ unsafe fn chunk_forces_reduced_impl<const FMA: bool, const ISA: u8>(
             }
             staged[l] = class;
             let cd: &CentreData = classes.centre.get_unchecked(class as usize);
-            for a in 0..8 {
-                for j in 0..3 {
-                    b[a][j][l] = cd.b[a][j];
-                }
-            }
-            for al in 0..4 {
-                for a in 0..8 {
-                    gamma[al][a][l] = cd.gamma[al][a];
-                }
-            }
-            vol[l] = cd.volume;
-            k_hg[l] = hourglass_stiffness(mat, cd, kappa);
+            lanes.set(l, cd, hourglass_stiffness(mat, cd, kappa));
         }
         #[cfg(target_arch = "x86_64")]
         let gathered = gather && {
@@ -217,10 +203,10 @@ unsafe fn chunk_forces_reduced_impl<const FMA: bool, const ISA: u8>(
                 }
             }
         }
-        let (en, hg, det) = if energy {
-            element_forces_reduced_lanes::<true, FMA>(mat, &b, &gamma, &vol, &k_hg, &ul, &mut fl)
+        let [en, hg, det] = if energy {
+            element_forces_reduced_lanes::<true, FMA>(mat, &lanes, &ul, &mut fl)
         } else {
-            element_forces_reduced_lanes::<false, FMA>(mat, &b, &gamma, &vol, &k_hg, &ul, &mut fl)
+            element_forces_reduced_lanes::<false, FMA>(mat, &lanes, &ul, &mut fl)
         };
         for (l, &e) in group.iter().enumerate() {
             e_sum += en[l];
