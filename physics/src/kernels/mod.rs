@@ -126,7 +126,8 @@ simd_dispatch! {
     /// One chunk of a colour with one-point integration: groups of 8 elements go through the
     /// lane kernel ([`element_forces_reduced_lanes`]), the remainder through the scalar one
     /// ([`element_forces_reduced`]).
-    fn chunk_forces_reduced / chunk_forces_reduced_avx2 / chunk_forces_reduced_avx512 / chunk_forces_reduced_builds
+    fn chunk_forces_reduced / chunk_forces_reduced_avx2 / chunk_forces_reduced_avx512
+        / chunk_forces_reduced_builds
         => chunk_forces_reduced_impl(
             mesh: &Mesh,
             classes: &ElementClasses,

@@ -1,14 +1,15 @@
 //! Hyperelastic bulk materials (PHYSICS.md §2) and the per-element internal-force kernels.
 //!
 //! Each constitutive model is written once, over any [`Real`] number type:
-//! [`saint_venant_kirchhoff`] (S and ψ from E) and [`neo_hookean`] (P and ψ from F and J), which
-//! [`first_piola`] picks by a [`Law`] type ([`with_law!`] turns a [`MaterialModel`] into one). Everything that evaluates a stress calls them: the
-//! pointwise [`Material::piola_energy`] (`f64`, post-processing and tests) and the element
-//! kernels of [`element`] — full 2×2×2 integration with the 8 Gauss points as the 8 lanes of
-//! an [`F64x8`], one point on one element (`f64`) or on 8 elements (`F64x8`).
+//! [`saint_venant_kirchhoff`] (S and ψ from E) and [`neo_hookean`] (P and ψ from F and J).
+//! [`first_piola`] picks one by a [`Law`] type ([`with_law!`] turns a [`MaterialModel`] into
+//! one), and everything that evaluates a stress goes through it: the pointwise
+//! [`Material::piola_energy`] (post-processing and tests) and the kernels of [`element`] — full
+//! 2×2×2 integration with the 8 Gauss points in the 8 lanes of an [`F64x8`], one point on one
+//! element, one point on 8 elements in lanes.
 //!
-//! - [`real`]: the [`Real`] trait, `f64` and [`F64x8`];
-//! - [`kinematics`]: H = ∂U/∂X, F, J, cof F, E, P = F·S, hourglass modes (shared by the kernels);
+//! - [`real`]: the [`Real`] trait, for `f64` and [`F64x8`];
+//! - `kinematics`: H = ∂U/∂X, F, J, cof F, E, P = F·S, hourglass modes, shared by the kernels;
 //! - [`element`]: the element kernels and the hourglass stiffness.
 
 pub mod element;

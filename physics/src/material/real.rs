@@ -37,7 +37,8 @@ impl Real for f64 {
     }
 }
 
-/// Eight f64 lanes, operated on lane by lane (`.0[l]` is lane l).
+/// Eight f64 lanes, operated on lane by lane (`.0[l]` is lane l); aligned as one AVX-512
+/// register.
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[repr(C, align(64))]
 pub struct F64x8(pub [f64; 8]);
