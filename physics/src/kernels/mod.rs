@@ -10,7 +10,7 @@ pub(crate) use nodes::{free_velocity_chunk, NodeSums};
 
 use crate::material::{
     element_forces, element_forces_reduced, element_forces_reduced_lanes, hourglass_stiffness,
-    Material,
+    LaneElements, Material,
 };
 use crate::mesh::{CentreData, ElementClasses, GaussData, Mesh};
 use crate::model::Integration;
@@ -127,6 +127,7 @@ simd_dispatch! {
     /// lane kernel ([`element_forces_reduced_lanes`]), the remainder through the scalar one
     /// ([`element_forces_reduced`]).
     fn chunk_forces_reduced / chunk_forces_reduced_avx2 / chunk_forces_reduced_avx512
+        / chunk_forces_reduced_builds
         => chunk_forces_reduced_impl(
             mesh: &Mesh,
             classes: &ElementClasses,
@@ -156,10 +157,7 @@ unsafe fn chunk_forces_reduced_impl<const FMA: bool, const ISA: u8>(
     let mut min_e = 0usize;
     let groups = chunk.chunks_exact(8);
     let rest = groups.remainder();
-    let mut b = [[[0.0; 8]; 3]; 8];
-    let mut gamma = [[[0.0; 8]; 8]; 4];
-    let mut vol = [0.0; 8];
-    let mut k_hg = [0.0; 8];
+    let mut lanes = LaneElements::default();
     let mut ul = [[[0.0; 8]; 3]; 8];
     let mut fl = [[[0.0; 8]; 3]; 8];
     // Class whose data sits in each lane: most meshes have few classes (a structured box has
@@ -177,18 +175,7 @@ unsafe fn chunk_forces_reduced_impl<const FMA: bool, const ISA: u8>(
             }
             staged[l] = class;
             let cd: &CentreData = classes.centre.get_unchecked(class as usize);
-            for a in 0..8 {
-                for j in 0..3 {
-                    b[a][j][l] = cd.b[a][j];
-                }
-            }
-            for al in 0..4 {
-                for a in 0..8 {
-                    gamma[al][a][l] = cd.gamma[al][a];
-                }
-            }
-            vol[l] = cd.volume;
-            k_hg[l] = hourglass_stiffness(mat, cd, kappa);
+            lanes.set(l, cd, hourglass_stiffness(mat, cd, kappa));
         }
         #[cfg(target_arch = "x86_64")]
         let gathered = gather && {
@@ -217,10 +204,10 @@ unsafe fn chunk_forces_reduced_impl<const FMA: bool, const ISA: u8>(
                 }
             }
         }
-        let (en, hg, det) = if energy {
-            element_forces_reduced_lanes::<true, FMA>(mat, &b, &gamma, &vol, &k_hg, &ul, &mut fl)
+        let [en, hg, det] = if energy {
+            element_forces_reduced_lanes::<true, FMA>(mat, &lanes, &ul, &mut fl)
         } else {
-            element_forces_reduced_lanes::<false, FMA>(mat, &b, &gamma, &vol, &k_hg, &ul, &mut fl)
+            element_forces_reduced_lanes::<false, FMA>(mat, &lanes, &ul, &mut fl)
         };
         for (l, &e) in group.iter().enumerate() {
             e_sum += en[l];
@@ -271,7 +258,7 @@ unsafe fn chunk_forces_reduced_impl<const FMA: bool, const ISA: u8>(
 simd_dispatch! {
     /// One chunk of a colour: gathers the 8 nodal displacements, runs the kernel, scatters
     /// forces.
-    fn chunk_forces / chunk_forces_avx2 / chunk_forces_avx512
+    fn chunk_forces / chunk_forces_avx2 / chunk_forces_avx512 / chunk_forces_builds
         => chunk_forces_impl(
             mesh: &Mesh,
             classes: &ElementClasses,
@@ -325,142 +312,4 @@ unsafe fn chunk_forces_impl<const FMA: bool, const ISA: u8>(
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::material::MaterialModel;
-
-    /// Runs one chunk of one colour through `run` and returns the assembled forces with the
-    /// chunk's (strain, hourglass, min J, its element).
-    fn assemble_chunk(
-        n_nodes: usize,
-        run: impl FnOnce(SendPtr) -> (f64, f64, f64, usize),
-    ) -> (Vec<[f64; 3]>, (f64, f64, f64, usize)) {
-        let mut f = vec![[0.0; 3]; n_nodes];
-        let out = run(SendPtr(f.as_mut_ptr()));
-        (f, out)
-    }
-
-    /// The one-point chunk (lane kernel fed by gathers, lane data reused across groups of one
-    /// class) assembles the scalar kernel's forces and energies, element by element, on a box
-    /// whose elements are partly distorted (many classes, lanes changing class between
-    /// groups) under a large non-affine displacement: to round-off (1e-12) on every build
-    /// this CPU runs, and the AVX2 and AVX-512 builds bit-identical (same fused arithmetic).
-    #[test]
-    fn reduced_chunk_matches_scalar_kernel_on_every_build() {
-        let mut mesh = Mesh::boxed([0.0; 3], [1.0, 0.8, 0.6], [8, 8, 6]);
-        for (i, x) in mesh.nodes.iter_mut().enumerate() {
-            if i % 11 == 0 {
-                let t = i as f64;
-                x[0] += 0.02 * (1.7 * t).sin();
-                x[1] += 0.02 * (2.3 * t).cos();
-                x[2] += 0.015 * (0.9 * t).sin();
-            }
-        }
-        let classes = mesh.element_classes().unwrap();
-        assert!(classes.centre.len() > 8, "the test needs several classes");
-        let u: Vec<[f64; 3]> = mesh
-            .nodes
-            .iter()
-            .map(|x| {
-                [
-                    0.1 * x[1] * x[2],
-                    -0.05 * x[0] * x[0],
-                    0.08 * (3.0 * x[0]).sin(),
-                ]
-            })
-            .collect();
-        let kappa = 0.05;
-        let n = u.len();
-        for model in [MaterialModel::Svk, MaterialModel::NeoHookean] {
-            let mat = Material::new(model, 5e6, 0.45, 1100.0);
-            for block in mesh.element_blocks(64).into_iter().flatten() {
-                let chunk: &[u32] = &block;
-                assert!(chunk.len() >= 16, "the test needs whole groups of 8");
-                let mut reference = vec![[0.0; 3]; n];
-                let (mut e_ref, mut hg_ref) = (0.0, 0.0);
-                let mut fe = [[0.0; 3]; 8];
-                for &e in chunk {
-                    let conn = mesh.elements[e as usize];
-                    let cd = &classes.centre[classes.class_of[e as usize] as usize];
-                    let ue: [[f64; 3]; 8] = std::array::from_fn(|a| u[conn[a] as usize]);
-                    let k = hourglass_stiffness(&mat, cd, kappa);
-                    let (en, hg, _) = element_forces_reduced::<true>(&mat, cd, k, &ue, &mut fe);
-                    e_ref += en;
-                    hg_ref += hg;
-                    for a in 0..8 {
-                        for c in 0..3 {
-                            reference[conn[a] as usize][c] += fe[a][c];
-                        }
-                    }
-                }
-                let scale = reference
-                    .iter()
-                    .flatten()
-                    .fold(0.0f64, |m, v| m.max(v.abs()));
-                let args = (&mesh, &classes, &mat, kappa, &u[..], chunk);
-                let mut builds = vec![(
-                    "portable",
-                    assemble_chunk(n, |p| unsafe {
-                        chunk_forces_reduced_impl::<false, ISA_PORTABLE>(
-                            args.0, args.1, args.2, args.3, args.4, p, args.5, true,
-                        )
-                    }),
-                )];
-                #[cfg(target_arch = "x86_64")]
-                {
-                    let fma = std::is_x86_feature_detected!("fma");
-                    if fma && std::is_x86_feature_detected!("avx2") {
-                        builds.push((
-                            "avx2",
-                            assemble_chunk(n, |p| unsafe {
-                                chunk_forces_reduced_avx2(
-                                    args.0, args.1, args.2, args.3, args.4, p, args.5, true,
-                                )
-                            }),
-                        ));
-                    }
-                    if fma && std::is_x86_feature_detected!("avx512f") {
-                        builds.push((
-                            "avx512",
-                            assemble_chunk(n, |p| unsafe {
-                                chunk_forces_reduced_avx512(
-                                    args.0, args.1, args.2, args.3, args.4, p, args.5, true,
-                                )
-                            }),
-                        ));
-                    }
-                }
-                for (name, (f, (en, hg, min_j, _))) in &builds {
-                    for (k, (a, b)) in f.iter().zip(&reference).enumerate() {
-                        for c in 0..3 {
-                            assert!(
-                                (a[c] - b[c]).abs() <= 1e-12 * scale,
-                                "{model:?} {name}: node {k} component {c}: {} vs {}",
-                                a[c],
-                                b[c]
-                            );
-                        }
-                    }
-                    assert!(
-                        (en - e_ref).abs() <= 1e-12 * e_ref.abs(),
-                        "{model:?} {name}"
-                    );
-                    assert!(
-                        (hg - hg_ref).abs() <= 1e-12 * hg_ref.abs(),
-                        "{model:?} {name}"
-                    );
-                    assert!(
-                        *min_j > 0.5 && *min_j < 1.5,
-                        "{model:?} {name}: J = {min_j}"
-                    );
-                }
-                if let [.., (_, avx2), (_, avx512)] = &builds[..] {
-                    if builds.len() == 3 {
-                        assert_eq!(avx2.0, avx512.0, "{model:?}: AVX2 and AVX-512 differ");
-                        assert_eq!(avx2.1, avx512.1, "{model:?}: AVX2 and AVX-512 differ");
-                    }
-                }
-            }
-        }
-    }
-}
+mod tests;

@@ -31,6 +31,7 @@ simd_dispatch! {
     /// ledger sums (½ m V_old·V_free, ½ m V_free·V_free, ½ V·P halves of the internal and gravity
     /// impulses P).
     pub(crate) fn free_velocity_chunk / free_velocity_chunk_avx2 / free_velocity_chunk_avx512
+        / free_velocity_chunk_builds
         => free_velocity_impl(
             v: &mut [[f64; 3]],
             f: &[[f64; 3]],

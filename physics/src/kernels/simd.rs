@@ -2,18 +2,20 @@
 //! AVX2 (both with fused multiply–adds) and portably, and picks one at run time; plus the
 //! AVX-512 and AVX2 gathers of the one-point kernel (the per-ISA twins, kept apart here).
 
+/// The instruction set a kernel build is for (`ISA` of [`simd_dispatch!`]).
+pub(crate) const ISA_PORTABLE: u8 = 0;
+pub(crate) const ISA_AVX2: u8 = 1;
+pub(crate) const ISA_AVX512: u8 = 2;
+
 /// Defines `$name`, which runs `$imp::<FMA, ISA>` built for AVX-512 (`ISA = ISA_AVX512`) or AVX2
 /// (`ISA_AVX2`) with fused multiply–adds when the CPU has them, else the portable build
 /// (`FMA = false`, `ISA_PORTABLE`). `ISA` lets an implementation use that instruction set's
 /// intrinsics for data movement (gathers, scatters); the arithmetic depends only on `FMA`. The
 /// choice is detected once per process, so a given machine always takes the same path and
-/// results stay bit-identical whatever the thread count.
-pub(crate) const ISA_PORTABLE: u8 = 0;
-pub(crate) const ISA_AVX2: u8 = 1;
-pub(crate) const ISA_AVX512: u8 = 2;
-
+/// results stay bit-identical whatever the thread count. In tests, `$builds()` lists every build
+/// this CPU runs.
 macro_rules! simd_dispatch {
-    ($(#[$doc:meta])* $vis:vis fn $name:ident / $avx2:ident / $avx512:ident
+    ($(#[$doc:meta])* $vis:vis fn $name:ident / $avx2:ident / $avx512:ident / $builds:ident
         => $imp:ident($($arg:ident: $ty:ty),* $(,)?) -> $ret:ty) => {
         $(#[$doc])*
         #[allow(clippy::too_many_arguments)]
@@ -42,6 +44,25 @@ macro_rules! simd_dispatch {
         #[allow(clippy::too_many_arguments)]
         unsafe fn $avx512($($arg: $ty),*) -> $ret {
             $imp::<true, ISA_AVX512>($($arg),*)
+        }
+
+        /// Every build of the kernel this CPU runs, named: "portable" first, then "avx2" and
+        /// "avx512" when the CPU has them (with FMA), for the tests that compare the builds.
+        #[cfg(test)]
+        #[allow(clippy::type_complexity)]
+        pub(super) fn $builds() -> Vec<(&'static str, unsafe fn($($ty),*) -> $ret)> {
+            let mut builds: Vec<(&'static str, unsafe fn($($ty),*) -> $ret)> =
+                vec![("portable", $imp::<false, ISA_PORTABLE>)];
+            #[cfg(target_arch = "x86_64")]
+            if std::is_x86_feature_detected!("fma") {
+                if std::is_x86_feature_detected!("avx2") {
+                    builds.push(("avx2", $avx2));
+                }
+                if std::is_x86_feature_detected!("avx512f") {
+                    builds.push(("avx512", $avx512));
+                }
+            }
+            builds
         }
     };
 }

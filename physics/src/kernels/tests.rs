@@ -1,0 +1,346 @@
+//! Every build of every kernel against the portable build (PHYSICS.md §2, §4): the full-integration
+//! and one-point element chunks and the free-velocity node loop, on a box whose elements are
+//! partly distorted (many element classes, lanes changing class between groups) under a large
+//! non-affine displacement, one element of it then inverted.
+//!
+//! Tolerances: the builds differ only in fused multiply–adds (one rounding instead of two per
+//! a·b + c), so forces and energies agree to round-off, 1e-12 of the largest nodal force or of
+//! the energy (a sum of ~100 terms loses ≲ 100 ε ≈ 2e-14 relative; a wrong lane, node or
+//! element is an O(1) error). Where the arithmetic is the same, the results must be the same
+//! bits: the AVX2 and AVX-512 builds (both fused; they differ only in vector width and gathers),
+//! the portable chunk and its element kernel summed in chunk order, and every build of the
+//! free-velocity loop (no fused operation).
+
+use super::nodes::free_velocity_chunk_builds;
+use super::*;
+use crate::material::MaterialModel;
+use nalgebra::Matrix3;
+
+/// What a chunk returns: strain energy, hourglass energy, min J, its element.
+type Sums = (f64, f64, f64, usize);
+
+/// A build's name and what it assembled: the forces and the [`Sums`].
+type Build<'a> = (&'a str, (Vec<[f64; 3]>, Sums));
+
+/// The test box: 8×8×6 elements, every 11th node moved off the grid.
+fn distorted_box() -> Mesh {
+    let mut mesh = Mesh::boxed([0.0; 3], [1.0, 0.8, 0.6], [8, 8, 6]);
+    for (i, x) in mesh.nodes.iter_mut().enumerate() {
+        if i % 11 == 0 {
+            let t = i as f64;
+            x[0] += 0.02 * (1.7 * t).sin();
+            x[1] += 0.02 * (2.3 * t).cos();
+            x[2] += 0.015 * (0.9 * t).sin();
+        }
+    }
+    mesh
+}
+
+/// A large non-affine displacement (strains of ~10 %, J in 0.8…1.2).
+fn bent(mesh: &Mesh) -> Vec<[f64; 3]> {
+    mesh.nodes
+        .iter()
+        .map(|x| {
+            [
+                0.1 * x[1] * x[2],
+                -0.05 * x[0] * x[0],
+                0.08 * (3.0 * x[0]).sin(),
+            ]
+        })
+        .collect()
+}
+
+/// The element in the middle of the box and `bent` with its last node pushed through its first:
+/// that element is inverted (its neighbours through the node may be too).
+fn inverted(mesh: &Mesh, u: &[[f64; 3]]) -> (usize, u32, Vec<[f64; 3]>) {
+    let e = mesh.elements.len() / 2 + 3;
+    let conn = mesh.elements[e];
+    let (from, to) = (mesh.nodes[conn[6] as usize], mesh.nodes[conn[0] as usize]);
+    let mut u = u.to_vec();
+    u[conn[6] as usize] = std::array::from_fn(|c| 1.5 * (to[c] - from[c]));
+    (e, conn[6], u)
+}
+
+/// J = det(I + Σₐ uₐ ⊗ gₐ) by nalgebra, `g(a, j)` = ∂Nₐ/∂Xⱼ at the point.
+fn jacobian(u: &[[f64; 3]], conn: &[u32; 8], g: impl Fn(usize, usize) -> f64) -> f64 {
+    let mut f = Matrix3::identity();
+    for a in 0..8 {
+        for i in 0..3 {
+            for j in 0..3 {
+                f[(i, j)] += u[conn[a] as usize][i] * g(a, j);
+            }
+        }
+    }
+    f.determinant()
+}
+
+/// The smallest J of a chunk and its element, from `j_of(element)` (the smallest J of each),
+/// asserting that no other element of the chunk is within 1e-9 of it (so the element reported
+/// is not decided by round-off).
+fn min_j_of(chunk: &[u32], j_of: impl Fn(usize) -> f64) -> (f64, usize) {
+    let mut js: Vec<(f64, usize)> = chunk
+        .iter()
+        .map(|&e| (j_of(e as usize), e as usize))
+        .collect();
+    js.sort_by(|a, b| a.0.total_cmp(&b.0));
+    assert!(js.len() < 2 || js[1].0 - js[0].0 > 1e-9, "tie for min J");
+    js[0]
+}
+
+/// Runs one chunk into a zeroed force array.
+fn run_chunk(n_nodes: usize, run: impl FnOnce(SendPtr) -> Sums) -> (Vec<[f64; 3]>, Sums) {
+    let mut f = vec![[0.0; 3]; n_nodes];
+    let out = run(SendPtr(f.as_mut_ptr()));
+    (f, out)
+}
+
+/// `a` and `b` agree to `tol` (or are both NaN: the forces and energy of an inverted
+/// neo-Hookean element, ln J < 0's NaN, spread the same way in every build).
+fn close(a: f64, b: f64, tol: f64) -> bool {
+    (a.is_nan() && b.is_nan()) || (a - b).abs() <= tol
+}
+
+/// Every build of a chunk against the portable one (`builds[0]`): forces and energies to
+/// round-off, min J and its element exactly as `expect_min` says (J to 1e-13: a determinant of
+/// entries O(1) off by a few ulps), and AVX2 and AVX-512 bit-identical.
+fn check_builds(what: &str, builds: &[Build], expect_min: (f64, usize)) {
+    let (portable_f, portable) = &builds[0].1;
+    let scale = portable_f
+        .iter()
+        .flatten()
+        .filter(|v| v.is_finite())
+        .fold(0.0f64, |m, v| m.max(v.abs()));
+    for (name, (f, sums)) in builds {
+        for (k, (a, b)) in f.iter().zip(portable_f).enumerate() {
+            for c in 0..3 {
+                assert!(
+                    close(a[c], b[c], 1e-12 * scale),
+                    "{what} {name}: node {k} component {c}: {} vs portable {}",
+                    a[c],
+                    b[c]
+                );
+            }
+        }
+        assert!(
+            close(sums.0, portable.0, 1e-12 * portable.0.abs()),
+            "{what} {name}: strain"
+        );
+        assert!(
+            close(sums.1, portable.1, 1e-12 * portable.1.abs()),
+            "{what} {name}: hourglass"
+        );
+        assert!(
+            (sums.2 - expect_min.0).abs() <= 1e-13 && sums.3 == expect_min.1,
+            "{what} {name}: min J {} at element {}, expected {} at {}",
+            sums.2,
+            sums.3,
+            expect_min.0,
+            expect_min.1
+        );
+    }
+    let bits = |f: &[[f64; 3]], s: &Sums| {
+        let mut b: Vec<u64> = f.iter().flatten().map(|v| v.to_bits()).collect();
+        b.extend([s.0.to_bits(), s.1.to_bits(), s.2.to_bits(), s.3 as u64]);
+        b
+    };
+    let by_name = |n: &str| {
+        builds
+            .iter()
+            .find(|b| b.0 == n)
+            .map(|b| bits(&b.1 .0, &b.1 .1))
+    };
+    if let (Some(avx2), Some(avx512)) = (by_name("avx2"), by_name("avx512")) {
+        assert!(avx2 == avx512, "{what}: the AVX2 and AVX-512 builds differ");
+    }
+}
+
+/// The displacement fields of the tests: bent, then bent with one element inverted.
+fn fields(mesh: &Mesh) -> [(&'static str, Vec<[f64; 3]>); 2] {
+    let u = bent(mesh);
+    let (_, _, inv) = inverted(mesh, &u);
+    [("bent", u), ("inverted", inv)]
+}
+
+/// Full integration: on every block of the box, and on a chunk that holds the inverted element,
+/// every build gives the portable forces, energies, min J and element; the portable build is
+/// its element kernel summed in chunk order, bit for bit; min J is that of nalgebra at the
+/// Gauss points.
+#[test]
+fn full_chunk_every_build_matches_portable() {
+    let mesh = distorted_box();
+    let classes = mesh.element_classes().unwrap();
+    let n = mesh.nodes.len();
+    let (bad, _, _) = inverted(&mesh, &bent(&mesh));
+    let mut chunks: Vec<Vec<u32>> = mesh.element_blocks(64).into_iter().flatten().collect();
+    chunks.push((bad as u32 - 5..bad as u32 + 7).collect());
+    for model in [MaterialModel::Svk, MaterialModel::NeoHookean] {
+        let mat = Material::new(model, 5e6, 0.45, 1100.0);
+        for (field, u) in fields(&mesh) {
+            for chunk in &chunks {
+                let builds: Vec<_> = chunk_forces_builds()
+                    .into_iter()
+                    .map(|(name, build)| {
+                        let out = run_chunk(n, |p| {
+                            let (e, j, el) =
+                                unsafe { build(&mesh, &classes, &mat, &u, p, chunk, true) };
+                            (e, 0.0, j, el)
+                        });
+                        (name, out)
+                    })
+                    .collect();
+                let expect_min = min_j_of(chunk, |e| {
+                    let gd = &classes.data[classes.class_of[e] as usize];
+                    (0..8)
+                        .map(|q| jacobian(&u, &mesh.elements[e], |a, j| gd.grad[a][j][q]))
+                        .fold(f64::INFINITY, f64::min)
+                });
+                let what = format!("{model:?} {field} full");
+                check_builds(&what, &builds, expect_min);
+                // The portable chunk is element_forces::<_, false> scattered in chunk order.
+                let mut reference = vec![[0.0; 3]; n];
+                let mut strain = 0.0;
+                for &e in chunk {
+                    let conn = mesh.elements[e as usize];
+                    let gd = &classes.data[classes.class_of[e as usize] as usize];
+                    let ue = conn.map(|a| u[a as usize]);
+                    let mut fe = [[0.0; 3]; 8];
+                    strain += element_forces::<true, false>(&mat, gd, &ue, &mut fe).0;
+                    for a in 0..8 {
+                        for c in 0..3 {
+                            reference[conn[a] as usize][c] += fe[a][c];
+                        }
+                    }
+                }
+                let (f, sums) = &builds[0].1;
+                let same = |a: f64, b: f64| a.to_bits() == b.to_bits();
+                assert!(
+                    f.iter()
+                        .flatten()
+                        .zip(reference.iter().flatten())
+                        .all(|(a, b)| same(*a, *b))
+                        && same(sums.0, strain),
+                    "{what}: portable chunk ≠ its element kernel"
+                );
+            }
+        }
+    }
+}
+
+/// One point: groups of 8 elements go through the lane kernel, the rest through the scalar
+/// one. On every block of the box, and on two chunks where the inverted element falls in a
+/// lane group and in the remainder: every build gives the forces and energies of the scalar
+/// kernel element by element and of the portable build (round-off), min J of nalgebra at the
+/// centre and its element.
+#[test]
+fn one_point_chunk_every_build_matches_portable_and_scalar_kernel() {
+    let mesh = distorted_box();
+    let classes = mesh.element_classes().unwrap();
+    assert!(classes.centre.len() > 8, "the test needs several classes");
+    let n = mesh.nodes.len();
+    let kappa = 0.05;
+    let (bad, node, _) = inverted(&mesh, &bent(&mesh));
+    let bad = bad as u32;
+    let mut chunks: Vec<Vec<u32>> = mesh.element_blocks(64).into_iter().flatten().collect();
+    // 21 elements: lanes 0..16, remainder 16..21; the inverted element at 3, then at 18.
+    chunks.push((bad - 3..bad + 18).collect());
+    chunks.push((bad - 18..bad + 3).collect());
+    for model in [MaterialModel::Svk, MaterialModel::NeoHookean] {
+        let mat = Material::new(model, 5e6, 0.45, 1100.0);
+        for (field, u) in fields(&mesh) {
+            for chunk in &chunks {
+                let mut builds: Vec<_> = chunk_forces_reduced_builds()
+                    .into_iter()
+                    .map(|(name, build)| {
+                        let out = run_chunk(n, |p| unsafe {
+                            build(&mesh, &classes, &mat, kappa, &u, p, chunk, true)
+                        });
+                        (name, out)
+                    })
+                    .collect();
+                let expect_min = min_j_of(chunk, |e| {
+                    let cd = &classes.centre[classes.class_of[e] as usize];
+                    jacobian(&u, &mesh.elements[e], |a, j| cd.b[a][j])
+                });
+                let what = format!("{model:?} {field} one point");
+                if field == "inverted" && chunk.contains(&bad) {
+                    assert!(expect_min.0 < 0.0 && mesh.elements[expect_min.1].contains(&node));
+                }
+                check_builds(&what, &builds, expect_min);
+                // The scalar kernel element by element, in chunk order, as a further "build".
+                let scalar = run_chunk(n, |p| {
+                    let (mut strain, mut hg) = (0.0, 0.0);
+                    for &e in chunk {
+                        let conn = mesh.elements[e as usize];
+                        let cd = &classes.centre[classes.class_of[e as usize] as usize];
+                        let k = hourglass_stiffness(&mat, cd, kappa);
+                        let mut fe = [[0.0; 3]; 8];
+                        let out = element_forces_reduced::<true>(
+                            &mat,
+                            cd,
+                            k,
+                            &conn.map(|a| u[a as usize]),
+                            &mut fe,
+                        );
+                        (strain, hg) = (strain + out.0, hg + out.1);
+                        for a in 0..8 {
+                            let row = unsafe { &mut *p.0.add(conn[a] as usize) };
+                            for c in 0..3 {
+                                row[c] += fe[a][c];
+                            }
+                        }
+                    }
+                    (strain, hg, expect_min.0, expect_min.1)
+                });
+                builds.push(("scalar kernel", scalar));
+                check_builds(&what, &builds, expect_min);
+            }
+        }
+    }
+}
+
+/// The free-velocity loop (stage 5) has no fused operation: every build gives the portable
+/// velocities and ledger sums bit for bit, on a node count that is not a multiple of 8.
+#[test]
+fn free_velocity_every_build_is_bit_identical() {
+    let n = 1003;
+    let t = |i: usize, k: f64| (i as f64 * k).sin();
+    let v0: Vec<[f64; 3]> = (0..n)
+        .map(|i| [t(i, 0.7), 0.3 * t(i, 1.1), -2.0 * t(i, 0.2)])
+        .collect();
+    let f: Vec<[f64; 3]> = (0..n)
+        .map(|i| [1e3 * t(i, 0.5), -2e3 * t(i, 1.9), 5e2 * t(i, 2.9)])
+        .collect();
+    let m: Vec<f64> = (0..n).map(|i| 0.1 + 0.05 * t(i, 0.13).abs()).collect();
+    let im: Vec<f64> = m.iter().map(|m| 1.0 / m).collect();
+    let runs: Vec<_> = free_velocity_chunk_builds()
+        .into_iter()
+        .map(|(name, build)| {
+            let mut v = v0.clone();
+            let sums = unsafe { build(&mut v, &f, &m, &im, 1e-5, [0.0, 0.0, -9.81]) };
+            (name, v, sums)
+        })
+        .collect();
+    let bits = |v: &[[f64; 3]], s: &NodeSums| {
+        let mut b: Vec<u64> = v.iter().flatten().map(|x| x.to_bits()).collect();
+        b.extend(
+            [
+                s.kinetic,
+                s.kinetic_half,
+                s.int_b,
+                s.int_a,
+                s.grav_b,
+                s.grav_a,
+            ]
+            .map(f64::to_bits),
+        );
+        b
+    };
+    let portable = bits(&runs[0].1, &runs[0].2);
+    assert!(runs[0].1 != v0, "the loop moved nothing");
+    for (name, v, sums) in &runs {
+        assert!(
+            bits(v, sums) == portable,
+            "{name} differs from the portable build"
+        );
+    }
+}

@@ -1,0 +1,183 @@
+//! The kinematics shared by the element kernels, over any [`Real`] (PHYSICS.md §2, total
+//! Lagrangian): H = ∂U/∂X = Σₐ uₐ ⊗ gₐ, F = I + H, J = det F, cof F, E = ½(H + Hᵀ + HᵀH),
+//! P = S + H·S, the row products P·g, and the hourglass modes qᵅ = Σₐ γₐᵅ uₐ. Each is the one
+//! operation order every kernel that uses it shares, except P = F·S, whose two orders are
+//! [`Grouped`] and [`Sequential`].
+
+use super::real::{Mat3, Real};
+
+/// H = ∂U/∂X = Σₐ uₐ ⊗ gₐ, `u(a, i)` the displacement of node a, `g(a, j)` = ∂Nₐ/∂Xⱼ;
+/// accumulated node after node (a·b + c fused when `FMA`).
+#[inline(always)]
+pub(crate) fn displacement_gradient<T: Real, const FMA: bool>(
+    u: impl Fn(usize, usize) -> T,
+    g: impl Fn(usize, usize) -> T,
+) -> Mat3<T> {
+    let mut h = [[T::splat(0.0); 3]; 3];
+    for a in 0..8 {
+        for i in 0..3 {
+            let ua = u(a, i);
+            for j in 0..3 {
+                h[i][j] = ua.fmadd::<FMA>(g(a, j), h[i][j]);
+            }
+        }
+    }
+    h
+}
+
+/// The kinematics at a point: H = ∂U/∂X, F = I + H, J = det F.
+pub struct Deformation<T> {
+    pub h: Mat3<T>,
+    pub f: Mat3<T>,
+    pub j: T,
+}
+
+impl<T: Real> Deformation<T> {
+    /// F = I + H and J = det F from H.
+    #[inline(always)]
+    pub fn of(h: Mat3<T>) -> Self {
+        let f = deformation_gradient(&h);
+        let j = determinant(&f);
+        Deformation { h, f, j }
+    }
+}
+
+/// δᵢⱼ, the identity's entries.
+#[inline(always)]
+pub(crate) fn id(i: usize, j: usize) -> f64 {
+    if i == j {
+        1.0
+    } else {
+        0.0
+    }
+}
+
+/// F = I + H.
+#[inline(always)]
+pub(crate) fn deformation_gradient<T: Real>(h: &Mat3<T>) -> Mat3<T> {
+    let mut f = *h;
+    for i in 0..3 {
+        f[i][i] = f[i][i] + T::splat(1.0);
+    }
+    f
+}
+
+/// J = det F, expanded along the first row.
+#[inline(always)]
+pub(crate) fn determinant<T: Real>(f: &Mat3<T>) -> T {
+    f[0][0] * (f[1][1] * f[2][2] - f[1][2] * f[2][1])
+        - f[0][1] * (f[1][0] * f[2][2] - f[1][2] * f[2][0])
+        + f[0][2] * (f[1][0] * f[2][1] - f[1][1] * f[2][0])
+}
+
+/// Cofactor matrix cof F = J F⁻ᵀ.
+#[inline(always)]
+pub(crate) fn cofactor<T: Real>(f: &Mat3<T>) -> Mat3<T> {
+    [
+        [
+            f[1][1] * f[2][2] - f[1][2] * f[2][1],
+            f[1][2] * f[2][0] - f[1][0] * f[2][2],
+            f[1][0] * f[2][1] - f[1][1] * f[2][0],
+        ],
+        [
+            f[0][2] * f[2][1] - f[0][1] * f[2][2],
+            f[0][0] * f[2][2] - f[0][2] * f[2][0],
+            f[0][1] * f[2][0] - f[0][0] * f[2][1],
+        ],
+        [
+            f[0][1] * f[1][2] - f[0][2] * f[1][1],
+            f[0][2] * f[1][0] - f[0][0] * f[1][2],
+            f[0][0] * f[1][1] - f[0][1] * f[1][0],
+        ],
+    ]
+}
+
+/// Green–Lagrange strain E = ½(FᵀF − I) = ½(H + Hᵀ + HᵀH), formed from H so that small strains
+/// keep their full relative precision (E is symmetric to the last bit: both orders of the sums
+/// commute).
+#[inline(always)]
+pub(crate) fn green_lagrange<T: Real>(h: &Mat3<T>) -> Mat3<T> {
+    let mut e = *h;
+    for i in 0..3 {
+        for j in 0..3 {
+            let c = h[0][i] * h[0][j] + h[1][i] * h[1][j] + h[2][i] * h[2][j];
+            e[i][j] = T::splat(0.5) * ((h[i][j] + h[j][i]) + c);
+        }
+    }
+    e
+}
+
+/// How a kernel forms the first Piola–Kirchhoff stress P = F·S = S + H·S from H and S: the
+/// operation order is the kernel's (a type, not a closure, so that it always inlines into the
+/// per-ISA builds).
+pub trait FTimesS {
+    fn f_times_s<T: Real>(h: &Mat3<T>, s: &Mat3<T>) -> Mat3<T>;
+}
+
+/// P_ij = S_ij + ((H_i0 S_0j + H_i1 S_1j) + H_i2 S_2j), fused when `FMA` (the lane kernels and
+/// the pointwise evaluation).
+pub struct Grouped<const FMA: bool>;
+
+impl<const FMA: bool> FTimesS for Grouped<FMA> {
+    #[inline(always)]
+    fn f_times_s<T: Real>(h: &Mat3<T>, s: &Mat3<T>) -> Mat3<T> {
+        let mut p = *s;
+        for i in 0..3 {
+            for j in 0..3 {
+                p[i][j] = s[i][j] + row_dot::<T, FMA>(&h[i], [s[0][j], s[1][j], s[2][j]]);
+            }
+        }
+        p
+    }
+}
+
+/// P_ij = ((S_ij + H_i0 S_0j) + H_i1 S_1j) + H_i2 S_2j, no fused operation (the scalar
+/// one-point kernel).
+pub struct Sequential;
+
+impl FTimesS for Sequential {
+    #[inline(always)]
+    fn f_times_s<T: Real>(h: &Mat3<T>, s: &Mat3<T>) -> Mat3<T> {
+        let mut p = *s;
+        for i in 0..3 {
+            for j in 0..3 {
+                p[i][j] = s[i][j] + h[i][0] * s[0][j] + h[i][1] * s[1][j] + h[i][2] * s[2][j];
+            }
+        }
+        p
+    }
+}
+
+/// r·g = (r₀g₀ + r₁g₁) + r₂g₂ (fused when `FMA`): a row of P against a gradient ∇Nₐ.
+#[inline(always)]
+pub(crate) fn row_dot<T: Real, const FMA: bool>(r: &[T; 3], g: [T; 3]) -> T {
+    r[2].fmadd::<FMA>(g[2], r[1].fmadd::<FMA>(g[1], r[0] * g[0]))
+}
+
+/// Hourglass mode amplitudes qᵅ = Σₐ γₐᵅ uₐ (α = 0..4), `gamma(α, a)` = γₐᵅ
+/// (Flanagan–Belytschko; fused when `FMA`).
+#[inline(always)]
+pub(crate) fn hourglass_modes<T: Real, const FMA: bool>(
+    gamma: impl Fn(usize, usize) -> T,
+    u: impl Fn(usize, usize) -> T,
+) -> [[T; 3]; 4] {
+    let mut q = [[T::splat(0.0); 3]; 4];
+    for al in 0..4 {
+        for a in 0..8 {
+            for i in 0..3 {
+                q[al][i] = gamma(al, a).fmadd::<FMA>(u(a, i), q[al][i]);
+            }
+        }
+    }
+    q
+}
+
+/// Hourglass energy Ψ_hg = ½ k Σᵅ |qᵅ|².
+#[inline(always)]
+pub(crate) fn hourglass_energy<T: Real>(k: T, q: &[[T; 3]; 4]) -> T {
+    let mut qq = T::splat(0.0);
+    for qa in q {
+        qq = qq + (qa[0] * qa[0] + qa[1] * qa[1] + qa[2] * qa[2]);
+    }
+    T::splat(0.5) * k * qq
+}

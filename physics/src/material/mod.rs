@@ -1,0 +1,286 @@
+//! Hyperelastic bulk materials (PHYSICS.md §2) and the per-element internal-force kernels.
+//!
+//! Each constitutive model is written once, over any [`Real`] number type:
+//! [`saint_venant_kirchhoff`] (S and ψ from E) and [`neo_hookean`] (P and ψ from F and J).
+//! [`first_piola`] picks one by a [`Law`] type ([`with_law!`] turns a [`MaterialModel`] into
+//! one), and everything that evaluates a stress goes through it: the pointwise
+//! [`Material::piola_energy`] (post-processing and tests) and the kernels of [`element`] — full
+//! 2×2×2 integration with the 8 Gauss points in the 8 lanes of an [`F64x8`], one point on one
+//! element, one point on 8 elements in lanes.
+//!
+//! - [`real`]: the [`Real`] trait, for `f64` and [`F64x8`];
+//! - `kinematics`: H = ∂U/∂X, F, J, cof F, E, P = F·S, hourglass modes, shared by the kernels;
+//! - [`element`]: the element kernels and the hourglass stiffness.
+
+pub mod element;
+mod kinematics;
+pub mod real;
+
+pub use element::{
+    element_forces, element_forces_reduced, element_forces_reduced_lanes, hourglass_stiffness,
+    LaneElements,
+};
+pub use real::{F64x8, Mat3, Real};
+
+use kinematics::{cofactor, green_lagrange, id};
+pub use kinematics::{Deformation, FTimesS, Grouped, Sequential};
+use nalgebra::Matrix3;
+use serde::{Deserialize, Serialize};
+
+/// Constitutive model.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum MaterialModel {
+    /// Saint-Venant–Kirchhoff ([`saint_venant_kirchhoff`]).
+    Svk,
+    /// Compressible neo-Hookean ([`neo_hookean`]).
+    NeoHookean,
+}
+
+/// An isotropic hyperelastic material with its Lamé constants.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Material {
+    pub model: MaterialModel,
+    /// Young's modulus E [Pa].
+    pub young: f64,
+    /// Poisson's ratio ν [-].
+    pub poisson: f64,
+    /// Reference density ρ₀ [kg/m³].
+    pub density: f64,
+    /// First Lamé constant λ = Eν/((1+ν)(1−2ν)) [Pa].
+    pub lambda: f64,
+    /// Shear modulus μ = E/(2(1+ν)) [Pa].
+    pub mu: f64,
+}
+
+impl Material {
+    /// Derives the Lamé constants from (E, ν). Validity (E > 0, −1 < ν < ½, ρ > 0) is checked by
+    /// the scene loader, which knows the keys to name.
+    pub fn new(model: MaterialModel, young: f64, poisson: f64, density: f64) -> Self {
+        Material {
+            model,
+            young,
+            poisson,
+            density,
+            lambda: young * poisson / ((1.0 + poisson) * (1.0 - 2.0 * poisson)),
+            mu: young / (2.0 * (1.0 + poisson)),
+        }
+    }
+
+    /// P-wave (constrained) modulus M = λ + 2μ = E(1−ν)/((1+ν)(1−2ν)) [Pa].
+    pub fn p_wave_modulus(&self) -> f64 {
+        self.lambda + 2.0 * self.mu
+    }
+
+    /// Dilatational (P-) wave speed c_d = √(M/ρ₀) = √((λ + 2μ)/ρ₀) [m/s].
+    pub fn wave_speed(&self) -> f64 {
+        (self.p_wave_modulus() / self.density).sqrt()
+    }
+
+    /// First Piola–Kirchhoff stress P(F) and energy density ψ(F) at one point, from
+    /// [`first_piola`] with P = S + H·S, H = F − I (post-processing and tests; the time loop uses
+    /// the element kernels, which call the same formulas).
+    pub fn piola_energy(&self, f: &Matrix3<f64>) -> (Matrix3<f64>, f64) {
+        let h = std::array::from_fn(|i| std::array::from_fn(|j| f[(i, j)] - id(i, j)));
+        let d = Deformation::of(h);
+        let (p, psi) =
+            with_law!(self.model, L => first_piola::<L, f64, true, Grouped<false>>(self, &d));
+        (Matrix3::from_fn(|i, j| p[i][j]), psi)
+    }
+
+    /// Cauchy stress σ = J⁻¹ F S Fᵀ = J⁻¹ P Fᵀ at one point, J = det F (PHYSICS.md §2) [Pa]
+    /// (post-processing only; J ≤ 0 gives a meaningless or infinite σ, not a panic).
+    pub fn cauchy_stress(&self, f: &Matrix3<f64>) -> Matrix3<f64> {
+        let (p, _) = self.piola_energy(f);
+        p * f.transpose() / f.determinant()
+    }
+
+    /// Von Mises equivalent of the Cauchy stress at one point, [`von_mises_equivalent`] of
+    /// [`Material::cauchy_stress`] [Pa] (post-processing only).
+    pub fn von_mises(&self, f: &Matrix3<f64>) -> f64 {
+        von_mises_equivalent(&self.cauchy_stress(f))
+    }
+}
+
+/// A constitutive model as a type, so that a kernel generic over it is compiled once per model
+/// as straight-line code ([`with_law!`] picks the type of a [`MaterialModel`]).
+pub trait Law {
+    const MODEL: MaterialModel;
+}
+
+/// [`MaterialModel::Svk`] as a [`Law`].
+pub struct SvkLaw;
+impl Law for SvkLaw {
+    const MODEL: MaterialModel = MaterialModel::Svk;
+}
+
+/// [`MaterialModel::NeoHookean`] as a [`Law`].
+pub struct NeoHookeanLaw;
+impl Law for NeoHookeanLaw {
+    const MODEL: MaterialModel = MaterialModel::NeoHookean;
+}
+
+/// First Piola–Kirchhoff stress P and energy density ψ (ψ only if `ENERGY`, else 0) of the law
+/// `L` at a point deformed by `d` (PHYSICS.md §2): [`saint_venant_kirchhoff`] of
+/// E = ½(H + Hᵀ + HᵀH), then P = F·S formed by `P` (the caller's operation order), or
+/// [`neo_hookean`]. The one place every evaluation of a stress goes through.
+#[inline(always)]
+pub fn first_piola<L: Law, T: Real, const ENERGY: bool, P: FTimesS>(
+    mat: &Material,
+    d: &Deformation<T>,
+) -> (Mat3<T>, T) {
+    match L::MODEL {
+        MaterialModel::Svk => {
+            let e = green_lagrange(&d.h);
+            let (s, psi) = saint_venant_kirchhoff::<T, ENERGY>(mat.lambda, mat.mu, &e);
+            (P::f_times_s(&d.h, &s), psi)
+        }
+        MaterialModel::NeoHookean => neo_hookean::<T, ENERGY>(mat.lambda, mat.mu, &d.f, d.j),
+    }
+}
+
+/// `with_law!(model, L => expr)` evaluates `expr` with the type `L` standing for the [`Law`] of
+/// `model` (a [`MaterialModel`]): the one place where a model value becomes a type.
+macro_rules! with_law {
+    ($model:expr, $law:ident => $body:expr) => {
+        match $model {
+            $crate::material::MaterialModel::Svk => {
+                type $law = $crate::material::SvkLaw;
+                $body
+            }
+            $crate::material::MaterialModel::NeoHookean => {
+                type $law = $crate::material::NeoHookeanLaw;
+                $body
+            }
+        }
+    };
+}
+pub(crate) use with_law;
+
+/// Saint-Venant–Kirchhoff (PHYSICS.md §2): second Piola–Kirchhoff stress
+/// S = λ tr(E) I + 2μE and energy density ψ = ½λ(tr E)² + μ E:E, from the Green–Lagrange strain
+/// E (symmetric), with E:E = E₀₀² + E₁₁² + E₂₂² + 2(E₀₁² + E₀₂² + E₁₂²). ψ only if `ENERGY`
+/// (else 0). The one definition of the model: every kernel calls it.
+#[inline(always)]
+pub fn saint_venant_kirchhoff<T: Real, const ENERGY: bool>(
+    lambda: f64,
+    mu: f64,
+    e: &Mat3<T>,
+) -> (Mat3<T>, T) {
+    let (lam, two_mu) = (T::splat(lambda), T::splat(2.0 * mu));
+    let tr = e[0][0] + e[1][1] + e[2][2];
+    let mut s = *e;
+    for i in 0..3 {
+        for j in 0..3 {
+            s[i][j] = if i == j {
+                lam * tr + two_mu * e[i][i]
+            } else {
+                two_mu * e[i][j]
+            };
+        }
+    }
+    let mut psi = T::splat(0.0);
+    if ENERGY {
+        let ee = e[0][0] * e[0][0]
+            + e[1][1] * e[1][1]
+            + e[2][2] * e[2][2]
+            + T::splat(2.0) * (e[0][1] * e[0][1] + e[0][2] * e[0][2] + e[1][2] * e[1][2]);
+        psi = T::splat(0.5 * lambda) * tr * tr + T::splat(mu) * ee;
+    }
+    (s, psi)
+}
+
+/// Compressible neo-Hookean (PHYSICS.md §2): ψ = ½μ(tr C − 3) − μ ln J + ½λ(ln J)² and
+/// S = μ(I − C⁻¹) + λ ln J C⁻¹, C = FᵀF, evaluated as the first Piola–Kirchhoff stress
+/// P = F·S = μ(F − F⁻ᵀ) + λ ln J F⁻ᵀ with F⁻ᵀ = cof(F)/J, i.e. P = μF + (λ ln J − μ)·(1/J)·cof F,
+/// and tr C = Σᵢₖ Fᵢₖ². ψ only if `ENERGY` (else 0). J ≤ 0 (an inverted element) gives NaN or
+/// infinities: the caller checks J. The one definition of the model: every kernel calls it.
+#[inline(always)]
+pub fn neo_hookean<T: Real, const ENERGY: bool>(
+    lambda: f64,
+    mu: f64,
+    f: &Mat3<T>,
+    j: T,
+) -> (Mat3<T>, T) {
+    let lnj = j.ln();
+    let cof = cofactor(f);
+    let coef = (T::splat(lambda) * lnj - T::splat(mu)) * (T::splat(1.0) / j);
+    let mut p = cof;
+    let mut trc = T::splat(0.0);
+    for i in 0..3 {
+        for k in 0..3 {
+            p[i][k] = T::splat(mu) * f[i][k] + coef * cof[i][k];
+            trc = trc + f[i][k] * f[i][k];
+        }
+    }
+    let mut psi = T::splat(0.0);
+    if ENERGY {
+        psi = T::splat(0.5 * mu) * (trc - T::splat(3.0)) - T::splat(mu) * lnj
+            + T::splat(0.5 * lambda) * lnj * lnj;
+    }
+    (p, psi)
+}
+
+/// Von Mises equivalent stress σ_vm = √(3/2 s:s), s = σ − ⅓ tr σ I the deviator of σ [Pa].
+pub fn von_mises_equivalent(sigma: &Matrix3<f64>) -> f64 {
+    let dev = sigma - Matrix3::identity() * (sigma.trace() / 3.0);
+    (1.5 * dev.component_mul(&dev).sum()).sqrt()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Von Mises: zero under a pure dilatation, √3 μ γ in small simple shear (to O(γ²)).
+    #[test]
+    fn von_mises_of_dilatation_and_shear() {
+        let mat = Material::new(MaterialModel::Svk, 5e6, 0.45, 1100.0);
+        assert!(mat.von_mises(&(Matrix3::identity() * 1.01)) < 1e-6 * mat.mu);
+        let gamma = 1e-5;
+        let mut f = Matrix3::identity();
+        f[(0, 1)] = gamma;
+        let expect = 3f64.sqrt() * mat.mu * gamma;
+        assert!((mat.von_mises(&f) - expect).abs() < 1e-4 * expect);
+    }
+
+    /// The laws on [`F64x8`] lanes are the laws on `f64` lane by lane, to the bit (the same IEEE
+    /// operations in the same order on each lane), with and without fused multiply–adds: what
+    /// lets a kernel pick either form.
+    #[test]
+    fn laws_on_lanes_are_the_laws_per_lane() {
+        fn check<L: Law, const FMA: bool>(mat: &Material) {
+            let h_of = |l: usize| -> Mat3<f64> {
+                let t = l as f64 + 1.0;
+                std::array::from_fn(|i| {
+                    std::array::from_fn(|j| 0.1 * (t * (i + 3 * j + 1) as f64).sin())
+                })
+            };
+            let lanes = Deformation::of(std::array::from_fn(|i| {
+                std::array::from_fn(|j| F64x8(std::array::from_fn(|l| h_of(l)[i][j])))
+            }));
+            let (p8, psi8) = first_piola::<L, F64x8, true, Grouped<FMA>>(mat, &lanes);
+            for l in 0..8 {
+                let (p, psi) =
+                    first_piola::<L, f64, true, Grouped<FMA>>(mat, &Deformation::of(h_of(l)));
+                assert_eq!(
+                    psi8.0[l].to_bits(),
+                    psi.to_bits(),
+                    "{:?} lane {l}",
+                    L::MODEL
+                );
+                for i in 0..3 {
+                    for j in 0..3 {
+                        assert_eq!(p8[i][j].0[l].to_bits(), p[i][j].to_bits());
+                    }
+                }
+            }
+        }
+        for model in [MaterialModel::Svk, MaterialModel::NeoHookean] {
+            let mat = Material::new(model, 5e6, 0.45, 1100.0);
+            with_law!(model, L => {
+                check::<L, false>(&mat);
+                check::<L, true>(&mat);
+            });
+        }
+    }
+}
