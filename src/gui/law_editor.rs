@@ -1,8 +1,8 @@
 //! The law editor (egui), drawn from the table of families: the family picker lists
 //! [`families`] by label (in the table's order, that of the keys), and each parameter the edited
 //! family declares ([`Param`]) gets its widget — a number a slider over its typical span (linear
-//! or logarithmic) with its symbol, unit and a button back to its default, described on hover by
-//! its meaning and admissible range; a table of points a grid of rows. Below: μ_inf, and what
+//! or logarithmic) with its symbol, unit and a button back to its default, its meaning and
+//! admissible range written below (and on hover); a table of points a grid of rows. Below: μ_inf, and what
 //! the law gives or why it is inadmissible.
 
 use super::{App, LawSettings};
@@ -17,6 +17,7 @@ impl App {
         let law = &mut self.settings.law;
         family_picker(ui, law);
         if let Some(spec) = law.spec() {
+            let mut meanings = vec![];
             egui::Grid::new("law_params")
                 .num_columns(3)
                 .spacing([8.0, 4.0])
@@ -24,9 +25,13 @@ impl App {
                     for p in spec.params {
                         if let ParamKind::Number(n) = p.kind {
                             number_row(ui, law, p, n);
+                            meanings.push(format!("{}: {}, {}", p.symbol, p.meaning, n.range));
                         }
                     }
                 });
+            if !meanings.is_empty() {
+                ui.label(egui::RichText::new(meanings.join(";  ")).small().weak());
+            }
             for p in spec.params {
                 if let ParamKind::Points { .. } = p.kind {
                     points_editor(ui, law, p);
@@ -95,13 +100,15 @@ fn number_row(ui: &mut egui::Ui, law: &mut LawSettings, p: &Param, n: NumberPara
         unreachable!("value_mut gives a value of the parameter's kind")
     };
     let [lo, hi] = n.typical;
-    ui.add(
-        egui::Slider::new(x, lo..=hi)
-            .logarithmic(n.logarithmic)
-            .clamping(egui::SliderClamping::Never)
-            .suffix(unit_suffix(p.unit)),
-    )
-    .on_hover_text(&hover);
+    let mut slider = egui::Slider::new(x, lo..=hi)
+        .logarithmic(n.logarithmic)
+        .clamping(egui::SliderClamping::Never)
+        .suffix(unit_suffix(p.unit));
+    if n.logarithmic {
+        // Values over decades read best as 5.000e8.
+        slider = slider.custom_formatter(|v, _| format!("{v:.3e}"));
+    }
+    ui.add(slider).on_hover_text(&hover);
     let default = format!("{}{}", n.default, unit_suffix(p.unit));
     if ui
         .add_enabled(*x != n.default, egui::Button::new("default").small())
