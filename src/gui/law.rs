@@ -216,56 +216,31 @@ impl<'de> Deserialize<'de> for LegacyFamily {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::parse_scene;
-
-    /// A one-element scene glued by `law`.
-    fn scene_with(law: &toml::Table) -> String {
-        let mut doc: toml::Table = r#"
-            end_time = 0.1
-            [mesh]
-            size = [1.0, 1.0, 1.0]
-            cells = [1, 1, 1]
-            [material]
-            young = 5.0e6
-            poisson = 0.45
-            density = 1100.0
-            [[plane]]
-            name = "mould"
-            point = [0.0, 0.0, 0.0]
-            normal = [0.0, 0.0, 1.0]
-            [[interface]]
-            faces = "z-"
-            plane = "mould"
-        "#
-        .parse()
-        .unwrap();
-        let itf = doc["interface"].as_array_mut().unwrap()[0]
-            .as_table_mut()
-            .unwrap();
-        itf.insert("law".into(), toml::Value::Table(law.clone()));
-        toml::to_string(&doc).unwrap()
-    }
 
     /// Every family of the table, at the editor's starting values, gives an admissible law that
-    /// reaches the scene loader unchanged through the edited scene's TOML, and comes back into
-    /// the editor as the same settings.
+    /// reaches the scene loader unchanged through the edited scene (the pull-off scene with
+    /// that law), and comes back into the editor as the same settings.
     #[test]
     fn every_family_goes_through_the_edited_scene_and_back() {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+        let mut settings = crate::gui::Settings {
+            scene: root.join("scenes/pull_off.toml").display().to_string(),
+            ..Default::default()
+        };
         for spec in families() {
-            let law = LawSettings {
+            settings.law = LawSettings {
                 family: spec.key.into(),
                 ..LawSettings::default()
             };
-            let built = law.law().unwrap_or_else(|e| panic!("{}: {e}", spec.key));
+            let built = (settings.law.law()).unwrap_or_else(|e| panic!("{}: {e}", spec.key));
             assert_eq!(built, spec.build(&spec.defaults()).unwrap());
-            let text = scene_with(&law.to_toml().unwrap());
-            let scene = parse_scene(&text, "edited.toml", &[]).unwrap();
+            let scene = settings.scene().unwrap();
             let loaded = &scene.model.interfaces[0].law;
             assert_eq!(loaded, &built, "{}", spec.key);
             let mut back = LawSettings::default();
             back.take(loaded, 0.5);
             assert_eq!(back.law().unwrap(), built);
-            assert_eq!(back.params(), law.params());
+            assert_eq!(back.params(), settings.law.params());
         }
     }
 
