@@ -8,6 +8,8 @@ mod common;
 use common::capture::{read_capture, steps_with};
 use common::paraview::{read_pvd, read_vtu, state_counts};
 use decohesion::gui::{App, RecordChoice, Status};
+use decohesion::law::{families, ParamKind};
+use egui::accesskit::Role;
 use egui_kittest::kittest::{NodeT, Queryable};
 use egui_kittest::Harness;
 use std::time::{Duration, Instant};
@@ -51,22 +53,94 @@ fn inadmissible_law_disables_run_and_says_why() {
     assert!(!run_disabled(&h), "the scene's own law is admissible");
 
     // u_r below α_e = 2 mm: rupture before the end of the elastic range.
-    h.state_mut().settings.law.u_r = 1.0e-3;
+    h.state_mut()
+        .settings
+        .law
+        .values
+        .0
+        .insert("u_r".into(), 1.0e-3.into());
     h.run();
     assert!(run_disabled(&h));
     h.get_by_label_contains("Run is disabled: u_r");
     h.get_by_label_contains("inadmissible law — u_r");
 
     // Fixed: enabled again.
-    h.state_mut().settings.law.u_r = 4.0e-3;
+    h.state_mut()
+        .settings
+        .law
+        .values
+        .0
+        .insert("u_r".into(), 4.0e-3.into());
     h.run();
     assert!(!run_disabled(&h));
 
     // A table that increases is refused too.
-    h.state_mut().settings.law.family = decohesion::gui::Family::Table;
-    h.state_mut().settings.law.points = vec![[0.0, 1e8], [1e-3, 2e8], [2e-3, 0.0]];
+    let points = vec![[0.0, 1e8], [1e-3, 2e8], [2e-3, 0.0]];
+    h.state_mut().settings.law.family = "table".into();
+    h.state_mut()
+        .settings
+        .law
+        .values
+        .0
+        .insert("points".into(), points.into());
     h.run();
     assert!(run_disabled(&h));
+}
+
+/// The law editor is the table of families: the picker offers every family by its label, and
+/// each family, at its defaults, shows a labelled slider per number parameter, a row per point
+/// of a table parameter, and what its (admissible) law gives. A family added to
+/// `physics/src/interface/laws/` is listed and edited without a line of the explorer.
+#[test]
+fn the_law_editor_is_built_from_the_table_of_families() {
+    let mut h = harness(small_pull_off(3));
+    h.run();
+    h.get_by_label("family").click();
+    h.run();
+    for f in families() {
+        assert!(
+            h.query_all_by_label(f.label).next().is_some(),
+            "{} is not offered",
+            f.label
+        );
+    }
+    let mut others = None;
+    for f in families() {
+        h.state_mut().settings.law.family = f.key.into();
+        h.state_mut().settings.law.values = Default::default();
+        h.run();
+        let shown = |text: &str| {
+            (h.query_all_by_label_contains(text)).any(|n| n.accesskit_node().role() == Role::Label)
+        };
+        assert!(shown("peak traction"), "{}: no admissible law", f.key);
+        let mut numbers = 0;
+        for p in f.params {
+            match p.kind {
+                ParamKind::Number(_) => {
+                    h.get_by_role_and_label(Role::Label, p.symbol);
+                    numbers += 1;
+                }
+                ParamKind::Points { default } => {
+                    assert!(shown(p.meaning), "{}", p.meaning);
+                    assert_eq!(
+                        h.query_all_by_label("−").count(),
+                        default.len(),
+                        "{}",
+                        f.key
+                    );
+                    h.get_by_label("add a point");
+                }
+            }
+        }
+        // Every other slider (μ_inf, run settings) is the same whatever the family.
+        let sliders = h.query_all_by_role(Role::Slider).count();
+        assert_eq!(
+            *others.get_or_insert(sliders - numbers),
+            sliders - numbers,
+            "{}",
+            f.key
+        );
+    }
 }
 
 #[test]
@@ -146,7 +220,7 @@ fn saved_settings_round_trip_and_tolerate_missing_fields() {
     assert_eq!(old.cells, 5);
     assert_eq!(old.law, Settings::default().law);
     let mut s = Settings::default();
-    s.law.u_r = 7e-3;
+    s.law.values.0.insert("u_r".into(), 7e-3.into());
     s.record = RecordChoice::File;
     let back: Settings = serde_json::from_str(&serde_json::to_string(&s).unwrap()).unwrap();
     assert_eq!(back, s);

@@ -7,7 +7,7 @@
 
 mod common;
 use common::*;
-use decohesion_physics::law::{LawFamily, StiffnessLaw};
+use decohesion_physics::law::{Knots, ParamValues, StiffnessLaw};
 use decohesion_physics::material::{Material, MaterialModel};
 use decohesion_physics::model::{Interface, PiecewiseLinear, PrescribedDisplacement};
 use decohesion_physics::solver::{ContactStatus, Simulation};
@@ -25,18 +25,27 @@ fn law_strategy() -> impl Strategy<Value = StiffnessLaw> {
     )
         .prop_map(|(fam, g0, ae, ratio, k)| {
             let ur = ae * ratio;
-            match fam {
-                0 => StiffnessLaw::new(LawFamily::PlateauLinear, g0, ae, ur).unwrap(),
-                1 => StiffnessLaw::new(LawFamily::Bilinear, g0, ae, ur).unwrap(),
-                2 => StiffnessLaw::new(LawFamily::Exponential { decay: k }, g0, ae, ur).unwrap(),
-                _ => StiffnessLaw::from_table(vec![
-                    [0.0, g0],
-                    [ae, g0],
-                    [0.5 * (ae + ur), g0 / k.max(1.0)],
-                    [ur, 0.0],
-                ])
-                .unwrap(),
+            let knots = Knots {
+                g_n0: g0,
+                alpha_e: ae,
+                u_r: ur,
             }
+            .values();
+            let (family, values) = match fam {
+                0 => ("plateau_linear", knots),
+                1 => ("bilinear", knots),
+                2 => ("exponential", knots.with("decay", k)),
+                _ => {
+                    let points = vec![
+                        [0.0, g0],
+                        [ae, g0],
+                        [0.5 * (ae + ur), g0 / k.max(1.0)],
+                        [ur, 0.0],
+                    ];
+                    ("table", ParamValues::default().with("points", points))
+                }
+            };
+            StiffnessLaw::build(family, &values).unwrap()
         })
 }
 

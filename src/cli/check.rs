@@ -50,9 +50,17 @@ pub fn check(path: &Path, set: &[String]) -> Result<()> {
             .iter()
             .map(|p| p.1)
             .sum();
+        let law = &itf.law;
         println!(
-            "  interface[{k}] on `{}`         {:?}, g_N(0) = {:.4e} Pa/m, α_e = {:.4e} m, u_r = {:.4e} m, μ_inf = {}",
-            itf.faces, itf.law.family, itf.law.g_n0, itf.law.alpha_e, itf.law.u_r, itf.mu_inf
+            "  interface[{k}] on `{}`         {law}, μ_inf = {}",
+            itf.faces, itf.mu_inf
+        );
+        println!(
+            "    {}: g_N(0) = {:.4e} Pa/m, α_e = {:.4e} m, u_r = {:.4e} m",
+            law.spec().label,
+            law.g_n0,
+            law.alpha_e,
+            law.u_r
         );
         if itf.initial_damage > 0.0 {
             let alpha0 = itf.initial_damage.min(itf.law.u_r);

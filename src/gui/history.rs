@@ -118,14 +118,15 @@ pub fn csv(rows: &[HistoryRow]) -> String {
     let quote = |v: &str| format!("\"{}\"", v.replace('"', "\"\""));
     for r in rows {
         let st = &r.settings;
+        let knots = st.law.knots();
         s.push_str(&format!(
-            "{},{},{},{:e},{:e},{:e},{},{},{},{},{},{},{},{},{:e},{},{},{},{:e},{:e},{},{},{},{:.3},{},{},{}\n",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{:e},{},{},{},{:e},{:e},{},{},{},{:.3},{},{},{}\n",
             r.id,
             quote(&st.scene),
-            st.law.family.key(),
-            st.law.g_n0,
-            st.law.alpha_e,
-            st.law.u_r,
+            st.law.family,
+            opt(knots.map(|k| k.g_n0)),
+            opt(knots.map(|k| k.alpha_e)),
+            opt(knots.map(|k| k.u_r)),
             st.law.mu_inf,
             st.cells,
             st.factor,

@@ -8,13 +8,15 @@
 //! The physics modules know nothing of this one.
 //!
 //! Modules: [`state`] (the state and logic, no egui), [`settings`] (what the user sets, the
-//! edited scene), [`law`] (the law editor's settings), [`history`] (history rows, CSV),
-//! [`job`] (the run thread, through the run driver [`crate::driver`]), `views` and `plots`
-//! (the egui code), and here the eframe application.
+//! edited scene), [`law`] (the edited law: a family of the table and its parameter values),
+//! [`history`] (history rows, CSV), [`job`] (the run thread, through the run driver
+//! [`crate::driver`]), `views`, `law_editor` and `plots` (the egui code), and here the eframe
+//! application.
 
 pub mod history;
 pub mod job;
 pub mod law;
+mod law_editor;
 mod plots;
 pub mod settings;
 pub mod state;
@@ -22,7 +24,7 @@ mod views;
 
 pub use history::HistoryRow;
 pub use job::{Job, JobMessage};
-pub use law::{Family, LawSettings};
+pub use law::{LawSettings, DEFAULT_FAMILY};
 pub use settings::{list_scenes, RecordChoice, SceneEntry, Settings};
 pub use state::{App, Curve, Status, CHECK_MAX_ELEMENTS};
 

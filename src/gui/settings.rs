@@ -2,9 +2,7 @@
 //! it offers, and the edited scene: the settings read from a scene file and written back into
 //! its TOML, which then goes through the same parser and validation as a file.
 
-use super::law::Family;
 use super::LawSettings;
-use crate::law::LawFamily;
 use crate::scene::{parse_scene, Scene};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
@@ -106,23 +104,7 @@ impl Settings {
     pub fn take_scene(&mut self, scene: &Scene) {
         let m = &scene.model;
         if let Some(itf) = m.interfaces.first() {
-            let l = &itf.law;
-            self.law.mu_inf = itf.mu_inf;
-            self.law.g_n0 = l.g_n0;
-            self.law.alpha_e = l.alpha_e;
-            self.law.u_r = l.u_r;
-            match &l.family {
-                LawFamily::PlateauLinear => self.law.family = Family::PlateauLinear,
-                LawFamily::Bilinear => self.law.family = Family::Bilinear,
-                LawFamily::Exponential { decay } => {
-                    self.law.family = Family::Exponential;
-                    self.law.decay = *decay;
-                }
-                LawFamily::Table { points } => {
-                    self.law.family = Family::Table;
-                    self.law.points = points.clone();
-                }
-            }
+            self.law.take(&itf.law, itf.mu_inf);
         }
         self.cells = scene_cells(scene).unwrap_or(0);
         self.factor = m.scheme.time_step_factor;
@@ -144,10 +126,11 @@ impl Settings {
             .map_err(|e| format!("cannot read {}: {e}", self.scene))?;
         let mut doc: toml::Table = text.parse().map_err(|e| format!("{}: {e}", self.scene))?;
         let s = self;
+        let law = s.law.to_toml()?;
         if let Some(toml::Value::Array(itfs)) = doc.get_mut("interface") {
             for itf in itfs.iter_mut() {
                 if let toml::Value::Table(t) = itf {
-                    t.insert("law".into(), toml::Value::Table(s.law.to_toml()));
+                    t.insert("law".into(), toml::Value::Table(law.clone()));
                     t.insert("mu_inf".into(), s.law.mu_inf.into());
                 }
             }

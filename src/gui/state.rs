@@ -348,7 +348,8 @@ mod tests {
         std::fs::remove_dir_all(&dir).ok();
 
         let law = app.settings.law.clone();
-        app.settings.law.u_r = 0.5 * app.settings.law.alpha_e;
+        let alpha_e = app.settings.law.knots().unwrap().alpha_e;
+        (app.settings.law.values.0).insert("u_r".into(), (0.5 * alpha_e).into());
         let reason = app.blocker().expect("u_r < α_e is refused");
         assert!(reason.starts_with("u_r"), "{reason}");
         app.start();

@@ -1,9 +1,10 @@
-//! The explorer's views (egui): the settings panel (scene, law editor, run settings), the run
-//! bar, the history table; the plots are in [`super::plots`]. They draw the state of
-//! [`App`] and call its methods ([`super::state`]).
+//! The explorer's views (egui): the settings panel (scene, run settings), the run bar, the
+//! history table; the law editor is in [`super::law_editor`], the plots in [`super::plots`].
+//! They draw the state of [`App`] and call its methods ([`super::state`]).
 
 use super::job::Repaint;
-use super::{App, Family, RecordChoice, Status};
+use super::{App, RecordChoice, Status};
+use crate::law::Knots;
 use crate::solver::StateCounts;
 use std::path::Path;
 use std::sync::Arc;
@@ -75,85 +76,6 @@ impl App {
             });
         if let Some(s) = self.scenes.iter().find(|s| s.path == current) {
             ui.label(egui::RichText::new(&s.description).small());
-        }
-    }
-
-    /// The law editor: family, parameters or table points, and what the law gives.
-    fn law_ui(&mut self, ui: &mut egui::Ui) {
-        ui.heading("Interface law");
-        let law = &mut self.settings.law;
-        egui::ComboBox::from_label("family")
-            .selected_text(law.family.label())
-            .show_ui(ui, |ui| {
-                for f in Family::ALL {
-                    ui.selectable_value(&mut law.family, f, f.label());
-                }
-            });
-        if law.family == Family::Table {
-            ui.label("points (α [m], g_N [Pa/m]); the last g_N must be 0, its α is u_r");
-            let mut remove = None;
-            egui::Grid::new("points").striped(true).show(ui, |ui| {
-                for (i, p) in law.points.iter_mut().enumerate() {
-                    ui.add(egui::DragValue::new(&mut p[0]).speed(1e-5).suffix(" m"));
-                    ui.add(egui::DragValue::new(&mut p[1]).speed(1e6).suffix(" Pa/m"));
-                    if ui
-                        .small_button("−")
-                        .on_hover_text("remove this point")
-                        .clicked()
-                    {
-                        remove = Some(i);
-                    }
-                    ui.end_row();
-                }
-            });
-            if let Some(i) = remove {
-                if law.points.len() > 2 {
-                    law.points.remove(i);
-                }
-            }
-            if ui.button("add a point").clicked() {
-                let last = *law.points.last().unwrap_or(&[0.0, 0.0]);
-                law.points.push([last[0] * 1.25 + 1e-4, 0.0]);
-            }
-        } else {
-            ui.add(
-                egui::Slider::new(&mut law.g_n0, 1e5..=1e12)
-                    .logarithmic(true)
-                    .text("g_N(0)")
-                    .suffix(" Pa/m"),
-            );
-            ui.add(
-                egui::Slider::new(&mut law.alpha_e, 0.0..=0.05)
-                    .logarithmic(true)
-                    .smallest_positive(1e-6)
-                    .text("α_e")
-                    .suffix(" m"),
-            );
-            ui.add(
-                egui::Slider::new(&mut law.u_r, 1e-6..=0.1)
-                    .logarithmic(true)
-                    .text("u_r")
-                    .suffix(" m"),
-            );
-            if law.family == Family::Exponential {
-                ui.add(egui::Slider::new(&mut law.decay, 0.1..=50.0).text("decay k"));
-            }
-        }
-        ui.add(egui::Slider::new(&mut law.mu_inf, 0.0..=2.0).text("μ_inf"));
-        match law.law() {
-            Ok(l) => {
-                let (t_max, at) = l.peak_traction();
-                ui.label(format!(
-                    "peak traction {t_max:.4e} Pa at δ = {at:.3e} m;  G_c = {:.4e} J/m²",
-                    l.fracture_energy()
-                ));
-            }
-            Err(e) => {
-                ui.colored_label(
-                    egui::Color32::from_rgb(220, 50, 50),
-                    format!("inadmissible law — {e}"),
-                );
-            }
         }
     }
 
@@ -365,10 +287,16 @@ impl App {
                                 .map(|s| s.to_string_lossy().to_string())
                                 .unwrap_or_default(),
                         );
-                        ui.label(st.law.family.key());
-                        ui.label(format!("{:.2e}", st.law.g_n0));
-                        ui.label(format!("{:.2e}", st.law.alpha_e));
-                        ui.label(format!("{:.2e}", st.law.u_r));
+                        let law = st.law.law();
+                        ui.label(&st.law.family).on_hover_text(match &law {
+                            Ok(l) => l.to_string(),
+                            Err(e) => e.clone(),
+                        });
+                        let k = law.ok().map(|l| l.knots());
+                        let knots: [fn(Knots) -> f64; 3] = [|k| k.g_n0, |k| k.alpha_e, |k| k.u_r];
+                        for x in knots {
+                            ui.label(opt(k.map(x), 2));
+                        }
                         ui.label(format!("{}", st.law.mu_inf));
                         ui.label(match st.cells {
                             0 => "file".to_string(),

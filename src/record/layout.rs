@@ -63,7 +63,8 @@ pub(super) const STAGES: [&str; 8] = [
     "logger_thread",
 ];
 
-/// The recording name: scene name and the parameters a reader compares runs by.
+/// The recording name: scene name and the parameters a reader compares runs by (each law as it
+/// writes itself: family key and parameter values).
 pub fn recording_name(sim: &Simulation) -> String {
     let m = &sim.model;
     let mut name = format!(
@@ -75,16 +76,7 @@ pub fn recording_name(sim: &Simulation) -> String {
         m.material.poisson
     );
     for itf in &m.interfaces {
-        let fam = match &itf.law.family {
-            crate::law::LawFamily::PlateauLinear => "plateau_linear".to_string(),
-            crate::law::LawFamily::Bilinear => "bilinear".to_string(),
-            crate::law::LawFamily::Exponential { decay } => format!("exponential({decay})"),
-            crate::law::LawFamily::Table { .. } => "table".to_string(),
-        };
-        name.push_str(&format!(
-            " · {fam} g_N0={:.3e} α_e={:.3e} u_r={:.3e} μ_inf={}",
-            itf.law.g_n0, itf.law.alpha_e, itf.law.u_r, itf.mu_inf
-        ));
+        name.push_str(&format!(" · {} μ_inf={}", itf.law, itf.mu_inf));
     }
     name.push_str(&format!(" · h={}·h_crit", m.scheme.time_step_factor));
     name

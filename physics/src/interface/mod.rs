@@ -3,7 +3,6 @@
 //! the damage update and its dissipation ([`damage`]), and unilateral contact with Coulomb
 //! friction ([`contact`]).
 
-mod compat;
 pub mod contact;
 pub mod damage;
 pub mod family;

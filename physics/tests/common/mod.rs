@@ -1,7 +1,7 @@
 //! Models built in code for the verification tests, and the project's scene files.
 #![allow(dead_code)]
 
-use decohesion_physics::law::{LawFamily, StiffnessLaw};
+use decohesion_physics::law::{Knots, StiffnessLaw};
 use decohesion_physics::material::{Material, MaterialModel};
 use decohesion_physics::mesh::Mesh;
 use decohesion_physics::model::*;
@@ -85,7 +85,7 @@ pub fn pull_off(n: usize, end_time: f64) -> Model {
     m.interfaces.push(Interface {
         faces: "z-".into(),
         plane: 0,
-        law: StiffnessLaw::new(LawFamily::PlateauLinear, 5e8, 2e-3, 4e-3).unwrap(),
+        law: pull_off_law(),
         mu_inf: 0.5,
         initial_damage: 0.0,
     });
@@ -95,6 +95,16 @@ pub fn pull_off(n: usize, end_time: f64) -> Model {
         history: ramp(0.33, 0.33),
     });
     m
+}
+
+/// The law of the pull-off cube: plateau–linear, g_N(0) = 5e8 Pa/m, α_e = 2 mm, u_r = 4 mm.
+pub fn pull_off_law() -> StiffnessLaw {
+    let knots = Knots {
+        g_n0: 5e8,
+        alpha_e: 2e-3,
+        u_r: 4e-3,
+    };
+    StiffnessLaw::build("plateau_linear", &knots.values()).unwrap()
 }
 
 /// A box resting on a fixed floor (the plane z = 0) through unilateral contact with Coulomb

@@ -14,10 +14,10 @@
 
 mod common;
 use common::*;
-use decohesion::law::{families, ParamValues, StiffnessLaw};
-use decohesion::material::{Material, MaterialModel};
-use decohesion::model::{Interface, PrescribedDisplacement};
-use decohesion::solver::Simulation;
+use decohesion_physics::law::{families, Knots, ParamValues, StiffnessLaw};
+use decohesion_physics::material::{Material, MaterialModel};
+use decohesion_physics::model::{Interface, PrescribedDisplacement};
+use decohesion_physics::solver::Simulation;
 
 fn pull(law: StiffnessLaw) {
     pull_damaged(law, 0.0)
@@ -103,10 +103,7 @@ fn pull_damaged(law: StiffnessLaw, alpha0: f64) {
 
 /// g_N(0), α_e, u_r as a law's parameter values.
 fn knots(g_n0: f64, alpha_e: f64, u_r: f64) -> ParamValues {
-    ParamValues::default()
-        .with("g_n0", g_n0)
-        .with("alpha_e", alpha_e)
-        .with("u_r", u_r)
+    Knots { g_n0, alpha_e, u_r }.values()
 }
 
 /// The laws pulled below and pinned by hand: g_N(0) = 1e9 Pa/m, α_e = 1 mm, u_r = 3 mm (the
@@ -322,7 +319,7 @@ fn admissibility_errors_name_the_key() {
 /// named after it, so that a new file cannot be left out (nor a family lose its file).
 #[test]
 fn the_table_lists_every_file_of_the_laws_folder() {
-    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/physics/src/interface/laws");
+    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/src/interface/laws");
     let mut files: Vec<String> = std::fs::read_dir(dir)
         .unwrap()
         .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
