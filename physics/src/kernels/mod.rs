@@ -241,16 +241,8 @@ unsafe fn chunk_forces_reduced_impl<const FMA: bool, const ISA: u8>(
         };
         e_sum += en;
         hg_sum += hg;
-        if !(j >= min_j) {
-            min_j = j;
-            min_e = e as usize;
-        }
-        for a in 0..8 {
-            let row = &mut *f.0.add(conn[a] as usize);
-            row[0] += fe[a][0];
-            row[1] += fe[a][1];
-            row[2] += fe[a][2];
-        }
+        keep_min_j(j, e, &mut min_j, &mut min_e);
+        scatter(f, conn, &fe);
     }
     (e_sum, hg_sum, min_j, min_e)
 }
@@ -296,19 +288,34 @@ unsafe fn chunk_forces_impl<const FMA: bool, const ISA: u8>(
             element_forces::<false, FMA>(mat, gd, &ue, &mut fe)
         };
         e_sum += en;
-        // `!(j >= min_j)` also catches NaN.
-        if !(j >= min_j) {
-            min_j = j;
-            min_e = e as usize;
-        }
-        for a in 0..8 {
-            let row = &mut *f.0.add(conn[a] as usize);
-            row[0] += fe[a][0];
-            row[1] += fe[a][1];
-            row[2] += fe[a][2];
-        }
+        keep_min_j(j, e, &mut min_j, &mut min_e);
+        scatter(f, conn, &fe);
     }
     (e_sum, min_j, min_e)
+}
+
+/// Keeps the smallest J seen and its element; `!(j >= min_j)` also keeps a NaN (non-finite
+/// displacements).
+#[inline(always)]
+fn keep_min_j(j: f64, e: u32, min_j: &mut f64, min_e: &mut usize) {
+    if !(j >= *min_j) {
+        *min_j = j;
+        *min_e = e as usize;
+    }
+}
+
+/// Adds one element's nodal forces `fe` into the rows `conn` of the global force array.
+///
+/// # Safety
+/// No other thread may write these rows meanwhile (blocks of one colour share no node).
+#[inline(always)]
+unsafe fn scatter(f: SendPtr, conn: &[u32; 8], fe: &[[f64; 3]; 8]) {
+    for a in 0..8 {
+        let row = &mut *f.0.add(conn[a] as usize);
+        row[0] += fe[a][0];
+        row[1] += fe[a][1];
+        row[2] += fe[a][2];
+    }
 }
 
 #[cfg(test)]
