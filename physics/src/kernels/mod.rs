@@ -6,7 +6,7 @@
 mod nodes;
 pub mod simd;
 
-pub(crate) use nodes::{free_velocity_chunk, NodeSums};
+pub(crate) use nodes::{free_velocity_chunk, internal_and_gravity_impulses, NodeSums};
 
 use crate::material::{
     element_forces, element_forces_reduced, element_forces_reduced_lanes, hourglass_stiffness,

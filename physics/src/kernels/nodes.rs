@@ -61,8 +61,7 @@ unsafe fn free_velocity_impl<const FMA: bool, const ISA: u8>(
     let mut node = |i: usize, l: usize, acc: &mut [[f64; L]; 6]| {
         let (vo, fi) = (*v.get_unchecked(i), *f.get_unchecked(i));
         let (mi, imi) = (*m.get_unchecked(i), *im.get_unchecked(i));
-        let pi = [-h_bar * fi[0], -h_bar * fi[1], -h_bar * fi[2]];
-        let pg = [h_bar * mi * g[0], h_bar * mi * g[1], h_bar * mi * g[2]];
+        let (pi, pg) = internal_and_gravity_impulses(h_bar, fi, mi, g);
         let vn = [
             vo[0] + (pi[0] + pg[0]) * imi,
             vo[1] + (pi[1] + pg[1]) * imi,
@@ -94,4 +93,20 @@ unsafe fn free_velocity_impl<const FMA: bool, const ISA: u8>(
         grav_b: sum(4),
         grav_a: sum(5),
     }
+}
+
+/// The internal and gravity impulses of one node over h̄ (PHYSICS.md §4 stage 5):
+/// P_int = −h̄ F_int and P_g = h̄ m g [N·s]. Used by the free velocity and by the boundary
+/// pass's ledger corrections, so both take the same bits.
+#[inline(always)]
+pub(crate) fn internal_and_gravity_impulses(
+    h_bar: f64,
+    f_int: [f64; 3],
+    m: f64,
+    g: [f64; 3],
+) -> ([f64; 3], [f64; 3]) {
+    (
+        [-h_bar * f_int[0], -h_bar * f_int[1], -h_bar * f_int[2]],
+        [h_bar * m * g[0], h_bar * m * g[1], h_bar * m * g[2]],
+    )
 }

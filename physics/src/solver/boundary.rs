@@ -10,6 +10,7 @@ use super::state::{ContactNode, InterfaceNode};
 use super::{Simulation, BOUNDARY_GRAIN};
 use crate::interface::contact::contact_impulse;
 use crate::interface::damage::{cohesive_traction, damage_measure, damage_update};
+use crate::kernels::internal_and_gravity_impulses;
 use crate::mesh::dot;
 use crate::model::Model;
 use crate::team::SharedSlice;
@@ -326,12 +327,7 @@ impl BoundaryStep<'_> {
         let i = b.node as usize;
         let m = self.mass[i];
         let dv = [v[0] - v_free0[0], v[1] - v_free0[1], v[2] - v_free0[2]];
-        let pint = [
-            -h_bar * self.f_int[i][0],
-            -h_bar * self.f_int[i][1],
-            -h_bar * self.f_int[i][2],
-        ];
-        let pg = [h_bar * m * g[0], h_bar * m * g[1], h_bar * m * g[2]];
+        let (pint, pg) = internal_and_gravity_impulses(h_bar, self.f_int[i], m, g);
         out.int_a += 0.5 * dot(dv, pint);
         out.grav_a += 0.5 * dot(dv, pg);
         out.kinetic += 0.5 * m * dot(vo, dv);
