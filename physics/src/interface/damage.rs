@@ -1,6 +1,16 @@
 //! The cohesive part of the interface at one node (PHYSICS.md §3, §4 stages 4 and 8, §5):
 //! traction R_d = g_N(α)[u], stored energy Ψ_d = ½ W g_N(α)|[u]|², the damage update of eq. 12
 //! and its dissipation increment.
+//!
+//! Generalised (README, "The model in one paragraph"): a law may load the tangential jump with
+//! g_T = r g_N (r = r_T of the g_N(α) families, C_T/C_N of `rccm`) and the normal jump on opening
+//! only (`rccm`: R_N = C_N β²⟨[u]_N⟩₊). With [u]_N = [u]·n, [u]_T = [u] − [u]_N n and ũ_N the
+//! normal jump the law loads ([u]_N, or ⟨[u]_N⟩₊ on opening only):
+//! R_d = g_N(α)(ũ_N n + r [u]_T), Ψ_d = ½ W g_N(α)(ũ_N² + r|[u]_T|²), and the damage is driven by
+//! f = (⟨[u]_N⟩₊² + r|[u]_T|²)^½, so that Ψ_d = ½ W g_N(α) f² on opening and the Clausius–Duhem
+//! dissipation −∂Ψ_d/∂α α̇ = −½ W g_N′(α) f² α̇ is ≥ 0 for every r > 0. With r = 1 and both
+//! signs of the normal jump loaded (every g_N(α) family by default) these are the formulas of
+//! PHYSICS.md, evaluated by the same operations.
 
 use crate::mesh::dot;
 
@@ -9,9 +19,16 @@ use crate::mesh::dot;
 /// (PHYSICS.md §3), and must not damage the glue.
 #[inline]
 pub fn damage_measure(jump: [f64; 3], n: [f64; 3]) -> f64 {
+    weighted_damage_measure(jump, n, 1.0)
+}
+
+/// The damage measure of a law with tangential ratio r: f = (⟨[u]_N⟩₊² + r|[u]_T|²)^½ (module
+/// doc). With r = 1 it is [`damage_measure`] bit for bit (1·x = x).
+#[inline]
+pub fn weighted_damage_measure(jump: [f64; 3], n: [f64; 3], r: f64) -> f64 {
     let un = dot(jump, n);
     let t2 = dot(jump, jump) - un * un;
-    (un.max(0.0).powi(2) + t2.max(0.0)).sqrt()
+    (un.max(0.0).powi(2) + r * t2.max(0.0)).sqrt()
 }
 
 /// Eq. 12 evaluated on a configuration: α' = min(u_r, max(α, f)), the largest jump ever
@@ -46,4 +63,75 @@ pub fn dissipation_increment(
     jump: [f64; 3],
 ) -> f64 {
     0.5 * area * (stiffness_before - stiffness) * dot(jump_before, jump)
+}
+
+/// How a law loads the jump: the tangential ratio r = g_T/g_N and whether the normal jump is
+/// loaded on opening only (module doc).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Loading {
+    pub ratio: f64,
+    pub opening_only: bool,
+}
+
+impl Loading {
+    /// One stiffness for every component, both signs of the normal jump: PHYSICS.md's law.
+    #[inline]
+    pub fn isotropic(&self) -> bool {
+        self.ratio == 1.0 && !self.opening_only
+    }
+
+    /// (ũ_N, [u]_T): the normal jump the law loads and the tangential jump.
+    #[inline]
+    fn split(&self, jump: [f64; 3], n: [f64; 3]) -> (f64, [f64; 3]) {
+        let un = dot(jump, n);
+        let ut = std::array::from_fn(|c| jump[c] - un * n[c]);
+        (if self.opening_only { un.max(0.0) } else { un }, ut)
+    }
+
+    /// R_d = g_N(α)(ũ_N n + r [u]_T) [Pa].
+    #[inline]
+    pub fn traction(&self, stiffness: f64, jump: [f64; 3], n: [f64; 3]) -> [f64; 3] {
+        if self.isotropic() {
+            return cohesive_traction(stiffness, jump);
+        }
+        let (un, ut) = self.split(jump, n);
+        std::array::from_fn(|c| stiffness * (un * n[c] + self.ratio * ut[c]))
+    }
+
+    /// ũ_N ũ'_N + r [u]_T·[u]'_T: the product the energies are made of.
+    #[inline]
+    fn product(&self, a: [f64; 3], b: [f64; 3], n: [f64; 3]) -> f64 {
+        let ((an, at), (bn, bt)) = (self.split(a, n), self.split(b, n));
+        an * bn + self.ratio * dot(at, bt)
+    }
+
+    /// Ψ_d = ½ W g_N(α)(ũ_N² + r|[u]_T|²) [J].
+    #[inline]
+    pub fn stored_energy(&self, area: f64, stiffness: f64, jump: [f64; 3], n: [f64; 3]) -> f64 {
+        if self.isotropic() {
+            return stored_energy(area, stiffness, jump);
+        }
+        0.5 * area * stiffness * self.product(jump, jump, n)
+    }
+
+    /// ΔDₙ = W ½ (g_N(αₙ₋₁) − g_N(αₙ))(ũ_N,ₙ₋₁ ũ_N,ₙ + r [u]_T,ₙ₋₁·[u]_T,ₙ) [J]: the trapezoid
+    /// work of the traction minus ΔΨ_d, exactly, on each component (for a normal jump loaded on
+    /// opening only, up to the step where it changes sign); ≥ 0 while g_N does not increase and
+    /// the loaded jump turns by less than 90° in a step (always, for the normal part on opening
+    /// only).
+    #[inline]
+    pub fn dissipation_increment(
+        &self,
+        area: f64,
+        stiffness_before: f64,
+        stiffness: f64,
+        jump_before: [f64; 3],
+        jump: [f64; 3],
+        n: [f64; 3],
+    ) -> f64 {
+        if self.isotropic() {
+            return dissipation_increment(area, stiffness_before, stiffness, jump_before, jump);
+        }
+        0.5 * area * (stiffness_before - stiffness) * self.product(jump_before, jump, n)
+    }
 }

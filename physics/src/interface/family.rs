@@ -7,6 +7,7 @@
 //! checks. `physics/build.rs` lists the files, so [`families`] — the table that the scene loader,
 //! the explorer and the recorder read — needs no editing when a family is added.
 
+use super::damage::Loading;
 use super::law::{LawError, StiffnessLaw};
 use super::laws::{LawKind, FAMILIES};
 use serde::{Deserialize, Serialize};
@@ -253,6 +254,14 @@ pub const U_R: Param = Param::number("u_r", "u_r", "m", Range::above(0.0), 4e-3)
     .meaning("rupture opening (> α_e)")
     .editor([1e-6, 0.1], true);
 
+/// r_T, shared by the g_N(α) families: g_T(α) = r_T g_N(α) loads the tangential jump, and the
+/// damage measure weighs it, f = (⟨[u]_N⟩₊² + r_T|[u]_T|²)^½ (`damage.rs`), so that G_c is the
+/// work of separation in every mode. Optional, 1 by default (PHYSICS.md's one stiffness).
+pub const R_T: Param = Param::number("r_t", "r_T", "–", Range::above(0.0), 1.0)
+    .meaning("tangential/normal stiffness ratio g_T/g_N")
+    .editor([0.05, 20.0], true)
+    .optional();
+
 /// The value of one parameter.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(untagged)]
@@ -385,12 +394,46 @@ pub trait Family: Sized + Into<LawKind> {
     /// g_N(α) [Pa/m] on the softening branch, α_e < α < u_r.
     fn softening(&self, law: &StiffnessLaw, alpha: f64) -> f64;
 
-    /// G_c = ∫₀^{u_r} g_N(δ) δ dδ [J/m²] in closed form.
+    /// G_c = ∫₀^∞ g_N(δ) δ dδ [J/m²] in closed form (= ∫₀^{u_r} for a law cut at u_r): the
+    /// work of separation under monotonic opening, in any mode (`damage.rs`).
     fn fracture_energy(&self, law: &StiffnessLaw) -> f64;
 
     /// Openings where T(δ) = g_N(δ)δ may peak that a uniform sampling could miss (kinks, an
     /// interior maximum); [`StiffnessLaw::peak_traction`] also samples [0, u_r].
     fn peak_candidates(&self, _law: &StiffnessLaw, _consider: &mut dyn FnMut(f64)) {}
+
+    /// g_N is cut to 0 at u_r (every g_N(α) family); `false` for a law whose stiffness only
+    /// tends to 0 (`rccm`: its u_r marks the ruptured state, its g_N goes on past it).
+    const CUT_AT_RUPTURE: bool = true;
+
+    /// The normal jump is loaded on opening only (R_N = g_N⟨[u]_N⟩₊, `rccm`); the g_N(α)
+    /// families load both signs (PHYSICS.md §3).
+    const OPENING_ONLY: bool = false;
+
+    /// The tangential ratio r = g_T/g_N of a family that does not take [`R_T`] (`rccm`:
+    /// C_T/C_N); a family that takes `r_t` gets its value.
+    fn tangential_ratio(&self) -> f64 {
+        1.0
+    }
+
+    /// Stage 8 (PHYSICS.md §4) for the family: α at the end of an interval `h` from α, α_s and
+    /// the damage measure f of the next configuration. By default eq. 12, delayed when the
+    /// law has a delay ([`StiffnessLaw::rate_independent_or_delayed`]).
+    fn next_damage(
+        &self,
+        law: &StiffnessLaw,
+        alpha: f64,
+        alpha_s: &mut f64,
+        f: f64,
+        h: f64,
+    ) -> f64 {
+        law.rate_independent_or_delayed(alpha, alpha_s, f, h)
+    }
+
+    /// Whether the family takes `[interface.delay]`; `Some(reason)` when it does not.
+    fn refuses_delay(&self) -> Option<&'static str> {
+        None
+    }
 }
 
 /// One row of the table of families: what [`Family`] declares, without its type.
@@ -494,5 +537,18 @@ fn build<F: Family>(given: &ParamValues) -> Result<StiffnessLaw, LawError> {
         values.0.insert(p.key.to_string(), value);
     }
     let (own, knots) = F::build(&values)?;
-    Ok(StiffnessLaw::from_parts(own.into(), knots))
+    let r_t = match values.get(R_T.key) {
+        Some(ParamValue::Number(r)) => *r,
+        _ => own.tangential_ratio(),
+    };
+    let loading = Loading {
+        ratio: r_t,
+        opening_only: F::OPENING_ONLY,
+    };
+    Ok(StiffnessLaw::from_parts(
+        own.into(),
+        knots,
+        loading,
+        F::CUT_AT_RUPTURE,
+    ))
 }

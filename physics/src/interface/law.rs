@@ -10,9 +10,12 @@
 use serde::Serialize;
 use std::fmt;
 
+pub use super::damage::Loading;
+use super::damage::{damage_update, weighted_damage_measure};
+pub use super::delay::Delay;
 pub use super::family::{
     families, family, family_or_error, Family, FamilySpec, Knots, NumberParam, Param, ParamKind,
-    ParamValue, ParamValues, Range,
+    ParamValue, ParamValues, Range, R_T,
 };
 pub use super::laws::LawKind;
 
@@ -26,6 +29,12 @@ pub struct StiffnessLaw {
     pub alpha_e: f64,
     /// Rupture opening u_r [m].
     pub u_r: f64,
+    /// How the jump is loaded: g_T/g_N and the normal jump on opening only (`damage.rs`).
+    loading: Loading,
+    /// g_N = 0 from u_r on ([`Family::CUT_AT_RUPTURE`]).
+    cut: bool,
+    /// `[interface.delay]`, if any: the damage follows eq. 12 at a bounded rate.
+    delay: Option<Delay>,
 }
 
 /// Why a law is not admissible (PHYSICS.md §3, last paragraph). `key` names the offending
@@ -60,14 +69,47 @@ impl StiffnessLaw {
         FamilySpec::of::<F>().build(values)
     }
 
-    /// The law of `kind` with these knots, checked by its family.
-    pub(super) fn from_parts(kind: LawKind, knots: Knots) -> Self {
+    /// The law of `kind` with these knots and loading, checked by its family.
+    pub(super) fn from_parts(kind: LawKind, knots: Knots, loading: Loading, cut: bool) -> Self {
         StiffnessLaw {
             kind,
             g_n0: knots.g_n0,
             alpha_e: knots.alpha_e,
             u_r: knots.u_r,
+            loading,
+            cut,
+            delay: None,
         }
+    }
+
+    /// This law with delayed damage (`Some`) or rate-independent (`None`); refused, naming
+    /// `delay`, by a family with a rate effect of its own (`rccm`).
+    pub fn with_delay(mut self, delay: Option<Delay>) -> Result<Self, LawError> {
+        if let (Some(d), Some(reason)) = (delay, self.kind.refuses_delay()) {
+            return Err(LawError::new(
+                "delay",
+                format!("tau_c = {}", d.tau_c),
+                reason,
+            ));
+        }
+        self.delay = delay;
+        Ok(self)
+    }
+
+    /// The delay of `[interface.delay]`, if any.
+    pub fn delay(&self) -> Option<Delay> {
+        self.delay
+    }
+
+    /// Whether g_N = 0 from u_r on ([`Family::CUT_AT_RUPTURE`]; `false` for `rccm`, whose u_r
+    /// marks the ruptured state and whose stiffness only tends to 0).
+    pub fn cut_at_rupture(&self) -> bool {
+        self.cut
+    }
+
+    /// How the jump is loaded: g_T/g_N and whether the normal jump is loaded on opening only.
+    pub fn loading(&self) -> Loading {
+        self.loading
     }
 
     /// Its family, with the family's own data.
@@ -81,9 +123,13 @@ impl StiffnessLaw {
     }
 
     /// The parameter values that build this law again (a scene's `[interface.law]` table
-    /// without `family`).
+    /// without `family`); r_T only when it is not its default 1.
     pub fn values(&self) -> ParamValues {
-        self.kind.values(self)
+        let values = self.kind.values(self);
+        match self.spec().param(R_T.key) {
+            Some(_) if self.loading.ratio != 1.0 => values.with(R_T.key, self.loading.ratio),
+            _ => values,
+        }
     }
 
     /// g_N(0), α_e, u_r.
@@ -102,10 +148,114 @@ impl StiffnessLaw {
         if alpha <= self.alpha_e {
             return self.g_n0;
         }
-        if alpha >= self.u_r {
+        if alpha >= self.u_r && self.cut {
             return 0.0;
         }
         self.kind.softening(self, alpha)
+    }
+
+    /// The stiffest spring of the node, max(g_N, g_T)(α) = max(1, r) g_N(α) [Pa/m]: what the
+    /// stable-step estimate (PHYSICS.md §6) puts on the diagonal.
+    #[inline]
+    pub fn spring_stiffness(&self, alpha: f64) -> f64 {
+        self.g_n(alpha) * self.loading.ratio.max(1.0)
+    }
+
+    /// Damage measure f = (⟨[u]_N⟩₊² + r|[u]_T|²)^½ of a jump (`damage.rs`).
+    #[inline]
+    pub fn damage_measure(&self, jump: [f64; 3], n: [f64; 3]) -> f64 {
+        weighted_damage_measure(jump, n, self.loading.ratio)
+    }
+
+    /// α₀ = min(u_r, max(initial damage, f₀)) (eq. 12 with the damage the interface had before
+    /// the run); a delayed law starts with α = α_s = α₀.
+    pub fn initial_damage(&self, initial: f64, jump: [f64; 3], n: [f64; 3]) -> f64 {
+        damage_update(initial, self.damage_measure(jump, n), self.u_r)
+    }
+
+    /// Stage 8 (PHYSICS.md §4): α at the end of an interval `h` over which the jump reaches
+    /// `jump`, from α and α_s (updated here when the law is delayed), by the family's update.
+    #[inline]
+    pub fn next_damage(
+        &self,
+        alpha: f64,
+        alpha_s: &mut f64,
+        jump: [f64; 3],
+        n: [f64; 3],
+        h: f64,
+    ) -> f64 {
+        let f = self.damage_measure(jump, n);
+        self.kind.next_damage(self, alpha, alpha_s, f, h)
+    }
+
+    /// Eq. 12, α' = min(u_r, max(α, f)), without a delay (α_s is α: `alpha_s` is neither read
+    /// nor written); with one, α_s' = min(u_r, max(α_s, f)) and α' = α advanced towards α_s'
+    /// over `h` by the exact solution of the delay ODE ([`Delay::advance`]).
+    #[inline]
+    pub fn rate_independent_or_delayed(
+        &self,
+        alpha: f64,
+        alpha_s: &mut f64,
+        f: f64,
+        h: f64,
+    ) -> f64 {
+        match &self.delay {
+            None => damage_update(alpha, f, self.u_r),
+            Some(d) => {
+                *alpha_s = damage_update(*alpha_s, f, self.u_r);
+                d.advance(alpha, *alpha_s, self.u_r, h)
+            }
+        }
+    }
+
+    /// Cohesive traction R_d [Pa] at stiffness g_N(α) = `stiffness` (`damage.rs`).
+    #[inline]
+    pub fn cohesive_traction(&self, stiffness: f64, jump: [f64; 3], n: [f64; 3]) -> [f64; 3] {
+        self.loading.traction(stiffness, jump, n)
+    }
+
+    /// Stored energy Ψ_d of one node [J] (`damage.rs`, PHYSICS.md §5).
+    #[inline]
+    pub fn stored_energy(&self, area: f64, stiffness: f64, jump: [f64; 3], n: [f64; 3]) -> f64 {
+        self.loading.stored_energy(area, stiffness, jump, n)
+    }
+
+    /// Damage dissipation ΔD of one node over a step [J] (`damage.rs`, PHYSICS.md §5).
+    #[inline]
+    pub fn dissipation_increment(
+        &self,
+        area: f64,
+        stiffness_before: f64,
+        stiffness: f64,
+        jump_before: [f64; 3],
+        jump: [f64; 3],
+        n: [f64; 3],
+    ) -> f64 {
+        (self.loading).dissipation_increment(
+            area,
+            stiffness_before,
+            stiffness,
+            jump_before,
+            jump,
+            n,
+        )
+    }
+
+    /// T(δ) under pure normal opening at the constant rate `rate` [m/s], with the law's own
+    /// update (the delay, `rccm`'s viscosity): (δ, T) at `steps` + 1 openings over
+    /// [0, `delta_max`]. Without a rate effect it is [`StiffnessLaw::traction`].
+    pub fn traction_at_rate(&self, rate: f64, delta_max: f64, steps: usize) -> Vec<[f64; 2]> {
+        let (n, dt) = ([0.0, 0.0, 1.0], delta_max / (steps as f64 * rate));
+        let (mut alpha, mut alpha_s) = (0.0, 0.0);
+        (0..=steps)
+            .map(|k| {
+                let delta = delta_max * k as f64 / steps as f64;
+                if k > 0 {
+                    alpha = self.next_damage(alpha, &mut alpha_s, [0.0, 0.0, delta], n, dt);
+                }
+                [delta, self.g_n(alpha) * delta]
+            })
+            .collect()
     }
 
     /// Friction coefficient grown by damage, paper eq. 21: μ(α) = μ_inf (1 − g_N(α)/g_N(0)).
@@ -192,7 +342,11 @@ impl fmt::Display for StiffnessLaw {
                 ParamValue::Points(points) => Some(format!("{} {}", points.len(), p.key)),
             })
             .collect();
-        write!(f, "{} ({})", spec.key, shown.join(", "))
+        write!(f, "{} ({})", spec.key, shown.join(", "))?;
+        match self.delay {
+            Some(d) => write!(f, " delayed (tau_c = {}, a = {})", d.tau_c, d.a),
+            None => Ok(()),
+        }
     }
 }
 
@@ -211,7 +365,7 @@ pub enum InterfaceState {
 #[cfg(test)]
 mod tests {
     use super::super::laws::{bilinear::Bilinear, exponential::Exponential};
-    use super::super::laws::{plateau_linear::PlateauLinear, table::Table};
+    use super::super::laws::{plateau_linear::PlateauLinear, rccm::Rccm, table::Table};
     use super::*;
 
     fn simpson(f: impl Fn(f64) -> f64, a: f64, b: f64, n: usize) -> f64 {
@@ -238,6 +392,15 @@ mod tests {
             StiffnessLaw::of::<Bilinear>(&knots(2e9, 5e-4, 3e-3)).unwrap(),
             StiffnessLaw::of::<Exponential>(&knots(2e9, 5e-4, 3e-3).with("decay", 4.0)).unwrap(),
             table(&[[0.0, 1e9], [1e-4, 1e9], [5e-4, 4e8], [2e-3, 0.0]]).unwrap(),
+            StiffnessLaw::of::<Bilinear>(&knots(2e9, 5e-4, 3e-3).with("r_t", 0.3)).unwrap(),
+            StiffnessLaw::of::<Rccm>(
+                &ParamValues::default()
+                    .with("c_n", 1e9)
+                    .with("c_t", 3e8)
+                    .with("w", 150.0)
+                    .with("b", 2.0),
+            )
+            .unwrap(),
         ];
         laws.extend(families().iter().map(|f| f.build(&f.defaults()).unwrap()));
         laws
@@ -261,7 +424,8 @@ mod tests {
                         2000,
                     )
                 })
-                .sum();
+                .sum::<f64>()
+                + tail(law);
             let exact = law.fracture_energy();
             // Simpson on smooth pieces with 2000 panels: error ≪ 1e-9 relative.
             assert!(
@@ -271,8 +435,21 @@ mod tests {
         }
     }
 
-    /// PHYSICS.md §3: g_N(0) on [0, α_e], non-increasing, 0 from u_r on; and the values a law
-    /// gives back build the same law.
+    /// ∫_{u_r}^∞ T dδ (0 for a law cut at u_r), by δ = u_r/s: ∫₀¹ T(u_r/s) u_r/s² ds, whose
+    /// integrand is smooth (∝ s for `rccm`'s T ∝ δ⁻³).
+    fn tail(law: &StiffnessLaw) -> f64 {
+        let f = |s: f64| {
+            if s == 0.0 {
+                0.0
+            } else {
+                law.traction(law.u_r / s) * law.u_r / (s * s)
+            }
+        };
+        simpson(f, 0.0, 1.0, 2000)
+    }
+
+    /// PHYSICS.md §3: g_N(0) on [0, α_e], non-increasing, 0 from u_r on (for a law cut at
+    /// u_r); and the values a law gives back build the same law.
     #[test]
     fn every_law_is_admissible_and_rebuilds_from_its_values() {
         for law in &laws() {
@@ -285,7 +462,9 @@ mod tests {
                 assert!(g <= previous && g >= 0.0, "{law}: g_N grows at step {i}");
                 previous = g;
             }
-            assert_eq!(law.g_n(law.u_r), 0.0, "{law}");
+            if law.cut {
+                assert_eq!(law.g_n(law.u_r), 0.0, "{law}");
+            }
             assert_eq!(
                 &StiffnessLaw::build(law.spec().key, &law.values()).unwrap(),
                 law

@@ -5,6 +5,7 @@
 
 pub mod contact;
 pub mod damage;
+pub mod delay;
 pub mod family;
 pub mod law;
 pub mod laws;

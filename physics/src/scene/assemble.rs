@@ -191,7 +191,7 @@ impl Check<'_> {
             it.initial_damage,
             "must be ≥ 0 m (the damage α₀ at t = 0; ≥ u_r means ruptured from the start)",
         )?;
-        let law = self.law(&format!("{key}.law"), it.law)?;
+        let law = self.delayed_law(&key, it.law, it.delay)?;
         self.attach(attached, &faces, plane, key)?;
         Ok(Interface {
             faces,

@@ -3,10 +3,36 @@
 
 use super::check::Check;
 use super::error::{show, SceneError};
-use super::raw::RawLaw;
-use crate::law::{family_or_error, LawError, ParamKind, ParamValue, ParamValues, StiffnessLaw};
+use super::raw::{RawDelay, RawLaw};
+use crate::law::{
+    family_or_error, Delay, LawError, ParamKind, ParamValue, ParamValues, StiffnessLaw,
+};
 
 impl Check<'_> {
+    /// `interface[i].law` and `interface[i].delay`: the law, delayed when the table is given
+    /// (τ_c > 0, a > 0; refused by a family with its own rate effect, `rccm`).
+    pub(super) fn delayed_law(
+        &self,
+        key: &str,
+        raw: RawLaw,
+        delay: Option<RawDelay>,
+    ) -> Result<StiffnessLaw, SceneError> {
+        let law = self.law(&format!("{key}.law"), raw)?;
+        let delay_error = |e: LawError| {
+            let at = if e.key == "delay" {
+                format!("{key}.delay")
+            } else {
+                format!("{key}.delay.{}", e.key)
+            };
+            self.invalid(at, e.value, e.reason)
+        };
+        let delay = match delay {
+            None => None,
+            Some(d) => Some(Delay::new(d.tau_c, d.a).map_err(delay_error)?),
+        };
+        law.with_delay(delay).map_err(delay_error)
+    }
+
     /// The RCCM law of `interface[i]`: the keys its family takes, then the family's checks.
     pub(super) fn law(&self, key: &str, raw: RawLaw) -> Result<StiffnessLaw, SceneError> {
         let law_error = |e: LawError| self.invalid(format!("{key}.{}", e.key), e.value, e.reason);

@@ -101,6 +101,15 @@ pub struct RawInterface {
     #[serde(default)]
     pub initial_damage: f64,
     pub law: RawLaw,
+    pub delay: Option<RawDelay>,
+}
+
+/// `[interface.delay]`: delayed damage on the interface's law (absent: rate-independent).
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawDelay {
+    pub tau_c: f64,
+    pub a: f64,
 }
 
 /// `[interface.law]`: the family's key and its parameters, which the family's row of the table

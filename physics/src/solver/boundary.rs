@@ -9,7 +9,6 @@ use super::stages::StepScratch;
 use super::state::{ContactNode, InterfaceNode};
 use super::{Simulation, BOUNDARY_GRAIN};
 use crate::interface::contact::contact_impulse;
-use crate::interface::damage::{cohesive_traction, damage_measure, damage_update};
 use crate::kernels::internal_and_gravity_impulses;
 use crate::mesh::dot;
 use crate::model::Model;
@@ -226,8 +225,9 @@ impl BoundaryStep<'_> {
         for (slot, e) in b.interfaces.clone().enumerate() {
             let itf = itfs.get(self.boundary.interfaces[e as usize] as usize);
             let law = &self.model.interfaces[itf.interface as usize].law;
+            let n = self.model.planes[self.model.interfaces[itf.interface as usize].plane].normal;
             itf.stiffness = law.g_n(itf.alpha);
-            itf.cohesive_traction = cohesive_traction(itf.stiffness, itf.jump);
+            itf.cohesive_traction = law.cohesive_traction(itf.stiffness, itf.jump, n);
             let p = itf.cohesive_traction.map(|c| -self.h_bar * itf.area * c);
             if slot < MAX_CONSTRAINTS {
                 impulses.cohesion[slot] = p;
@@ -387,8 +387,9 @@ impl BoundaryStep<'_> {
             let vp = self.scratch.plane_v_new[spec.plane];
             let next: [f64; 3] =
                 std::array::from_fn(|c| itf.jump[c] + self.h_next * (v[c] - vp[c]));
-            let f = damage_measure(next, self.model.planes[spec.plane].normal);
-            itf.alpha_next = damage_update(itf.alpha, f, spec.law.u_r);
+            let n = self.model.planes[spec.plane].normal;
+            itf.alpha_next =
+                (spec.law).next_damage(itf.alpha, &mut itf.alpha_static, next, n, self.h_next);
         }
     }
 }

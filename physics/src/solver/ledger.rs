@@ -4,7 +4,6 @@
 use super::state::{SolverError, StateCounts};
 use super::Simulation;
 use crate::energy::Work;
-use crate::interface::damage::{dissipation_increment, stored_energy};
 
 /// What the interface nodes hold after a step: Σ Ψ_d, Σ ΔD, the most negative ΔD and the
 /// state counts.
@@ -105,14 +104,16 @@ impl Simulation {
             counts: StateCounts::default(),
         };
         for itf in self.interface_nodes.iter_mut() {
-            let law = &self.model.interfaces[itf.interface as usize].law;
-            out.stored += stored_energy(itf.area, itf.stiffness, itf.jump);
-            let dd = dissipation_increment(
+            let spec = &self.model.interfaces[itf.interface as usize];
+            let (law, n) = (&spec.law, self.model.planes[spec.plane].normal);
+            out.stored += law.stored_energy(itf.area, itf.stiffness, itf.jump, n);
+            let dd = law.dissipation_increment(
                 itf.area,
                 itf.prev_stiffness,
                 itf.stiffness,
                 itf.prev_jump,
                 itf.jump,
+                n,
             );
             out.worst = out.worst.min(dd);
             out.dissipated += dd;

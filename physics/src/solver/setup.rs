@@ -9,7 +9,6 @@ use super::state::{
 };
 use super::{Simulation, ELEMENT_GRAIN, PARALLEL_MIN_ELEMENTS};
 use crate::energy::Ledger;
-use crate::interface::damage::{damage_measure, damage_update};
 use crate::mesh::{dot, sub, ElementClasses, Mesh};
 use crate::model::Model;
 use crate::team::Team;
@@ -63,6 +62,7 @@ fn glued_nodes(model: &Model) -> Result<Vec<InterfaceNode>, SolverError> {
                 bonded_point: y0,
                 alpha: 0.0,
                 alpha_next: 0.0,
+                alpha_static: 0.0,
                 jump: [0.0; 3],
                 gap: gap0,
                 stiffness: itf.law.g_n0,
@@ -287,8 +287,8 @@ impl Simulation {
         for itf in self.interface_nodes.iter_mut() {
             let spec = &self.model.interfaces[itf.interface as usize];
             let (law, n) = (&spec.law, self.model.planes[spec.plane].normal);
-            itf.alpha = damage_update(spec.initial_damage, damage_measure(itf.jump, n), law.u_r);
-            itf.alpha_next = itf.alpha;
+            itf.alpha = law.initial_damage(spec.initial_damage, itf.jump, n);
+            (itf.alpha_next, itf.alpha_static) = (itf.alpha, itf.alpha);
             itf.stiffness = law.g_n(itf.alpha);
             itf.prev_stiffness = itf.stiffness;
             itf.prev_jump = itf.jump;

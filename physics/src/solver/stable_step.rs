@@ -144,7 +144,10 @@ impl<'a> StiffnessOperator<'a> {
             .filter(|_| springs)
             .map(|itf| {
                 let law = &sim.model.interfaces[itf.interface as usize].law;
-                (itf.node as usize, itf.area * law.g_n(itf.alpha))
+                (
+                    itf.node as usize,
+                    itf.area * law.spring_stiffness(itf.alpha),
+                )
             })
             .collect();
         StiffnessOperator {

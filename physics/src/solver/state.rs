@@ -61,6 +61,9 @@ pub struct InterfaceNode {
     pub alpha: f64,
     /// αₙ₊₁, predicted by stage 8 [m].
     pub alpha_next: f64,
+    /// α_s = min(u_r, max over the history of f), the target of a delayed law [m]; without a
+    /// delay α is α_s and this slot is neither read nor written after t = 0.
+    pub alpha_static: f64,
     /// Displacement jump [u]ₙ [m].
     pub jump: [f64; 3],
     /// Normal gap gₙ [m].

@@ -54,6 +54,28 @@ macro_rules! families {
                 }
             }
 
+            /// [`Family::next_damage`] of the family.
+            #[inline]
+            pub(crate) fn next_damage(
+                &self,
+                law: &StiffnessLaw,
+                alpha: f64,
+                alpha_s: &mut f64,
+                f: f64,
+                h: f64,
+            ) -> f64 {
+                match self {
+                    $(LawKind::$family(k) => k.next_damage(law, alpha, alpha_s, f, h),)*
+                }
+            }
+
+            /// [`Family::refuses_delay`] of the family.
+            pub(crate) fn refuses_delay(&self) -> Option<&'static str> {
+                match self {
+                    $(LawKind::$family(f) => f.refuses_delay(),)*
+                }
+            }
+
             /// [`Family::peak_candidates`] of the family.
             pub(crate) fn peak_candidates(&self, law: &StiffnessLaw, consider: &mut dyn FnMut(f64)) {
                 match self {

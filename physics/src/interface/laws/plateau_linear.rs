@@ -1,7 +1,7 @@
 //! `plateau_linear`, the paper's fig. 5 (PHYSICS.md §3): g_N = g_N(0) on [0, α_e], then a linear
 //! decrease to 0 at u_r.
 
-use crate::interface::family::{Family, Knots, Param, ParamValues, ALPHA_E, G_N0, U_R};
+use crate::interface::family::{R_T, Family, Knots, Param, ParamValues, ALPHA_E, G_N0, U_R};
 use crate::interface::law::{LawError, StiffnessLaw};
 
 /// Plateau then linear decrease of the stiffness; no data beyond g_N(0), α_e, u_r.
@@ -11,7 +11,7 @@ pub struct PlateauLinear;
 impl Family for PlateauLinear {
     const KEY: &'static str = "plateau_linear";
     const LABEL: &'static str = "plateau–linear (paper fig. 5)";
-    const PARAMS: &'static [Param] = &[G_N0, ALPHA_E, U_R];
+    const PARAMS: &'static [Param] = &[G_N0, ALPHA_E, U_R, R_T];
 
     /// Admissible as soon as g_N(0) > 0, α_e ≥ 0 and u_r > α_e: g_N is then non-increasing
     /// and g_N(u_r) = 0 by construction.

@@ -2,7 +2,7 @@
 //! point is at α = 0 (its g_N is g_N(0)), the last one at α = u_r with g_N = 0; α_e is the end of
 //! the leading plateau.
 
-use crate::interface::family::{Family, Knots, Param, ParamKind, ParamValues};
+use crate::interface::family::{R_T, Family, Knots, Param, ParamKind, ParamValues};
 use crate::interface::law::{LawError, StiffnessLaw};
 
 /// A piecewise-linear g_N through the user's points.
@@ -28,7 +28,7 @@ const POINTS: Param = Param {
 impl Family for Table {
     const KEY: &'static str = "table";
     const LABEL: &'static str = "table of points";
-    const PARAMS: &'static [Param] = &[POINTS];
+    const PARAMS: &'static [Param] = &[POINTS, R_T];
 
     /// Checks the table: ≥ 2 points, finite, first α = 0, g_N(0) > 0, α strictly increasing,
     /// g_N non-increasing (Clausius–Duhem, paper eqs. 13–16), last g_N = 0.
