@@ -272,3 +272,110 @@ fn bad_delays_and_ratios_are_refused_naming_the_key() {
     }
     parse_scene(&rccm_text, "t.toml", &[]).unwrap();
 }
+
+/// What a pull of `scenes/rate_effect.toml` at `speed` gives: damage dissipated, peak reaction,
+/// the largest damage rate over any node and step, whether every node ruptured, the largest
+/// relative balance residual.
+struct Pull {
+    dissipated: f64,
+    peak: f64,
+    max_rate: f64,
+    ruptured: bool,
+    residual: f64,
+}
+
+/// The scene at `speed` [m/s] (the same four-step start over 2 ms, then constant; until
+/// 2.5 u_r/speed + 0.1 s), with τ_c = `tau_c`.
+fn pull_at(speed: f64, tau_c: f64) -> Pull {
+    let (ta, t_end) = (2e-3, 2.5 * 4e-3 / speed + 0.1);
+    let mut rows = vec![[0.0, 0.0]];
+    for k in 1..=4 {
+        let u = rows.last().unwrap()[1] + speed * k as f64 / 4.0 * ta / 4.0;
+        rows.push([k as f64 * ta / 4.0, u]);
+    }
+    rows.push([t_end, rows[4][1] + speed * (t_end - ta)]);
+    let table: Vec<String> = rows
+        .iter()
+        .map(|r| format!("[{:e},{:e}]", r[0], r[1]))
+        .collect();
+    let set = [
+        format!("end_time={t_end:e}"),
+        format!("displacement.0.table=[{}]", table.join(",")),
+        format!("interface.delay.tau_c={tau_c:e}"),
+    ];
+    let scene = decohesion_physics::scene::load_scene(&scene_file("rate_effect.toml"), &set)
+        .unwrap_or_else(|e| panic!("{e}"));
+    let mut sim = Simulation::new(scene.model).unwrap();
+    let mut max_rate = 0.0f64;
+    while !sim.finished() {
+        sim.step().unwrap();
+        for itf in &sim.interface_nodes {
+            max_rate = max_rate.max((itf.alpha_next - itf.alpha) / sim.h);
+        }
+    }
+    Pull {
+        dissipated: sim.ledger.damage_dissipated,
+        peak: sim.stats.peaks[0].force,
+        max_rate,
+        ruptured: sim.state_counts().ruptured == sim.interface_nodes.len(),
+        residual: sim.ledger.max_relative_residual,
+    }
+}
+
+/// `scenes/rate_effect.toml` over two decades of pull speed (0.01, 0.1, 1 m/s; the README adds
+/// 1 mm/s): the rate-independent glue (τ_c = 1e-15 s, bit-identical to no delay) dissipates
+/// G_c × area = 23.33 J at every speed (a stable, quasi-static mode-I opening: 1e-3); the
+/// delayed one more, and more the faster, with the peak force; at 0.01 m/s within twice the
+/// steady-lag estimate g_N(0) x (u_r + α_e)/2 × area, x = v τ_c/a = 50 µm (3.2 % of G_c); at 1 m/s
+/// (2.5 × u_r/τ_c) strongly delayed (> 5 G_c); the damage rate never exceeds u_r/τ_c = 0.4 m/s.
+#[test]
+fn rate_effect_scene_spans_rate_independent_to_strongly_delayed() {
+    let scene =
+        decohesion_physics::scene::load_scene(&scene_file("rate_effect.toml"), &[]).unwrap();
+    let law = &scene.model.interfaces[0].law;
+    let d = law.delay().expect("the scene's glue is delayed");
+    let (g_c, area) = (law.fracture_energy(), 0.01);
+    let lag = 0.01 * d.tau_c / d.a;
+    let estimate = law.g_n0 * lag * (law.u_r + law.alpha_e) / 2.0 / g_c;
+    let mut previous: Option<Pull> = None;
+    for speed in [0.01, 0.1, 1.0] {
+        let (fixed, delayed) = (pull_at(speed, 1e-15), pull_at(speed, d.tau_c));
+        assert!(fixed.ruptured && fixed.residual < 1e-4);
+        assert!(
+            (fixed.dissipated / (g_c * area) - 1.0).abs() < 1e-3,
+            "{speed}: {}",
+            fixed.dissipated
+        );
+        assert!(
+            delayed.dissipated > fixed.dissipated && delayed.peak > fixed.peak,
+            "{speed}"
+        );
+        assert!(
+            delayed.max_rate <= law.u_r / d.tau_c * (1.0 + 1e-9),
+            "{speed}: {}",
+            delayed.max_rate
+        );
+        assert!(delayed.residual < 1e-4, "{speed}: {}", delayed.residual);
+        if let Some(p) = &previous {
+            assert!(
+                delayed.dissipated > p.dissipated && delayed.peak > p.peak,
+                "{speed}"
+            );
+        } else {
+            assert!(delayed.ruptured);
+            let excess = delayed.dissipated / (g_c * area) - 1.0;
+            assert!(
+                excess < 2.0 * estimate,
+                "0.01 m/s: {excess} vs lag estimate {estimate}"
+            );
+        }
+        if speed == 1.0 {
+            assert!(
+                delayed.dissipated > 5.0 * g_c * area,
+                "{}",
+                delayed.dissipated
+            );
+        }
+        previous = Some(delayed);
+    }
+}

@@ -305,3 +305,49 @@ proptest! {
         drive(&law, &jumps, 10f64.powf(log_h));
     }
 }
+
+/// `scenes/rccm_shear.toml`: the pressed pad sheared on the RCCM glue with C_T = C_N/20. The
+/// normal jump stays closed (no normal cohesion: R_N = C_N β²⟨[u]_N⟩₊), so the shear loads with
+/// C_T: the tangential force peaks between ½√(w C_T) A (the edges soften before the centre is
+/// loaded) and (√(w C_T) + μ_inf p) A, far below the √(w C_N) A the normal stiffness would give;
+/// each node spends w(1 − β) (b = 0, any mode): with every β ≤ β_r = 0.05 at the end, the damage
+/// dissipated plus what is still stored lies in [w A (1 − β_r), w A] (1 % for the time
+/// discretisation and the dynamics); then the pad slides at μ_inf × normal force = 300 N.
+#[test]
+fn rccm_shear_scene_loads_with_c_t_and_spends_w() {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/rccm_shear.toml");
+    let scene = decohesion_physics::scene::load_scene(&path, &[]).unwrap();
+    let (w, c_n, c_t, area, p, mu_inf) = (200.0, 1e9, 5e7, 0.01, 1e5, 0.3);
+    let itf = &scene.model.interfaces[0];
+    assert_eq!((itf.law.spec().key, itf.mu_inf), ("rccm", mu_inf));
+    assert_eq!(itf.law.loading().ratio, c_t / c_n);
+    let mut sim = decohesion_physics::solver::Simulation::new(scene.model).unwrap();
+    let (mut closed, mut late) = (true, vec![]);
+    while !sim.finished() {
+        sim.step().unwrap();
+        for n in &sim.interface_nodes {
+            // Pressed: no normal cohesion wherever the normal jump is closed.
+            closed &= n.jump[2] > 0.0 || n.cohesive_traction[2] == 0.0;
+        }
+        if sim.time > sim.model.end_time - 0.01 {
+            late.push(sim.stats.reactions[0].abs());
+        }
+    }
+    assert!(closed);
+    let peak = sim.stats.peaks[0].force.abs();
+    let (glue, friction) = ((w * c_t).sqrt() * area, mu_inf * p * area);
+    assert!(peak > 0.5 * glue && peak < glue + friction, "peak {peak} N");
+    assert!(peak < 0.5 * (w * c_n).sqrt() * area, "peak {peak} N");
+    assert_eq!(sim.state_counts().ruptured, sim.interface_nodes.len());
+    let spent = sim.ledger.damage_dissipated + sim.ledger.interface_stored;
+    assert!(
+        spent > 0.99 * w * area * 0.95 && spent < 1.01 * w * area,
+        "spent {spent} J, w A = {} J",
+        w * area
+    );
+    let sliding = late.iter().sum::<f64>() / late.len() as f64;
+    assert!(
+        (sliding / friction - 1.0).abs() < 0.05,
+        "sliding force {sliding} N"
+    );
+}

@@ -220,7 +220,8 @@ impl StiffnessLaw {
         self.loading.stored_energy(area, stiffness, jump, n)
     }
 
-    /// Damage dissipation ΔD of one node over a step [J] (`damage.rs`, PHYSICS.md §5).
+    /// Damage dissipation ΔD of one node over a step [J] (`damage.rs`, PHYSICS.md §5); ≥ 0 for
+    /// a delayed law (see the body).
     #[inline]
     pub fn dissipation_increment(
         &self,
@@ -231,14 +232,22 @@ impl StiffnessLaw {
         jump: [f64; 3],
         n: [f64; 3],
     ) -> f64 {
-        (self.loading).dissipation_increment(
+        let dd = (self.loading).dissipation_increment(
             area,
             stiffness_before,
             stiffness,
             jump_before,
             jump,
             n,
-        )
+        );
+        // A delayed α still grows after the jump has turned back: at a step where the loaded
+        // jump reverses (turns by > 90°) the trapezoid form is < 0 by O(Δg_N |[u]||Δ[u]|), a
+        // first-order error of the time discretisation (the continuous −½ g_N′ f² α̇ is ≥ 0).
+        // It is taken as 0 and the difference shows in the balance residual.
+        match self.delay {
+            Some(_) => dd.max(0.0),
+            None => dd,
+        }
     }
 
     /// T(δ) under pure normal opening at the constant rate `rate` [m/s], with the law's own
