@@ -5,7 +5,7 @@
 //! the family declares, so a family added to `physics/src/interface/laws/` appears here as it is.
 
 use crate::law::{
-    families, family, FamilySpec, Knots, Param, ParamValue, ParamValues, StiffnessLaw,
+    families, family, Delay, FamilySpec, Knots, Param, ParamValue, ParamValues, StiffnessLaw,
 };
 use serde::{Deserialize, Serialize};
 
@@ -25,6 +25,8 @@ pub struct LawSettings {
     pub values: ParamValues,
     /// μ_inf, friction of the fully ruptured interface.
     pub mu_inf: f64,
+    /// `[interface.delay]`, and the opening rate of the editor's T(δ) at a rate.
+    pub delay: DelaySettings,
 }
 
 impl Default for LawSettings {
@@ -33,6 +35,30 @@ impl Default for LawSettings {
             family: default_family().key.to_string(),
             values: ParamValues::default(),
             mu_inf: 0.5,
+            delay: DelaySettings::default(),
+        }
+    }
+}
+
+/// Delayed damage as edited: on or off, τ_c [s] and a [–] (checked by [`Delay::new`]), and the
+/// opening rate [m/s] at which the editor draws T(δ).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct DelaySettings {
+    pub on: bool,
+    pub tau_c: f64,
+    pub a: f64,
+    pub plot_rate: f64,
+}
+
+/// Off; when switched on, the `rate_effect` scene's τ_c = 10 ms and a = 2, drawn at 0.1 m/s.
+impl Default for DelaySettings {
+    fn default() -> Self {
+        DelaySettings {
+            on: false,
+            tau_c: 1e-2,
+            a: 2.0,
+            plot_rate: 0.1,
         }
     }
 }
@@ -86,7 +112,21 @@ impl LawSettings {
         if !(self.mu_inf.is_finite() && self.mu_inf >= 0.0) {
             return Err(format!("μ_inf = {}: must be finite and ≥ 0", self.mu_inf));
         }
-        Ok(law)
+        let delay = match self.delay.on {
+            true => {
+                Some(Delay::new(self.delay.tau_c, self.delay.a).map_err(|e| format!("delay.{e}"))?)
+            }
+            false => None,
+        };
+        law.with_delay(delay).map_err(|e| e.to_string())
+    }
+
+    /// The `[interface.delay]` table of the edited scene, `None` when the delay is off.
+    pub(super) fn delay_toml(&self) -> Option<toml::Table> {
+        let d = self.delay;
+        d.on.then(|| {
+            toml::Table::from_iter([("tau_c".into(), d.tau_c.into()), ("a".into(), d.a.into())])
+        })
     }
 
     /// g_N(0), α_e, u_r of the law (`None` if it is inadmissible), for the history.
@@ -99,6 +139,10 @@ impl LawSettings {
         self.family = law.spec().key.to_string();
         self.values.0.extend(law.values().0);
         self.mu_inf = mu_inf;
+        self.delay.on = law.delay().is_some();
+        if let Some(d) = law.delay() {
+            (self.delay.tau_c, self.delay.a) = (d.tau_c, d.a);
+        }
     }
 
     /// The `[interface.law]` table of the edited scene: `family` and [`LawSettings::params`].
@@ -138,6 +182,7 @@ struct Stored {
     u_r: Given<f64>,
     decay: Given<f64>,
     points: Given<Vec<[f64; 2]>>,
+    delay: DelaySettings,
 }
 
 impl From<Stored> for LawSettings {
@@ -165,6 +210,7 @@ impl From<Stored> for LawSettings {
         }
         law.values.0.extend(s.values.0);
         law.mu_inf = s.mu_inf.0.unwrap_or(law.mu_inf);
+        law.delay = s.delay;
         law
     }
 }
@@ -242,6 +288,39 @@ mod tests {
             assert_eq!(back.law().unwrap(), built);
             assert_eq!(back.params(), settings.law.params());
         }
+    }
+
+    /// A delay switched on reaches the scene as `[interface.delay]` and comes back; a bad τ_c
+    /// is refused naming `delay.tau_c`; `rccm` refuses any delay with the reason.
+    #[test]
+    fn the_delay_goes_through_the_edited_scene_and_back() {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+        let mut settings = crate::gui::Settings {
+            scene: root.join("scenes/pull_off.toml").display().to_string(),
+            ..Default::default()
+        };
+        settings.law.delay.on = true;
+        let scene = settings.scene().unwrap();
+        let loaded = &scene.model.interfaces[0].law;
+        let d = loaded.delay().expect("delayed");
+        assert_eq!((d.tau_c, d.a), (1e-2, 2.0));
+        let mut back = LawSettings::default();
+        back.take(loaded, 0.5);
+        assert_eq!(back.delay, settings.law.delay);
+        settings.law.delay.tau_c = 0.0;
+        let e = settings.law.law().unwrap_err();
+        assert!(
+            e.starts_with("delay.tau_c = 0: τ_c must be finite and > 0 (s)"),
+            "{e}"
+        );
+        settings.law.delay.tau_c = 1e-3;
+        settings.law.family = "rccm".into();
+        assert!(settings.law.law().unwrap_err().contains("viscosity b"));
+        settings.law.delay.on = false;
+        assert!(settings.scene().unwrap().model.interfaces[0]
+            .law
+            .delay()
+            .is_none());
     }
 
     /// Values shared by two families survive a change of family; a value of the wrong kind

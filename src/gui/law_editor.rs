@@ -6,7 +6,8 @@
 //! the law gives or why it is inadmissible.
 
 use super::{App, LawSettings};
-use crate::law::{families, NumberParam, Param, ParamKind, ParamValue};
+use crate::law::{families, NumberParam, Param, ParamKind, ParamValue, StiffnessLaw};
+use egui_plot::{Legend, Line, Plot};
 
 const RED: egui::Color32 = egui::Color32::from_rgb(220, 50, 50);
 
@@ -40,6 +41,7 @@ impl App {
         }
         ui.add(egui::Slider::new(&mut law.mu_inf, 0.0..=2.0).text("μ_inf"))
             .on_hover_text("friction coefficient of the fully ruptured interface (≥ 0)");
+        delay_ui(ui, law);
         match law.law() {
             Ok(l) => {
                 let (t_max, at) = l.peak_traction();
@@ -47,6 +49,9 @@ impl App {
                     "peak traction {t_max:.4e} Pa at δ = {at:.3e} m;  G_c = {:.4e} J/m²",
                     l.fracture_energy()
                 ));
+                if has_rate_effect(&l) {
+                    rate_plot(ui, &l, &mut law.delay.plot_rate);
+                }
             }
             Err(e) => {
                 ui.colored_label(RED, format!("inadmissible law — {e}"));
@@ -161,4 +166,80 @@ fn points_editor(ui: &mut egui::Ui, law: &mut LawSettings, p: &Param) {
         let last = *points.last().unwrap_or(&[0.0, 0.0]);
         points.push([last[0] * 1.25 + 1e-4, 0.0]);
     }
+}
+
+/// `[interface.delay]`: on/off, τ_c and a on logarithmic sliders (any admissible value may be
+/// typed; an inadmissible one makes the law red with the library's reason).
+fn delay_ui(ui: &mut egui::Ui, law: &mut LawSettings) {
+    let d = &mut law.delay;
+    ui.checkbox(&mut d.on, "delayed damage  [interface.delay]")
+        .on_hover_text(
+            "α̇ = (u_r/τ_c)(1 − exp(−a⟨α_s − α⟩₊/u_r)): the damage follows its rate-independent \
+             value α_s at a rate ≤ u_r/τ_c (not for `rccm`, whose rate effect is b)",
+        );
+    if !d.on {
+        return;
+    }
+    ui.horizontal(|ui| {
+        ui.label("τ_c");
+        ui.add(log_slider(&mut d.tau_c, 1e-6..=10.0, " s"))
+            .on_hover_text("characteristic time τ_c `tau_c`: the damage rate never exceeds u_r/τ_c; admissible > 0 (s)");
+        ui.label("a");
+        ui.add(log_slider(&mut d.a, 0.01..=100.0, ""))
+            .on_hover_text("sharpness a `a`: rate (u_r/τ_c)(1 − e^{−a x/u_r}) at a lag x; admissible > 0 (–)");
+    });
+}
+
+/// A logarithmic slider with a suffix, values shown as 1.000e-2.
+fn log_slider<'a>(
+    x: &'a mut f64,
+    range: std::ops::RangeInclusive<f64>,
+    suffix: &str,
+) -> egui::Slider<'a> {
+    egui::Slider::new(x, range)
+        .logarithmic(true)
+        .clamping(egui::SliderClamping::Never)
+        .suffix(suffix)
+        .custom_formatter(|v, _| format!("{v:.3e}"))
+}
+
+/// A law whose damage depends on the opening rate: a delay, or `rccm` with b > 0.
+fn has_rate_effect(law: &StiffnessLaw) -> bool {
+    law.delay().is_some() || law.values().number("b").is_ok_and(|b| b > 0.0)
+}
+
+/// T(δ) under normal opening at the chosen rate (the law's own update, as a glued node opened
+/// at that rate would follow it) against the rate-independent T(δ), over [0, 3 u_r].
+fn rate_plot(ui: &mut egui::Ui, law: &StiffnessLaw, rate: &mut f64) {
+    ui.horizontal(|ui| {
+        ui.label("opening rate");
+        ui.add(log_slider(rate, 1e-4..=100.0, " m/s"))
+            .on_hover_text("the constant opening rate of the T(δ) curve below");
+    });
+    if !(rate.is_finite() && *rate > 0.0) {
+        ui.colored_label(
+            RED,
+            format!("opening rate = {rate}: must be finite and > 0 (m/s)"),
+        );
+        return;
+    }
+    let span = 3.0 * law.u_r;
+    let at_rate: Vec<[f64; 2]> = (law.traction_at_rate(*rate, span, 600).into_iter())
+        .map(|[d, t]| [1e3 * d, 1e-6 * t])
+        .collect();
+    let fixed: Vec<[f64; 2]> = (0..=600)
+        .map(|k| span * k as f64 / 600.0)
+        .map(|d| [1e3 * d, 1e-6 * law.traction(d)])
+        .collect();
+    ui.label(format!(
+        "T(δ) [MPa] against δ [mm], opened at {rate:.3e} m/s"
+    ));
+    Plot::new("law_at_rate")
+        .height(160.0)
+        .legend(Legend::default())
+        .x_axis_label("δ [mm]")
+        .show(ui, |p| {
+            p.line(Line::new("rate-independent", fixed));
+            p.line(Line::new(format!("at {rate:.2e} m/s"), at_rate));
+        });
 }

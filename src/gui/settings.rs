@@ -131,6 +131,10 @@ impl Settings {
             for itf in itfs.iter_mut() {
                 if let toml::Value::Table(t) = itf {
                     t.insert("law".into(), toml::Value::Table(law.clone()));
+                    match s.law.delay_toml() {
+                        Some(d) => t.insert("delay".into(), toml::Value::Table(d)),
+                        None => t.remove("delay"),
+                    };
                     t.insert("mu_inf".into(), s.law.mu_inf.into());
                 }
             }
