@@ -262,10 +262,10 @@ fn bad_delays_and_ratios_are_refused_naming_the_key() {
         ),
     ];
     for (scene, expected) in cases {
-        let e = parse_scene(&scene, "t.toml", &[])
-            .err()
-            .expect("must be refused")
-            .to_string();
+        let Err(e) = parse_scene(&scene, "t.toml", &[]) else {
+            panic!("must be refused: {expected:?}");
+        };
+        let e = e.to_string();
         for part in expected {
             assert!(e.contains(part), "{e:?} lacks {part:?}");
         }

@@ -53,7 +53,9 @@ fn drive(law: &StiffnessLaw, jumps: &[[f64; 3]], h: f64) -> Drive {
         out.work += (0..3)
             .map(|c| 0.5 * (r_prev[c] + r[c]) * (u[c] - u_prev[c]))
             .sum::<f64>();
-        let dd = law.dissipation_increment(1.0, k_prev, k, u_prev, u, N);
+        let dd = law
+            .loading()
+            .dissipation_increment(1.0, k_prev, k, u_prev, u, N);
         let scale = law.stored_energy(1.0, law.g_n0, u, N).max(1e-300);
         // PHYSICS.md §5: ΔD ≥ 0 while the loaded jump turns by less than 90° in the step (a
         // history through [u] = 0 turns by 180° there, where the stiffness of a delayed law may
@@ -172,7 +174,9 @@ fn drive_timed(law: &StiffnessLaw, jumps: &[[f64; 3]], rate: f64) -> Drive {
         assert!(next >= alpha);
         alpha = next;
         let k = law.g_n(alpha);
-        out.dissipated += law.dissipation_increment(1.0, k_prev, k, p[0], p[1], N);
+        out.dissipated += law
+            .loading()
+            .dissipation_increment(1.0, k_prev, k, p[0], p[1], N);
         k_prev = k;
     }
     out.alpha = alpha;

@@ -263,16 +263,21 @@ impl<'de> Deserialize<'de> for LegacyFamily {
 mod tests {
     use super::*;
 
+    /// The explorer's settings on the pull-off scene.
+    fn pull_off_settings() -> crate::gui::Settings {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+        crate::gui::Settings {
+            scene: root.join("scenes/pull_off.toml").display().to_string(),
+            ..Default::default()
+        }
+    }
+
     /// Every family of the table, at the editor's starting values, gives an admissible law that
     /// reaches the scene loader unchanged through the edited scene (the pull-off scene with
     /// that law), and comes back into the editor as the same settings.
     #[test]
     fn every_family_goes_through_the_edited_scene_and_back() {
-        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
-        let mut settings = crate::gui::Settings {
-            scene: root.join("scenes/pull_off.toml").display().to_string(),
-            ..Default::default()
-        };
+        let mut settings = pull_off_settings();
         for spec in families() {
             settings.law = LawSettings {
                 family: spec.key.into(),
@@ -294,11 +299,7 @@ mod tests {
     /// is refused naming `delay.tau_c`; `rccm` refuses any delay with the reason.
     #[test]
     fn the_delay_goes_through_the_edited_scene_and_back() {
-        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
-        let mut settings = crate::gui::Settings {
-            scene: root.join("scenes/pull_off.toml").display().to_string(),
-            ..Default::default()
-        };
+        let mut settings = pull_off_settings();
         settings.law.delay.on = true;
         let scene = settings.scene().unwrap();
         let loaded = &scene.model.interfaces[0].law;

@@ -71,6 +71,8 @@ pub fn dissipation_increment(
 pub struct Loading {
     pub ratio: f64,
     pub opening_only: bool,
+    /// ΔD taken as ≥ 0 (a delayed law, see [`Loading::dissipation_increment`]).
+    pub nonnegative_dissipation: bool,
 }
 
 impl Loading {
@@ -119,6 +121,11 @@ impl Loading {
     /// opening only, up to the step where it changes sign); ≥ 0 while g_N does not increase and
     /// the loaded jump turns by less than 90° in a step (always, for the normal part on opening
     /// only).
+    ///
+    /// A delayed α still grows after the jump has turned back: at a step where the loaded jump
+    /// reverses the form is < 0 by O(Δg_N |[u]||Δ[u]|), a first-order error of the time
+    /// discretisation (the continuous −½ g_N′ f² α̇ is ≥ 0). With `nonnegative_dissipation` it is
+    /// taken as 0 there, and the difference shows in the balance residual.
     #[inline]
     pub fn dissipation_increment(
         &self,
@@ -129,9 +136,15 @@ impl Loading {
         jump: [f64; 3],
         n: [f64; 3],
     ) -> f64 {
-        if self.isotropic() {
-            return dissipation_increment(area, stiffness_before, stiffness, jump_before, jump);
+        let dd = if self.isotropic() {
+            dissipation_increment(area, stiffness_before, stiffness, jump_before, jump)
+        } else {
+            0.5 * area * (stiffness_before - stiffness) * self.product(jump_before, jump, n)
+        };
+        if self.nonnegative_dissipation {
+            dd.max(0.0)
+        } else {
+            dd
         }
-        0.5 * area * (stiffness_before - stiffness) * self.product(jump_before, jump, n)
     }
 }

@@ -419,21 +419,23 @@ pub trait Family: Sized + Into<LawKind> {
     /// Stage 8 (PHYSICS.md §4) for the family: α at the end of an interval `h` from α, α_s and
     /// the damage measure f of the next configuration. By default eq. 12, delayed when the
     /// law has a delay ([`StiffnessLaw::rate_independent_or_delayed`]).
-    fn next_damage(
-        &self,
-        law: &StiffnessLaw,
-        alpha: f64,
-        alpha_s: &mut f64,
-        f: f64,
-        h: f64,
-    ) -> f64 {
-        law.rate_independent_or_delayed(alpha, alpha_s, f, h)
+    fn next_damage(&self, law: &StiffnessLaw, s: DamageStep, alpha_s: &mut f64) -> f64 {
+        law.rate_independent_or_delayed(s, alpha_s)
     }
 
     /// Whether the family takes `[interface.delay]`; `Some(reason)` when it does not.
     fn refuses_delay(&self) -> Option<&'static str> {
         None
     }
+}
+
+/// The data of one stage-8 update at a node (PHYSICS.md §4): α now, the damage measure f of
+/// the next configuration, the interval h [s] over which it is reached.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DamageStep {
+    pub alpha: f64,
+    pub f: f64,
+    pub h: f64,
 }
 
 /// One row of the table of families: what [`Family`] declares, without its type.
@@ -544,6 +546,7 @@ fn build<F: Family>(given: &ParamValues) -> Result<StiffnessLaw, LawError> {
     let loading = Loading {
         ratio: r_t,
         opening_only: F::OPENING_ONLY,
+        nonnegative_dissipation: false,
     };
     Ok(StiffnessLaw::from_parts(
         own.into(),

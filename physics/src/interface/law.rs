@@ -14,8 +14,8 @@ pub use super::damage::Loading;
 use super::damage::{damage_update, weighted_damage_measure};
 pub use super::delay::Delay;
 pub use super::family::{
-    families, family, family_or_error, Family, FamilySpec, Knots, NumberParam, Param, ParamKind,
-    ParamValue, ParamValues, Range, R_T,
+    families, family, family_or_error, DamageStep, Family, FamilySpec, Knots, NumberParam, Param,
+    ParamKind, ParamValue, ParamValues, Range, R_T,
 };
 pub use super::laws::LawKind;
 
@@ -93,6 +93,7 @@ impl StiffnessLaw {
             ));
         }
         self.delay = delay;
+        self.loading.nonnegative_dissipation = delay.is_some();
         Ok(self)
     }
 
@@ -107,7 +108,8 @@ impl StiffnessLaw {
         self.cut
     }
 
-    /// How the jump is loaded: g_T/g_N and whether the normal jump is loaded on opening only.
+    /// How the jump is loaded: g_T/g_N and whether the normal jump is loaded on opening only;
+    /// its [`Loading::dissipation_increment`] is the ledger's ΔD for this law.
     pub fn loading(&self) -> Loading {
         self.loading
     }
@@ -185,20 +187,16 @@ impl StiffnessLaw {
         h: f64,
     ) -> f64 {
         let f = self.damage_measure(jump, n);
-        self.kind.next_damage(self, alpha, alpha_s, f, h)
+        self.kind
+            .next_damage(self, DamageStep { alpha, f, h }, alpha_s)
     }
 
     /// Eq. 12, α' = min(u_r, max(α, f)), without a delay (α_s is α: `alpha_s` is neither read
     /// nor written); with one, α_s' = min(u_r, max(α_s, f)) and α' = α advanced towards α_s'
     /// over `h` by the exact solution of the delay ODE ([`Delay::advance`]).
     #[inline]
-    pub fn rate_independent_or_delayed(
-        &self,
-        alpha: f64,
-        alpha_s: &mut f64,
-        f: f64,
-        h: f64,
-    ) -> f64 {
+    pub fn rate_independent_or_delayed(&self, s: DamageStep, alpha_s: &mut f64) -> f64 {
+        let DamageStep { alpha, f, h } = s;
         match &self.delay {
             None => damage_update(alpha, f, self.u_r),
             Some(d) => {
@@ -218,36 +216,6 @@ impl StiffnessLaw {
     #[inline]
     pub fn stored_energy(&self, area: f64, stiffness: f64, jump: [f64; 3], n: [f64; 3]) -> f64 {
         self.loading.stored_energy(area, stiffness, jump, n)
-    }
-
-    /// Damage dissipation ΔD of one node over a step [J] (`damage.rs`, PHYSICS.md §5); ≥ 0 for
-    /// a delayed law (see the body).
-    #[inline]
-    pub fn dissipation_increment(
-        &self,
-        area: f64,
-        stiffness_before: f64,
-        stiffness: f64,
-        jump_before: [f64; 3],
-        jump: [f64; 3],
-        n: [f64; 3],
-    ) -> f64 {
-        let dd = (self.loading).dissipation_increment(
-            area,
-            stiffness_before,
-            stiffness,
-            jump_before,
-            jump,
-            n,
-        );
-        // A delayed α still grows after the jump has turned back: at a step where the loaded
-        // jump reverses (turns by > 90°) the trapezoid form is < 0 by O(Δg_N |[u]||Δ[u]|), a
-        // first-order error of the time discretisation (the continuous −½ g_N′ f² α̇ is ≥ 0).
-        // It is taken as 0 and the difference shows in the balance residual.
-        match self.delay {
-            Some(_) => dd.max(0.0),
-            None => dd,
-        }
     }
 
     /// T(δ) under pure normal opening at the constant rate `rate` [m/s], with the law's own

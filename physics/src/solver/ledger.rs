@@ -107,7 +107,7 @@ impl Simulation {
             let spec = &self.model.interfaces[itf.interface as usize];
             let (law, n) = (&spec.law, self.model.planes[spec.plane].normal);
             out.stored += law.stored_energy(itf.area, itf.stiffness, itf.jump, n);
-            let dd = law.dissipation_increment(
+            let dd = law.loading().dissipation_increment(
                 itf.area,
                 itf.prev_stiffness,
                 itf.stiffness,

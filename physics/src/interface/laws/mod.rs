@@ -6,7 +6,7 @@
 //! (the table). To add a family, add `<key>.rs` here with a type `<Key>` (CamelCase) that
 //! implements [`Family`](super::family::Family), and its test.
 
-use super::family::{Family, FamilySpec, ParamValues};
+use super::family::{DamageStep, Family, FamilySpec, ParamValues};
 use super::law::StiffnessLaw;
 
 /// Builds [`LawKind`], its dispatch and [`FAMILIES`] from `index Type => module` lines.
@@ -56,16 +56,9 @@ macro_rules! families {
 
             /// [`Family::next_damage`] of the family.
             #[inline]
-            pub(crate) fn next_damage(
-                &self,
-                law: &StiffnessLaw,
-                alpha: f64,
-                alpha_s: &mut f64,
-                f: f64,
-                h: f64,
-            ) -> f64 {
+            pub(crate) fn next_damage(&self, law: &StiffnessLaw, s: DamageStep, a_s: &mut f64) -> f64 {
                 match self {
-                    $(LawKind::$family(k) => k.next_damage(law, alpha, alpha_s, f, h),)*
+                    $(LawKind::$family(k) => k.next_damage(law, s, a_s),)*
                 }
             }
 

@@ -20,7 +20,7 @@
 //! ruptured once β ≤ 0.05, its stiffness 0.25 % of C_N and, at b = 0 in mode I, 97.5 % of w
 //! spent (what is left is β w/2). g_N is not cut there: the springs go on to β → 0.
 
-use crate::interface::family::{Family, Knots, Param, ParamValues, Range};
+use crate::interface::family::{DamageStep, Family, Knots, Param, ParamValues, Range};
 use crate::interface::law::{LawError, StiffnessLaw};
 
 /// β at which a node counts as ruptured (module doc).
@@ -121,14 +121,8 @@ impl Family for Rccm {
     /// β = β(α) and Y = C_N f² at the end of the step, nothing happens while βY ≤ w, else
     /// b(β' − β)/h = w − β'Y gives β' = (bβ + hw)/(b + hY) ∈ (0, β) for any h (and β'Y ≥ w, the
     /// branch is consistent); b = 0 gives β' = w/Y, i.e. α' = max(α, f). α' = u₀/√β'.
-    fn next_damage(
-        &self,
-        law: &StiffnessLaw,
-        alpha: f64,
-        _alpha_s: &mut f64,
-        f: f64,
-        h: f64,
-    ) -> f64 {
+    fn next_damage(&self, law: &StiffnessLaw, s: DamageStep, _alpha_s: &mut f64) -> f64 {
+        let DamageStep { alpha, f, h } = s;
         if self.b == 0.0 {
             return alpha.max(f);
         }
