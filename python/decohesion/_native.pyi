@@ -101,7 +101,9 @@ class Simulation:
 
     ``threads``: threads of the element loop (default: every core, above 2048 elements).
     Results do not depend on it. Stepping releases the GIL; Ctrl-C (``KeyboardInterrupt``)
-    stops after the current step and leaves a consistent state that can be stepped on."""
+    stops after the current step and leaves a consistent state that can be stepped on. While
+    one thread steps a simulation, using that same simulation from another thread raises
+    ``RuntimeError`` (it is borrowed); other simulations and other Python code run freely."""
 
     def __init__(self, scene: Scene, threads: Optional[int] = None) -> None: ...
     def step(self, n: int = 1) -> None:

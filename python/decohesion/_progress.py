@@ -30,7 +30,7 @@ class _Tqdm:
             initial=t0,
             desc=f"{name} (~{steps:.0f} steps)",
             bar_format="{desc}: {percentage:3.0f}%|{bar}| t = {n:.4g}/{total:.4g} s "
-            "[{elapsed}<{remaining}] {postfix}",
+            "[{elapsed}<{remaining}{postfix}]",
             leave=True,
         )
 

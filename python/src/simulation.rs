@@ -124,10 +124,10 @@ impl Simulation {
         colour: &str,
     ) -> PyResult<()> {
         let until = until.unwrap_or(self.sim.model.end_time);
-        if until.is_nan() {
-            return Err(PyValueError::new_err(
-                "until must be a time in seconds (got nan)",
-            ));
+        if !until.is_finite() {
+            return Err(PyValueError::new_err(format!(
+                "until must be a finite time in seconds (got {until})"
+            )));
         }
         let plan = Plan {
             cadence: cadence(every, fps)?,

@@ -141,6 +141,8 @@ def test_bad_run_arguments_are_value_errors(pull_off, tmp_path):
         sim.run(fps=-1.0)
     with pytest.raises(ValueError, match="unknown colour field `red`"):
         sim.run(save=tmp_path / "x.rrd", colour="red")
+    with pytest.raises(ValueError, match="until must be a finite time"):
+        sim.run(until=float("inf"))
     with pytest.raises(ValueError, match="threads must be ≥ 1"):
         decohesion.Simulation(pull_off, threads=0)
     assert sim.step_count == 0
