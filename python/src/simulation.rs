@@ -155,26 +155,28 @@ impl Simulation {
             })
             .map_err(|e| output_error(&e, true))?;
         self.wall += started.elapsed();
-        if let Some(bar) = bar {
-            update_bar(py, &bar, &self.sim)?;
-            bar.call_method0(py, "close")?;
-        }
         self.recording = finished.summary.recording;
         self.paraview = finished.summary.paraview;
-        if let Err(e) = finished.outcome {
-            if matches!(e, SolverError::Cancelled { .. }) {
-                self.cancelled = Some(e);
-            } else {
-                return Err(self.failed(py, e));
+        // The solver's failure first, then the signal (KeyboardInterrupt), then an output's.
+        let result = match (finished.outcome, signal, finished.output_error) {
+            (Err(SolverError::Cancelled { step, time }), signal, output) => {
+                self.cancelled = Some(SolverError::Cancelled { step, time });
+                match (signal, output) {
+                    (Some(signal), _) => Err(signal),
+                    (None, Some(e)) => Err(output_error(&e, false)),
+                    (None, None) => Ok(()),
+                }
             }
-        }
-        if let Some(signal) = signal {
-            return Err(signal);
-        }
-        if let Some(e) = finished.output_error {
-            return Err(output_error(&e, false));
-        }
-        Ok(())
+            (Err(e), _, _) => Err(self.failed(py, e)),
+            (Ok(()), _, Some(e)) => Err(output_error(&e, false)),
+            (Ok(()), _, None) => Ok(()),
+        };
+        // The bar's last word; its own error only when the run went well.
+        let closed = bar.map_or(Ok(()), |bar| {
+            update_bar(py, &bar, &self.sim)?;
+            bar.call_method0(py, "close").map(drop)
+        });
+        result.and(closed)
     }
 
     /// The command line's `--summary` JSON of the simulation now, as a dict.

@@ -146,3 +146,20 @@ def test_bad_run_arguments_are_value_errors(pull_off, tmp_path):
     with pytest.raises(ValueError, match="threads must be ≥ 1"):
         decohesion.Simulation(pull_off, threads=0)
     assert sim.step_count == 0
+
+
+@pytest.mark.parametrize("flag", ["save", "vtk"])
+def test_an_output_that_cannot_be_opened_is_an_os_error_with_the_command_lines_message(
+        flag, pull_off, tmp_path, cli):
+    blocker = tmp_path / "a_file"
+    blocker.write_text("not a folder")
+    target = blocker / ("run.rrd" if flag == "save" else "vtk")
+    sim = decohesion.Simulation(pull_off)
+    with pytest.raises(OSError) as raised:
+        sim.run(progress=False, **{flag: target})
+    assert sim.step_count == 0, "refused before the first step"
+    done = subprocess.run([str(cli), "run", str(PULL_OFF), "--quiet", f"--{flag}", str(target)],
+                          capture_output=True, text=True)
+    assert done.returncode == 1
+    assert done.stderr == f"error: {raised.value}\n"
+    assert str(target) in str(raised.value)
