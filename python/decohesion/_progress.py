@@ -8,27 +8,29 @@ and ``close`` at the end, whatever the outcome.
 
 from __future__ import annotations
 
+import math
 import sys
 import time
 
 
 def bar(name: str, t0: float, until: float, h: float):
-    """A progress display for a run of scene ``name`` from ``t0`` to ``until`` [s] at step ``h``."""
+    """A progress display for a run of scene ``name`` from ``t0`` to ``until`` [s] at step ``h``
+    (the expected step count is ⌈(until − t0)/h⌉, as the command line prints it)."""
+    steps = math.ceil(max(0.0, until - t0) / h) if h > 0 else 0
     try:
         from tqdm.auto import tqdm
     except ImportError:
-        return _Line(name, t0, until, h)
-    return _Tqdm(tqdm, name, t0, until, h)
+        return _Line(name, t0, until, steps)
+    return _Tqdm(tqdm, name, t0, until, steps)
 
 
 class _Tqdm:
-    def __init__(self, tqdm, name, t0, until, h):
+    def __init__(self, tqdm, name, t0, until, steps):
         self.until = until
-        steps = max(0.0, (until - t0) / h) if h > 0 else 0.0
         self.bar = tqdm(
             total=until,
             initial=t0,
-            desc=f"{name} (~{steps:.0f} steps)",
+            desc=f"{name} (~{steps} steps)",
             bar_format="{desc}: {percentage:3.0f}%|{bar}| t = {n:.4g}/{total:.4g} s "
             "[{elapsed}<{remaining}{postfix}]",
             leave=True,
@@ -44,15 +46,14 @@ class _Tqdm:
 
 
 class _Line:
-    def __init__(self, name, t0, until, h):
+    def __init__(self, name, t0, until, steps):
         self.name, self.t0, self.until = name, t0, until
         self.started = time.monotonic()
         out = sys.stderr
         self.in_place = bool(getattr(out, "isatty", lambda: False)()) or "ipykernel" in sys.modules
         self.next_tenth = 1
         self.last = ""
-        steps = max(0.0, (until - t0) / h) if h > 0 else 0.0
-        print(f"{name}: t = {t0:.5g} s → {until:.5g} s, ~{steps:.0f} steps", file=out)
+        print(f"{name}: t = {t0:.5g} s → {until:.5g} s, ~{steps} steps", file=out)
 
     def _fraction(self, t: float) -> float:
         span = self.until - self.t0

@@ -176,3 +176,12 @@ def test_progress_without_tqdm_prints_a_plain_line(pull_off, capsys, monkeypatch
     err = capsys.readouterr().err
     assert "pull_off: t = 0 s → 0.05 s" in err
     assert sim.t >= 0.05 and sim.t - sim.h < 0.05  # the first step at or past `until`
+
+
+def test_progress_with_tqdm_is_a_bar(pull_off, capsys):
+    pytest.importorskip("tqdm")  # installed by .ci/run
+    sim = decohesion.Simulation(pull_off)
+    sim.run(until=0.05, progress=True)
+    err = capsys.readouterr().err
+    assert "pull_off (~159 steps): 100%|" in err
+    assert f"step {sim.step_count}, ruptured 0/64]" in err
