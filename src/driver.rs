@@ -124,22 +124,46 @@ impl Driver {
     /// Steps `sim` to its end time, or until `cancel` is set or an output fails; then
     /// finishes every output with the last state and builds the summary.
     pub fn run(
-        mut self,
+        self,
         sim: &mut Simulation,
         cancel: &AtomicBool,
         progress: &mut dyn Progress,
     ) -> Finished {
+        let end = sim.model.end_time;
+        self.run_until(sim, end, cancel, progress)
+    }
+
+    /// [`Driver::run`] to the time `until` [s] instead of the end time: steps while
+    /// tₙ < `until` − 10⁻⁶ hₙ (the test of [`Simulation::finished`], which it is for
+    /// `until` = end time), so the last step is the first at or past `until`. The Python
+    /// API's `run(until=…)`; `until` may lie past the end time.
+    pub fn run_until(
+        mut self,
+        sim: &mut Simulation,
+        until: f64,
+        cancel: &AtomicBool,
+        progress: &mut dyn Progress,
+    ) -> Finished {
         let mut output_error = None;
-        let outcome = sim.run(|s| {
+        let outcome = loop {
+            if sim.time >= until - 1e-6 * sim.h {
+                break Ok(());
+            }
+            if let Err(e) = sim.step() {
+                break Err(e);
+            }
+            let s = &*sim;
             if self.clock.due(s.step_count, s.time) {
                 if let Err(e) = self.frame(s) {
                     output_error = Some(e);
-                    return false;
+                    break Err(cancelled(s));
                 }
             }
             progress.step(s);
-            !cancel.load(Ordering::SeqCst)
-        });
+            if cancel.load(Ordering::SeqCst) {
+                break Err(cancelled(s));
+            }
+        };
         progress.stopped();
         let last = self.snapshot(sim);
         let end = Ending {
@@ -169,6 +193,14 @@ impl Driver {
             summary,
             output_error,
         }
+    }
+}
+
+/// The error of a run stopped at the current step of `sim` (Ctrl-C, Stop, an output's error).
+fn cancelled(sim: &Simulation) -> SolverError {
+    SolverError::Cancelled {
+        step: sim.step_count,
+        time: sim.time,
     }
 }
 
@@ -327,5 +359,47 @@ mod tests {
             assert_eq!(s.frames, vec![0, 4, 8]);
             assert_eq!(s.finished, vec![(None, 8, true)]);
         }
+    }
+    /// `run_until` stops at the first step at or past `until` (stepping one by one tells which),
+    /// as a completed run, the outputs' last frame at that step; a second call goes on from
+    /// there to the end time.
+    #[test]
+    fn run_until_stops_at_the_first_step_at_or_past_until() {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/pull_off.toml");
+        let set = ["mesh.cells=[2,2,2]".into(), "end_time=0.02".into()];
+        let model = crate::scene::load_scene(&path, &set).unwrap().model;
+        let until = 0.0071;
+        let mut by_steps = Simulation::new(model.clone()).unwrap();
+        while by_steps.time < until - 1e-6 * by_steps.h {
+            by_steps.step().unwrap();
+        }
+        let mut sim = Simulation::new(model).unwrap();
+        let seen = Arc::new(Mutex::new(Seen::default()));
+        let probe = Probe {
+            seen: seen.clone(),
+            fail_at: None,
+        };
+        let driver = Driver::with_outputs(
+            vec![Box::new(probe)],
+            Cadence::EverySteps(1000),
+            &sim,
+            Instant::now(),
+        )
+        .unwrap();
+        let cancel = AtomicBool::new(false);
+        let mut counter = Counter {
+            steps: 0,
+            stop_at: u64::MAX,
+            cancel: Arc::new(AtomicBool::new(false)),
+        };
+        let done = driver.run_until(&mut sim, until, &cancel, &mut counter);
+        assert!(done.outcome.is_ok());
+        assert_eq!(done.summary.status, "completed");
+        let n = by_steps.step_count;
+        assert!(n > 5 && sim.step_count == n && sim.time == by_steps.time);
+        assert_eq!(seen.lock().unwrap().frames, vec![0, n]);
+        let driver = Driver::with_outputs(vec![], Cadence::Default, &sim, Instant::now()).unwrap();
+        let done = driver.run(&mut sim, &cancel, &mut counter);
+        assert!(done.outcome.is_ok() && sim.finished() && sim.step_count > n);
     }
 }

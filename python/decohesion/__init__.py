@@ -1,0 +1,19 @@
+"""decohesion: explicit non-smooth dynamics (CD-Lagrange) of a soft hex8 solid glued to rigid
+moulds by the RCCM cohesive law — damageable adhesion, unilateral contact, friction growing with
+damage — driven from Python.
+
+>>> import decohesion
+>>> scene = decohesion.Scene.load("scenes/pull_off.toml", overrides={"interface.law.u_r": 0.006})
+>>> sim = decohesion.Simulation(scene)
+>>> sim.step(100)                      # 100 CD-Lagrange steps, the GIL released
+>>> sim.alpha                          # damage α of every interface node [m], numpy (m,)
+>>> sim.run(save="out/pull_off.rrd")   # to the end time, recorded like `decohesion run --save`
+>>> sim.summary()["time_full_rupture"]
+
+Units are SI (m, s, kg, N, Pa, J). The classes are written in Rust (``decohesion._native``);
+their documentation with every array's shape, dtype and unit is in ``_native.pyi``.
+"""
+
+from ._native import Scene, Simulation, SolverError, __version__
+
+__all__ = ["Scene", "Simulation", "SolverError", "__version__"]

@@ -1,0 +1,114 @@
+//! Rust errors as Python exceptions, with the command line's messages.
+//!
+//! | Rust | Python |
+//! |---|---|
+//! | `SceneError::Io` (the file cannot be read) | `FileNotFoundError`, `PermissionError`, `IsADirectoryError` or `OSError` |
+//! | any other `SceneError` (syntax, unknown or missing key, inadmissible value, bad override) | `ValueError` |
+//! | `SolverError::Setup` | `ValueError` ("setting up FILE: …") |
+//! | `SolverError::Unstable`, `SolverError::Inverted` | [`SolverError`] with `step`, `t`, `h`, `h_crit` |
+//! | an output's error (recording, ParaView files) | `OSError` ("recording: …", "ParaView output: …") |
+
+use decohesion::output::OutputError;
+use decohesion::scene::SceneError;
+use decohesion::solver::SolverError as RustSolverError;
+use pyo3::exceptions::{
+    PyFileNotFoundError, PyIsADirectoryError, PyOSError, PyPermissionError, PyRuntimeError,
+    PyValueError,
+};
+use pyo3::prelude::*;
+use std::io::ErrorKind;
+
+pyo3::create_exception!(
+    decohesion,
+    SolverError,
+    PyRuntimeError,
+    "The simulation could not go on (a blow-up: the energy grew, or an element inverted).\n\n\
+     Attributes: step (int), t (float, s), h (float, s), h_crit (float, s), kind ('unstable' or \
+     'inverted'), element (int or None: the inverted element). The message is the command \
+     line's, with what to change."
+);
+
+/// A scene that could not be loaded: `ValueError`, or an `OSError` for a file that could not
+/// be read; the message is the command line's (`error: …` without `error: `).
+pub fn scene_error(e: SceneError) -> PyErr {
+    let message = with_sources(&e);
+    match e {
+        SceneError::Io { source, .. } => match source.kind() {
+            ErrorKind::NotFound => PyFileNotFoundError::new_err(message),
+            ErrorKind::PermissionDenied => PyPermissionError::new_err(message),
+            ErrorKind::IsADirectory => PyIsADirectoryError::new_err(message),
+            _ => PyOSError::new_err(message),
+        },
+        _ => PyValueError::new_err(message),
+    }
+}
+
+/// `e` and its sources as the command line prints an error (anyhow's `{:#}`): `e: source: …`.
+fn with_sources(e: &dyn std::error::Error) -> String {
+    let mut message = e.to_string();
+    let mut source = e.source();
+    while let Some(s) = source {
+        message.push_str(&format!(": {s}"));
+        source = s.source();
+    }
+    message
+}
+
+/// A solver error as a Python exception: the set-up's as `ValueError` (named after `file`),
+/// a blow-up as [`SolverError`] with its fields, a cancellation as `KeyboardInterrupt`.
+pub fn solver_error(py: Python<'_>, e: &RustSolverError, file: &str) -> PyErr {
+    let (step, time, h, h_crit, kind, element) = match e {
+        RustSolverError::Setup(_) => {
+            return PyValueError::new_err(format!("setting up {file}: {e}"));
+        }
+        RustSolverError::Cancelled { .. } => {
+            return pyo3::exceptions::PyKeyboardInterrupt::new_err(e.to_string());
+        }
+        RustSolverError::Unstable {
+            step,
+            time,
+            h,
+            h_crit,
+            ..
+        } => (*step, *time, *h, *h_crit, "unstable", None),
+        RustSolverError::Inverted {
+            element,
+            step,
+            time,
+            h,
+            h_crit,
+            ..
+        } => (*step, *time, *h, *h_crit, "inverted", Some(*element)),
+    };
+    let err = SolverError::new_err(e.to_string());
+    let value = err.value(py);
+    let set = || -> PyResult<()> {
+        value.setattr("step", step)?;
+        value.setattr("t", time)?;
+        value.setattr("h", h)?;
+        value.setattr("h_crit", h_crit)?;
+        value.setattr("kind", kind)?;
+        value.setattr("element", element)
+    };
+    match set() {
+        Ok(()) => err,
+        Err(e) => e,
+    }
+}
+
+/// An output's error as `OSError` with the command line's words: when the outputs are opened
+/// (`opening`) "starting the recording: …" or the ParaView error itself, else "recording: …" or
+/// "ParaView output: …" (the run stopped, or the output could not be finished).
+pub fn output_error(e: &OutputError, opening: bool) -> PyErr {
+    let prefix = match (e, opening) {
+        (OutputError::Recording(_), true) => "starting the recording: ",
+        (OutputError::Paraview(_), true) => "",
+        (OutputError::Recording(_), false) => "recording: ",
+        (OutputError::Paraview(_), false) => "ParaView output: ",
+    };
+    let message = match e {
+        OutputError::Recording(e) => with_sources(e),
+        OutputError::Paraview(e) => with_sources(e),
+    };
+    PyOSError::new_err(format!("{prefix}{message}"))
+}
