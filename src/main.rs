@@ -58,6 +58,10 @@ enum Command {
         /// or off [default: the last choice, initially viewer].
         #[arg(long, value_name = "WHERE", value_parser = ["viewer", "file", "off"])]
         record: Option<String>,
+        /// Queue one run per value and overlay them, e.g. --compare u_r=0.003,0.004,0.006 (a
+        /// number parameter of the law, mu_inf, cells, factor or end_time).
+        #[arg(long, value_name = "KEY=V1,V2,...")]
+        compare: Option<String>,
     },
     /// Run a grid of variants of one scene (every combination of the --vary values) and write
     /// every run's summary as CSV and JSON (and a Rerun plot of the observables with --save).
@@ -269,7 +273,14 @@ fn main() {
             scene,
             run_on_start,
             record,
+            compare,
         } => {
+            if let Some(spec) = &compare {
+                if let Err(e) = decohesion::cli::Vary::parse(spec) {
+                    eprintln!("error: {}", e.to_string().replace("--vary", "--compare"));
+                    std::process::exit(2);
+                }
+            }
             use decohesion::gui::RecordChoice;
             let record = record.map(|r| match r.as_str() {
                 "file" => RecordChoice::File,
@@ -283,7 +294,8 @@ fn main() {
                     std::process::exit(1);
                 }
             }
-            decohesion::gui::run_window(scene, run_on_start, record).map_err(anyhow::Error::msg)
+            decohesion::gui::run_window(scene, run_on_start, record, compare)
+                .map_err(anyhow::Error::msg)
         }
         Command::Bench {
             scene,

@@ -12,5 +12,5 @@ mod tradeoff;
 pub use bench::bench;
 pub use check::check;
 pub use run::run;
-pub use sweep::{sweep, SweepArgs};
+pub use sweep::{sweep, SweepArgs, Vary};
 pub use tradeoff::tradeoff;
