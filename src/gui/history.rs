@@ -77,7 +77,7 @@ impl CurvePoint {
     }
 }
 
-/// Most samples a run keeps: 24 bytes + 48 per sample, ≈ 60 kB per run at most.
+/// Most samples a run keeps (64 bytes each: ≤ 66 kB per run, in memory and in the saved history).
 pub const CURVE_MAX_POINTS: usize = 1024;
 
 /// A run's samples, bounded: every `stride`-th sample offered is kept; when more than

@@ -135,7 +135,9 @@ fn titled_plot<'a>(
     add: impl FnOnce(&mut egui_plot::PlotUi<'a>) + 'a,
 ) {
     ui.vertical(|ui| {
-        ui.label(title);
+        // A long title is cut to the plot's width (whole on hover), not widening the row.
+        let title = egui::Label::new(title).truncate();
+        ui.allocate_ui(egui::vec2(w, 0.0), |ui| ui.add(title));
         Plot::new(id)
             .width(w)
             .height(210.0)
@@ -167,7 +169,7 @@ impl App {
         ui.horizontal(|ui| {
             titled_plot(
                 ui,
-                "interface nodes: ruptured (solid), transition (dashed), elastic (dotted)",
+                "interface nodes: ruptured solid, transition dashed, elastic dotted",
                 "compare_counts",
                 "t [s]",
                 w,

@@ -60,6 +60,9 @@ pub struct App {
     queued_run: bool,
     /// The `key=v1,v2,…` field of the runs to queue.
     pub variants_text: String,
+    /// Frames still to draw after a run ended (the plots size their axes from the previous
+    /// frame's labels, so the first frame with the final curves is not the last one drawn).
+    pub(super) settle: u8,
 }
 
 /// What the current settings give, shown before a run.
@@ -107,6 +110,7 @@ impl App {
             queue: VecDeque::new(),
             queued_run: false,
             variants_text: String::new(),
+            settle: 0,
         }
     }
 
@@ -290,6 +294,7 @@ impl App {
                     }
                     self.history.push(*row);
                     self.job = None;
+                    self.settle = 3;
                     return self.start_queued();
                 }
                 Err(TryRecvError::Empty) => return true,

@@ -23,7 +23,8 @@ impl App {
             self.repaint = Some(repaint_handle(ui.ctx()));
         }
         let running = self.poll();
-        if running {
+        if running || self.settle > 0 {
+            self.settle = self.settle.saturating_sub(1);
             ui.ctx().request_repaint_after(Duration::from_millis(100));
         }
         egui::Panel::left("settings")
