@@ -383,7 +383,7 @@ fn write_outputs(
     print!("{}", table(varies, rows));
     println!("wrote {} and {}", csv_path.display(), json_path.display());
     if let Some(path) = &a.save {
-        log_sweep(path, &base.model.name, varies, rows, &table(varies, rows))
+        log_sweep(path, &base.model.name, varies, rows)
             .with_context(|| format!("recording the sweep to {}", path.display()))?;
         println!("recorded {}", path.display());
     }

@@ -14,10 +14,10 @@ use super::sweep::{observables, SweepRow, Vary};
 use anyhow::{Context, Result};
 use rerun::blueprint::components::PanelState;
 use rerun::blueprint::{
-    Blueprint, BlueprintPanel, ContainerLike, Grid, Horizontal, SelectionPanel, Tabs,
-    TextDocumentView, TimePanel, TimeSeriesView,
+    Blueprint, BlueprintPanel, ContainerLike, Grid, SelectionPanel, Tabs, TextDocumentView,
+    TimePanel, TimeSeriesView, Vertical,
 };
-use rerun::{RecordingStreamBuilder, Scalars, SeriesLines, SeriesPoints, TextDocument};
+use rerun::{RecordingStreamBuilder, Rgba32, Scalars, SeriesLines, SeriesPoints, TextDocument};
 use std::path::Path;
 
 /// The observables drawn (columns of [`observables`]), with their view titles.
@@ -97,8 +97,21 @@ fn others(varies: &[Vary], row: &SweepRow, k: usize) -> String {
     }
 }
 
-/// The viewer's layout: per varied key a grid of the observables (tabs when several keys),
-/// the table beside; the time panel on the first key's (log) timeline.
+/// Colours of the series (one per combination of the other keys), in order of appearance.
+const PALETTE: [[u8; 3]; 8] = [
+    [31, 119, 180],
+    [214, 39, 40],
+    [44, 160, 44],
+    [148, 103, 189],
+    [255, 127, 14],
+    [23, 190, 207],
+    [140, 86, 75],
+    [227, 119, 194],
+];
+
+/// The viewer's layout: per varied key a grid of the observables (tabs when several keys;
+/// the plots show the timeline picked in the time panel, initially the first key's), the
+/// table of runs below.
 fn blueprint(varies: &[Vary], first_timeline: &str) -> Blueprint {
     let grid = |v: &Vary| -> ContainerLike {
         Grid::new(PLOTTED.iter().map(|(k, title)| {
@@ -107,6 +120,8 @@ fn blueprint(varies: &[Vary], first_timeline: &str) -> Blueprint {
                 .with_origin(format!("/sweep/{}/{obs}", part(&v.key)))
                 .into()
         }))
+        .with_grid_columns(4)
+        .with_name(format!("against {}", v.key))
         .into()
     };
     let plots: ContainerLike = if varies.len() == 1 {
@@ -114,11 +129,18 @@ fn blueprint(varies: &[Vary], first_timeline: &str) -> Blueprint {
     } else {
         Tabs::new(varies.iter().map(grid)).into()
     };
-    Blueprint::new(Horizontal::new([
-        plots,
-        TextDocumentView::new("runs").with_origin("/table").into(),
-    ]))
-    .with_time_panel(TimePanel::new().with_timeline(first_timeline))
+    Blueprint::new(
+        Vertical::new([
+            plots,
+            TextDocumentView::new("runs").with_origin("/table").into(),
+        ])
+        .with_row_shares([3.0, 1.0]),
+    )
+    .with_time_panel(
+        TimePanel::new()
+            .with_timeline(first_timeline)
+            .with_state(PanelState::Collapsed),
+    )
     .with_blueprint_panel(BlueprintPanel::new().with_state(PanelState::Collapsed))
     .with_selection_panel(SelectionPanel::new().with_state(PanelState::Collapsed))
 }
@@ -134,14 +156,27 @@ fn observables_names() -> Vec<&'static str> {
     observables(&blank).iter().map(|o| o.0).collect()
 }
 
+/// The rows as a Markdown table: the varied values, the status, every observable.
+fn markdown(varies: &[Vary], rows: &[SweepRow]) -> String {
+    let mut head: Vec<String> = varies.iter().map(|v| format!("`{}`", v.key)).collect();
+    head.push("status".into());
+    head.extend(observables_names().iter().map(|n| n.to_string()));
+    let mut s = format!("| {} |\n|{}\n", head.join(" | "), "---|".repeat(head.len()));
+    for r in rows {
+        let mut cells: Vec<String> = r.values.iter().map(|v| format!("`{v}`")).collect();
+        cells.push(r.status.clone());
+        cells.extend(
+            observables(r)
+                .iter()
+                .map(|o| o.2.map_or("—".into(), |v| format!("{v:.4e}"))),
+        );
+        s.push_str(&format!("| {} |\n", cells.join(" | ")));
+    }
+    s
+}
+
 /// Writes the recording of a sweep to `path`.
-pub fn log_sweep(
-    path: &Path,
-    scene: &str,
-    varies: &[Vary],
-    rows: &[SweepRow],
-    table: &str,
-) -> Result<()> {
+pub fn log_sweep(path: &Path, scene: &str, varies: &[Vary], rows: &[SweepRow]) -> Result<()> {
     let axes: Vec<Vec<(String, Vec<i64>)>> = varies.iter().map(timelines).collect();
     let first = axes[0].last().map(|a| a.0.clone()).unwrap_or_default();
     let rec = RecordingStreamBuilder::new(crate::record::APPLICATION_ID)
@@ -150,6 +185,16 @@ pub fn log_sweep(
         .save(path)
         .with_context(|| format!("cannot write {}", path.display()))?;
     let names = observables_names();
+    // Per key, the labels of its series in order of appearance (their colours).
+    let mut series: Vec<Vec<String>> = vec![vec![]; varies.len()];
+    for (k, labels) in series.iter_mut().enumerate() {
+        for r in rows {
+            let l = others(varies, r, k);
+            if !labels.contains(&l) {
+                labels.push(l);
+            }
+        }
+    }
     let mut styled = std::collections::BTreeSet::new();
     for row in rows.iter().filter(|r| r.summary.is_some()) {
         let obs = observables(row);
@@ -160,6 +205,9 @@ pub fn log_sweep(
                 .position(|x| *x == row.values[k])
                 .unwrap_or(0);
             let label = others(varies, row, k);
+            let n = series[k].iter().position(|l| *l == label).unwrap_or(0);
+            let [r, g, b] = PALETTE[n % PALETTE.len()];
+            let colour = Rgba32::from_rgb(r, g, b);
             rec.reset_time();
             for (name, ticks) in &axes[k] {
                 let timeline = rerun::TimelineName::try_new(name)
@@ -172,12 +220,15 @@ pub fn log_sweep(
                 if styled.insert(entity.clone()) {
                     rec.log_static(
                         entity.as_str(),
-                        &SeriesLines::new().with_names([label.as_str()]),
+                        &SeriesLines::new()
+                            .with_names([label.as_str()])
+                            .with_colors([colour]),
                     )?;
                     rec.log_static(
                         entity.as_str(),
                         &SeriesPoints::new()
                             .with_names([label.as_str()])
+                            .with_colors([colour])
                             .with_marker_sizes([4.0]),
                     )?;
                 }
@@ -188,7 +239,7 @@ pub fn log_sweep(
     rec.reset_time();
     rec.log_static(
         "table",
-        &TextDocument::from_markdown(format!("```text\n{table}```\n")),
+        &TextDocument::from_markdown(markdown(varies, rows)),
     )?;
     rec.flush_blocking().context("flushing the recording")?;
     Ok(())
