@@ -260,7 +260,11 @@ impl Runner<'_> {
             Ok(s) => s,
             Err(e) => return failed(e.to_string()),
         };
-        sim.use_threads(self.threads);
+        // The run's share of the threads, never more than the simulation takes by itself (one
+        // below the mesh size where the step's parallel sections pay off).
+        if sim.threads() > self.threads {
+            sim.use_threads(self.threads);
+        }
         let plan = Plan {
             cadence: Cadence::Default,
             paraview: None,
