@@ -13,4 +13,5 @@ pub use bench::bench;
 pub use check::check;
 pub use run::run;
 pub use sweep::{sweep, SweepArgs, Vary};
+pub use sweep_record::PALETTE;
 pub use tradeoff::tradeoff;

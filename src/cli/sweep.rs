@@ -444,18 +444,23 @@ pub fn observables(row: &SweepRow) -> Vec<(&'static str, &'static str, Option<f6
     ]
 }
 
-/// The rows as CSV: the varied keys, then the status, the observables, the error.
-pub fn csv(varies: &[Vary], rows: &[SweepRow]) -> String {
-    let quote = |v: &str| format!("\"{}\"", v.replace('"', "\"\""));
-    let mut head: Vec<String> = varies.iter().map(|v| quote(&v.key)).collect();
-    head.push("status".into());
+/// The (CSV column, table header) of each observable, in [`observables`] order.
+pub fn observable_names() -> Vec<(&'static str, &'static str)> {
     let blank = SweepRow {
         values: vec![],
         status: String::new(),
         error: None,
         summary: None,
     };
-    head.extend(observables(&blank).iter().map(|o| o.0.to_string()));
+    observables(&blank).iter().map(|o| (o.0, o.1)).collect()
+}
+
+/// The rows as CSV: the varied keys, then the status, the observables, the error.
+pub fn csv(varies: &[Vary], rows: &[SweepRow]) -> String {
+    let quote = |v: &str| format!("\"{}\"", v.replace('"', "\"\""));
+    let mut head: Vec<String> = varies.iter().map(|v| quote(&v.key)).collect();
+    head.push("status".into());
+    head.extend(observable_names().iter().map(|o| o.0.to_string()));
     head.push("error".into());
     let mut s = head.join(",") + "\n";
     for r in rows {
@@ -487,13 +492,7 @@ pub fn table(varies: &[Vary], rows: &[SweepRow]) -> String {
     for (v, w) in varies.iter().zip(&widths) {
         s.push_str(&format!("{:>w$} ", v.key));
     }
-    let blank = SweepRow {
-        values: vec![],
-        status: String::new(),
-        error: None,
-        summary: None,
-    };
-    let heads = observables(&blank);
+    let heads = observable_names();
     s.push_str(&format!("{:>10}", "status"));
     for k in shown {
         s.push_str(&format!(" {:>12}", heads[k].1));

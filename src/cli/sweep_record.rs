@@ -10,7 +10,7 @@
 //! entity (series) per combination of the other varied keys' values. The table of runs is
 //! `table`.
 
-use super::sweep::{observables, SweepRow, Vary};
+use super::sweep::{observable_names, observables, SweepRow, Vary};
 use anyhow::{Context, Result};
 use rerun::blueprint::components::PanelState;
 use rerun::blueprint::{
@@ -97,8 +97,9 @@ fn others(varies: &[Vary], row: &SweepRow, k: usize) -> String {
     }
 }
 
-/// Colours of the series (one per combination of the other keys), in order of appearance.
-const PALETTE: [[u8; 3]; 8] = [
+/// Colours of series, in order (the first eight of Tableau 10): the sweep's series (one per
+/// combination of the other keys) and the explorer's compared runs.
+pub const PALETTE: [[u8; 3]; 8] = [
     [31, 119, 180],
     [214, 39, 40],
     [44, 160, 44],
@@ -147,13 +148,7 @@ fn blueprint(varies: &[Vary], first_timeline: &str) -> Blueprint {
 
 /// The CSV names of the observables, in [`observables`] order.
 fn observables_names() -> Vec<&'static str> {
-    let blank = SweepRow {
-        values: vec![],
-        status: String::new(),
-        error: None,
-        summary: None,
-    };
-    observables(&blank).iter().map(|o| o.0).collect()
+    observable_names().iter().map(|o| o.0).collect()
 }
 
 /// The rows as a Markdown table: the varied values, the status, every observable.

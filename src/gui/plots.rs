@@ -11,16 +11,7 @@ use egui_plot::{Legend, Line, LineStyle, Plot, VLine};
 
 /// The colour of run `id` (the same in every plot and in the history).
 pub(super) fn run_colour(id: u32) -> Color32 {
-    const PALETTE: [[u8; 3]; 8] = [
-        [31, 119, 180],
-        [214, 39, 40],
-        [44, 160, 44],
-        [148, 103, 189],
-        [255, 127, 14],
-        [23, 190, 207],
-        [140, 86, 75],
-        [227, 119, 194],
-    ];
+    use crate::cli::PALETTE;
     let [r, g, b] = PALETTE[(id.max(1) as usize - 1) % PALETTE.len()];
     Color32::from_rgb(r, g, b)
 }

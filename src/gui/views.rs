@@ -10,6 +10,26 @@ use std::path::Path;
 use std::sync::Arc;
 use std::time::Duration;
 
+/// The columns of the history table.
+const HISTORY_COLUMNS: [&str; 16] = [
+    "compare",
+    "#",
+    "scene",
+    "law",
+    "g_N(0) Pa/m",
+    "α_e m",
+    "u_r m",
+    "μ_inf",
+    "cells",
+    "status",
+    "rupture s",
+    "peak N",
+    "dissipated J",
+    "residual",
+    "ruptured",
+    "wall s",
+];
+
 /// A repaint request for the window of `ctx`, callable from the solver thread.
 pub(super) fn repaint_handle(ctx: &egui::Context) -> Repaint {
     let ctx = ctx.clone();
@@ -283,26 +303,9 @@ impl App {
         egui::ScrollArea::both().show(ui, |ui| {
             egui::Grid::new("history_grid")
                 .striped(true)
-                .num_columns(16)
+                .num_columns(HISTORY_COLUMNS.len())
                 .show(ui, |ui| {
-                    for h in [
-                        "compare",
-                        "#",
-                        "scene",
-                        "law",
-                        "g_N(0) Pa/m",
-                        "α_e m",
-                        "u_r m",
-                        "μ_inf",
-                        "cells",
-                        "status",
-                        "rupture s",
-                        "peak N",
-                        "dissipated J",
-                        "residual",
-                        "ruptured",
-                        "wall s",
-                    ] {
+                    for h in HISTORY_COLUMNS {
                         ui.strong(h);
                     }
                     ui.end_row();
