@@ -1,10 +1,15 @@
 #!/usr/bin/env bash
 # Refreshes screenshots/gui.png: opens the explorer under Xvfb (Mesa llvmpipe through glow),
 # runs the pull-off scene and grabs the window once the run is in the history. Needs, on Debian: apt-get install -y xvfb libgl1-mesa-dri libxkbcommon-x11-0 imagemagick
-# Usage: scripts/gui_screenshot.sh [OUT.png]
+# Usage: scripts/gui_screenshot.sh [OUT.png [GUI ARGS...]]
+#   default: runs the pull-off once (--run-on-start);
+#   screenshots/gui_compare.png: scripts/gui_screenshot.sh screenshots/gui_compare.png --compare u_r=0.003,0.004,0.006
 set -euo pipefail
 cd "$(dirname "$0")/.."
 out="${1:-screenshots/gui.png}"
+shift || true
+args=("$@")
+[ ${#args[@]} -eq 0 ] && args=(--run-on-start)
 export CARGO_TARGET_DIR="${CARGO_TARGET_DIR:-$HOME/.cache/decohesion-target}"
 cargo build --release --quiet
 bin="$CARGO_TARGET_DIR/release/decohesion"
@@ -18,7 +23,7 @@ cleanup() { kill "${app:-}" 2>/dev/null || true; kill $xvfb 2>/dev/null || true;
 trap cleanup EXIT
 sleep 1
 XDG_DATA_HOME="$state" XDG_CONFIG_HOME="$state" DISPLAY="$display" \
-  "$bin" gui scenes/pull_off.toml --run-on-start --record off >/dev/null 2>&1 &
+  "$bin" gui scenes/pull_off.toml "${args[@]}" --record off >/dev/null 2>&1 &
 app=$!
 # The pull-off takes well under a second; the window needs a few to come up under llvmpipe.
 sleep 12

@@ -2,7 +2,7 @@
 //! ([`decohesion::cli`]).
 
 use clap::{Parser, Subcommand};
-use decohesion::cli::{bench, check, run, tradeoff};
+use decohesion::cli::{bench, check, run, sweep, tradeoff, SweepArgs};
 use decohesion::driver::Plan;
 use decohesion::record::{Cadence, Sink};
 use decohesion::scene::load_scene;
@@ -58,6 +58,35 @@ enum Command {
         /// or off [default: the last choice, initially viewer].
         #[arg(long, value_name = "WHERE", value_parser = ["viewer", "file", "off"])]
         record: Option<String>,
+        /// Queue one run per value and overlay them, e.g. --compare u_r=0.003,0.004,0.006 (a
+        /// number parameter of the law, mu_inf, cells, factor or end_time).
+        #[arg(long, value_name = "KEY=V1,V2,...")]
+        compare: Option<String>,
+    },
+    /// Run a grid of variants of one scene (every combination of the --vary values) and write
+    /// every run's summary as CSV and JSON (and a Rerun plot of the observables with --save).
+    Sweep {
+        scene: PathBuf,
+        /// A scene key and its values, e.g. --vary interface.law.u_r=0.003,0.004,0.006 (any key
+        /// --set takes; repeat for a grid; values with commas in brackets or quotes stay whole).
+        #[arg(long = "vary", value_name = "KEY=V1,V2,...", required = true)]
+        vary: Vec<String>,
+        /// Overrides applied to every run.
+        #[arg(long = "set", value_name = "KEY=VALUE")]
+        set: Vec<String>,
+        /// Folder of sweep.csv and sweep.json [default: out/sweep_<scene name>].
+        #[arg(long, value_name = "DIR")]
+        out: Option<PathBuf>,
+        /// Record the observables against the varied values to this .rrd file.
+        #[arg(long, value_name = "FILE.rrd")]
+        save: Option<PathBuf>,
+        /// Runs at a time [default: the threads (--threads or the cores), at most the runs];
+        /// the threads are shared among them.
+        #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..))]
+        jobs: Option<u64>,
+        /// No progress output.
+        #[arg(long)]
+        quiet: bool,
     },
     /// Speed against accuracy: run a grid of quadratures × meshes × time steps of one scene,
     /// compare the observables with the finest run, mark the Pareto front.
@@ -204,6 +233,23 @@ fn main() {
             record,
         } => run(&scene, &set, summary.as_deref(), quiet, &record.plan()),
         Command::Check { scene, set } => check(&scene, &set),
+        Command::Sweep {
+            scene,
+            vary,
+            set,
+            out,
+            save,
+            jobs,
+            quiet,
+        } => sweep(SweepArgs {
+            scene: &scene,
+            vary: &vary,
+            set: &set,
+            out,
+            save,
+            jobs: jobs.map(|j| j as usize),
+            quiet,
+        }),
         Command::Tradeoff {
             scene,
             cells,
@@ -227,7 +273,14 @@ fn main() {
             scene,
             run_on_start,
             record,
+            compare,
         } => {
+            if let Some(spec) = &compare {
+                if let Err(e) = decohesion::cli::Vary::parse(spec) {
+                    eprintln!("error: {}", e.to_string().replace("--vary", "--compare"));
+                    std::process::exit(2);
+                }
+            }
             use decohesion::gui::RecordChoice;
             let record = record.map(|r| match r.as_str() {
                 "file" => RecordChoice::File,
@@ -241,7 +294,8 @@ fn main() {
                     std::process::exit(1);
                 }
             }
-            decohesion::gui::run_window(scene, run_on_start, record).map_err(anyhow::Error::msg)
+            decohesion::gui::run_window(scene, run_on_start, record, compare)
+                .map_err(anyhow::Error::msg)
         }
         Command::Bench {
             scene,

@@ -306,3 +306,53 @@ fn paraview_option_writes_frames_that_read_back() {
     let text = std::fs::read_to_string(&csv).unwrap();
     assert!(text.contains(&pvd.display().to_string()), "{text}");
 }
+
+/// Two runs queued from the window's "compare values of" field: both are ticked in the
+/// history and overlaid in the three comparison plots, one legend entry per run and plot named
+/// by the parameter that differs; unticking run 1 removes its overlays.
+#[test]
+fn two_runs_overlaid_in_the_comparison_plots() {
+    let mut h = harness(small_pull_off(3));
+    h.run();
+    h.get_by_role(Role::TextInput).focus();
+    h.run();
+    h.get_by_role(Role::TextInput).type_text("u_r=0.003,0.006");
+    h.run();
+    h.get_by_label("queue runs").click();
+    h.run();
+    wait_for_end(&mut h, Duration::from_secs(60));
+    h.run();
+    let st = h.state();
+    assert_eq!(
+        st.history.len(),
+        2,
+        "{:?} {:?} {:?}",
+        st.variants_text,
+        st.notes,
+        st.status
+    );
+    let legend = |h: &Harness<'static, App>, label: &str| {
+        h.query_all_by_label(label)
+            .filter(|n| n.accesskit_node().role() == Role::CheckBox)
+            .count()
+    };
+    for label in ["run 1: u_r=0.003", "run 2: u_r=0.006"] {
+        assert_eq!(
+            legend(&h, label),
+            3,
+            "{label}: one entry in each of the 3 plots"
+        );
+    }
+    for id in [1, 2] {
+        let name = format!("compare run {id}");
+        let tick = h.get_by_label(&name);
+        assert_eq!(
+            tick.accesskit_node().toggled(),
+            Some(egui::accesskit::Toggled::True)
+        );
+    }
+    h.get_by_label("compare run 1").click();
+    h.run();
+    assert_eq!(legend(&h, "run 1: u_r=0.003"), 0);
+    assert_eq!(legend(&h, "run 2"), 3, "alone, nothing differs: `run 2`");
+}

@@ -1,5 +1,7 @@
 //! The explorer's run history: one row per run (finished, failed or stopped), built from the
-//! run driver's result, and its CSV export.
+//! run driver's result, with the run's curves over time ([`RunCurve`], decimated to a bounded
+//! size) for the comparison of runs, the parameters that tell selected runs apart, and the CSV
+//! export.
 
 use super::Settings;
 use crate::driver::Finished;
@@ -33,6 +35,151 @@ pub struct HistoryRow {
     /// The ParaView index (`.pvd`) of the run's files, when written.
     #[serde(default)]
     pub paraview: Option<String>,
+    /// The run's curves over time (empty for rows saved before they were kept).
+    #[serde(default)]
+    pub curve: RunCurve,
+}
+
+/// One sample of a run, taken by the solver thread.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct CurvePoint {
+    /// Simulated time [s].
+    pub t: f64,
+    pub counts: StateCounts,
+    /// Balance residual / largest energy so far (NaN at the end sample, which has none).
+    pub residual: f64,
+    /// Mean damage α over the interface nodes [m] (NaN without an interface).
+    pub mean_alpha: f64,
+    /// Imposed displacement of the first prescribed condition [m] (NaN without one).
+    pub displacement: f64,
+    /// Its reaction [N] (NaN without one).
+    pub reaction: f64,
+}
+
+impl CurvePoint {
+    /// The sample of `sim` now.
+    pub fn of(sim: &crate::solver::Simulation) -> CurvePoint {
+        let nodes = &sim.interface_nodes;
+        let mean_alpha = if nodes.is_empty() {
+            f64::NAN
+        } else {
+            nodes.iter().map(|n| n.alpha).sum::<f64>() / nodes.len() as f64
+        };
+        let first = sim.model.displacements.first();
+        CurvePoint {
+            t: sim.time,
+            counts: sim.state_counts(),
+            residual: sim.ledger.relative_residual(),
+            mean_alpha,
+            displacement: first.map_or(f64::NAN, |d| d.history.value(sim.time)[0]),
+            reaction: sim.stats.reactions.first().copied().unwrap_or(f64::NAN),
+        }
+    }
+}
+
+/// Most samples a run keeps (64 bytes each: ≤ 66 kB per run, in memory and in the saved history).
+pub const CURVE_MAX_POINTS: usize = 1024;
+
+/// A run's samples, bounded: every `stride`-th sample offered is kept; when more than
+/// [`CURVE_MAX_POINTS`] are kept, every other one is dropped and the stride doubles, so a run
+/// of any length keeps between half and all of the bound, evenly spread over the samples, plus
+/// its last one.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct RunCurve {
+    pub points: Vec<CurvePoint>,
+    /// Samples offered so far.
+    seen: u64,
+    /// Keep one sample in this many (0 = 1).
+    stride: u64,
+}
+
+impl RunCurve {
+    /// Offers the next sample.
+    pub fn push(&mut self, p: CurvePoint) {
+        let stride = self.stride.max(1);
+        if self.seen.is_multiple_of(stride) {
+            self.points.push(p);
+            if self.points.len() > CURVE_MAX_POINTS {
+                let mut k = 0;
+                self.points.retain(|_| {
+                    k += 1;
+                    k % 2 == 1
+                });
+                self.stride = 2 * stride;
+            }
+        }
+        self.seen += 1;
+    }
+
+    /// The run's last sample, kept whatever the stride (it replaces a kept sample of the same
+    /// time).
+    pub fn finish(&mut self, p: CurvePoint) {
+        if self.points.last().is_some_and(|q| q.t == p.t) {
+            self.points.pop();
+        }
+        self.points.push(p);
+        self.seen += 1;
+    }
+
+    pub fn clear(&mut self) {
+        *self = RunCurve::default();
+    }
+}
+
+/// What a run was run with, as (name, value shown, value compared): scene, law family and
+/// every parameter of it, μ_inf, mesh, time step, end time, material, quadrature. A points
+/// table is shown by its size and compared whole.
+pub fn parameters(s: &Settings) -> Vec<(String, String, String)> {
+    let same = |k: &str, v: String| (k.to_string(), v.clone(), v);
+    let mut out = vec![
+        same("scene", s.scene_stem()),
+        same("law", s.law.family.clone()),
+    ];
+    for (k, v) in s.law.params().0 {
+        out.push(match v {
+            crate::law::ParamValue::Number(x) => same(&k, format!("{x}")),
+            crate::law::ParamValue::Points(p) => {
+                (k, format!("{} points", p.len()), format!("{p:?}"))
+            }
+        });
+    }
+    out.extend([
+        same("μ_inf", s.law.mu_inf.to_string()),
+        same("cells", s.cells.to_string()),
+        same("h/h_crit", s.factor.to_string()),
+        same("end", format!("{} s", s.end_time)),
+        same("material", s.material.clone()),
+        same("integration", s.integration.clone()),
+    ]);
+    out
+}
+
+/// The legend label of each row: `run N` and the parameters whose values are not the same in
+/// every row given.
+pub fn legend_labels(rows: &[&HistoryRow]) -> Vec<String> {
+    let params: Vec<_> = rows.iter().map(|r| parameters(&r.settings)).collect();
+    let compared = |p: &[(String, String, String)], name: &str| {
+        p.iter().find(|q| q.0 == name).map(|q| q.2.clone())
+    };
+    let differs = |name: &str| {
+        let first = compared(&params[0], name);
+        params.iter().any(|p| compared(p, name) != first)
+    };
+    rows.iter()
+        .zip(&params)
+        .map(|(r, p)| {
+            let shown: Vec<String> = p
+                .iter()
+                .filter(|q| differs(&q.0))
+                .map(|q| format!("{}={}", q.0, q.1))
+                .collect();
+            if shown.is_empty() {
+                format!("run {}", r.id)
+            } else {
+                format!("run {}: {}", r.id, shown.join(", "))
+            }
+        })
+        .collect()
 }
 
 impl HistoryRow {
@@ -55,6 +202,7 @@ impl HistoryRow {
             wall_seconds: started.elapsed().as_secs_f64(),
             recording: None,
             paraview: None,
+            curve: RunCurve::default(),
         }
     }
 
@@ -95,6 +243,7 @@ impl HistoryRow {
             wall_seconds: summary.wall_seconds,
             recording,
             paraview: summary.paraview.as_ref().map(|p| p.pvd.clone()),
+            curve: RunCurve::default(),
         }
     }
 }
@@ -159,4 +308,75 @@ pub fn export_csv(rows: &[HistoryRow], path: &Path) -> Result<(), String> {
         std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
     }
     std::fs::write(path, csv(rows)).map_err(|e| format!("{}: {e}", path.display()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn point(t: f64) -> CurvePoint {
+        CurvePoint {
+            t,
+            counts: StateCounts::default(),
+            residual: 0.0,
+            mean_alpha: 0.0,
+            displacement: t,
+            reaction: 0.0,
+        }
+    }
+
+    /// 100 000 samples keep between half and all of the bound, evenly spaced (one sample in a
+    /// power of two), from the first, plus the last; a short run keeps every sample.
+    #[test]
+    fn curves_are_bounded_and_evenly_decimated() {
+        let mut c = RunCurve::default();
+        for k in 0..100_000 {
+            c.push(point(k as f64));
+        }
+        c.finish(point(100_000.0));
+        let n = c.points.len() - 1;
+        assert!(
+            (CURVE_MAX_POINTS / 2..=CURVE_MAX_POINTS).contains(&n),
+            "{n}"
+        );
+        let step = c.points[1].t - c.points[0].t;
+        assert_eq!(c.points[0].t, 0.0);
+        assert!(step.log2().fract() == 0.0, "stride {step}");
+        for w in c.points[..n].windows(2) {
+            assert_eq!(w[1].t - w[0].t, step);
+        }
+        assert_eq!(c.points[n].t, 100_000.0);
+        let mut short = RunCurve::default();
+        for k in 0..10 {
+            short.push(point(k as f64));
+        }
+        short.finish(point(9.0));
+        assert_eq!(
+            short.points.len(),
+            10,
+            "the end sample replaces the same time"
+        );
+    }
+
+    fn row(id: u32, settings: Settings) -> HistoryRow {
+        HistoryRow::failed(id, &settings, String::new(), std::time::Instant::now())
+    }
+
+    /// The legend names the parameters that differ between the rows compared, and only them.
+    #[test]
+    fn legend_shows_what_differs() {
+        let base = Settings::default();
+        let mut other = base.clone();
+        other.factor = 0.25;
+        other.law.values.0.insert("u_r".into(), 0.006.into());
+        let rows = [row(1, base.clone()), row(2, other), row(3, base)];
+        let refs: Vec<&HistoryRow> = rows.iter().collect();
+        let labels = legend_labels(&refs);
+        assert!(labels[1].starts_with("run 2: "), "{}", labels[1]);
+        assert!(labels[1].contains("u_r=0.006"), "{}", labels[1]);
+        assert!(labels[1].contains("h/h_crit=0.25"), "{}", labels[1]);
+        assert!(labels[0].contains("h/h_crit=0.5"), "{}", labels[0]);
+        assert!(!labels[0].contains("scene"), "{}", labels[0]);
+        assert_eq!(legend_labels(&[&rows[0], &rows[2]]), ["run 1", "run 3"]);
+    }
 }

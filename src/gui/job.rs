@@ -2,12 +2,12 @@
 //! ([`crate::driver`]) with the recording and ParaView files the settings ask for, report
 //! progress over a channel, end with a history row (also when the thread panics).
 
-use super::history::output_error_text;
+use super::history::{output_error_text, CurvePoint, RunCurve};
 use super::{HistoryRow, Settings};
 use crate::driver::{Driver, Plan, Progress};
 use crate::record::{Cadence, ColourField, Sink};
 use crate::scene::Scene;
-use crate::solver::{Simulation, StateCounts};
+use crate::solver::Simulation;
 use std::path::Path;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::{channel, Receiver, Sender, TryRecvError};
@@ -20,11 +20,10 @@ pub type Repaint = Arc<dyn Fn() + Send + Sync>;
 /// What the solver thread reports.
 #[derive(Debug)]
 pub enum JobMessage {
+    /// A sample of the run (also kept in the run's [`RunCurve`], which its row carries).
     Progress {
         step: u64,
-        time: f64,
-        counts: StateCounts,
-        relative_residual: f64,
+        point: CurvePoint,
     },
     Done(Box<HistoryRow>),
 }
@@ -36,8 +35,8 @@ pub struct Job {
     pub started: Instant,
     pub cancel: Arc<AtomicBool>,
     rx: Receiver<JobMessage>,
-    /// The last progress: step, time [s], counts, relative residual.
-    pub last: Option<(u64, f64, StateCounts, f64)>,
+    /// The last progress: step and sample.
+    pub last: Option<(u64, CurvePoint)>,
 }
 
 impl Job {
@@ -133,13 +132,18 @@ fn run_job(
         last_report: Instant::now(),
         sample: sim.model.end_time / 300.0,
         next_sample: 0.0,
+        curve: RunCurve::default(),
     };
     let done = driver.run(&mut sim, cancel, &mut progress);
-    HistoryRow::from_run(id, settings, &done, recording_target)
+    let mut row = HistoryRow::from_run(id, settings, &done, recording_target);
+    progress.curve.finish(CurvePoint::of(&sim));
+    row.curve = progress.curve;
+    row
 }
 
 /// Progress over the job's channel: every 50 ms of wall time (the bar) and every end_time/300
-/// of simulated time (the curve of states over time), whichever comes first.
+/// of simulated time (the curves over time), whichever comes first; each sample is also kept
+/// in the run's curve (decimated past [`super::history::CURVE_MAX_POINTS`]).
 struct Channel<'a> {
     tx: &'a Sender<JobMessage>,
     repaint: Option<Repaint>,
@@ -147,6 +151,7 @@ struct Channel<'a> {
     /// Simulated time between two points of the curve [s].
     sample: f64,
     next_sample: f64,
+    curve: RunCurve,
 }
 
 impl Progress for Channel<'_> {
@@ -154,11 +159,11 @@ impl Progress for Channel<'_> {
         if self.last_report.elapsed() >= Duration::from_millis(50) || s.time >= self.next_sample {
             self.last_report = Instant::now();
             self.next_sample = s.time + self.sample;
+            let point = CurvePoint::of(s);
+            self.curve.push(point);
             let _ = self.tx.send(JobMessage::Progress {
                 step: s.step_count,
-                time: s.time,
-                counts: s.state_counts(),
-                relative_residual: s.ledger.relative_residual(),
+                point,
             });
             if let Some(r) = &self.repaint {
                 r();

@@ -52,6 +52,8 @@ impl App {
 pub struct Explorer {
     pub app: App,
     run_on_start: bool,
+    /// `key=v1,v2,…`: runs to queue and compare when the window opens.
+    compare: Option<String>,
 }
 
 impl Explorer {
@@ -60,13 +62,18 @@ impl Explorer {
         scene: Option<String>,
         run_on_start: bool,
         record: Option<RecordChoice>,
+        compare: Option<String>,
     ) -> Explorer {
         let mut app = App::from_storage(cc.storage, scene);
         if let Some(r) = record {
             app.settings.record = r;
         }
         app.repaint = Some(views::repaint_handle(&cc.egui_ctx));
-        Explorer { app, run_on_start }
+        Explorer {
+            app,
+            run_on_start,
+            compare,
+        }
     }
 }
 
@@ -76,6 +83,11 @@ impl eframe::App for Explorer {
             self.run_on_start = false;
             self.app.start();
         }
+        if let Some(spec) = self.compare.take() {
+            if let Err(e) = self.app.queue_spec(&spec) {
+                self.app.notes.push(e);
+            }
+        }
         self.app.ui(ui);
     }
 
@@ -84,11 +96,13 @@ impl eframe::App for Explorer {
     }
 }
 
-/// Opens the window (blocks until it is closed).
+/// Opens the window (blocks until it is closed); `compare` (`key=v1,v2,…`) queues runs to
+/// compare.
 pub fn run_window(
     scene: Option<String>,
     run_on_start: bool,
     record: Option<RecordChoice>,
+    compare: Option<String>,
 ) -> Result<(), String> {
     let options = eframe::NativeOptions {
         viewport: egui::ViewportBuilder::default()
@@ -99,7 +113,15 @@ pub fn run_window(
     eframe::run_native(
         "decohesion explorer",
         options,
-        Box::new(move |cc| Ok(Box::new(Explorer::new(cc, scene, run_on_start, record)))),
+        Box::new(move |cc| {
+            Ok(Box::new(Explorer::new(
+                cc,
+                scene,
+                run_on_start,
+                record,
+                compare,
+            )))
+        }),
     )
     .map_err(|e| format!("cannot open the window: {e}"))
 }

@@ -1,9 +1,29 @@
-//! The explorer's plots (egui_plot): the edited law's curves g_N(α), T(δ), μ(α), and the
-//! interface states and balance residual of the running or last run.
+//! The explorer's plots (egui_plot): the edited law's curves g_N(α), T(δ), μ(α), the
+//! interface states and balance residual of the running or last run, and the runs ticked for
+//! comparison overlaid (states against time, reaction against imposed displacement, mean α
+//! against time), each in its run's colour.
 
+use super::history::CurvePoint;
 use super::App;
 use crate::solver::StateCounts;
-use egui_plot::{Legend, Line, Plot, VLine};
+use egui::Color32;
+use egui_plot::{Legend, Line, LineStyle, Plot, VLine};
+
+/// The colour of run `id` (the same in every plot and in the history).
+pub(super) fn run_colour(id: u32) -> Color32 {
+    use crate::cli::PALETTE;
+    let [r, g, b] = PALETTE[(id.max(1) as usize - 1) % PALETTE.len()];
+    Color32::from_rgb(r, g, b)
+}
+
+/// The finite (x, y) of a run's samples.
+fn series(points: &[CurvePoint], f: impl Fn(&CurvePoint) -> [f64; 2]) -> Vec<[f64; 2]> {
+    points
+        .iter()
+        .map(f)
+        .filter(|p| p[0].is_finite() && p[1].is_finite())
+        .collect()
+}
 
 impl App {
     /// The law's curves, with α_e and u_r marked.
@@ -63,18 +83,9 @@ impl App {
             ui.label("Run a scene to see its interface states over time here.");
             return;
         };
-        let pick = |f: fn(&StateCounts) -> usize| -> Vec<[f64; 2]> {
-            self.curve
-                .iter()
-                .map(|(t, c, _)| [*t, f(c) as f64])
-                .collect()
-        };
-        let residual: Vec<[f64; 2]> = self
-            .curve
-            .iter()
-            .filter(|p| p.2.is_finite())
-            .map(|(t, _, r)| [*t, *r])
-            .collect();
+        let points = &self.curve.points;
+        let pick = |f: fn(&StateCounts) -> usize| series(points, |p| [p.t, f(&p.counts) as f64]);
+        let residual = series(points, |p| [p.t, p.residual]);
         let w = (ui.available_width() / 2.0 - 8.0).max(200.0);
         let colour = |c: [u8; 3]| egui::Color32::from_rgb(c[0], c[1], c[2]);
         ui.horizontal(|ui| {
@@ -115,7 +126,9 @@ fn titled_plot<'a>(
     add: impl FnOnce(&mut egui_plot::PlotUi<'a>) + 'a,
 ) {
     ui.vertical(|ui| {
-        ui.label(title);
+        // A long title is cut to the plot's width (whole on hover), not widening the row.
+        let title = egui::Label::new(title).truncate();
+        ui.allocate_ui(egui::vec2(w, 0.0), |ui| ui.add(title));
         Plot::new(id)
             .width(w)
             .height(210.0)
@@ -123,4 +136,69 @@ fn titled_plot<'a>(
             .legend(Legend::default())
             .show(ui, add);
     });
+}
+
+impl App {
+    /// The runs ticked in the history, overlaid: interface states against time (ruptured
+    /// solid, transition dashed, elastic dotted), reaction against imposed displacement, mean
+    /// α against time; one legend entry per run (its parameters that differ between the runs).
+    pub(super) fn compare_plots_ui(&mut self, ui: &mut egui::Ui) {
+        let runs = self.compared();
+        ui.label(format!(
+            "{} runs compared (tick or untick them in the history)",
+            runs.len()
+        ));
+        let w = (ui.available_width() / 3.0 - 8.0).max(150.0);
+        let styles = [
+            (
+                LineStyle::Solid,
+                (|c| c.ruptured) as fn(&StateCounts) -> usize,
+            ),
+            (LineStyle::dashed_dense(), |c| c.transition),
+            (LineStyle::dotted_dense(), |c| c.elastic),
+        ];
+        ui.horizontal(|ui| {
+            titled_plot(
+                ui,
+                "interface nodes: ruptured solid, transition dashed, elastic dotted",
+                "compare_counts",
+                "t [s]",
+                w,
+                |p| {
+                    for (row, label) in &runs {
+                        for (style, f) in &styles {
+                            let data = series(&row.curve.points, |q| [q.t, f(&q.counts) as f64]);
+                            p.line(
+                                Line::new(label.clone(), data)
+                                    .color(run_colour(row.id))
+                                    .style(*style),
+                            );
+                        }
+                    }
+                },
+            );
+            let overlay = |p: &mut egui_plot::PlotUi, f: &dyn Fn(&CurvePoint) -> [f64; 2]| {
+                for (row, label) in &runs {
+                    let data = series(&row.curve.points, f);
+                    p.line(Line::new(label.clone(), data).color(run_colour(row.id)));
+                }
+            };
+            titled_plot(
+                ui,
+                "reaction [kN] against imposed displacement [mm]",
+                "compare_reaction",
+                "U [mm]",
+                w,
+                |p| overlay(p, &|q| [1e3 * q.displacement, 1e-3 * q.reaction]),
+            );
+            titled_plot(
+                ui,
+                "mean damage α [mm] over the interface",
+                "compare_alpha",
+                "t [s]",
+                w,
+                |p| overlay(p, &|q| [q.t, 1e3 * q.mean_alpha]),
+            );
+        });
+    }
 }

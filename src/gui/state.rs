@@ -1,15 +1,16 @@
 //! The explorer's state and logic, without a window: settings, the edited scene and its
-//! validation, runs (started on their own thread, [`Job`]), the history and its CSV export,
-//! what is persisted. The views ([`super::views`]) draw it and call these methods; a test can
+//! validation, runs (started on their own thread, [`Job`], or queued), the history, the runs
+//! selected for comparison and its CSV export, what is persisted. The views ([`super::views`]) draw it and call these methods; a test can
 //! drive it without egui.
 
-use super::history::export_csv;
+use super::history::{export_csv, legend_labels, RunCurve};
 use super::job::{Job, JobMessage, Repaint};
 use super::{list_scenes, HistoryRow, RecordChoice, SceneEntry, Settings};
 use crate::record::{find_on_path, Sink, RERUN_VERSION};
 use crate::scene::{parse_scene, Scene};
-use crate::solver::{Simulation, StateCounts};
+use crate::solver::Simulation;
 use serde::{Deserialize, Serialize};
+use std::collections::{BTreeSet, VecDeque};
 use std::path::{Path, PathBuf};
 use std::sync::mpsc::TryRecvError;
 
@@ -17,8 +18,12 @@ use std::sync::mpsc::TryRecvError;
 /// (set-up and Lanczos estimate: 40 ms at 20³, 130 ms at 28³ here); the run does it.
 pub const CHECK_MAX_ELEMENTS: usize = 25_000;
 
-/// Progress of a run over simulated time, for the live plot: (t [s], counts, relative residual).
-pub type Curve = Vec<(f64, StateCounts, f64)>;
+/// Progress of a run over simulated time, for the live plot.
+pub type Curve = RunCurve;
+
+/// Settings keys the explorer can vary over queued runs ([`App::queue_variants`]) besides the
+/// number parameters of the law.
+pub const VARIANT_KEYS: [&str; 4] = ["mu_inf", "cells", "factor", "end_time"];
 
 /// Where the app is.
 #[derive(Debug, Clone, PartialEq)]
@@ -47,6 +52,17 @@ pub struct App {
     pub curve: Curve,
     /// Run id of `curve`.
     pub curve_run: Option<u32>,
+    /// Ids of the history rows whose curves are overlaid (the "compare" checkboxes).
+    pub compare: BTreeSet<u32>,
+    /// Settings of runs waiting to start, each once the previous run ends; they are compared.
+    pub queue: VecDeque<Settings>,
+    /// The running job came from the queue.
+    queued_run: bool,
+    /// The `key=v1,v2,…` field of the runs to queue.
+    pub variants_text: String,
+    /// Frames still to draw after a run ended (the plots size their axes from the previous
+    /// frame's labels, so the first frame with the final curves is not the last one drawn).
+    pub(super) settle: u8,
 }
 
 /// What the current settings give, shown before a run.
@@ -88,8 +104,13 @@ impl App {
             notes: vec![],
             validation: None,
             repaint: None,
-            curve: vec![],
+            curve: RunCurve::default(),
             curve_run: None,
+            compare: BTreeSet::new(),
+            queue: VecDeque::new(),
+            queued_run: false,
+            variants_text: String::new(),
+            settle: 0,
         }
     }
 
@@ -226,6 +247,9 @@ impl App {
                 self.status = Status::Running;
                 self.curve.clear();
                 self.curve_run = Some(id);
+                if std::mem::take(&mut self.queued_run) {
+                    self.compare.insert(id);
+                }
             }
             Err(e) => self.status = Status::Ended(format!("failed: cannot start a thread: {e}")),
         }
@@ -251,17 +275,12 @@ impl App {
         };
         loop {
             match job.try_recv() {
-                Ok(JobMessage::Progress {
-                    step,
-                    time,
-                    counts,
-                    relative_residual,
-                }) => {
-                    job.last = Some((step, time, counts, relative_residual));
-                    self.curve.push((time, counts, relative_residual));
+                Ok(JobMessage::Progress { step, point }) => {
+                    job.last = Some((step, point));
+                    self.curve.push(point);
                 }
                 Ok(JobMessage::Done(row)) => {
-                    self.curve.push((row.simulated_time, row.counts, f64::NAN));
+                    self.curve = row.curve.clone();
                     self.status = Status::Ended(match row.status.as_str() {
                         "completed" => "finished".to_string(),
                         "cancelled" => "stopped".to_string(),
@@ -275,7 +294,8 @@ impl App {
                     }
                     self.history.push(*row);
                     self.job = None;
-                    return false;
+                    self.settle = 3;
+                    return self.start_queued();
                 }
                 Err(TryRecvError::Empty) => return true,
                 Err(TryRecvError::Disconnected) => {
@@ -286,6 +306,105 @@ impl App {
                 }
             }
         }
+    }
+
+    /// Ticks or unticks history run `id` for comparison.
+    pub fn toggle_compare(&mut self, id: u32) {
+        if !self.compare.remove(&id) {
+            self.compare.insert(id);
+        }
+    }
+
+    /// The history rows ticked for comparison (in run order) with their legend labels: `run N`
+    /// and the parameters that differ between them.
+    pub fn compared(&self) -> Vec<(&HistoryRow, String)> {
+        let rows: Vec<&HistoryRow> = self
+            .history
+            .iter()
+            .filter(|r| self.compare.contains(&r.id))
+            .collect();
+        let labels = legend_labels(&rows);
+        rows.into_iter().zip(labels).collect()
+    }
+
+    /// Queues one run per value of `key` (a number parameter of the edited law, or one of
+    /// [`VARIANT_KEYS`]), the other settings as they are now; the runs start one after the
+    /// other and are ticked for comparison. Nothing is queued if a value is refused.
+    pub fn queue_variants(&mut self, key: &str, values: &[f64]) -> Result<(), String> {
+        let is_param = self.settings.law.spec().is_some_and(|f| {
+            f.params
+                .iter()
+                .any(|p| p.key == key && matches!(p.kind, crate::law::ParamKind::Number(_)))
+        });
+        let mut variants = vec![];
+        for &v in values {
+            let mut s = self.settings.clone();
+            match key {
+                "mu_inf" => s.law.mu_inf = v,
+                "cells" if v >= 1.0 && v.fract() == 0.0 && s.cells > 0 => s.cells = v as usize,
+                "factor" => s.factor = v,
+                "end_time" => s.end_time = v,
+                _ if is_param => {
+                    s.law.values.0.insert(key.to_string(), v.into());
+                }
+                "cells" => {
+                    return Err(format!(
+                        "cells = {v}: a whole number ≥ 1, on a scene with a box mesh"
+                    ))
+                }
+                _ => {
+                    let params = self.settings.law.params().0.into_keys().collect::<Vec<_>>();
+                    return Err(format!(
+                        "`{key}` cannot be varied here: admissible are the parameters of the                          `{}` law ({}) and {}",
+                        self.settings.law.family,
+                        params.join(", "),
+                        VARIANT_KEYS.join(", ")
+                    ));
+                }
+            }
+            s.law.law().map_err(|e| format!("{key} = {v}: {e}"))?;
+            s.scene().map_err(|e| format!("{key} = {v}: {e}"))?;
+            variants.push(s);
+        }
+        self.queue.extend(variants);
+        if self.job.is_none() {
+            self.start_queued();
+        }
+        Ok(())
+    }
+
+    /// [`App::queue_variants`] from `key=v1,v2,…` (as `decohesion sweep --vary` takes it);
+    /// the error names the key and the value.
+    pub fn queue_spec(&mut self, spec: &str) -> Result<(), String> {
+        if spec.trim().is_empty() {
+            return Err("write key=v1,v2,… first, e.g. u_r=0.003,0.004,0.006".into());
+        }
+        let vary =
+            crate::cli::Vary::parse(spec).map_err(|e| e.to_string().replace("--vary ", ""))?;
+        let values = vary
+            .values
+            .iter()
+            .map(|v| match v.parse::<f64>() {
+                Ok(x) if x.is_finite() => Ok(x),
+                _ => Err(format!("{} = `{v}`: not a number", vary.key)),
+            })
+            .collect::<Result<Vec<f64>, String>>()?;
+        self.queue_variants(&vary.key, &values)
+    }
+
+    /// Starts the next queued run, if any; true if one started.
+    fn start_queued(&mut self) -> bool {
+        while let Some(s) = self.queue.pop_front() {
+            self.settings = s;
+            self.validation = None;
+            self.queued_run = true;
+            self.start();
+            self.queued_run = false;
+            if self.job.is_some() {
+                return true;
+            }
+        }
+        false
     }
 
     /// Writes the history as CSV.
@@ -337,7 +456,10 @@ mod tests {
         );
         // The live curve ends at the run's end.
         assert_eq!(app.curve_run, Some(1));
-        assert_eq!(app.curve.last().map(|p| p.0), Some(row.simulated_time));
+        assert_eq!(
+            app.curve.points.last().map(|p| p.t),
+            Some(row.simulated_time)
+        );
 
         let dir = std::env::temp_dir().join(format!("decohesion-state-{}", std::process::id()));
         let csv = dir.join("history.csv");
@@ -358,5 +480,55 @@ mod tests {
         app.load_row(0);
         assert_eq!(app.settings.law, law);
         assert_eq!(app.blocker(), None);
+    }
+
+    /// Queued variants: a key the explorer cannot vary and an inadmissible value are refused
+    /// naming the key, the value and what is admissible, and nothing is queued; two values of
+    /// u_r run one after the other and are both ticked, labelled by u_r alone. Each row carries
+    /// its curve, ending at the run's end with its counts; once every node is ruptured its
+    /// mean α is u_r (eq. 12 caps α at u_r); the larger u_r dissipates more (G_c grows with
+    /// u_r at fixed g_N(0) and α_e).
+    #[test]
+    fn queued_variants_are_run_and_compared() {
+        let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+        let mut app = App::default();
+        app.load_scene(&root.join("scenes/pull_off.toml").display().to_string());
+        app.settings.cells = 3;
+        app.settings.record = RecordChoice::Off;
+        let e = app.queue_spec("young=1e6,2e6").unwrap_err();
+        assert!(
+            e.contains("`young` cannot be varied") && e.contains("u_r"),
+            "{e}"
+        );
+        let e = app.queue_spec("u_r=0.003,0.001").unwrap_err();
+        assert!(e.starts_with("u_r = 0.001: u_r"), "{e}");
+        let e = app.queue_spec("u_r=0.003,x").unwrap_err();
+        assert!(e.contains("`x`: not a number"), "{e}");
+        assert!(app.queue.is_empty() && app.job.is_none());
+
+        app.queue_spec("u_r=0.003,0.006").unwrap();
+        let started = Instant::now();
+        while app.poll() {
+            assert!(started.elapsed() < Duration::from_secs(60), "no end");
+            std::thread::sleep(Duration::from_millis(10));
+        }
+        assert!(app.queue.is_empty());
+        assert_eq!(app.history.len(), 2);
+        assert_eq!(app.compare.iter().copied().collect::<Vec<_>>(), [1, 2]);
+        let compared = app.compared();
+        let labels: Vec<&str> = compared.iter().map(|c| c.1.as_str()).collect();
+        assert_eq!(labels, ["run 1: u_r=0.003", "run 2: u_r=0.006"]);
+        for (row, u_r) in app.history.iter().zip([0.003, 0.006]) {
+            let last = row.curve.points.last().expect("a curve");
+            assert_eq!((last.t, last.counts), (row.simulated_time, row.counts));
+            assert_eq!(row.counts.ruptured, row.interface_nodes);
+            assert!(
+                (last.mean_alpha - u_r).abs() <= 1e-12 * u_r,
+                "{}",
+                last.mean_alpha
+            );
+            assert!(row.curve.points.len() > 100, "{}", row.curve.points.len());
+        }
+        assert!(app.history[1].damage_dissipated > app.history[0].damage_dissipated);
     }
 }

@@ -10,6 +10,26 @@ use std::path::Path;
 use std::sync::Arc;
 use std::time::Duration;
 
+/// The columns of the history table.
+const HISTORY_COLUMNS: [&str; 16] = [
+    "compare",
+    "#",
+    "scene",
+    "law",
+    "g_N(0) Pa/m",
+    "α_e m",
+    "u_r m",
+    "μ_inf",
+    "cells",
+    "status",
+    "rupture s",
+    "peak N",
+    "dissipated J",
+    "residual",
+    "ruptured",
+    "wall s",
+];
+
 /// A repaint request for the window of `ctx`, callable from the solver thread.
 pub(super) fn repaint_handle(ctx: &egui::Context) -> Repaint {
     let ctx = ctx.clone();
@@ -23,7 +43,8 @@ impl App {
             self.repaint = Some(repaint_handle(ui.ctx()));
         }
         let running = self.poll();
-        if running {
+        if running || self.settle > 0 {
+            self.settle = self.settle.saturating_sub(1);
             ui.ctx().request_repaint_after(Duration::from_millis(100));
         }
         egui::Panel::left("settings")
@@ -39,6 +60,10 @@ impl App {
         egui::CentralPanel::default().show(ui, |ui| {
             egui::ScrollArea::vertical().show(ui, |ui| {
                 self.run_ui(ui);
+                if !self.compare.is_empty() {
+                    ui.separator();
+                    self.compare_plots_ui(ui);
+                }
                 ui.separator();
                 self.plots_ui(ui);
                 ui.separator();
@@ -182,6 +207,7 @@ impl App {
             };
             ui.label(format!("status: {status}"));
         });
+        self.variants_ui(ui);
         if let Some(b) = &blocker {
             ui.colored_label(
                 egui::Color32::from_rgb(220, 50, 50),
@@ -189,8 +215,11 @@ impl App {
             );
         }
         if let Some(job) = &self.job {
-            let (step, time, counts, residual) =
-                job.last.unwrap_or((0, 0.0, StateCounts::default(), 0.0));
+            let (step, time, counts, residual) = job
+                .last
+                .map_or((0, 0.0, StateCounts::default(), 0.0), |(s, p)| {
+                    (s, p.t, p.counts, p.residual)
+                });
             let frac = (time / job.end_time).clamp(0.0, 1.0);
             let wall = job.started.elapsed().as_secs_f64();
             let rate = step as f64 / wall.max(1e-9);
@@ -215,6 +244,32 @@ impl App {
         for n in &self.notes {
             ui.colored_label(egui::Color32::from_rgb(230, 160, 40), n);
         }
+    }
+
+    /// Runs of several values of one parameter, queued and compared.
+    fn variants_ui(&mut self, ui: &mut egui::Ui) {
+        ui.horizontal(|ui| {
+            ui.label("compare values of");
+            ui.add(
+                egui::TextEdit::singleline(&mut self.variants_text)
+                    .hint_text("u_r=0.003,0.004,0.006")
+                    .desired_width(260.0),
+            )
+            .on_hover_text(format!(
+                "key=v1,v2,…: a number parameter of the law or one of {}; one run per value, \
+                 the others as set, overlaid below",
+                super::state::VARIANT_KEYS.join(", ")
+            ));
+            if ui.button("queue runs").clicked() {
+                let spec = self.variants_text.clone();
+                if let Err(e) = self.queue_spec(&spec) {
+                    self.notes.push(e);
+                }
+            }
+            if !self.queue.is_empty() {
+                ui.label(format!("{} queued", self.queue.len()));
+            }
+        });
     }
 
     fn history_ui(&mut self, ui: &mut egui::Ui) {
@@ -248,37 +303,39 @@ impl App {
         egui::ScrollArea::both().show(ui, |ui| {
             egui::Grid::new("history_grid")
                 .striped(true)
-                .num_columns(13)
+                .num_columns(HISTORY_COLUMNS.len())
                 .show(ui, |ui| {
-                    for h in [
-                        "#",
-                        "scene",
-                        "law",
-                        "g_N(0) Pa/m",
-                        "α_e m",
-                        "u_r m",
-                        "μ_inf",
-                        "cells",
-                        "status",
-                        "rupture s",
-                        "peak N",
-                        "dissipated J",
-                        "residual",
-                        "ruptured",
-                        "wall s",
-                    ] {
+                    for h in HISTORY_COLUMNS {
                         ui.strong(h);
                     }
                     ui.end_row();
                     let opt = |v: Option<f64>, p: usize| {
                         v.map_or("—".to_string(), |v| format!("{v:.p$e}"))
                     };
+                    let mut toggled = None;
                     for (i, r) in self.history.iter().enumerate().rev() {
                         let st = &r.settings;
-                        if ui
-                            .selectable_label(self.selected == Some(i), format!("{}", r.id))
-                            .clicked()
-                        {
+                        let mut ticked = self.compare.contains(&r.id);
+                        let tick = ui.checkbox(&mut ticked, "");
+                        let name = format!("compare run {}", r.id);
+                        tick.widget_info(|| {
+                            egui::WidgetInfo::selected(
+                                egui::accesskit::Role::CheckBox,
+                                true,
+                                ticked,
+                                &name,
+                            )
+                        });
+                        if tick.on_hover_text(&name).changed() {
+                            toggled = Some(r.id);
+                        }
+                        let id = egui::RichText::new(format!("{}", r.id));
+                        let id = if ticked {
+                            id.color(super::plots::run_colour(r.id)).strong()
+                        } else {
+                            id
+                        };
+                        if ui.selectable_label(self.selected == Some(i), id).clicked() {
                             self.selected = Some(i);
                         }
                         ui.label(
@@ -313,6 +370,9 @@ impl App {
                         ui.label(format!("{}/{}", r.counts.ruptured, r.interface_nodes));
                         ui.label(format!("{:.2}", r.wall_seconds));
                         ui.end_row();
+                    }
+                    if let Some(id) = toggled {
+                        self.toggle_compare(id);
                     }
                 });
         });
