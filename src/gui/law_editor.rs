@@ -234,7 +234,7 @@ fn rate_plot(ui: &mut egui::Ui, law: &StiffnessLaw, rate: &mut f64) {
     ui.label(format!(
         "T(δ) [MPa] against δ [mm], opened at {rate:.3e} m/s"
     ));
-    Plot::new("law_at_rate")
+    super::plots::plot_125(Plot::new("law_at_rate"))
         .height(160.0)
         .legend(Legend::default())
         .x_axis_label("δ [mm]")

@@ -7,7 +7,59 @@ use super::history::CurvePoint;
 use super::App;
 use crate::solver::StateCounts;
 use egui::Color32;
-use egui_plot::{Legend, Line, LineStyle, Plot, VLine};
+use egui_plot::{uniform_grid_spacer, GridInput, Legend, Line, LineStyle, Plot, VLine};
+
+/// The smallest of 1, 2, 5 × 10^k that is ≥ `x` (> 0).
+fn step_125(x: f64) -> f64 {
+    let decade = 10f64.powf(x.log10().floor());
+    [1.0, 2.0, 5.0, 10.0]
+        .into_iter()
+        .map(|m| m * decade)
+        .find(|&s| s >= x * (1.0 - 1e-12))
+        .unwrap_or(10.0 * decade)
+}
+
+/// Grid lines at 1-2-5 steps: egui_plot's default spacer steps by powers of ten only, so a
+/// 210-pixel plot spanning ±800 had lines every 100 (too close for labels) or 1000 (only "0"
+/// labelled). Each coarser step is the next 1-2-5 value ≥ 4× the finer one (a multiple of it).
+pub(super) fn plot_125(plot: Plot<'_>) -> Plot<'_> {
+    let spacer = || {
+        uniform_grid_spacer(|input: GridInput| {
+            let fine = step_125(input.base_step_size.abs().max(f64::MIN_POSITIVE));
+            let mid = step_125(4.0 * fine);
+            [fine, mid, step_125(4.0 * mid)]
+        })
+    };
+    plot.x_grid_spacer(spacer())
+        .y_grid_spacer(spacer())
+        .x_axis_formatter(|mark, _| tick_label(mark.value, mark.step_size))
+        .y_axis_formatter(|mark, _| tick_label(mark.value, mark.step_size))
+}
+
+/// A tick's label with as many decimals as its step needs (egui_plot's default rounds the
+/// decimals of log10(step), so a 0.05 step printed 0.05 as "0.1"), in e-notation for steps
+/// ≥ 10⁵ or < 10⁻⁴ (4e8 Pa/m rather than 400000000); trailing zeros dropped, so a mark
+/// labelled with a finer step than its neighbour's still reads alike ("0.1" beside "0.05").
+fn tick_label(value: f64, step: f64) -> String {
+    if value == 0.0 {
+        return "0".to_string();
+    }
+    let trim = |s: String| {
+        if s.contains('.') {
+            s.trim_end_matches('0').trim_end_matches('.').to_string()
+        } else {
+            s
+        }
+    };
+    if !(1e-4..1e5).contains(&step) {
+        let digits = (value.abs().log10().floor() - step.log10().floor()).max(0.0) as usize;
+        let text = format!("{value:.digits$e}");
+        let (mantissa, exponent) = text.split_once('e').unwrap_or((&text, "0"));
+        return format!("{}e{exponent}", trim(mantissa.to_string()));
+    }
+    let decimals = (-step.log10() - 1e-9).ceil().max(0.0) as usize;
+    trim(format!("{value:.decimals$}"))
+}
 
 /// The colour of run `id` (the same in every plot and in the history).
 pub(super) fn run_colour(id: u32) -> Color32 {
@@ -129,7 +181,7 @@ fn titled_plot<'a>(
         // A long title is cut to the plot's width (whole on hover), not widening the row.
         let title = egui::Label::new(title).truncate();
         ui.allocate_ui(egui::vec2(w, 0.0), |ui| ui.add(title));
-        Plot::new(id)
+        plot_125(Plot::new(id))
             .width(w)
             .height(210.0)
             .x_axis_label(x_label.to_string())
@@ -200,5 +252,36 @@ impl App {
                 |p| overlay(p, &|q| [q.t, 1e3 * q.mean_alpha]),
             );
         });
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{step_125, tick_label};
+
+    #[test]
+    fn tick_labels_carry_the_decimals_of_their_step() {
+        assert_eq!(tick_label(0.05, 0.05), "0.05");
+        assert_eq!(tick_label(0.2, 0.1), "0.2");
+        assert_eq!(tick_label(-500.0, 100.0), "-500");
+        assert_eq!(tick_label(4e8, 1e8), "4e8");
+        assert_eq!(tick_label(1.5e8, 5e7), "1.5e8");
+        assert_eq!(tick_label(2e-5, 1e-5), "2e-5");
+        assert_eq!(tick_label(0.1, 0.05), "0.1");
+        assert_eq!(tick_label(1e8, 5e7), "1e8");
+    }
+
+    #[test]
+    fn grid_steps_are_one_two_five_times_a_power_of_ten() {
+        for (x, step) in [
+            (0.3, 0.5),
+            (1.0, 1.0),
+            (1.7, 2.0),
+            (101.0, 200.0),
+            (6e-4, 1e-3),
+        ] {
+            let got = step_125(x);
+            assert!((got - step).abs() <= 1e-12 * step, "{x}: {got} != {step}");
+        }
     }
 }
