@@ -284,23 +284,13 @@ struct Pull {
     residual: f64,
 }
 
-/// The scene at `speed` [m/s] (the same four-step start over 2 ms, then constant; until
-/// 2.5 u_r/speed + 0.1 s), with τ_c = `tau_c`.
+/// The scene at `speed` [m/s] (its `displacement.speed`, with the scene's four-step start over
+/// 2 ms; until 2.5 u_r/speed + 0.1 s), with τ_c = `tau_c`.
 fn pull_at(speed: f64, tau_c: f64) -> Pull {
-    let (ta, t_end) = (2e-3, 2.5 * 4e-3 / speed + 0.1);
-    let mut rows = vec![[0.0, 0.0]];
-    for k in 1..=4 {
-        let u = rows.last().unwrap()[1] + speed * k as f64 / 4.0 * ta / 4.0;
-        rows.push([k as f64 * ta / 4.0, u]);
-    }
-    rows.push([t_end, rows[4][1] + speed * (t_end - ta)]);
-    let table: Vec<String> = rows
-        .iter()
-        .map(|r| format!("[{:e},{:e}]", r[0], r[1]))
-        .collect();
+    let t_end = 2.5 * 4e-3 / speed + 0.1;
     let set = [
         format!("end_time={t_end:e}"),
-        format!("displacement.0.table=[{}]", table.join(",")),
+        format!("displacement.speed={speed:e}"),
         format!("interface.delay.tau_c={tau_c:e}"),
     ];
     let scene = decohesion_physics::scene::load_scene(&scene_file("rate_effect.toml"), &set)

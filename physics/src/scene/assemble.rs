@@ -3,7 +3,7 @@
 //! the first error found is returned.
 
 use super::check::Check;
-use super::error::SceneError;
+use super::error::{num, SceneError};
 use super::raw::{
     RawContact, RawDisplacement, RawInterface, RawMaterial, RawPlane, RawScene, RawScheme,
     RawTraction,
@@ -54,7 +54,7 @@ impl Check<'_> {
             self.contact(&mesh, &mut attached, key, c)
         })?;
         let displacements = each(raw.displacement, "displacement", |key, d| {
-            self.displacement(&mesh, key, d)
+            self.displacement(&mesh, key, d, raw.end_time)
         })?;
         let tractions = each(raw.traction, "traction", |key, t| {
             self.traction(&mesh, key, t)
@@ -260,21 +260,95 @@ impl Check<'_> {
         Ok(())
     }
 
-    /// `displacement[i]`: its face set and its history U(t).
+    /// `displacement[i]`: its face set and its history U(t), from `table` or from `speed`.
     fn displacement(
         &self,
         mesh: &Mesh,
         key: String,
         d: RawDisplacement,
+        end_time: f64,
     ) -> Result<PrescribedDisplacement, SceneError> {
+        let faces = self.faces(mesh, format!("{key}.faces"), &d.faces)?;
+        let rows = match (&d.table, d.speed) {
+            (Some(table), None) => {
+                let extras = [
+                    ("ramp", d.ramp.map(num)),
+                    ("ramp_steps", d.ramp_steps.map(|n| n.to_string())),
+                ];
+                if let Some((name, Some(value))) = extras.into_iter().find(|e| e.1.is_some()) {
+                    return Err(self.invalid(
+                        format!("{key}.{name}"),
+                        value,
+                        "belongs to `speed`, not to `table` (a table gives U(t) itself)",
+                    ));
+                }
+                table.iter().map(|r| (r[0], [r[1]])).collect()
+            }
+            (None, Some(v)) => self.speed_rows(&key, v, &d, end_time)?,
+            (Some(_), Some(v)) => {
+                return Err(self.invalid(
+                    format!("{key}.speed"),
+                    num(v),
+                    "give either `table` or `speed`, not both",
+                ))
+            }
+            (None, None) => {
+                return Err(self.invalid(
+                    format!("{key}.table"),
+                    "missing".into(),
+                    "needs `table` = [[t (s), U (m)], …] or `speed` (m/s)",
+                ))
+            }
+        };
         Ok(PrescribedDisplacement {
-            faces: self.faces(mesh, format!("{key}.faces"), &d.faces)?,
+            faces,
             component: d.component as usize,
-            history: self.history(
-                &format!("{key}.table"),
-                d.table.iter().map(|r| (r[0], [r[1]])).collect(),
-            )?,
+            history: self.history(&format!("{key}.table"), rows)?,
         })
+    }
+
+    /// `displacement[i].speed` v [m/s] as the piecewise-linear U(t) it stands for: the speed
+    /// is reached over `ramp` t_r [s] in n = `ramp_steps` equal increments (v k/n on the k-th
+    /// interval of length t_r/n: a ramp in steps sends n stress waves of ρc_d v/n instead of
+    /// one of ρc_d v), then U = U(t_r) + v (t − t_r), the last row placed at 2 max(T, t_r) so that
+    /// a last step ending past T = `end_time` still sees the constant speed.
+    fn speed_rows(
+        &self,
+        key: &str,
+        v: f64,
+        d: &RawDisplacement,
+        end_time: f64,
+    ) -> Result<Vec<(f64, [f64; 1])>, SceneError> {
+        self.require(
+            v.is_finite(),
+            format!("{key}.speed"),
+            v,
+            "must be finite (m/s)",
+        )?;
+        let ramp = d.ramp.unwrap_or(0.0);
+        let ramp_key = format!("{key}.ramp");
+        self.require(
+            ramp.is_finite() && ramp >= 0.0,
+            ramp_key,
+            ramp,
+            "must be ≥ 0 s",
+        )?;
+        let n = d.ramp_steps.unwrap_or(4);
+        if n == 0 {
+            return Err(self.invalid(format!("{key}.ramp_steps"), "0".into(), "must be ≥ 1"));
+        }
+        let mut rows = vec![(0.0, [0.0])];
+        if ramp > 0.0 {
+            let dt = ramp / n as f64;
+            for k in 1..=n {
+                let u = rows[rows.len() - 1].1[0] + v * (k as f64 / n as f64) * dt;
+                rows.push((k as f64 * dt, [u]));
+            }
+        }
+        let (t_r, u_r) = (rows[rows.len() - 1].0, rows[rows.len() - 1].1[0]);
+        let t_last = 2.0 * end_time.max(ramp);
+        rows.push((t_last, [u_r + v * (t_last - t_r)]));
+        Ok(rows)
     }
 
     /// `traction[i]`: its face set, vector and amplitude history (constant 1 if none).

@@ -135,7 +135,14 @@ pub struct RawContact {
 pub struct RawDisplacement {
     pub faces: String,
     pub component: Axis,
-    pub table: Vec<[f64; 2]>,
+    /// U(t) as rows [t (s), U (m)]; or, instead, `speed`.
+    pub table: Option<Vec<[f64; 2]>>,
+    /// A constant pull speed (m/s) instead of a table: U = v t after the ramp.
+    pub speed: Option<f64>,
+    /// With `speed`: the time (s) over which the speed is reached (default 0: at once).
+    pub ramp: Option<f64>,
+    /// With `speed`: the number of equal speed increments of the ramp (default 4).
+    pub ramp_steps: Option<u32>,
 }
 
 #[derive(Deserialize, Clone, Copy)]

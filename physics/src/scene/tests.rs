@@ -299,3 +299,68 @@ fn unreadable_file_is_named() {
         "{e}"
     );
 }
+
+/// A one-cell cube with `displacement` lines appended (a pull of its top face).
+fn pulled(displacement: &str) -> String {
+    format!(
+        "end_time = 0.3\n[mesh]\nsize = [1, 1, 1]\ncells = [1, 1, 1]\n\
+         [material]\nyoung = 1e6\npoisson = 0.3\ndensity = 1000\n\
+         [[displacement]]\nfaces = \"z+\"\ncomponent = \"z\"\n{displacement}\n"
+    )
+}
+
+#[test]
+fn a_pull_speed_is_the_table_of_its_ramp_and_constant_speed() {
+    let scene = parse_scene(
+        &pulled("speed = 0.1\nramp = 2e-3\nramp_steps = 4"),
+        "scenes/t.toml",
+        &[],
+    )
+    .unwrap();
+    let u = &scene.model.displacements[0].history;
+    // Speed v k/4 on the k-th quarter of the ramp: U at the quarter ends is v t_r/4 · (1, 3,
+    // 6, 10)/4, then U = U(t_r) + v (t − t_r) (linear, so exact at any t up to round-off).
+    let (v, q) = (0.1, 5e-4);
+    for (k, sum) in [(1, 1.0), (2, 3.0), (3, 6.0), (4, 10.0)] {
+        let expected = v * q * sum / 4.0;
+        assert!((u.value(k as f64 * q)[0] - expected).abs() <= 1e-15 * expected);
+    }
+    for t in [0.01, 0.3, 0.31] {
+        let expected = v * q * 10.0 / 4.0 + v * (t - 2e-3);
+        assert!(
+            (u.value(t)[0] - expected).abs() <= 1e-14 * expected,
+            "t = {t}"
+        );
+    }
+    let at_once = parse_scene(&pulled("speed = -0.5"), "scenes/t.toml", &[]).unwrap();
+    assert_eq!(at_once.model.displacements[0].history.value(0.2)[0], -0.1);
+}
+
+#[test]
+fn a_pull_is_a_table_or_a_speed() {
+    assert_error(
+        &pulled("table = [[0.0, 0.0]]\nspeed = 0.1"),
+        &[],
+        &["displacement[0].speed", "0.1", "either `table` or `speed`"],
+    );
+    assert_error(
+        &pulled(""),
+        &[],
+        &["displacement[0].table", "`speed` (m/s)"],
+    );
+    assert_error(
+        &pulled("table = [[0.0, 0.0]]\nramp = 0.01"),
+        &[],
+        &["displacement[0].ramp", "0.01", "belongs to `speed`"],
+    );
+    assert_error(
+        &pulled("speed = 0.1\nramp = -1.0"),
+        &[],
+        &["displacement[0].ramp", "-1", "≥ 0 s"],
+    );
+    assert_error(
+        &pulled("speed = 0.1\nramp = 1e-3\nramp_steps = 0"),
+        &[],
+        &["displacement[0].ramp_steps", "≥ 1"],
+    );
+}
