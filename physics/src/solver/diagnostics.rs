@@ -1,6 +1,7 @@
 //! What the user is told: the blow-up diagnostic (where, with which h and h_crit, what to
 //! change; PHYSICS.md §6) and the regime warnings printed before a run.
 
+use super::setup::StartOffset;
 use super::state::SolverError;
 use super::Simulation;
 
@@ -37,6 +38,8 @@ impl Simulation {
     /// - A brittle law, (u_r − α_e)/α_e < 1 %: the softening branch is crossed within a step.
     /// - Elongated elements (aspect ratio ≥ 10): the shortest edge sets the step.
     /// - A time-step factor above 1: unstable by design (PHYSICS.md §6).
+    /// - Glued nodes that start off their mould by more than the tolerance, or inside it
+    ///   ([`StartOffset`]): their glue starts pre-stressed (pre-damaged beyond α_e).
     pub fn advisories(&self) -> Vec<String> {
         let m = &self.model;
         let mat = &m.material;
@@ -100,6 +103,11 @@ impl Simulation {
                 self.h_crit
             ));
         }
+        out.extend(
+            self.start_offsets
+                .iter()
+                .map(|o| self.start_offset_warning(o)),
+        );
         let factor = m.scheme.time_step_factor;
         if factor > 1.0 {
             out.push(format!(
@@ -107,5 +115,45 @@ impl Simulation {
             ));
         }
         out
+    }
+}
+
+impl Simulation {
+    /// The warning for glued nodes that start off or inside their mould: how many, how far, and
+    /// what it does to the glue (pre-stress g_N(0)δ, pre-damage α₀ = δ beyond α_e, eq. 12).
+    fn start_offset_warning(&self, o: &StartOffset) -> String {
+        let law = &self.model.interfaces[o.interface].law;
+        let mut parts = Vec::new();
+        if o.off_nodes > 0 {
+            let damage = if o.largest_off > law.alpha_e {
+                format!(
+                    " and pre-damaged (α₀ = δ > α_e = {:.3e} m: {:?})",
+                    law.alpha_e,
+                    law.state(o.largest_off.min(law.u_r))
+                )
+            } else {
+                String::new()
+            };
+            parts.push(format!(
+                "{} start off it by up to δ = {:.3e} m: their glue starts stretched, pre-stressed by up to g_N(0)δ = {:.3e} Pa{damage}",
+                o.off_nodes,
+                o.largest_off,
+                law.g_n0 * o.largest_off
+            ));
+        }
+        if o.inside_nodes > 0 {
+            parts.push(format!(
+                "{} start inside it by up to {:.3e} m, pushed out by their glue",
+                o.inside_nodes, o.deepest
+            ));
+        }
+        format!(
+            "interface[{}]: glued nodes of `{}` do not start on mould `{}` (tolerance {:.3e} m): {}. Move the face set onto the mould, or the mould onto it, if that is not meant.",
+            o.interface,
+            o.faces,
+            o.mould,
+            o.tolerance,
+            parts.join("; ")
+        )
     }
 }
