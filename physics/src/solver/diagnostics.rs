@@ -4,6 +4,8 @@
 use super::setup::StartOffset;
 use super::state::SolverError;
 use super::Simulation;
+use crate::kernels::corners::element_corner_jacobians;
+use crate::model::Integration;
 
 impl Simulation {
     /// The blow-up diagnostic: where, with which h and h_crit, and what to change.
@@ -27,6 +29,51 @@ impl Simulation {
             advice,
         }
     }
+    /// The inverted-element diagnostic for `element`, whose smallest J is `j`: with one-point
+    /// integration, which corner (the kernel took the corners' J too,
+    /// [`crate::kernels::corners`]) and the J at the centre, the rule's own point.
+    pub(super) fn inverted(&self, element: usize, j: f64) -> SolverError {
+        let at = match self.model.scheme.integration {
+            Integration::Full => "at a Gauss point".to_string(),
+            Integration::Reduced => {
+                let conn = self.model.mesh.elements[element];
+                let cd = &self.classes.centre[self.classes.class_of[element] as usize];
+                let ue = conn.map(|n| self.u[n as usize]);
+                let corners = element_corner_jacobians(cd, &ue);
+                let (a, j_a) =
+                    (corners.iter().copied().enumerate()).fold((0, f64::INFINITY), |m, (a, x)| {
+                        if x < m.1 {
+                            (a, x)
+                        } else {
+                            m
+                        }
+                    });
+                let f = self
+                    .model
+                    .mesh
+                    .centre_deformation_gradient(element, &self.u);
+                let j_centre = nalgebra::Matrix3::from_fn(|r, c| f[r][c]).determinant();
+                if j_a <= j_centre {
+                    format!(
+                        "at its corner {a}, node {}, while J = {j_centre:.3e} at the centre, the one-point rule's own point: the element hourglassed (raise scheme.hourglass_coefficient, or use full integration)",
+                        conn[a]
+                    )
+                } else {
+                    "at its centre".to_string()
+                }
+            }
+        };
+        SolverError::Inverted {
+            element,
+            j,
+            at,
+            step: self.step_count,
+            time: self.time,
+            h: self.h,
+            h_crit: self.h_crit,
+        }
+    }
+
     /// Plain-words warnings about the regime of this model, for the user before the run: the
     /// parameters are admissible, but the results or the cost need reading with care.
     ///
@@ -53,13 +100,13 @@ impl Simulation {
             let kappa_shear = 0.05 * 2.0 * mat.mu / (mat.lambda + 2.0 * mat.mu);
             let kappa = m.scheme.hourglass_coefficient;
             let quadrature = match m.scheme.integration {
-                crate::model::Integration::Full => format!(
+                Integration::Full => format!(
                     "with full 2×2×2 integration the hex8 locks volumetrically: it is far too stiff in bending and in any deformation that keeps the volume; use scheme.integration = \"reduced\" with scheme.hourglass_coefficient = {kappa_shear:.1e} (the hourglass stiffness κ(λ+2μ) grows with λ and locks as well at the default κ = 0.05)"
                 ),
-                crate::model::Integration::Reduced if kappa > 2.0 * kappa_shear => format!(
+                Integration::Reduced if kappa > 2.0 * kappa_shear => format!(
                     "one-point integration does not lock volumetrically, but its hourglass stiffness κ(λ+2μ) grows with λ: at κ = {kappa} it stiffens bending as locking would; scheme.hourglass_coefficient = {kappa_shear:.1e} scales it to the shear modulus"
                 ),
-                crate::model::Integration::Reduced => format!(
+                Integration::Reduced => format!(
                     "one-point integration with κ = {kappa} does not lock"
                 ),
             };
