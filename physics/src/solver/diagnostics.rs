@@ -13,7 +13,7 @@ impl Simulation {
         let factor = self.h / self.h_crit;
         let configured = self.model.scheme.time_step_factor;
         let advice = if configured >= 1.0 {
-            format!("scheme.time_step_factor = {configured} is at or above the stability limit 1: set it ≤ 0.9 (default 0.5).")
+            format!("scheme.time_step_factor = {configured} is at or above the stability limit 1 (h is capped at h_crit, the limit itself, with no margin for the estimate or for stiffening between estimates): set it ≤ 0.9 (default 0.5).")
         } else if factor > 0.95 {
             format!("The time step factor {factor:.3} is at or above the stability limit 1: set scheme.time_step_factor ≤ 0.9 (default 0.5).")
         } else {
@@ -84,7 +84,7 @@ impl Simulation {
     ///   run is then that many times longer.
     /// - A brittle law, (u_r − α_e)/α_e < 1 %: the softening branch is crossed within a step.
     /// - Elongated elements (aspect ratio ≥ 10): the shortest edge sets the step.
-    /// - A time-step factor above 1: unstable by design (PHYSICS.md §6).
+    /// - A time-step factor above 1: the step is capped at h_crit, the limit itself.
     /// - Glued nodes that start off their mould by more than the tolerance, or inside it
     ///   ([`StartOffset`]): their glue starts pre-stressed (pre-damaged beyond α_e).
     pub fn advisories(&self) -> Vec<String> {
@@ -158,7 +158,7 @@ impl Simulation {
         let factor = m.scheme.time_step_factor;
         if factor > 1.0 {
             out.push(format!(
-                "scheme.time_step_factor = {factor} > 1: the central-difference scheme is unstable above h_crit (PHYSICS.md §6); the run will stop when its energy grows, with a diagnostic."
+                "scheme.time_step_factor = {factor} > 1: the step is capped at h = h_crit, since the central-difference scheme is unstable above it (PHYSICS.md §6); at h_crit itself there is no margin for the estimate or for stiffening between estimates: ≤ 0.9 is safe."
             ));
         }
         out

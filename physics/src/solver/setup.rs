@@ -3,6 +3,7 @@
 //! the leapfrog at t₀ (§4: V_{−½}, then the first impulses give V_{½}).
 
 use super::boundary::{Boundary, NONE};
+use super::stable_step::capped_step;
 use super::stages::StepScratch;
 use super::state::{
     ContactNode, ContactStatus, InterfaceNode, PeakReaction, RunStats, SolverError,
@@ -391,7 +392,8 @@ impl Simulation {
         }
     }
 
-    /// The first h_crit estimate and h = factor × h_crit (PHYSICS.md §6); when a glued node's
+    /// The first h_crit estimate and h = min(factor, 1) × h_crit (PHYSICS.md §6,
+    /// [`capped_step`]); when a glued node's
     /// own spring (ω_i² = W g_N/m) is near the whole system's ω_max, the interface may set the
     /// step: the bulk alone is then measured once, for [`Simulation::advisories`].
     fn first_time_step(&mut self) -> Result<(), SolverError> {
@@ -409,7 +411,7 @@ impl Simulation {
         }
         self.stats.h_crit_initial = est.h_crit;
         self.stats.h_crit_min = est.h_crit;
-        self.h = self.model.scheme.time_step_factor * est.h_crit;
+        self.h = capped_step(self.model.scheme.time_step_factor, est.h_crit);
         if !(self.h.is_finite() && self.h > 0.0) {
             return Err(SolverError::Setup(format!(
                 "the stable time step estimate is not usable (ω_max² = {:e}); check the material and interface stiffness",
