@@ -10,43 +10,9 @@ use crate::solver::ContactStatus;
 /// Stage 7 for one node against one surface (PHYSICS.md §4, paper eqs. 19–20, 22): if gₙ₊₁ ≤ 0
 /// and the relative free velocity approaches (v_N < 0), r_N = −m v_N/W brings v_N to 0; the
 /// trial tangential impulse −m v_T/W sticks if |r_T| ≤ μ r_N, else r_T = −μ r_N v_T/|v_T|.
-/// Updates `v` in place and returns the impulse W R_c [N·s] and the status.
-#[inline]
-pub fn contact_impulse(
-    v: &mut [f64; 3],
-    gap: f64,
-    n: [f64; 3],
-    v_plane: [f64; 3],
-    mu: f64,
-    m: f64,
-) -> ([f64; 3], ContactStatus) {
-    if gap > 0.0 {
-        return ([0.0; 3], ContactStatus::Open);
-    }
-    let rel = [v[0] - v_plane[0], v[1] - v_plane[1], v[2] - v_plane[2]];
-    let vn = dot(rel, n);
-    if vn >= 0.0 {
-        return ([0.0; 3], ContactStatus::Open);
-    }
-    // Impulses (W R) rather than per-area values: W cancels (PHYSICS.md §4 step 7).
-    let pn = -m * vn;
-    let vt = [rel[0] - vn * n[0], rel[1] - vn * n[1], rel[2] - vn * n[2]];
-    let vt_norm = norm(vt);
-    let (pt, status) = if m * vt_norm <= mu * pn {
-        (vt.map(|c| -m * c), ContactStatus::Stick)
-    } else {
-        let s = mu * pn / vt_norm;
-        (vt.map(|c| -s * c), ContactStatus::Slip)
-    };
-    let p = [pn * n[0] + pt[0], pn * n[1] + pt[1], pn * n[2] + pt[2]];
-    for c in 0..3 {
-        v[c] += p[c] / m;
-    }
-    (p, status)
-}
-
-/// Stage 7 for a node whose velocity components are partly prescribed (a symmetry edge, a
-/// clamped edge): contact and friction act on its free components only.
+///
+/// A node whose velocity components are partly prescribed (`free[c]` false: a symmetry edge, a
+/// clamped edge) gets contact and friction on its free components only.
 ///
 /// Let F be the span of the free axes (`free[c]`), P_F its projector, V* the velocity after
 /// stage 6 (prescribed components already set), v* = V* − v_plane. The mould pushes with
@@ -64,7 +30,7 @@ pub fn contact_impulse(
 /// - |n_F|² ≤ 1e-12 (the normal along prescribed axes only): the free components cannot change
 ///   the gap, the prescribed motion alone sets it; no impulse.
 ///
-/// With no axis prescribed (F = ℝ³, n_F = n) this is [`contact_impulse`]. It is exact Coulomb
+/// With no axis prescribed (F = ℝ³, n_F = n) this is the law above (and the same operations). It is exact Coulomb
 /// when the prescribed components do not slide along the mould (a symmetry plane; a clamped
 /// edge moved along the normal, e.g. the peel's lifted end); when they do (a node dragged
 /// along the mould by its prescribed motion), the friction of that sliding goes to the
@@ -72,9 +38,10 @@ pub fn contact_impulse(
 /// one cone with it. The prescribed share of λn + r_T is not added to the reported reaction
 /// (only their sum is determined on those components).
 ///
-/// Updates `v` (free components only) and returns the impulse p [N·s] and the status.
+/// Updates `v` in place (free components only) and returns the impulse W R_c [N·s] and the
+/// status.
 #[inline]
-pub fn contact_impulse_free(
+pub fn contact_impulse(
     v: &mut [f64; 3],
     gap: f64,
     n: [f64; 3],
@@ -83,9 +50,10 @@ pub fn contact_impulse_free(
     m: f64,
     free: [bool; 3],
 ) -> ([f64; 3], ContactStatus) {
+    let all_free = free == [true; 3];
     let on_f = |x: [f64; 3]| std::array::from_fn::<f64, 3, _>(|c| if free[c] { x[c] } else { 0.0 });
-    let n_f = on_f(n);
-    let nf2 = dot(n_f, n_f);
+    let n_f = if all_free { n } else { on_f(n) };
+    let nf2 = if all_free { 1.0 } else { dot(n_f, n_f) };
     if gap > 0.0 || nf2 <= 1e-12 {
         return ([0.0; 3], ContactStatus::Open);
     }
@@ -94,11 +62,17 @@ pub fn contact_impulse_free(
     if vn >= 0.0 {
         return ([0.0; 3], ContactStatus::Open);
     }
-    let lambda = -m * vn / nf2;
-    // w: the part of v* in T_F = F ∩ n_F^⊥.
-    let rf = on_f(rel);
-    let s = dot(rf, n_f) / nf2;
-    let w = [rf[0] - s * n_f[0], rf[1] - s * n_f[1], rf[2] - s * n_f[2]];
+    // Impulses (W R) rather than per-area values: W cancels (PHYSICS.md §4 step 7).
+    // λ: the normal reaction; w: the relative velocity in the tangent space (T_F).
+    let (lambda, w) = if all_free {
+        let vt = [rel[0] - vn * n[0], rel[1] - vn * n[1], rel[2] - vn * n[2]];
+        (-m * vn, vt)
+    } else {
+        let rf = on_f(rel);
+        let s = dot(rf, n_f) / nf2;
+        let w = [rf[0] - s * n_f[0], rf[1] - s * n_f[1], rf[2] - s * n_f[2]];
+        (-m * vn / nf2, w)
+    };
     let w_norm = norm(w);
     let (pt, status) = if m * w_norm <= mu * lambda {
         (w.map(|c| -m * c), ContactStatus::Stick)
@@ -106,7 +80,11 @@ pub fn contact_impulse_free(
         let k = mu * lambda / w_norm;
         (w.map(|c| -k * c), ContactStatus::Slip)
     };
-    let p: [f64; 3] = std::array::from_fn(|c| lambda * n_f[c] + pt[c]);
+    let p = [
+        lambda * n_f[0] + pt[0],
+        lambda * n_f[1] + pt[1],
+        lambda * n_f[2] + pt[2],
+    ];
     for c in 0..3 {
         v[c] += p[c] / m;
     }
@@ -130,7 +108,7 @@ mod tests {
         x.map(|c| c / l)
     }
 
-    /// With every component free, the projected law is [`contact_impulse`] (to round-off).
+    /// With every component free, the law of PHYSICS.md §4 step 7 written out by hand.
     #[test]
     fn all_free_is_the_free_law() {
         let mut k = 7;
@@ -140,11 +118,25 @@ mod tests {
             let vp = [0.1 * rnd(&mut k), 0.0, 0.2];
             let mu = 0.5 * (1.0 + rnd(&mut k));
             let (mut a, mut b) = (v0, v0);
-            let (pa, sa) = contact_impulse(&mut a, 0.0, n, vp, mu, 2.0);
-            let (pb, sb) = contact_impulse_free(&mut b, 0.0, n, vp, mu, 2.0, [true; 3]);
-            assert_eq!(sa, sb);
+            // PHYSICS.md §4 step 7: r_N = −m v_N, trial −m v_T, Coulomb.
+            let rel = [a[0] - vp[0], a[1] - vp[1], a[2] - vp[2]];
+            let vn = dot(rel, n);
+            let vt = [rel[0] - vn * n[0], rel[1] - vn * n[1], rel[2] - vn * n[2]];
+            let pn = (-2.0 * vn).max(0.0);
+            let scale = if 2.0 * norm(vt) <= mu * pn {
+                2.0
+            } else {
+                mu * pn / norm(vt)
+            };
+            let pa: [f64; 3] = std::array::from_fn(|c| pn * n[c] - scale * vt[c]);
+            let (pb, _) = contact_impulse(&mut b, 0.0, n, vp, mu, 2.0, [true; 3]);
             for c in 0..3 {
-                assert!((pa[c] - pb[c]).abs() <= 1e-14 * (1.0 + norm(pa)));
+                assert!(
+                    (pa[c] - pb[c]).abs() <= 1e-14 * (1.0 + norm(pa)),
+                    "{pa:?} {pb:?}"
+                );
+                a[c] += pa[c] / 2.0;
+                assert!((a[c] - b[c]).abs() <= 1e-14 * (1.0 + norm(a)));
             }
         }
     }
@@ -166,7 +158,7 @@ mod tests {
                 let v0 = [rnd(&mut k), rnd(&mut k), -1.0 + 0.5 * rnd(&mut k)];
                 let vp = [0.0, 0.1, 0.0];
                 let mut v = v0;
-                let (p, _) = contact_impulse_free(&mut v, -1e-9, n, vp, 0.0, 3.0, free);
+                let (p, _) = contact_impulse(&mut v, -1e-9, n, vp, 0.0, 3.0, free);
                 let rel = |x: [f64; 3]| dot([x[0] - vp[0], x[1] - vp[1], x[2] - vp[2]], n);
                 for c in 0..3 {
                     if !free[c] {
@@ -199,16 +191,16 @@ mod tests {
         let n = [0.0, 0.0, 1.0];
         let free = [false, true, true];
         let mut v = [0.3, 0.2, -1.0];
-        let (p, s) = contact_impulse_free(&mut v, 0.0, n, [0.0; 3], 0.5, 1.0, free);
+        let (p, s) = contact_impulse(&mut v, 0.0, n, [0.0; 3], 0.5, 1.0, free);
         assert_eq!((s, v), (ContactStatus::Stick, [0.3, 0.0, 0.0]));
         assert_eq!(p, [0.0, -0.2, 1.0]);
         let mut v = [0.3, 0.8, -1.0];
-        let (p, s) = contact_impulse_free(&mut v, 0.0, n, [0.0; 3], 0.5, 1.0, free);
+        let (p, s) = contact_impulse(&mut v, 0.0, n, [0.0; 3], 0.5, 1.0, free);
         assert_eq!(s, ContactStatus::Slip);
         assert_eq!(p, [0.0, -0.5, 1.0]);
         assert!((v[1] - 0.3).abs() < 1e-15 && v[2] == 0.0);
         let mut v = [0.3, 0.8, -1.0];
-        let (p, s) = contact_impulse_free(&mut v, 0.0, n, [0.0; 3], 0.5, 1.0, [true, true, false]);
+        let (p, s) = contact_impulse(&mut v, 0.0, n, [0.0; 3], 0.5, 1.0, [true, true, false]);
         assert_eq!((p, s, v), ([0.0; 3], ContactStatus::Open, [0.3, 0.8, -1.0]));
     }
 }

@@ -8,7 +8,7 @@
 use super::stages::StepScratch;
 use super::state::{ContactNode, InterfaceNode};
 use super::{Simulation, BOUNDARY_GRAIN};
-use crate::interface::contact::{contact_impulse, contact_impulse_free};
+use crate::interface::contact::contact_impulse;
 use crate::interface::damage::{cohesive_traction, damage_measure, damage_update};
 use crate::kernels::internal_and_gravity_impulses;
 use crate::mesh::dot;
@@ -265,9 +265,7 @@ impl BoundaryStep<'_> {
     }
 
     /// Stage 7 on node `b`: each glued entry (μ(αₙ₊₁) of its law) and each contact entry
-    /// against its plane, in closed form: [`contact_impulse`] on a node with no prescribed
-    /// component, [`contact_impulse_free`] (the same law on the free components, `free`) on a
-    /// node with some.
+    /// against its plane, in closed form on the node's `free` components ([`contact_impulse`]).
     ///
     /// # Safety
     /// No other thread may touch the interface and contact entries of `b`.
@@ -284,11 +282,7 @@ impl BoundaryStep<'_> {
         let planes = &self.model.planes;
         let mut solve = |gap: f64, plane: usize, mu: f64, area: f64| {
             let (n, v_plane) = (planes[plane].normal, self.scratch.plane_v_new[plane]);
-            let (impulse, status) = if free == [true; 3] {
-                contact_impulse(v, gap, n, v_plane, mu, m)
-            } else {
-                contact_impulse_free(v, gap, n, v_plane, mu, m, free)
-            };
+            let (impulse, status) = contact_impulse(v, gap, n, v_plane, mu, m, free);
             let k = impulses.contacts;
             if k < MAX_CONSTRAINTS {
                 impulses.contact[k] = impulse;
