@@ -71,8 +71,8 @@ fn a_symmetry_edge_keeps_contact_and_friction_on_its_free_components() {
             .filter(|c| edge.contains(&(c.node as usize)))
         {
             min_gap = min_gap.min(cn.gap);
-            for c in 0..3 {
-                edge_impulse[c] += cn.contact_impulse[c];
+            for (sum, r) in edge_impulse.iter_mut().zip(cn.contact_impulse) {
+                *sum += r;
             }
             if cn.contact == ContactStatus::Slip {
                 edge_slip_steps += 1;
@@ -122,7 +122,7 @@ fn a_symmetry_edge_keeps_contact_and_friction_on_its_free_components() {
     );
     assert!((edge_share / other_share - 1.0).abs() <= 0.1);
     assert!(
-        ratio <= MU * (1.0 + 1e-12) && ratio >= 0.98 * MU,
+        (0.98 * MU..=MU * (1.0 + 1e-12)).contains(&ratio),
         "ratio {ratio}"
     );
     assert_eq!(edge_impulse[0], 0.0);
