@@ -12,34 +12,9 @@ use std::sync::LazyLock;
 
 static FILE: LazyLock<String> = LazyLock::new(|| scene_file("glued.toml").display().to_string());
 
-/// A 1 m cube on 2×2×2 cells, its bottom glued to a plane at z = 0 (α_e = 0.5 mm, so the
-/// tolerance is 1e-3 α_e = 0.5 µm).
-const VALID: &str = r#"
-end_time = 0.01
-
-[mesh]
-size = [1.0, 1.0, 1.0]
-cells = [2, 2, 2]
-
-[material]
-young = 5.0e6
-poisson = 0.45
-density = 1100.0
-
-[[plane]]
-name = "mould"
-point = [0.0, 0.0, 0.0]
-normal = [0.0, 0.0, 1.0]
-
-[[interface]]
-faces = "z-"
-plane = "mould"
-[interface.law]
-family = "plateau_linear"
-g_n0 = 2.0e9
-alpha_e = 5.0e-4
-u_r = 1.0e-3
-"#;
+/// The glued cube of the scene-error tests (α_e = 0.5 mm, so the tolerance is 1e-3 α_e =
+/// 0.5 µm).
+const VALID: &str = common::GLUED_CUBE;
 
 fn load(from: &str, to: &str) -> Result<decohesion_physics::scene::Scene, String> {
     assert!(VALID.contains(from), "{from:?} is not in the scene");
