@@ -45,6 +45,11 @@ pub struct RunSummary {
     pub warnings: Vec<String>,
     /// What went to ParaView files (`--vtk`).
     pub paraview: Option<crate::vtk::VtkReport>,
+    /// Interfaces whose glued nodes start off their mould beyond the tolerance, or inside it:
+    /// per interface the count and the largest offset ([`crate::solver::StartOffset`]; also a
+    /// warning). Absent when every glued node starts on its mould.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub glued_start_offsets: Vec<crate::solver::StartOffset>,
 }
 
 impl RunSummary {
@@ -97,6 +102,7 @@ impl RunSummary {
             recording: None,
             warnings: sim.advisories(),
             paraview: None,
+            glued_start_offsets: sim.start_offsets.clone(),
         }
     }
 

@@ -11,37 +11,7 @@ use std::sync::LazyLock;
 static FILE: LazyLock<String> = LazyLock::new(|| scene_file("bad.toml").display().to_string());
 
 /// A valid scene; every case below breaks it in one place.
-const VALID: &str = r#"
-end_time = 0.3
-
-[mesh]
-size = [1.0, 1.0, 1.0]
-cells = [2, 2, 2]
-
-[material]
-young = 5.0e6
-poisson = 0.45
-density = 1100.0
-
-[[plane]]
-name = "mould"
-point = [0.0, 0.0, 0.0]
-normal = [0.0, 0.0, 1.0]
-
-[[interface]]
-faces = "z-"
-plane = "mould"
-[interface.law]
-family = "plateau_linear"
-g_n0 = 2.0e9
-alpha_e = 5.0e-4
-u_r = 1.0e-3
-
-[[displacement]]
-faces = "z+"
-component = "z"
-table = [[0.0, 0.0], [0.3, 0.6]]
-"#;
+const VALID: &str = common::GLUED_CUBE;
 
 /// The error for `VALID` with `from` replaced by `to` (which must occur), after `overrides`.
 fn error(from: &str, to: &str, overrides: &[&str]) -> String {

@@ -34,7 +34,7 @@ pub fn check(path: &Path, set: &[String]) -> Result<()> {
         100.0 * (le / mat.wave_speed() / sim.h_crit - 1.0)
     );
     println!(
-        "  time step                    h = {:.5e} s (factor {})",
+        "  time step                    h = {:.5e} s = min(factor {}, 1) × h_crit (h never exceeds h_crit)",
         sim.h, m.scheme.time_step_factor
     );
     println!(

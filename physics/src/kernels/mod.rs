@@ -3,6 +3,7 @@
 //! of [`crate::material`] built for the CPU's instruction set ([`simd`]); and the node loop of
 //! stage 5 (free velocity).
 
+pub mod corners;
 mod nodes;
 pub mod simd;
 
@@ -51,7 +52,8 @@ pub struct Assembly {
     pub strain: f64,
     /// Hourglass energy Ψ_hg(U) [J] (reduced integration; 0 unless asked for).
     pub hourglass: f64,
-    /// Smallest J = det F seen, and its element.
+    /// Smallest J = det F seen, and its element: at the Gauss points (full integration), at
+    /// the centre and the 8 corners (one point, [`corners`]).
     pub min_j: f64,
     pub min_element: usize,
 }
@@ -158,6 +160,7 @@ unsafe fn chunk_forces_reduced_impl<const FMA: bool, const ISA: u8>(
     let groups = chunk.chunks_exact(8);
     let rest = groups.remainder();
     let mut lanes = LaneElements::default();
+    let mut corner_lanes = corners::LaneCorners::default();
     let mut ul = [[[0.0; 8]; 3]; 8];
     let mut fl = [[[0.0; 8]; 3]; 8];
     // Class whose data sits in each lane: most meshes have few classes (a structured box has
@@ -176,6 +179,7 @@ unsafe fn chunk_forces_reduced_impl<const FMA: bool, const ISA: u8>(
             staged[l] = class;
             let cd: &CentreData = classes.centre.get_unchecked(class as usize);
             lanes.set(l, cd, hourglass_stiffness(mat, cd, kappa));
+            corner_lanes.set(l, cd);
         }
         #[cfg(target_arch = "x86_64")]
         let gathered = gather && {
@@ -209,14 +213,17 @@ unsafe fn chunk_forces_reduced_impl<const FMA: bool, const ISA: u8>(
         } else {
             element_forces_reduced_lanes::<false, FMA>(mat, &lanes, &ul, &mut fl)
         };
+        // The corners' J too (hourglassing turns corners, not the centre); a NaN centre stays.
+        let corner_j = corner_lanes.min_jacobian::<FMA>(&ul);
         for (l, &e) in group.iter().enumerate() {
             e_sum += en[l];
             hg_sum += hg[l];
-            // `!(j >= min_j)` also catches NaN.
-            if !(det[l] >= min_j) {
-                min_j = det[l];
-                min_e = e as usize;
-            }
+            let j = if corner_j[l] < det[l] {
+                corner_j[l]
+            } else {
+                det[l]
+            };
+            keep_min_j(j, e, &mut min_j, &mut min_e);
             let conn = mesh.elements.get_unchecked(e as usize);
             for a in 0..8 {
                 let row = &mut *f.0.add(conn[a] as usize);
@@ -241,7 +248,8 @@ unsafe fn chunk_forces_reduced_impl<const FMA: bool, const ISA: u8>(
         };
         e_sum += en;
         hg_sum += hg;
-        keep_min_j(j, e, &mut min_j, &mut min_e);
+        let jc = corners::min_corner_jacobian(cd, &ue);
+        keep_min_j(if jc < j { jc } else { j }, e, &mut min_j, &mut min_e);
         scatter(f, conn, &fe);
     }
     (e_sum, hg_sum, min_j, min_e)

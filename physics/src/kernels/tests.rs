@@ -74,6 +74,21 @@ fn jacobian(u: &[[f64; 3]], conn: &[u32; 8], g: impl Fn(usize, usize) -> f64) ->
     f.determinant()
 }
 
+/// The smallest Jacobian of element `e` at its 8 corners, det(∂x/∂ξ)/det(∂X/∂ξ) from the
+/// shape-function derivatives at each corner (independent of the edge form of `corners`).
+fn min_corner_jacobian_iso(mesh: &Mesh, u: &[[f64; 3]], e: usize) -> f64 {
+    let x = mesh.element_coords(e);
+    let conn = mesh.elements[e];
+    let det = |p: &dyn Fn(usize, usize) -> f64, xi: [f64; 3]| {
+        let dn = crate::mesh::shape_derivatives(xi);
+        Matrix3::from_fn(|r, c| (0..8).map(|a| p(a, r) * dn[a][c]).sum::<f64>()).determinant()
+    };
+    crate::mesh::HEX_CORNERS
+        .iter()
+        .map(|&xi| det(&|a, r| x[a][r] + u[conn[a] as usize][r], xi) / det(&|a, r| x[a][r], xi))
+        .fold(f64::INFINITY, f64::min)
+}
+
 /// The smallest J of a chunk and its element, from `j_of(element)` (the smallest J of each),
 /// asserting that no other element of the chunk is within 1e-9 of it (so the element reported
 /// is not decided by round-off).
@@ -257,9 +272,11 @@ fn one_point_chunk_every_build_matches_portable_and_scalar_kernel() {
                         (name, out)
                     })
                     .collect();
+                // One point: the centre's J and the corners' (by the isoparametric map).
                 let expect_min = min_j_of(chunk, |e| {
                     let cd = &classes.centre[classes.class_of[e] as usize];
-                    jacobian(&u, &mesh.elements[e], |a, j| cd.b[a][j])
+                    let centre = jacobian(&u, &mesh.elements[e], |a, j| cd.b[a][j]);
+                    centre.min(min_corner_jacobian_iso(&mesh, &u, e))
                 });
                 let what = format!("{model:?} {field} one point");
                 if field == "inverted" && chunk.contains(&bad) {

@@ -4,7 +4,7 @@
 //! the one-point data with hourglass vectors ([`CentreData`]), lumped volumes — grouped by shape
 //! into [`ElementClasses`].
 
-use super::{dot, Mesh};
+use super::{cross, dot, sub, Mesh};
 use std::collections::HashMap;
 
 /// Parent coordinates (ξ, η, ζ) of the 8 nodes of the reference hexahedron.
@@ -150,7 +150,43 @@ pub struct CentreData {
     pub volume: f64,
     /// Σₐ bₐ·bₐ [1/m²], for the hourglass stiffness.
     pub bb: f64,
+    /// The 12 edges X_b − X_a of [`ORIENTED_EDGES`] [m], and 1/det[E_ξ, E_η, E_ζ] of each corner's
+    /// three edges ([`CORNER_EDGES`]) [1/m³]: the corner Jacobians of the one-point rule's
+    /// check, J_a = det[e_ξ, e_η, e_ζ](x)/det[E_ξ, E_η, E_ζ](X) (`kernels::corners`).
+    pub edges: [[f64; 3]; 12],
+    pub corner_inv_det: [f64; 8],
 }
+
+/// The edges of the hexahedron as (a, b), b being a with one natural coordinate raised from −1
+/// to +1 ([`HEX_CORNERS`]): four along ξ, four along η, four along ζ.
+pub const ORIENTED_EDGES: [(usize, usize); 12] = [
+    (0, 1),
+    (3, 2),
+    (4, 5),
+    (7, 6),
+    (0, 3),
+    (1, 2),
+    (4, 7),
+    (5, 6),
+    (0, 4),
+    (1, 5),
+    (2, 6),
+    (3, 7),
+];
+
+/// The edges of [`ORIENTED_EDGES`] that meet at each corner, along ξ, η, ζ. At corner a the
+/// isoparametric Jacobian is ∂x/∂ξ = −½[s_ξ e_ξ, s_η e_η, s_ζ e_ζ] (s the corner's signs), so
+/// det F there is det[e_ξ, e_η, e_ζ](x) / det[e_ξ, e_η, e_ζ](X): the signs cancel.
+pub const CORNER_EDGES: [[usize; 3]; 8] = [
+    [0, 4, 8],
+    [0, 5, 9],
+    [1, 5, 10],
+    [1, 4, 11],
+    [2, 6, 8],
+    [2, 7, 9],
+    [3, 7, 10],
+    [3, 6, 11],
+];
 
 impl CentreData {
     /// From the node coordinates of the element and its Gauss data.
@@ -176,11 +212,25 @@ impl CentreData {
             }
         }
         let bb = b.iter().map(|v| dot(*v, *v)).sum();
+        let edges = ORIENTED_EDGES.map(|(a, b)| sub(x[b], x[a]));
+        // A corner whose reference edges are not right-handed (a degenerate corner of a
+        // hexahedron valid at its Gauss points) gets NaN: its corner J is NaN, which the
+        // minimum over the corners passes over (that corner is not checked).
+        let corner_inv_det = CORNER_EDGES.map(|[i, j, k]| {
+            let d = dot(edges[i], cross(edges[j], edges[k]));
+            if d > 0.0 {
+                1.0 / d
+            } else {
+                f64::NAN
+            }
+        });
         CentreData {
             b,
             gamma,
             volume,
             bb,
+            edges,
+            corner_inv_det,
         }
     }
 }

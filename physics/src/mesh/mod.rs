@@ -12,7 +12,7 @@ mod order;
 
 pub use element::{
     gauss_points, hourglass_vectors, shape, shape_derivatives, CentreData, ElementClasses,
-    GaussData, GeometryError, HEX_CORNERS,
+    GaussData, GeometryError, CORNER_EDGES, HEX_CORNERS, ORIENTED_EDGES,
 };
 pub use order::Slabs;
 

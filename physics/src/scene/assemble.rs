@@ -9,11 +9,12 @@ use super::raw::{
     RawTraction,
 };
 use crate::material::{Material, MaterialModel};
-use crate::mesh::Mesh;
+use crate::mesh::{dot, Mesh};
 use crate::model::{
     ContactFaces, Interface, Model, PiecewiseLinear, PrescribedDisplacement, RigidPlane,
     SchemeParams, Traction,
 };
+use crate::solver::{mould_closest_point, StartOffset};
 
 /// The (face set, plane) pairs attached so far, with the key that attached each: a face set
 /// meets a plane through one `[[interface]]` or one `[[contact]]`.
@@ -59,7 +60,7 @@ impl Check<'_> {
         let tractions = each(raw.traction, "traction", |key, t| {
             self.traction(&mesh, key, t)
         })?;
-        Ok(Model {
+        let model = Model {
             name: raw.name.unwrap_or(default_name),
             description: raw.description,
             mesh,
@@ -74,7 +75,70 @@ impl Check<'_> {
             tractions,
             scheme,
             end_time: raw.end_time,
-        })
+        };
+        for k in 0..model.interfaces.len() {
+            self.glued_start(&model, k)?;
+        }
+        Ok(model)
+    }
+
+    /// Refuses glued nodes of interface `k` that start inside their mould by more than the
+    /// tolerance ([`StartOffset`]): their glue would start compressed, pushing them out with a
+    /// force the scene does not say, and the contact would see them as having gone through.
+    fn glued_start(&self, model: &Model, k: usize) -> Result<(), SceneError> {
+        let Some(o) = StartOffset::of(model, k).filter(|o| o.deep_nodes > 0) else {
+            return Ok(());
+        };
+        Err(self.invalid(
+            format!("interface[{k}].faces"),
+            format!("{:?}", o.faces),
+            format!(
+                "{} glued nodes start inside mould `{}` by up to {:.4e} m, beyond the tolerance {:.4e} m (1e-3 of the law's α_e): move the face set or the mould so that the glued face lies on the mould",
+                o.deep_nodes, o.mould, o.deepest, o.tolerance
+            ),
+        ))
+    }
+
+    /// Refuses a glued face set that faces the same way as its mould: every face's outward
+    /// normal must point into the mould, against the mould's normal there (which points into
+    /// the solid). A face whose outward normal has a positive component along the mould normal
+    /// at its centre (beyond 1e-6, the round-off of unit vectors) looks away from the mould: its
+    /// nodes could only be pulled off the mould by moving into the body, and the glue could
+    /// never tear.
+    fn glued_faces_face_mould(
+        &self,
+        mesh: &Mesh,
+        plane: &RigidPlane,
+        key: &str,
+        faces: &str,
+    ) -> Result<(), SceneError> {
+        let quads = &mesh.face_sets[faces];
+        let flipped = |q: &[u32; 4]| {
+            let centre: [f64; 3] = std::array::from_fn(|c| {
+                q.iter().map(|&n| mesh.nodes[n as usize][c]).sum::<f64>() / 4.0
+            });
+            let (_, n_mould) = mould_closest_point(plane, centre);
+            let n_face = mesh.quad_normal(q);
+            (dot(n_face, n_mould) > 1e-6).then_some((n_face, n_mould))
+        };
+        let bad: Vec<_> = quads.iter().filter_map(flipped).collect();
+        let Some(&(n_face, n_mould)) = bad.first() else {
+            return Ok(());
+        };
+        // (+ 0.0 prints −0 as 0.)
+        let v = |x: [f64; 3]| format!("[{:.4}, {:.4}, {:.4}]", x[0] + 0.0, x[1] + 0.0, x[2] + 0.0);
+        Err(self.invalid(
+            format!("{key}.faces"),
+            format!("{faces:?}"),
+            format!(
+                "{} of its {} faces look away from mould `{}`: outward normal {} (first such face) against the mould normal {}, which points into the solid; a glued face's outward normal must point into the mould (opposite to the mould normal), else the glue can never tear. Glue the opposite face set, or flip the mould's normal",
+                bad.len(),
+                quads.len(),
+                plane.name,
+                v(n_face),
+                v(n_mould)
+            ),
+        ))
     }
 
     /// `[material]`: E > 0, −1 < ν < 0.5, ρ > 0; SVK unless `model` says otherwise.
@@ -192,6 +256,7 @@ impl Check<'_> {
             "must be ≥ 0 m (the damage α₀ at t = 0; ≥ u_r means ruptured from the start)",
         )?;
         let law = self.delayed_law(&key, it.law, it.delay)?;
+        self.glued_faces_face_mould(mesh, &attached.planes[plane], &key, &faces)?;
         self.attach(attached, &faces, plane, key)?;
         Ok(Interface {
             faces,

@@ -241,7 +241,7 @@ impl BoundaryStep<'_> {
     }
 
     /// Stage 6 on node `b`: V_{n+3/2} = (Ū(tₙ₊₂) − Ū(tₙ₊₁))/h on the prescribed components; the
-    /// reaction is what it took, M(V − V_free)/h̄. Returns whether a component is prescribed.
+    /// reaction is what it took, M(V − V_free)/h̄. Returns which components are free.
     fn prescribed(
         &self,
         b: &BoundaryNode,
@@ -249,25 +249,23 @@ impl BoundaryStep<'_> {
         v: &mut [f64; 3],
         reactions: &mut [f64],
         out: &mut BoundarySums,
-    ) -> bool {
+    ) -> [bool; 3] {
         let m = self.mass[b.node as usize];
         let v_free = *v;
-        let mut any = false;
         for c in 0..3 {
             let bc = b.prescribed[c];
             if bc != NONE {
-                any = true;
                 v[c] = self.scratch.bc_velocity[bc as usize];
                 let p = m * (v[c] - v_free[c]);
                 reactions[bc as usize] += p / self.h_bar;
                 out.reac_b += 0.5 * vo[c] * p;
             }
         }
-        any
+        b.prescribed.map(|bc| bc == NONE)
     }
 
     /// Stage 7 on node `b`: each glued entry (μ(αₙ₊₁) of its law) and each contact entry
-    /// against its plane, in closed form ([`contact_impulse`]).
+    /// against its plane, in closed form on the node's `free` components ([`contact_impulse`]).
     ///
     /// # Safety
     /// No other thread may touch the interface and contact entries of `b`.
@@ -277,19 +275,14 @@ impl BoundaryStep<'_> {
         itfs: SharedSlice<InterfaceNode>,
         cns: SharedSlice<ContactNode>,
         v: &mut [f64; 3],
+        free: [bool; 3],
         impulses: &mut NodeImpulses,
     ) {
         let m = self.mass[b.node as usize];
         let planes = &self.model.planes;
         let mut solve = |gap: f64, plane: usize, mu: f64, area: f64| {
-            let (impulse, status) = contact_impulse(
-                v,
-                gap,
-                planes[plane].normal,
-                self.scratch.plane_v_new[plane],
-                mu,
-                m,
-            );
+            let (n, v_plane) = (planes[plane].normal, self.scratch.plane_v_new[plane]);
+            let (impulse, status) = contact_impulse(v, gap, n, v_plane, mu, m, free);
             let k = impulses.contacts;
             if k < MAX_CONSTRAINTS {
                 impulses.contact[k] = impulse;
@@ -423,10 +416,10 @@ unsafe fn boundary_chunk(
         cx.cohesion(b, itfs, &mut v, &mut impulses);
         let v_free = v;
         // 6. Prescribed components.
-        let prescribed = cx.prescribed(b, vo, &mut v, reactions, &mut out);
-        // 7. Contact and friction, on nodes with no prescribed component.
-        if !prescribed {
-            cx.contact(b, itfs, cns, &mut v, &mut impulses);
+        let free = cx.prescribed(b, vo, &mut v, reactions, &mut out);
+        // 7. Contact and friction, on the free components.
+        if free != [false; 3] {
+            cx.contact(b, itfs, cns, &mut v, free, &mut impulses);
         }
         *v_all.get(b.node as usize) = v;
         // 9 (this node's share): forward halves of the ledger.

@@ -1,8 +1,11 @@
 //! What the user is told: the blow-up diagnostic (where, with which h and h_crit, what to
 //! change; PHYSICS.md §6) and the regime warnings printed before a run.
 
+use super::setup::StartOffset;
 use super::state::SolverError;
 use super::Simulation;
+use crate::kernels::corners::element_corner_jacobians;
+use crate::model::Integration;
 
 impl Simulation {
     /// The blow-up diagnostic: where, with which h and h_crit, and what to change.
@@ -10,7 +13,7 @@ impl Simulation {
         let factor = self.h / self.h_crit;
         let configured = self.model.scheme.time_step_factor;
         let advice = if configured >= 1.0 {
-            format!("scheme.time_step_factor = {configured} is at or above the stability limit 1: set it ≤ 0.9 (default 0.5).")
+            format!("scheme.time_step_factor = {configured} is at or above the stability limit 1 (h is capped at h_crit, the limit itself, with no margin for the estimate or for stiffening between estimates): set it ≤ 0.9 (default 0.5).")
         } else if factor > 0.95 {
             format!("The time step factor {factor:.3} is at or above the stability limit 1: set scheme.time_step_factor ≤ 0.9 (default 0.5).")
         } else {
@@ -26,6 +29,51 @@ impl Simulation {
             advice,
         }
     }
+    /// The inverted-element diagnostic for `element`, whose smallest J is `j`: with one-point
+    /// integration, which corner (the kernel took the corners' J too,
+    /// [`crate::kernels::corners`]) and the J at the centre, the rule's own point.
+    pub(super) fn inverted(&self, element: usize, j: f64) -> SolverError {
+        let at = match self.model.scheme.integration {
+            Integration::Full => "at a Gauss point".to_string(),
+            Integration::Reduced => {
+                let conn = self.model.mesh.elements[element];
+                let cd = &self.classes.centre[self.classes.class_of[element] as usize];
+                let ue = conn.map(|n| self.u[n as usize]);
+                let corners = element_corner_jacobians(cd, &ue);
+                let (a, j_a) =
+                    (corners.iter().copied().enumerate()).fold((0, f64::INFINITY), |m, (a, x)| {
+                        if x < m.1 {
+                            (a, x)
+                        } else {
+                            m
+                        }
+                    });
+                let f = self
+                    .model
+                    .mesh
+                    .centre_deformation_gradient(element, &self.u);
+                let j_centre = nalgebra::Matrix3::from_fn(|r, c| f[r][c]).determinant();
+                if j_a <= j_centre {
+                    format!(
+                        "at its corner {a}, node {}, while J = {j_centre:.3e} at the centre, the one-point rule's own point: the element hourglassed (raise scheme.hourglass_coefficient, or use full integration)",
+                        conn[a]
+                    )
+                } else {
+                    "at its centre".to_string()
+                }
+            }
+        };
+        SolverError::Inverted {
+            element,
+            j,
+            at,
+            step: self.step_count,
+            time: self.time,
+            h: self.h,
+            h_crit: self.h_crit,
+        }
+    }
+
     /// Plain-words warnings about the regime of this model, for the user before the run: the
     /// parameters are admissible, but the results or the cost need reading with care.
     ///
@@ -36,7 +84,9 @@ impl Simulation {
     ///   run is then that many times longer.
     /// - A brittle law, (u_r − α_e)/α_e < 1 %: the softening branch is crossed within a step.
     /// - Elongated elements (aspect ratio ≥ 10): the shortest edge sets the step.
-    /// - A time-step factor above 1: unstable by design (PHYSICS.md §6).
+    /// - A time-step factor above 1: the step is capped at h_crit, the limit itself.
+    /// - Glued nodes that start off their mould by more than the tolerance, or inside it
+    ///   ([`StartOffset`]): their glue starts pre-stressed (pre-damaged beyond α_e).
     pub fn advisories(&self) -> Vec<String> {
         let m = &self.model;
         let mat = &m.material;
@@ -50,13 +100,13 @@ impl Simulation {
             let kappa_shear = 0.05 * 2.0 * mat.mu / (mat.lambda + 2.0 * mat.mu);
             let kappa = m.scheme.hourglass_coefficient;
             let quadrature = match m.scheme.integration {
-                crate::model::Integration::Full => format!(
+                Integration::Full => format!(
                     "with full 2×2×2 integration the hex8 locks volumetrically: it is far too stiff in bending and in any deformation that keeps the volume; use scheme.integration = \"reduced\" with scheme.hourglass_coefficient = {kappa_shear:.1e} (the hourglass stiffness κ(λ+2μ) grows with λ and locks as well at the default κ = 0.05)"
                 ),
-                crate::model::Integration::Reduced if kappa > 2.0 * kappa_shear => format!(
+                Integration::Reduced if kappa > 2.0 * kappa_shear => format!(
                     "one-point integration does not lock volumetrically, but its hourglass stiffness κ(λ+2μ) grows with λ: at κ = {kappa} it stiffens bending as locking would; scheme.hourglass_coefficient = {kappa_shear:.1e} scales it to the shear modulus"
                 ),
-                crate::model::Integration::Reduced => format!(
+                Integration::Reduced => format!(
                     "one-point integration with κ = {kappa} does not lock"
                 ),
             };
@@ -100,12 +150,57 @@ impl Simulation {
                 self.h_crit
             ));
         }
+        out.extend(
+            self.start_offsets
+                .iter()
+                .map(|o| self.start_offset_warning(o)),
+        );
         let factor = m.scheme.time_step_factor;
         if factor > 1.0 {
             out.push(format!(
-                "scheme.time_step_factor = {factor} > 1: the central-difference scheme is unstable above h_crit (PHYSICS.md §6); the run will stop when its energy grows, with a diagnostic."
+                "scheme.time_step_factor = {factor} > 1: the step is capped at h = h_crit, since the central-difference scheme is unstable above it (PHYSICS.md §6); at h_crit itself there is no margin for the estimate or for stiffening between estimates: ≤ 0.9 is safe."
             ));
         }
         out
+    }
+}
+
+impl Simulation {
+    /// The warning for glued nodes that start off or inside their mould: how many, how far, and
+    /// what it does to the glue (pre-stress g_N(0)δ, pre-damage α₀ = δ beyond α_e, eq. 12).
+    fn start_offset_warning(&self, o: &StartOffset) -> String {
+        let law = &self.model.interfaces[o.interface].law;
+        let mut parts = Vec::new();
+        if o.off_nodes > 0 {
+            let damage = if o.largest_off > law.alpha_e {
+                format!(
+                    " and pre-damaged (α₀ = δ > α_e = {:.3e} m: {:?})",
+                    law.alpha_e,
+                    law.state(o.largest_off.min(law.u_r))
+                )
+            } else {
+                String::new()
+            };
+            parts.push(format!(
+                "{} start off it by up to δ = {:.3e} m: their glue starts stretched, pre-stressed by up to g_N(0)δ = {:.3e} Pa{damage}",
+                o.off_nodes,
+                o.largest_off,
+                law.g_n0 * o.largest_off
+            ));
+        }
+        if o.inside_nodes > 0 {
+            parts.push(format!(
+                "{} start inside it by up to {:.3e} m, pushed out by their glue",
+                o.inside_nodes, o.deepest
+            ));
+        }
+        format!(
+            "interface[{}]: glued nodes of `{}` do not start on mould `{}` (tolerance {:.3e} m): {}. Move the face set onto the mould, or the mould onto it, if that is not meant.",
+            o.interface,
+            o.faces,
+            o.mould,
+            o.tolerance,
+            parts.join("; ")
+        )
     }
 }

@@ -29,6 +29,7 @@ mod stable_step;
 mod stages;
 mod state;
 
+pub use setup::{mould_closest_point, start_offset_tolerance, StartOffset};
 pub use state::{
     ContactNode, ContactStatus, InterfaceNode, PeakReaction, RunStats, SolverError, StableStep,
     StageTimes, StateCounts,
@@ -110,6 +111,9 @@ pub struct Simulation {
     energy_floor: f64,
     /// Largest |reference coordinate| of the mesh [m]: the scale of position round-off.
     coordinate_scale: f64,
+    /// The interfaces whose glued nodes start off or inside their mould (for the warnings and
+    /// the summary; empty when every glued node starts on its mould).
+    pub start_offsets: Vec<StartOffset>,
 }
 
 impl Simulation {

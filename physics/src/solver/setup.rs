@@ -3,14 +3,16 @@
 //! the leapfrog at t₀ (§4: V_{−½}, then the first impulses give V_{½}).
 
 use super::boundary::{Boundary, NONE};
+use super::stable_step::capped_step;
 use super::stages::StepScratch;
 use super::state::{
     ContactNode, ContactStatus, InterfaceNode, PeakReaction, RunStats, SolverError,
 };
 use super::{Simulation, ELEMENT_GRAIN, PARALLEL_MIN_ELEMENTS};
 use crate::energy::Ledger;
+use crate::law::StiffnessLaw;
 use crate::mesh::{dot, sub, ElementClasses, Mesh};
-use crate::model::Model;
+use crate::model::{Model, RigidPlane};
 use crate::team::Team;
 use std::collections::BTreeMap;
 
@@ -40,8 +42,102 @@ fn lumped_masses(model: &Model, classes: &ElementClasses) -> Result<Vec<f64>, So
     Ok(mass)
 }
 
-/// The glued nodes of every interface, each bonded to its projection y₀ on the plane at t₀,
-/// with its tributary reference area W (PHYSICS.md §3, §4 stage 4).
+/// What the glue and the contact need of a rigid mould at one point x (PHYSICS.md §8, "Rigid
+/// moulds"): the closest mould point p to x and the mould's unit normal n there, pointing into
+/// the solid, so that the gap is g = n·(x − p). For a plane (today's only mould shape) p is
+/// the orthogonal projection and n the plane's normal, the same at every point.
+pub fn mould_closest_point(plane: &RigidPlane, x: [f64; 3]) -> ([f64; 3], [f64; 3]) {
+    let n = plane.normal;
+    let g = dot(n, sub(x, plane.point));
+    ([x[0] - g * n[0], x[1] - g * n[1], x[2] - g * n[2]], n)
+}
+
+/// Largest distance between a glued node and its mould at t = 0 that is taken as "on the
+/// mould": 1e-3 of the law's elastic range α_e (of u_r if α_e = 0), and never below the
+/// round-off of positions, 16ε·(largest |coordinate|) (the gap snap of stage 2).
+///
+/// Why 1e-3 α_e: a node that starts at a distance δ from its anchor starts with the jump
+/// [u]₀ = δn, so its glue is pre-stressed by g_N(0)δ and, for δ > α_e, pre-damaged (α₀ = δ,
+/// eq. 12). At δ ≤ 1e-3 α_e the pre-stress is ≤ 0.1 % of the elastic peak traction
+/// g_N(0)α_e, its stored energy ½g_N(0)δ² ≤ 1e-6 of the elastic energy at α_e, and the node is
+/// a thousand times inside the elastic range: nothing a result could show. A mesh written with
+/// six significant digits on a body a thousand α_e across passes it.
+pub fn start_offset_tolerance(law: &StiffnessLaw, coordinate_scale: f64) -> f64 {
+    let range = if law.alpha_e > 0.0 {
+        law.alpha_e
+    } else {
+        law.u_r
+    };
+    (1e-3 * range).max(16.0 * f64::EPSILON * coordinate_scale)
+}
+
+/// How far the glued nodes of one interface start from their mould (reference positions):
+/// the signed gap g₀ = n·(X − p) of [`mould_closest_point`], off the mould (g₀ > 0) or inside
+/// it (g₀ < 0). Nodes off by more than the [`start_offset_tolerance`] start pre-stressed (and
+/// pre-damaged beyond α_e); nodes inside start pushed out by their glue. A scene refuses a
+/// start inside beyond the tolerance; the rest is a warning ([`Simulation::advisories`]).
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct StartOffset {
+    /// Index of the interface, its face set and its mould.
+    pub interface: usize,
+    pub faces: String,
+    pub mould: String,
+    /// Glued nodes farther than the tolerance off the mould, and the largest such g₀ [m].
+    pub off_nodes: usize,
+    pub largest_off: f64,
+    /// Glued nodes inside the mould by more than the round-off of positions, and the deepest
+    /// such −g₀ [m].
+    pub inside_nodes: usize,
+    pub deepest: f64,
+    /// Of those, the nodes inside by more than the tolerance (a scene refuses them).
+    pub deep_nodes: usize,
+    /// [`start_offset_tolerance`] of the interface's law [m].
+    pub tolerance: f64,
+}
+
+impl StartOffset {
+    /// The start offsets of interface `k` of `model` (`None` when its face set is unknown).
+    pub fn of(model: &Model, k: usize) -> Option<StartOffset> {
+        let (mesh, itf) = (&model.mesh, &model.interfaces[k]);
+        let plane = &model.planes[itf.plane];
+        let scale =
+            (mesh.nodes.iter().flatten().chain(&plane.point)).fold(0.0f64, |a, x| a.max(x.abs()));
+        let round_off = 16.0 * f64::EPSILON * scale;
+        let mut out = StartOffset {
+            interface: k,
+            faces: itf.faces.clone(),
+            mould: plane.name.clone(),
+            off_nodes: 0,
+            largest_off: 0.0,
+            inside_nodes: 0,
+            deepest: 0.0,
+            deep_nodes: 0,
+            tolerance: start_offset_tolerance(&itf.law, scale),
+        };
+        for node in mesh.face_set_nodes(mesh.face_sets.get(&itf.faces)?) {
+            let x = mesh.nodes[node as usize];
+            let (p, n) = mould_closest_point(plane, x);
+            let g0 = dot(n, sub(x, p));
+            if g0 > out.tolerance {
+                out.off_nodes += 1;
+                out.largest_off = out.largest_off.max(g0);
+            } else if -g0 > round_off {
+                out.inside_nodes += 1;
+                out.deepest = out.deepest.max(-g0);
+                out.deep_nodes += usize::from(-g0 > out.tolerance);
+            }
+        }
+        Some(out)
+    }
+
+    /// True when some glued node starts off or inside its mould (worth a warning).
+    pub fn any(&self) -> bool {
+        self.off_nodes + self.inside_nodes > 0
+    }
+}
+
+/// The glued nodes of every interface, each bonded to its closest mould point y₀ at t₀
+/// ([`mould_closest_point`]), with its tributary reference area W (PHYSICS.md §3, §4 stage 4).
 fn glued_nodes(model: &Model) -> Result<Vec<InterfaceNode>, SolverError> {
     let mesh = &model.mesh;
     let mut out = Vec::new();
@@ -49,12 +145,8 @@ fn glued_nodes(model: &Model) -> Result<Vec<InterfaceNode>, SolverError> {
         let plane = &model.planes[itf.plane];
         for (node, area) in mesh.nodal_areas(face(mesh, &itf.faces)?) {
             let x = mesh.nodes[node as usize];
-            let gap0 = dot(plane.normal, sub(x, plane.point));
-            let y0 = [
-                x[0] - gap0 * plane.normal[0],
-                x[1] - gap0 * plane.normal[1],
-                x[2] - gap0 * plane.normal[2],
-            ];
+            let (y0, n) = mould_closest_point(plane, x);
+            let gap0 = dot(n, sub(x, y0));
             out.push(InterfaceNode {
                 node,
                 interface: k as u32,
@@ -205,7 +297,12 @@ impl Simulation {
             .iter()
             .flatten()
             .fold(0.0f64, |a, x| a.max(x.abs()));
+        let start_offsets = (0..model.interfaces.len())
+            .filter_map(|k| StartOffset::of(&model, k))
+            .filter(StartOffset::any)
+            .collect();
         let mut sim = Simulation {
+            start_offsets,
             blocks: mesh.element_blocks(ELEMENT_GRAIN),
             classes,
             team,
@@ -295,7 +392,8 @@ impl Simulation {
         }
     }
 
-    /// The first h_crit estimate and h = factor × h_crit (PHYSICS.md §6); when a glued node's
+    /// The first h_crit estimate and h = min(factor, 1) × h_crit (PHYSICS.md §6,
+    /// [`capped_step`]); when a glued node's
     /// own spring (ω_i² = W g_N/m) is near the whole system's ω_max, the interface may set the
     /// step: the bulk alone is then measured once, for [`Simulation::advisories`].
     fn first_time_step(&mut self) -> Result<(), SolverError> {
@@ -313,7 +411,7 @@ impl Simulation {
         }
         self.stats.h_crit_initial = est.h_crit;
         self.stats.h_crit_min = est.h_crit;
-        self.h = self.model.scheme.time_step_factor * est.h_crit;
+        self.h = capped_step(self.model.scheme.time_step_factor, est.h_crit);
         if !(self.h.is_finite() && self.h > 0.0) {
             return Err(SolverError::Setup(format!(
                 "the stable time step estimate is not usable (ω_max² = {:e}); check the material and interface stiffness",

@@ -15,11 +15,21 @@ const JACOBIAN_RETRIGGER: f64 = 0.02;
 /// Smallest Jacobian below which strain changes re-estimate h_crit between scheduled estimates.
 const JACOBIAN_COMPRESSED: f64 = 0.9;
 
+/// The step for a time-step factor: h = factor × h_crit, never above h_crit (PHYSICS.md §6:
+/// central differences are unstable above h_crit = 2/ω_max). A factor above 1 is accepted
+/// (scene range (0, 2)) and runs at h = h_crit, the stability limit itself, with no margin for
+/// the estimate or for stiffening between estimates (a warning says so).
+pub(super) fn capped_step(factor: f64, h_crit: f64) -> f64 {
+    factor.min(1.0) * h_crit
+}
+
 impl Simulation {
     /// Re-estimates h_crit every `h_crit_update_interval` steps and returns h_{n+3/2}.
     /// The step only ever decreases: when stiffening makes the current step exceed
-    /// factor × h_crit by more than 5 %, h becomes 0.95 × factor × h_crit (the margins avoid a
-    /// change for estimate noise and at every estimate). A change of step breaks the exact trapezoid pairing of the ledger for that one
+    /// factor × h_crit by more than 5 %, or h_crit itself, h becomes 0.95 × factor × h_crit,
+    /// never above h_crit ([`capped_step`]; the 5 % margins avoid a change for estimate noise
+    /// and at every estimate, but never let h pass h_crit: with a factor above 1/1.05 the
+    /// margin alone would have let a stiffening run step up to 5 % above it). A change of step breaks the exact trapezoid pairing of the ledger for that one
     /// step (the work pairs velocities of two different intervals); growing h after a softening
     /// would buy little speed for that cost, so it is not done.
     ///
@@ -46,8 +56,8 @@ impl Simulation {
         self.h_crit = est.h_crit;
         self.stats.h_crit_min = self.stats.h_crit_min.min(est.h_crit);
         let target = self.model.scheme.time_step_factor * est.h_crit;
-        if self.h > 1.05 * target {
-            0.95 * target
+        if self.h > (1.05 * target).min(est.h_crit) {
+            capped_step(0.95 * self.model.scheme.time_step_factor, est.h_crit)
         } else {
             self.h
         }

@@ -159,14 +159,7 @@ impl Simulation {
                     self.unstable("non-finite displacements (NaN) in the element loop".into())
                 );
             }
-            return Err(SolverError::Inverted {
-                element: min_e,
-                j: min_j,
-                step: self.step_count,
-                time: self.time,
-                h: self.h,
-                h_crit: self.h_crit,
-            });
+            return Err(self.inverted(min_e, min_j));
         }
         Ok(())
     }

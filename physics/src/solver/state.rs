@@ -21,10 +21,13 @@ pub enum SolverError {
         reason: String,
         advice: String,
     },
-    #[error("element {element} inverted (J = {j:.3e} ≤ 0) at step {step} (t = {time:.6e} s), h = {h:.4e} s, h_crit = {h_crit:.4e} s. The mesh is too coarse for this deformation, the load too fast, or the step too large: refine the mesh, slow the loading, lower scheme.time_step_factor, or use material.model = \"neo_hookean\" (SVK softens and collapses under strong compression)")]
+    #[error("element {element} inverted (J = {j:.3e} ≤ 0 {at}) at step {step} (t = {time:.6e} s), h = {h:.4e} s, h_crit = {h_crit:.4e} s. The mesh is too coarse for this deformation, the load too fast, or the step too large: refine the mesh, slow the loading, lower scheme.time_step_factor, or use material.model = \"neo_hookean\" (SVK softens and collapses under strong compression)")]
     Inverted {
         element: usize,
         j: f64,
+        /// Where in the element: "at a Gauss point", "at its centre", or "at its corner k
+        /// (node n) …" (one-point integration checks the corners too).
+        at: String,
         step: u64,
         time: f64,
         h: f64,

@@ -122,3 +122,37 @@ pub fn on_floor(size: [f64; 3], cells: [usize; 3], mat: Material, mu: f64, end_t
     });
     m
 }
+
+/// A valid scene: a 1 m cube on 2×2×2 cells, its bottom glued to the plane z = 0 (plateau–linear,
+/// α_e = 0.5 mm), its top pulled up; the scene-error tests break it in one place.
+pub const GLUED_CUBE: &str = r#"
+end_time = 0.3
+
+[mesh]
+size = [1.0, 1.0, 1.0]
+cells = [2, 2, 2]
+
+[material]
+young = 5.0e6
+poisson = 0.45
+density = 1100.0
+
+[[plane]]
+name = "mould"
+point = [0.0, 0.0, 0.0]
+normal = [0.0, 0.0, 1.0]
+
+[[interface]]
+faces = "z-"
+plane = "mould"
+[interface.law]
+family = "plateau_linear"
+g_n0 = 2.0e9
+alpha_e = 5.0e-4
+u_r = 1.0e-3
+
+[[displacement]]
+faces = "z+"
+component = "z"
+table = [[0.0, 0.0], [0.3, 0.6]]
+"#;
