@@ -102,25 +102,29 @@ def test_a_file_that_cannot_be_read(tmp_path, cli):
         decohesion.Scene.load(tmp_path)
 
 
-def test_an_unstable_run_raises_solver_error_with_its_fields(cli, tmp_path):
-    """h = 1.1 h_crit: the growth check stops the run (tests/stability.rs: at step 15)."""
-    overrides = {"scheme.time_step_factor": 1.1}
+def test_a_failed_run_raises_solver_error_with_its_fields(cli, tmp_path):
+    """The top slammed down at 100 m/s: an element inverts within a few steps (h is capped at
+    h_crit, so a time-step factor above 1 no longer blows a run up)."""
+    slam = "[[0.0, 0.0], [0.01, -1.0]]"
+    overrides = {"displacement.0.table": [[0.0, 0.0], [0.01, -1.0]], "end_time": 0.05}
     sim = decohesion.Simulation(decohesion.Scene.load(PULL_OFF, overrides=overrides))
     with pytest.raises(decohesion.SolverError) as raised:
         sim.run(progress=False)
     e = raised.value
-    assert isinstance(e, RuntimeError) and e.kind == "unstable" and e.element is None
+    assert isinstance(e, RuntimeError) and e.kind == "inverted"
+    assert isinstance(e.element, int) and 0 <= e.element < 343
     assert 0 < e.step < 150 and e.step == sim.step_count
     assert e.t == sim.t and e.t < sim.end_time
-    assert e.h / e.h_crit == pytest.approx(1.1, rel=1e-9)
-    assert "scheme.time_step_factor = 1.1 is at or above the stability limit" in str(e)
+    assert e.h > 0 and e.h_crit > 0
+    assert f"element {e.element} inverted" in str(e)
     summary = sim.summary()
     assert summary["status"] == "failed" and summary["error"] == str(e)
     assert summary["steps"] == e.step
     # The command line stops at the same step with the same message.
     out = tmp_path / "cli.json"
     done = subprocess.run([str(cli), "run", str(PULL_OFF), "--quiet", "--set",
-                           "scheme.time_step_factor=1.1", "--summary", str(out)],
+                           f"displacement.0.table={slam}", "--set", "end_time=0.05",
+                           "--summary", str(out)],
                           capture_output=True, text=True)
     assert done.returncode == 1
     assert f"error: {e}" in done.stderr

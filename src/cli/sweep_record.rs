@@ -12,7 +12,7 @@
 
 use super::sweep::{observable_names, observables, SweepRow, Vary};
 use anyhow::{Context, Result};
-use rerun::blueprint::components::PanelState;
+use rerun::blueprint::components::{PanelState, PlayState};
 use rerun::blueprint::{
     Blueprint, BlueprintPanel, ContainerLike, Grid, SelectionPanel, Tabs, TextDocumentView,
     TimePanel, TimeSeriesView, Vertical,
@@ -140,6 +140,8 @@ fn blueprint(varies: &[Vary], first_timeline: &str) -> Blueprint {
     .with_time_panel(
         TimePanel::new()
             .with_timeline(first_timeline)
+            // At the last value, not playing from the first: the plots then show every run.
+            .with_play_state(PlayState::Following)
             .with_state(PanelState::Collapsed),
     )
     .with_blueprint_panel(BlueprintPanel::new().with_state(PanelState::Collapsed))
