@@ -15,8 +15,12 @@ use egui_kittest::Harness;
 use std::time::{Duration, Instant};
 
 fn harness(app: App) -> Harness<'static, App> {
+    // The window asks for a few more frames after a load or a run (`App::settle`, so that
+    // the plots' axes widen to their labels), each 100 ms apart: more than kittest's default
+    // 4 steps when the machine is loaded, so `run()` may take up to 32 to settle.
     Harness::builder()
         .with_size([1500.0, 950.0])
+        .with_max_steps(32)
         .build_ui_state(|ui, app: &mut App| app.ui(ui), app)
 }
 
