@@ -5,7 +5,7 @@
 //!
 //! Built on the solver's thread from a `&Simulation` ([`FrameSampler::due`]), so the native
 //! run thread ([`super::job`]) and an in-page runner call the same function. A run's frames are
-//! bounded in memory: at most [`MAX_RUN_BYTES`] in all (28³ cube: ≈ 137 kB a frame, see
+//! bounded in memory: at most [`MAX_RUN_BYTES`] in all (28³ pull-off: ≈ 125 kB a frame, see
 //! [`FrameBuilder::frame_bytes`]), so the cadence is the recorder's (the run's `frames` over
 //! its end time) or coarser.
 
@@ -303,7 +303,10 @@ mod tests {
         assert_eq!(f.topology.triangles.len(), 2 * 6 * n * n);
         assert!(f.fields.iter().all(|v| v.len() == f.positions.len()));
         // The glued bottom face: (n + 1)² interface nodes.
-        assert_eq!((f.points.len(), f.states.len()), ((n + 1) * (n + 1), (n + 1) * (n + 1)));
+        assert_eq!(
+            (f.points.len(), f.states.len()),
+            ((n + 1) * (n + 1), (n + 1) * (n + 1))
+        );
         assert_eq!(f.mould_offsets.len(), m.planes.len());
         assert_eq!(f.topology.moulds.len(), m.planes.len());
         // |U| at the vertices: the largest is the largest |U| on the surface.
@@ -350,6 +353,9 @@ mod tests {
         // t = 0, one a full interval, the final state.
         let frames = (sim.model.end_time / big.interval).round() as usize + 2;
         let bytes = FrameBuilder::new(&sim).frame_bytes(&sim);
-        assert!(frames * bytes <= MAX_RUN_BYTES, "{frames} frames of {bytes} bytes");
+        assert!(
+            frames * bytes <= MAX_RUN_BYTES,
+            "{frames} frames of {bytes} bytes"
+        );
     }
 }

@@ -21,8 +21,8 @@ mod law_editor;
 mod plots;
 pub mod settings;
 pub mod state;
-mod views;
 pub mod view3d;
+mod views;
 
 pub use history::HistoryRow;
 pub use job::{Job, JobMessage};

@@ -178,7 +178,10 @@ impl View3d {
             );
         };
         if !self.glow {
-            text(ui, "the 3-D view draws with the glow renderer (OpenGL / WebGL2) only");
+            text(
+                ui,
+                "the 3-D view draws with the glow renderer (OpenGL / WebGL2) only",
+            );
         } else if let Some(i) = self.index() {
             self.paint(ui, rect, i);
             self.legend_ui(ui, rect);
@@ -284,7 +287,12 @@ impl View3d {
         let half = (FOV_Y / 2.0).tan() * aspect.min(1.0);
         let radius = self.radius.max(0.5 * self.frames[i].topology.extent);
         let dist = 1.1 * radius * (1.0 + half * half).sqrt() / half / self.zoom;
-        let (cy, sy, cp, sp) = (self.yaw.cos(), self.yaw.sin(), self.pitch.cos(), self.pitch.sin());
+        let (cy, sy, cp, sp) = (
+            self.yaw.cos(),
+            self.yaw.sin(),
+            self.pitch.cos(),
+            self.pitch.sin(),
+        );
         let eye = Point3::new(dist * cp * cy, dist * cp * sy, dist * sp);
         let view = Matrix4::look_at_rh(&eye, &Point3::origin(), &Vector3::z());
         let proj = Matrix4::new_perspective(aspect, FOV_Y, 0.02 * dist, 10.0 * dist);
@@ -361,8 +369,18 @@ impl View3d {
         };
         let mut at = rect.left_top() + egui::vec2(10.0, 8.0);
         for (label, [r, g, b]) in legend {
-            p.circle_filled(at + egui::vec2(4.0, 7.0), 4.0, egui::Color32::from_rgb(r, g, b));
-            p.text(at + egui::vec2(12.0, 0.0), egui::Align2::LEFT_TOP, label, font.clone(), grey);
+            p.circle_filled(
+                at + egui::vec2(4.0, 7.0),
+                4.0,
+                egui::Color32::from_rgb(r, g, b),
+            );
+            p.text(
+                at + egui::vec2(12.0, 0.0),
+                egui::Align2::LEFT_TOP,
+                label,
+                font.clone(),
+                grey,
+            );
             at.y += 16.0;
         }
     }
@@ -394,7 +412,14 @@ fn build_scene(f: &Frame, key: &Key, version: u64) -> Scene {
         .collect();
     vertices.extend(f.points.iter().zip(&f.states).map(|(&x, &(s, k))| Vertex {
         pos: rel(x, [0.0; 3]),
-        rgba: rgba(if key.contact { contact_rgb(k) } else { state_rgb(s) }, 255),
+        rgba: rgba(
+            if key.contact {
+                contact_rgb(k)
+            } else {
+                state_rgb(s)
+            },
+            255,
+        ),
     }));
     for (quad, &d) in t.moulds.iter().zip(&f.mould_offsets) {
         for k in [0, 1, 2, 0, 2, 3] {

@@ -43,7 +43,6 @@ pub struct Surface {
 }
 
 impl Surface {
-
     pub fn extract(m: &Model) -> Surface {
         let faces = m.mesh.boundary_faces();
         let mut index_of = vec![u32::MAX; m.mesh.nodes.len()];
@@ -121,7 +120,6 @@ impl Surface {
     }
 }
 
-
 /// Viridis, 9 samples (matplotlib), interpolated linearly.
 pub fn viridis(t: f64) -> [u8; 3] {
     const C: [[f64; 3]; 9] = [
@@ -146,7 +144,6 @@ pub fn viridis(t: f64) -> [u8; 3] {
     let c = |k: usize| (C[i][k] * (1.0 - f) + C[i + 1][k] * f).round() as u8;
     [c(0), c(1), c(2)]
 }
-
 
 #[cfg(test)]
 mod tests {

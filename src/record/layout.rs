@@ -5,8 +5,8 @@
 
 use super::geometry::Geometry;
 use super::{log_err, ColourField, RecordError, Statics, ARROW_FRACTION};
-use crate::mesh::{cross, dot, norm, sub};
 use crate::law::InterfaceState;
+use crate::mesh::{cross, dot, norm, sub};
 use crate::model::Model;
 use crate::output::surface::{contact_rgb, state_rgb};
 use crate::solver::{ContactStatus, Simulation};

@@ -7,9 +7,9 @@
 //! quads; it is uploaded only when [`Scene::version`] changes (a new frame, field or point
 //! colouring), the index buffer only when the topology changes.
 
+use super::super::frames::Topology;
 use eframe::egui_glow;
 use eframe::glow::{self, HasContext};
-use super::super::frames::Topology;
 use std::sync::Arc;
 
 /// A vertex: position relative to the view's centre [m] and an sRGB colour with alpha.
@@ -100,7 +100,12 @@ pub(super) struct GlView {
     pub(super) uploads: u64,
 }
 
-unsafe fn compile(gl: &glow::Context, kind: u32, header: &str, src: &str) -> Result<glow::Shader, String> {
+unsafe fn compile(
+    gl: &glow::Context,
+    kind: u32,
+    header: &str,
+    src: &str,
+) -> Result<glow::Shader, String> {
     unsafe {
         let s = gl.create_shader(kind)?;
         gl.shader_source(s, &format!("{header}{src}"));
@@ -134,7 +139,10 @@ impl GlView {
             gl.bind_attrib_location(program, 1, "a_rgba");
             gl.link_program(program);
             if !gl.get_program_link_status(program) {
-                return Err(format!("3-D view shaders: {}", gl.get_program_info_log(program)));
+                return Err(format!(
+                    "3-D view shaders: {}",
+                    gl.get_program_info_log(program)
+                ));
             }
             for s in [vs, fs] {
                 gl.detach_shader(program, s);
