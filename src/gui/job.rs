@@ -2,6 +2,7 @@
 //! ([`crate::driver`]) with the recording and ParaView files the settings ask for, report
 //! progress over a channel, end with a history row (also when the thread panics).
 
+use super::frames::{Frame, FrameSampler};
 use super::history::{output_error_text, CurvePoint, RunCurve};
 use super::{HistoryRow, Settings};
 use crate::driver::{Driver, Plan, Progress};
@@ -25,6 +26,8 @@ pub enum JobMessage {
         step: u64,
         point: CurvePoint,
     },
+    /// A frame for the 3-D view ([`super::frames`]), at the recorder's cadence.
+    Frame(Box<Frame>),
     Done(Box<HistoryRow>),
 }
 
@@ -133,8 +136,11 @@ fn run_job(
         sample: sim.model.end_time / 300.0,
         next_sample: 0.0,
         curve: RunCurve::default(),
+        frames: FrameSampler::new(&sim, settings.frames),
     };
+    progress.send_frame(&sim, false);
     let done = driver.run(&mut sim, cancel, &mut progress);
+    progress.send_frame(&sim, true);
     let mut row = HistoryRow::from_run(id, settings, &done, recording_target);
     progress.curve.finish(CurvePoint::of(&sim));
     row.curve = progress.curve;
@@ -152,10 +158,25 @@ struct Channel<'a> {
     sample: f64,
     next_sample: f64,
     curve: RunCurve,
+    frames: FrameSampler,
+}
+
+impl Channel<'_> {
+    /// Sends the frame of `s` if one is due, or if `s` is the final state.
+    fn send_frame(&mut self, s: &Simulation, last: bool) {
+        let frame = match last {
+            false => self.frames.due(s),
+            true => self.frames.last(s),
+        };
+        if let Some(f) = frame {
+            let _ = self.tx.send(JobMessage::Frame(Box::new(f)));
+        }
+    }
 }
 
 impl Progress for Channel<'_> {
     fn step(&mut self, s: &Simulation) {
+        self.send_frame(s, false);
         if self.last_report.elapsed() >= Duration::from_millis(50) || s.time >= self.next_sample {
             self.last_report = Instant::now();
             self.next_sample = s.time + self.sample;

@@ -13,6 +13,7 @@
 //! [`crate::driver`]), `views`, `law_editor` and `plots` (the egui code), and here the eframe
 //! application.
 
+pub mod frames;
 pub mod history;
 pub mod job;
 pub mod law;
@@ -20,6 +21,7 @@ mod law_editor;
 mod plots;
 pub mod settings;
 pub mod state;
+pub mod view3d;
 mod views;
 
 pub use history::HistoryRow;
@@ -78,7 +80,8 @@ impl Explorer {
 }
 
 impl eframe::App for Explorer {
-    fn ui(&mut self, ui: &mut egui::Ui, _frame: &mut eframe::Frame) {
+    fn ui(&mut self, ui: &mut egui::Ui, frame: &mut eframe::Frame) {
+        self.app.view.glow = frame.gl().is_some();
         if self.run_on_start {
             self.run_on_start = false;
             self.app.start();
@@ -108,6 +111,9 @@ pub fn run_window(
         viewport: egui::ViewportBuilder::default()
             .with_inner_size([1500.0, 950.0])
             .with_title("decohesion explorer"),
+        // The 3-D view draws through glow (OpenGL, WebGL2), with a depth buffer.
+        renderer: eframe::Renderer::Glow,
+        depth_buffer: 24,
         ..Default::default()
     };
     eframe::run_native(

@@ -63,6 +63,8 @@ pub struct App {
     /// Frames still to draw after a run ended (the plots size their axes from the previous
     /// frame's labels, so the first frame with the final curves is not the last one drawn).
     pub(super) settle: u8,
+    /// The 3-D view and the frames of the running (or last) run.
+    pub view: super::view3d::View3d,
 }
 
 /// What the current settings give, shown before a run.
@@ -111,6 +113,7 @@ impl App {
             queued_run: false,
             variants_text: String::new(),
             settle: 0,
+            view: Default::default(),
         }
     }
 
@@ -246,6 +249,7 @@ impl App {
                 self.job = Some(job);
                 self.status = Status::Running;
                 self.curve.clear();
+                self.view.clear();
                 self.curve_run = Some(id);
                 if std::mem::take(&mut self.queued_run) {
                     self.compare.insert(id);
@@ -279,6 +283,7 @@ impl App {
                     job.last = Some((step, point));
                     self.curve.push(point);
                 }
+                Ok(JobMessage::Frame(f)) => self.view.push(*f),
                 Ok(JobMessage::Done(row)) => {
                     self.curve = row.curve.clone();
                     self.status = Status::Ended(match row.status.as_str() {

@@ -57,6 +57,10 @@ impl App {
             .resizable(true)
             .default_size(230.0)
             .show(ui, |ui| self.history_ui(ui));
+        egui::Panel::right("view3d")
+            .resizable(true)
+            .default_size(470.0)
+            .show(ui, |ui| self.view.ui(ui));
         egui::CentralPanel::default().show(ui, |ui| {
             egui::ScrollArea::vertical().show(ui, |ui| {
                 self.run_ui(ui);

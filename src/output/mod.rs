@@ -6,6 +6,7 @@
 
 pub mod fields;
 pub mod snapshot;
+pub mod surface;
 pub mod worker;
 
 pub use snapshot::{InterfaceSnapshot, Snapshot};

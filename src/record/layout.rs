@@ -5,9 +5,11 @@
 
 use super::geometry::Geometry;
 use super::{log_err, ColourField, RecordError, Statics, ARROW_FRACTION};
+use crate::law::InterfaceState;
 use crate::mesh::{cross, dot, norm, sub};
 use crate::model::Model;
-use crate::solver::Simulation;
+use crate::output::surface::{contact_rgb, state_rgb};
+use crate::solver::{ContactStatus, Simulation};
 use rerun::blueprint::components::{PanelState, PlayState};
 use rerun::blueprint::{
     Blueprint, BlueprintPanel, Horizontal, SelectionPanel, Spatial2DView, Spatial3DView, Tabs,
@@ -214,13 +216,16 @@ fn scene_text(rec: &RecordingStream, st: &Statics) -> Result<(), RecordError> {
 fn classes_and_styles(rec: &RecordingStream, st: &Statics, r: f32) -> Result<(), RecordError> {
     let m = &st.model;
     // Class ids for interface and contact nodes, for the whole subtree.
+    // The colours the explorer's 3-D view uses too (crate::output::surface).
+    let rgb = |c: [u8; 3]| Rgba32::from_rgb(c[0], c[1], c[2]);
+    let (s, c) = (|x| rgb(state_rgb(x)), |x| rgb(contact_rgb(x)));
     let classes = AnnotationContext::new([
-        (0, "elastic", Rgba32::from_rgb(46, 160, 67)),
-        (1, "transition", Rgba32::from_rgb(245, 166, 35)),
-        (2, "ruptured", Rgba32::from_rgb(208, 2, 27)),
-        (10, "open", Rgba32::from_rgb(160, 160, 160)),
-        (11, "stick", Rgba32::from_rgb(30, 120, 220)),
-        (12, "slip", Rgba32::from_rgb(200, 60, 200)),
+        (0, "elastic", s(InterfaceState::Elastic)),
+        (1, "transition", s(InterfaceState::Transition)),
+        (2, "ruptured", s(InterfaceState::Ruptured)),
+        (10, "open", c(ContactStatus::Open)),
+        (11, "stick", c(ContactStatus::Stick)),
+        (12, "slip", c(ContactStatus::Slip)),
     ]);
     rec.log_static("interface", &classes)
         .map_err(log_err("the annotation context"))?;
