@@ -2,16 +2,30 @@
 //! `run` ([`run()`], through the run driver), `check`, `sweep` (a grid of runs, [`sweep()`]),
 //! `tradeoff`, `bench`.
 
-mod bench;
-mod check;
-mod run;
-mod sweep;
-mod sweep_record;
-mod tradeoff;
+//! On wasm32 (the web page) only [`Vary`] and [`PALETTE`] exist, which the explorer uses.
 
+#[cfg(not(target_arch = "wasm32"))]
+mod bench;
+#[cfg(not(target_arch = "wasm32"))]
+mod check;
+#[cfg(not(target_arch = "wasm32"))]
+mod run;
+#[cfg(not(target_arch = "wasm32"))]
+mod sweep;
+#[cfg(not(target_arch = "wasm32"))]
+mod sweep_record;
+#[cfg(not(target_arch = "wasm32"))]
+mod tradeoff;
+mod vary;
+
+#[cfg(not(target_arch = "wasm32"))]
 pub use bench::bench;
+#[cfg(not(target_arch = "wasm32"))]
 pub use check::check;
+#[cfg(not(target_arch = "wasm32"))]
 pub use run::run;
-pub use sweep::{sweep, SweepArgs, Vary};
-pub use sweep_record::PALETTE;
+#[cfg(not(target_arch = "wasm32"))]
+pub use sweep::{sweep, SweepArgs};
+#[cfg(not(target_arch = "wasm32"))]
 pub use tradeoff::tradeoff;
+pub use vary::{Vary, PALETTE};
