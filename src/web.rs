@@ -88,7 +88,7 @@ impl eframe::App for PageExplorer {
         }
         if let Some(json) = app.history.last().and_then(|r| r.summary_json.as_deref()) {
             set_text("result", json);
-            web_sys::console::log_1(&format!("decohesion summary: {json}").into());
+            log(&format!("decohesion summary: {json}"));
         }
         set_text("status", &now.0);
         if let Ok(d) = document() {
@@ -113,6 +113,11 @@ fn set_text(id: &str, text: &str) {
     if let Some(e) = document().ok().and_then(|d| d.get_element_by_id(id)) {
         e.set_text_content(Some(text));
     }
+}
+
+/// Writes `text` to the browser's console.
+pub fn log(text: &str) {
+    web_sys::console::log_1(&text.into());
 }
 
 /// A JavaScript error as text.

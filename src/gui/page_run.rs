@@ -29,6 +29,10 @@ pub struct PageRun {
     cancel: bool,
     /// Messages not read yet.
     outbox: VecDeque<JobMessage>,
+    /// When the last slice of steps ended: the time since is what the page spent drawing.
+    slice_end: Option<Instant>,
+    /// Slices of steps taken (frames that stepped).
+    pub slices: u64,
 }
 
 impl PageRun {
@@ -43,6 +47,8 @@ impl PageRun {
             started,
             cancel: false,
             outbox: VecDeque::new(),
+            slice_end: None,
+            slices: 0,
         };
         match Simulation::new(scene.model) {
             Ok(sim) => {
@@ -57,13 +63,21 @@ impl PageRun {
         run
     }
 
-    /// Steps for about `budget` of wall time (at least one step), then returns; ends the run
-    /// when it reaches its end time, fails, or was stopped. True while it goes on.
+    /// Steps for about `budget` of wall time, or for as long as the page took since the last
+    /// slice if that is longer (at least one step), then returns; ends the run when it reaches
+    /// its end time, fails, or was stopped. True while it goes on.
+    ///
+    /// The stretch keeps the solver at half of the page's time or more when drawing is slow
+    /// (software WebGL: ~100 ms a frame under headless Chromium), at the price of a frame rate
+    /// at least half of what the drawing alone allows; with fast drawing a frame steps for
+    /// `budget`, so the page draws at its own rate and Stop acts within a frame.
     pub fn advance(&mut self, budget: Duration) -> bool {
         let Some((sim, sampler)) = &mut self.state else {
             return false;
         };
         let slice = Instant::now();
+        let budget = self.slice_end.map_or(budget, |end| budget.max(slice - end));
+        self.slices += 1;
         let outbox = &mut self.outbox;
         let outcome = loop {
             if sim.finished() {
@@ -77,6 +91,7 @@ impl PageRun {
             }
             sampler.after_step(sim, &mut |m| outbox.push_back(m));
             if slice.elapsed() >= budget {
+                self.slice_end = Some(Instant::now());
                 return true;
             }
         };
@@ -95,6 +110,11 @@ impl PageRun {
             Ok(()) | Err(SolverError::Cancelled { .. }) => None,
             Err(e) => Some(e.to_string()),
         };
+        #[cfg(target_arch = "wasm32")]
+        crate::web::log(&format!(
+            "decohesion: run {} {}: {} steps in {} frames, {:.3} s in step(), {:.3} s wall",
+            self.id, summary.status, summary.steps, self.slices, summary.step_wall_seconds, wall
+        ));
         let mut row = HistoryRow::from_summary(self.id, &self.settings, &summary, error, None);
         row.curve = sampler.finish(&sim);
         self.outbox.push_back(JobMessage::Done(Box::new(row)));
