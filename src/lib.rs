@@ -26,8 +26,8 @@ pub mod driver;
 /// The explorer (egui): reads scenes, runs simulations on a thread or, in the web page, inside
 /// the frame loop; not used by the physics.
 pub mod gui;
-/// What the outputs share: frame cadence, snapshot, per-element fields, writer threads.
-#[cfg(not(target_arch = "wasm32"))]
+/// What the outputs share: frame cadence, snapshot, per-element fields, writer threads (on
+/// wasm32 without the outputs themselves: the explorer's view may read the fields).
 pub mod output;
 /// Rerun recording (live or `.rrd`): reads a simulation, is not read by the physics.
 #[cfg(not(target_arch = "wasm32"))]
@@ -45,4 +45,4 @@ pub mod vtk;
 pub mod web;
 
 // Native-only (threads, files, Rerun, ParaView, the command line): on wasm32-unknown-unknown the
-// modules above are left out, not stubbed; the page offers no recording and no files.
+// modules marked so above are left out, not stubbed; the page offers no recording and no files.

@@ -1,7 +1,7 @@
 //! The subcommands of the `decohesion` command, behind its argument parsing (`src/main.rs`):
 //! `run` ([`run()`], through the run driver), `check`, `sweep` (a grid of runs, [`sweep()`]),
 //! `tradeoff`, `bench`.
-
+//!
 //! On wasm32 (the web page) only [`Vary`] and [`PALETTE`] exist, which the explorer uses.
 
 #[cfg(not(target_arch = "wasm32"))]
@@ -18,14 +18,8 @@ mod sweep_record;
 mod tradeoff;
 mod vary;
 
-#[cfg(not(target_arch = "wasm32"))]
-pub use bench::bench;
-#[cfg(not(target_arch = "wasm32"))]
-pub use check::check;
-#[cfg(not(target_arch = "wasm32"))]
-pub use run::run;
-#[cfg(not(target_arch = "wasm32"))]
-pub use sweep::{sweep, SweepArgs};
-#[cfg(not(target_arch = "wasm32"))]
-pub use tradeoff::tradeoff;
 pub use vary::{Vary, PALETTE};
+#[cfg(not(target_arch = "wasm32"))]
+pub use {
+    bench::bench, check::check, run::run, sweep::sweep, sweep::SweepArgs, tradeoff::tradeoff,
+};

@@ -4,27 +4,25 @@
 //! runners take their samples with one [`Sampler`], so a message is built in one place for
 //! both; the run ends with a history row (also when the native thread panics).
 
-#[cfg(not(target_arch = "wasm32"))]
-use super::history::output_error_text;
 use super::history::{CurvePoint, RunCurve};
 use super::page_run::PageRun;
 use super::{HistoryRow, Settings};
-#[cfg(not(target_arch = "wasm32"))]
-use crate::driver::{Driver, Plan, Progress};
-#[cfg(not(target_arch = "wasm32"))]
-use crate::record::{Cadence, ColourField, Sink};
 use crate::scene::Scene;
 use crate::solver::Simulation;
-#[cfg(not(target_arch = "wasm32"))]
-use std::path::Path;
-#[cfg(not(target_arch = "wasm32"))]
-use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::TryRecvError;
-#[cfg(not(target_arch = "wasm32"))]
-use std::sync::mpsc::{channel, Receiver, Sender};
 use std::sync::Arc;
 use std::time::Duration;
 use web_time::Instant;
+// The thread's run: the driver, its outputs, the channel.
+#[cfg(not(target_arch = "wasm32"))]
+use {
+    super::history::output_error_text,
+    crate::driver::{Driver, Plan, Progress},
+    crate::record::{Cadence, ColourField, Sink},
+    std::path::Path,
+    std::sync::atomic::{AtomicBool, Ordering},
+    std::sync::mpsc::{channel, Receiver, Sender},
+};
 
 /// Asks the window for a repaint (from any thread); `None` without a window.
 pub type Repaint = Arc<dyn Fn() + Send + Sync>;
