@@ -40,10 +40,12 @@ pub struct RunSummary {
     pub max_relative_residual: f64,
     pub stage_seconds: StageTimes,
     /// What went to Rerun, when the run was recorded.
+    #[cfg(not(target_arch = "wasm32"))]
     pub recording: Option<crate::record::RecordingReport>,
     /// [`Simulation::advisories`]: warnings about the regime of the model.
     pub warnings: Vec<String>,
     /// What went to ParaView files (`--vtk`).
+    #[cfg(not(target_arch = "wasm32"))]
     pub paraview: Option<crate::vtk::VtkReport>,
     /// Interfaces whose glued nodes start off their mould beyond the tolerance, or inside it:
     /// per interface the count and the largest offset ([`crate::solver::StartOffset`]; also a
@@ -99,8 +101,10 @@ impl RunSummary {
             energies: sim.energies(),
             max_relative_residual: sim.ledger.max_relative_residual,
             stage_seconds: sim.stats.stage_times.clone(),
+            #[cfg(not(target_arch = "wasm32"))]
             recording: None,
             warnings: sim.advisories(),
+            #[cfg(not(target_arch = "wasm32"))]
             paraview: None,
             glued_start_offsets: sim.start_offsets.clone(),
         }
@@ -185,6 +189,7 @@ impl RunSummary {
                 e.residual, self.max_relative_residual
             ),
         );
+        #[cfg(not(target_arch = "wasm32"))]
         if let Some(r) = &self.recording {
             let size = r
                 .bytes
@@ -203,6 +208,7 @@ impl RunSummary {
                 ),
             );
         }
+        #[cfg(not(target_arch = "wasm32"))]
         if let Some(p) = &self.paraview {
             row(
                 "paraview",

@@ -12,6 +12,7 @@
 //! `table`.
 
 use super::sweep::{observable_names, observables, SweepRow, Vary};
+use super::vary::PALETTE;
 use anyhow::{Context, Result};
 use rerun::blueprint::components::{PanelState, PlayState};
 use rerun::blueprint::{
@@ -114,19 +115,6 @@ fn others(varies: &[Vary], row: &SweepRow, k: usize) -> String {
         parts.join(" ")
     }
 }
-
-/// Colours of series, in order (the first eight of Tableau 10): the sweep's series (one per
-/// combination of the other keys) and the explorer's compared runs.
-pub const PALETTE: [[u8; 3]; 8] = [
-    [31, 119, 180],
-    [214, 39, 40],
-    [44, 160, 44],
-    [148, 103, 189],
-    [255, 127, 14],
-    [23, 190, 207],
-    [140, 86, 75],
-    [227, 119, 194],
-];
 
 /// The viewer's layout: per varied key a grid of the observables (tabs when several keys;
 /// the plots show the timeline picked in the time panel, initially the first key's), the

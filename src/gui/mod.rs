@@ -1,16 +1,19 @@
-//! The explorer window (`decohesion gui`): pick a scene, reshape the interface law, run it on a
-//! background thread, stream each run to the Rerun viewer as its own recording, keep a history.
+//! The explorer window (`decohesion gui`, and the web page: [`crate::web`]): pick a scene,
+//! reshape the interface law, run it on a background thread, stream each run to the Rerun
+//! viewer as its own recording, keep a history.
 //!
 //! The UI never blocks: the solver runs on its own thread ([`Job`]) and reports over a channel;
-//! Stop sets a flag the solver reads after every step. Parameters edited during a run apply to
+//! Stop sets a flag the solver reads after every step. In the web page (one thread, no files)
+//! the run is stepped inside the frame loop instead, a slice of steps per frame
+//! ([`page_run`]), with the same messages and no recording. Parameters edited during a run apply to
 //! the next one. The edited scene goes through the same parser and validation as a scene file
 //! ([`crate::scene::parse_scene`]), so the window can run nothing the CLI would refuse.
 //! The physics modules know nothing of this one.
 //!
 //! Modules: [`state`] (the state and logic, no egui), [`settings`] (what the user sets, the
 //! edited scene), [`law`] (the edited law: a family of the table and its parameter values),
-//! [`history`] (history rows, CSV), [`job`] (the run thread, through the run driver
-//! [`crate::driver`]), `views`, `law_editor` and `plots` (the egui code), and here the eframe
+//! [`history`] (history rows, CSV), [`job`] (a run: the thread, through the run driver, or
+//! [`page_run`], the page's), `views`, `law_editor` and `plots` (the egui code), and here the eframe
 //! application.
 
 pub mod frames;
@@ -18,6 +21,7 @@ pub mod history;
 pub mod job;
 pub mod law;
 mod law_editor;
+pub mod page_run;
 mod plots;
 pub mod settings;
 pub mod state;
@@ -101,6 +105,7 @@ impl eframe::App for Explorer {
 
 /// Opens the window (blocks until it is closed); `compare` (`key=v1,v2,…`) queues runs to
 /// compare.
+#[cfg(not(target_arch = "wasm32"))]
 pub fn run_window(
     scene: Option<String>,
     run_on_start: bool,

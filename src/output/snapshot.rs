@@ -3,7 +3,8 @@
 
 use crate::energy::EnergySnapshot;
 use crate::solver::{ContactStatus, Simulation, StageTimes, StateCounts};
-use std::time::{Duration, Instant};
+use std::time::Duration;
+use web_time::Instant;
 
 /// The state of a simulation at one step: what the Rerun recording and the ParaView files
 /// show of it.

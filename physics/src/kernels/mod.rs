@@ -16,6 +16,8 @@ use crate::material::{
 use crate::mesh::{CentreData, ElementClasses, GaussData, Mesh};
 use crate::model::Integration;
 use crate::team::Team;
+// The AVX builds exist on x86_64 only (wasm32 runs the portable one).
+#[cfg_attr(not(target_arch = "x86_64"), allow(unused_imports))]
 use simd::{simd_dispatch, ISA_AVX2, ISA_AVX512, ISA_PORTABLE};
 
 /// A raw pointer to the nodal force rows, shared by the blocks of one colour (which write

@@ -4,7 +4,9 @@
 
 /// The instruction set a kernel build is for (`ISA` of [`simd_dispatch!`]).
 pub(crate) const ISA_PORTABLE: u8 = 0;
+#[cfg_attr(not(target_arch = "x86_64"), allow(dead_code))]
 pub(crate) const ISA_AVX2: u8 = 1;
+#[cfg_attr(not(target_arch = "x86_64"), allow(dead_code))]
 pub(crate) const ISA_AVX512: u8 = 2;
 
 /// Defines `$name`, which runs `$imp::<FMA, ISA>` built for AVX-512 (`ISA = ISA_AVX512`) or AVX2

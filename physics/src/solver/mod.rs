@@ -43,7 +43,8 @@ use crate::model::Model;
 use crate::team::Team;
 use boundary::{Boundary, BoundarySums};
 use stages::StepScratch;
-use std::time::Instant;
+// std's `Instant` on native; the browser's clock on wasm32, where std's panics.
+use web_time::Instant;
 
 /// Smallest element block ([`crate::mesh::Mesh::element_blocks`]), and nodes per chunk in node
 /// loops. Fixed, so the reduction order never depends on the thread count.

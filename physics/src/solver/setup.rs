@@ -289,7 +289,11 @@ impl Simulation {
             .iter()
             .map(|&c| classes.data[c as usize].volume())
             .sum();
+        #[cfg(not(target_arch = "wasm32"))]
         let threads = rayon::current_num_threads();
+        // wasm32-unknown-unknown has one thread: the page steps on a team of one.
+        #[cfg(target_arch = "wasm32")]
+        let threads = 1;
         let team = (mesh.elements.len() >= PARALLEL_MIN_ELEMENTS && threads > 1)
             .then(|| Team::new(threads));
         let coordinate_scale = mesh
