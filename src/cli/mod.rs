@@ -4,6 +4,7 @@
 
 mod bench;
 mod check;
+mod peak;
 mod run;
 mod sweep;
 mod sweep_record;
