@@ -107,13 +107,19 @@ fn stress_point<L: Law>(mat: &Material) -> (u64, u64) {
     })
 }
 
-/// One element-step of the full (2×2×2) kernel ([`super::full::full_lanes`]).
-pub fn full(model: MaterialModel) -> KernelFlops {
+/// At one point: the flops of H, those of F, J, P and ψ, and the logarithms.
+fn point(model: MaterialModel) -> (u64, u64, u64) {
     let mat = Material::new(model, 5e6, 0.3, 1000.0);
     let (gradient, _) = count(|| {
         let _ = displacement_gradient::<Counted, true>(|_, _| c(1e-3), |_, _| c(1.0));
     });
     let (stress, logs) = with_law!(model, L => stress_point::<L>(&mat));
+    (gradient, stress, logs)
+}
+
+/// One element-step of the full (2×2×2) kernel ([`super::full::full_lanes`]).
+pub fn full(model: MaterialModel) -> KernelFlops {
+    let (gradient, stress, logs) = point(model);
     let (forces, _) = count(|| {
         let p = [c(1.0); 3];
         let g = [c(1.0); 3];
@@ -142,11 +148,7 @@ pub fn full(model: MaterialModel) -> KernelFlops {
 /// ([`crate::material::element_forces_reduced_lanes`]) and its corner check
 /// ([`super::corners`]).
 pub fn one_point(model: MaterialModel) -> KernelFlops {
-    let mat = Material::new(model, 5e6, 0.3, 1000.0);
-    let (gradient, _) = count(|| {
-        let _ = displacement_gradient::<Counted, true>(|_, _| c(1e-3), |_, _| c(1.0));
-    });
-    let (stress, logs) = with_law!(model, L => stress_point::<L>(&mat));
+    let (gradient, stress, logs) = point(model);
     let (hourglass, _) = count(|| {
         let q = crate::material::hourglass_modes::<Counted, true>(|_, _| c(1.0), |_, _| c(1e-3));
         let _ = crate::material::hourglass_energy(c(1.0), &q);
