@@ -103,9 +103,11 @@ impl Simulation {
             worst: 0.0,
             counts: StateCounts::default(),
         };
-        for itf in self.interface_nodes.iter_mut() {
+        for j in 0..self.interface_nodes.len() {
+            let n = self.glue_normal(j);
+            let itf = &mut self.interface_nodes[j];
             let spec = &self.model.interfaces[itf.interface as usize];
-            let (law, n) = (&spec.law, self.model.planes[spec.plane].normal);
+            let law = &spec.law;
             out.stored += law.stored_energy(itf.area, itf.stiffness, itf.jump, n);
             let dd = law.loading().dissipation_increment(
                 itf.area,
