@@ -7,7 +7,7 @@ use super::stream::Columns;
 use super::{ColourField, Statics, ARROW_FRACTION};
 use crate::law::InterfaceState;
 use crate::mesh::norm;
-use crate::model::Model;
+use crate::model::{Model, Shape};
 use crate::output::fields::{centre_scalar, Scalar};
 use crate::output::Snapshot;
 use crate::solver::ContactStatus;
@@ -186,7 +186,7 @@ impl Geometry {
                 .planes
                 .iter()
                 .enumerate()
-                .filter(|p| p.1.velocity.is_some())
+                .filter(|p| p.1.velocity.is_some() && p.1.shape == Shape::HalfSpace)
                 .map(|p| p.0)
                 .collect(),
         }

@@ -116,9 +116,20 @@ impl MouldStep {
         mat_vec(&self.next[k].rotation, normal0)
     }
 
-    /// Closest point and outward normal of mould `k` (`m`) at x, at tₙ₊₁.
-    pub fn project(&self, m: &Mould, k: usize, x: [f64; 3]) -> super::Projection {
-        let pose = &self.cur[k];
+    /// The pose of mould `k` at `t`, the time of stage 2: the pose `next` of the last
+    /// [`MouldStep::advance`] once the positions have moved to it (the same sum tₙ + h, so the
+    /// same bits), the current one at the start.
+    #[inline]
+    pub fn pose_at(&self, k: usize, t: f64) -> Pose {
+        if self.next[k].time == t {
+            self.next[k]
+        } else {
+            self.cur[k]
+        }
+    }
+
+    /// Closest point and outward normal of mould `m` at x in the pose `pose`.
+    pub fn project(m: &Mould, pose: &Pose, x: [f64; 3]) -> super::Projection {
         let pr = m.project0(pose.unplace(m.pivot(), x));
         super::Projection {
             point: pose.place(m.pivot(), pr.point),

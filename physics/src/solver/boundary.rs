@@ -494,6 +494,7 @@ impl Simulation {
     /// [`Simulation::free_velocity`] of this step; leaves the chunks' sums and the reactions in
     /// the step's scratch for stage 9.
     pub(super) fn boundary_pass(&mut self, h_bar: f64, h_next: f64) {
+        self.scratch.moulds.h_bar = h_bar;
         let cx = boundary_step!(self, h_bar, h_next);
         let (v_all, itfs, cns) = (
             SharedSlice::new(&mut self.v),

@@ -4,7 +4,7 @@
 
 use super::super::Simulation;
 use crate::mesh::{dot, sub};
-use crate::mould::step::NodeGeometry;
+use crate::mould::step::{MouldStep, NodeGeometry};
 
 impl Simulation {
     /// At t₀: the per-node geometry of glued and contact nodes on curved moulds (empty when
@@ -40,7 +40,7 @@ impl Simulation {
         if !self.scratch.moulds.any_general() {
             return;
         }
-        let nodes = &self.model.mesh.nodes;
+        let (nodes, t) = (&self.model.mesh.nodes, self.time);
         let (planes, u) = (&self.model.planes, &self.u);
         let sc = &mut self.scratch;
         let (ms, tol) = (&mut sc.moulds, &sc.plane_tol);
@@ -52,12 +52,12 @@ impl Simulation {
                 continue;
             }
             let (m, x) = (&planes[k], place(itf.node as usize));
-            let pose = ms.cur[k];
+            let pose = ms.pose_at(k, t);
             let mut geo = ms.interface[j];
             geo.anchor = pose.place(m.pivot(), itf.bonded_point);
             geo.glue_normal = crate::mould::motion::mat_vec(&pose.rotation, geo.normal0);
             itf.jump = sub(x, geo.anchor);
-            let pr = ms.project(m, k, x);
+            let pr = MouldStep::project(m, &pose, x);
             (geo.point, geo.normal) = (pr.point, pr.normal);
             itf.gap = snap(dot(pr.normal, sub(x, pr.point)), tol[k]);
             ms.interface[j] = geo;
@@ -68,7 +68,7 @@ impl Simulation {
                 continue;
             }
             let x = place(cn.node as usize);
-            let pr = ms.project(&planes[k], k, x);
+            let pr = MouldStep::project(&planes[k], &ms.pose_at(k, t), x);
             (ms.contact[j].point, ms.contact[j].normal) = (pr.point, pr.normal);
             cn.gap = snap(dot(pr.normal, sub(x, pr.point)), tol[k]);
         }
@@ -84,5 +84,47 @@ impl Simulation {
         } else {
             self.scratch.moulds.interface[j].glue_normal
         }
+    }
+
+    /// The anchor of interface node `itf` and the contact point of it or of contact node `cn`
+    /// on mould `k` at tₙ₊₁ (any point of a plain plane: its velocity is the same everywhere).
+    pub(in crate::solver) fn mould_points(
+        &self,
+        k: usize,
+        itf: Option<usize>,
+        cn: Option<usize>,
+    ) -> ([f64; 3], [f64; 3]) {
+        let ms = &self.scratch.moulds;
+        if ms.plane[k] {
+            return ([0.0; 3], [0.0; 3]);
+        }
+        match (itf, cn) {
+            (Some(j), _) => (ms.interface[j].anchor, ms.interface[j].point),
+            (_, Some(j)) => ([0.0; 3], ms.contact[j].point),
+            _ => ([0.0; 3], [0.0; 3]),
+        }
+    }
+
+    /// The velocity of mould `k` at the point p over the intervals before and after tₙ₊₁.
+    pub(in crate::solver) fn mould_velocities(&self, k: usize, p: [f64; 3]) -> [[f64; 3]; 2] {
+        let sc = &self.scratch;
+        if sc.moulds.plane[k] {
+            [sc.plane_v_old[k], sc.plane_v_new[k]]
+        } else {
+            [sc.moulds.velocity_old(k, p), sc.moulds.velocity_new(k, p)]
+        }
+    }
+
+    /// Each mould's name and its work since t₀ [J] (force · velocity at the points it acts
+    /// on, moments included): with one mould, the ledger's `plane_work`.
+    pub fn mould_works(&self) -> Vec<(String, f64)> {
+        let planes = &self.model.planes;
+        if planes.len() == 1 {
+            return vec![(planes[0].name.clone(), self.ledger.plane_work.value)];
+        }
+        let works = &self.scratch.moulds.work;
+        (planes.iter().zip(works))
+            .map(|(p, w)| (p.name.clone(), w.value))
+            .collect()
     }
 }
