@@ -178,17 +178,17 @@ impl BoundarySums {
 }
 
 /// The impulses that acted on one node in this step, kept for its ledger halves: cohesion
-/// (per interface entry) and contact (per constraint), each with the mould's velocity at the
-/// point it acts on over the interval before and after tₙ₊₁ (a plane's velocity, or on a
-/// curved mould that of the anchor or the contact point), and the contact's normal.
+/// (per interface entry) and contact (per constraint), each with its mould and the entry it
+/// came from (interface node, or contact node when `from_interface` is false), whose geometry
+/// gives the mould's velocity and normal where it acts ([`BoundaryStep::glue`],
+/// [`BoundaryStep::surface`]).
 #[derive(Default)]
 struct NodeImpulses {
     cohesion: [[f64; 3]; MAX_CONSTRAINTS],
-    cohesion_v: [[[f64; 3]; 2]; MAX_CONSTRAINTS],
+    cohesion_from: [(usize, u32); MAX_CONSTRAINTS],
     cohesions: usize,
     contact: [[f64; 3]; MAX_CONSTRAINTS],
-    contact_v: [[[f64; 3]; 2]; MAX_CONSTRAINTS],
-    contact_n: [[f64; 3]; MAX_CONSTRAINTS],
+    contact_from: [(usize, u32, bool); MAX_CONSTRAINTS],
     contacts: usize,
 }
 
@@ -272,14 +272,14 @@ impl BoundaryStep<'_> {
             let j = self.boundary.interfaces[e as usize] as usize;
             let itf = itfs.get(j);
             let spec = &self.model.interfaces[itf.interface as usize];
-            let (n, vm) = self.glue(j, spec.plane);
+            let n = self.glue(j, spec.plane).0;
             let law = &spec.law;
             itf.stiffness = law.g_n(itf.alpha);
             itf.cohesive_traction = law.cohesive_traction(itf.stiffness, itf.jump, n);
             let p = itf.cohesive_traction.map(|c| -self.h_bar * itf.area * c);
             if slot < MAX_CONSTRAINTS {
                 impulses.cohesion[slot] = p;
-                impulses.cohesion_v[slot] = vm;
+                impulses.cohesion_from[slot] = (spec.plane, j as u32);
                 impulses.cohesions = slot + 1;
             }
             for c in 0..3 {
@@ -328,14 +328,17 @@ impl BoundaryStep<'_> {
     ) {
         let m = self.mass[b.node as usize];
         let ms = &self.scratch.moulds;
-        let mut solve = |gap: f64, plane: usize, geo: Option<&NodeGeometry>, mu: f64, area: f64| {
+        let mut solve = |gap: f64, plane: usize, from: (u32, bool), mu: f64, area: f64| {
+            let geo = match from {
+                (j, true) => ms.interface.get(j as usize),
+                (j, false) => ms.contact.get(j as usize),
+            };
             let (n, vm) = self.surface(plane, geo);
             let (impulse, status) = contact_impulse(v, gap, n, vm[1], mu, m, free);
             let k = impulses.contacts;
             if k < MAX_CONSTRAINTS {
                 impulses.contact[k] = impulse;
-                impulses.contact_v[k] = vm;
-                impulses.contact_n[k] = n;
+                impulses.contact_from[k] = (plane, from.0, from.1);
                 impulses.contacts += 1;
             }
             (impulse.map(|c| c / area.max(f64::MIN_POSITIVE)), status)
@@ -345,15 +348,15 @@ impl BoundaryStep<'_> {
             let itf = itfs.get(j);
             let spec = &self.model.interfaces[itf.interface as usize];
             let mu = spec.law.mu(itf.alpha, spec.mu_inf);
-            let geo = ms.interface.get(j);
-            (itf.contact_impulse, itf.contact) = solve(itf.gap, spec.plane, geo, mu, itf.area);
+            let from = (j as u32, true);
+            (itf.contact_impulse, itf.contact) = solve(itf.gap, spec.plane, from, mu, itf.area);
         }
         for e in b.contacts.clone() {
             let j = self.boundary.contacts[e as usize] as usize;
             let cn = cns.get(j);
-            let geo = ms.contact.get(j);
+            let from = (j as u32, false);
             (cn.contact_impulse, cn.contact) =
-                solve(cn.gap, cn.plane as usize, geo, cn.mu, cn.area);
+                solve(cn.gap, cn.plane as usize, from, cn.mu, cn.area);
         }
     }
 
@@ -389,17 +392,23 @@ impl BoundaryStep<'_> {
         }
         // Glue of moving moulds: the mould's share ½ v_mould·P_coh of the cohesive work, with
         // the mould's velocity at the anchor.
+        let ms = &self.scratch.moulds;
         for slot in 0..impulses.cohesions {
-            let [v_old, v_new] = impulses.cohesion_v[slot];
+            let (k, j) = impulses.cohesion_from[slot];
+            let [v_old, v_new] = self.glue(j as usize, k).1;
             out.plane_b += 0.5 * dot(v_old, impulses.cohesion[slot]);
             out.plane_a += 0.5 * dot(v_new, impulses.cohesion[slot]);
         }
         // Contact: split the work on the relative velocity (dissipation, normal and
         // tangential) and on the mould's velocity at the contact point (external work).
-        for j in 0..impulses.contacts {
-            let [v_old, v_new] = impulses.contact_v[j];
-            let n = impulses.contact_n[j];
-            let p = impulses.contact[j];
+        for c in 0..impulses.contacts {
+            let (k, j, from_interface) = impulses.contact_from[c];
+            let geo = match from_interface {
+                true => ms.interface.get(j as usize),
+                false => ms.contact.get(j as usize),
+            };
+            let (n, [v_old, v_new]) = self.surface(k, geo);
+            let p = impulses.contact[c];
             let pn = dot(p, n);
             let pt = [p[0] - pn * n[0], p[1] - pn * n[1], p[2] - pn * n[2]];
             let rel_o = [vo[0] - v_old[0], vo[1] - v_old[1], vo[2] - v_old[2]];
