@@ -468,17 +468,16 @@ fn with_face_sets(
     Ok(mesh)
 }
 
+/// A surface group read from a `.msh` file: the nodes, the triangles, each triangle's element tag.
+pub type SurfaceGroup = (Vec<[f64; 3]>, Vec<[u32; 3]>, Vec<u64>);
+
 /// A triangulated surface (a rigid mould, [`crate::mould::surface`]): the elements of the 2-D
 /// physical group named `group` (or `physical_<tag>`) of the `.msh` file `bytes`, 3-node
 /// triangles as they are and 4-node quadrangles split along their 0–2 diagonal (both halves keep
 /// the quadrangle's orientation). Returns the file's nodes, the triangles (node indices) and the
 /// element tag of each triangle. A missing group lists the groups there are; any other element
 /// type in the group is refused with its tag.
-pub fn read_surface_group(
-    bytes: &[u8],
-    file: &str,
-    group: &str,
-) -> Result<(Vec<[f64; 3]>, Vec<[u32; 3]>, Vec<u64>), MshError> {
+pub fn read_surface_group(bytes: &[u8], file: &str, group: &str) -> Result<SurfaceGroup, MshError> {
     let binary = is_binary(bytes);
     let msh = mshio::parse_msh_bytes(bytes).map_err(|e| syntax_error(&e, bytes, file, binary))?;
     let err = MeshErr(file);

@@ -8,7 +8,10 @@ use decohesion_physics::solver::Simulation;
 
 /// Runs the indentation; returns (δ, F) on loading and on unloading (full pad: 4 × the quarter)
 /// and the simulation at the end.
-fn indent() -> (Vec<(f64, f64)>, Vec<(f64, f64)>, Simulation) {
+/// (δ [m], F [N]) samples.
+type Curve = Vec<(f64, f64)>;
+
+fn indent() -> (Curve, Curve, Simulation) {
     let scene = load_scene(&scene_file("indent.toml"), &[]).unwrap();
     let mut sim = Simulation::new(scene.model).unwrap();
     let (mut load, mut unload) = (vec![], vec![]);

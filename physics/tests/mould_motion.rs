@@ -32,13 +32,9 @@ fn riding(v: [f64; 3], w: [f64; 3], end_time: f64) -> Model {
         pivot: Some(c),
         ..Default::default()
     });
-    m.interfaces.push(Interface {
-        faces: "z-".into(),
-        plane: 0,
-        law: pull_off_law(),
-        mu_inf: 0.5,
-        initial_damage: 0.0,
-    });
+    // The pull-off cube's glue (plateau–linear, g_N(0) = 5e8 Pa/m, α_e = 2 mm) on the bottom.
+    m.interfaces
+        .push(pull_off(1, end_time).interfaces[0].clone());
     m
 }
 

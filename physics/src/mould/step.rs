@@ -34,6 +34,8 @@ pub struct NodeGeometry {
 pub struct MouldStep {
     /// Per mould: true for a plain plane (half-space, no rotation: today's fast path).
     pub plane: Vec<bool>,
+    /// Some mould is not a plain plane.
+    general: bool,
     /// Poses at tₙ, tₙ₊₁ and tₙ₊₂ of each mould.
     pub prev: Vec<Pose>,
     pub cur: Vec<Pose>,
@@ -58,6 +60,7 @@ impl MouldStep {
         let start: Vec<Pose> = moulds.iter().map(|m| m.motion().start(t)).collect();
         MouldStep {
             plane: moulds.iter().map(Mould::is_plane).collect(),
+            general: !moulds.iter().all(Mould::is_plane),
             prev: start.clone(),
             cur: start.clone(),
             next: start,
@@ -69,14 +72,18 @@ impl MouldStep {
     }
 
     /// True when some mould is not a plain plane (the per-node geometry is in use).
+    #[inline]
     pub fn any_general(&self) -> bool {
-        self.plane.iter().any(|p| !p)
+        self.general
     }
 
     /// Once h_{n+3/2} is fixed at tₙ₊₁ = `t`: the poses move on by one step (`first`: the start,
     /// where the pose at t₀ is the current one and nothing moved before).
     pub fn advance(&mut self, moulds: &[Mould], t: f64, h_next: f64, h_prev: f64, first: bool) {
         for (k, m) in moulds.iter().enumerate() {
+            if self.plane[k] {
+                continue; // a plain plane's velocities are the plane's (`plane_v_*`)
+            }
             if !first {
                 self.prev[k] = self.cur[k];
                 self.cur[k] = self.next[k];

@@ -205,7 +205,7 @@ pub fn check_orientation(
 /// The triangles of an STL file (binary when it is not ASCII `solid … facet`), checked with the
 /// file's facet normals: a written normal (non-zero) that opposes the vertex order's normal is
 /// refused. Returns (vertices, triangles), three vertices per triangle.
-pub fn read_stl(bytes: &[u8], file: &str) -> Result<(Vec<[f64; 3]>, Vec<[u32; 3]>), SurfaceError> {
+pub fn read_stl(bytes: &[u8], file: &str) -> Result<Triangles, SurfaceError> {
     let err = |message: String| SurfaceError {
         file: file.to_string(),
         message,
@@ -236,6 +236,9 @@ pub fn read_stl(bytes: &[u8], file: &str) -> Result<(Vec<[f64; 3]>, Vec<[u32; 3]
 }
 
 type Facet = ([f64; 3], [[f64; 3]; 3]);
+
+/// Vertices and triangles (indices into the vertices).
+pub type Triangles = (Vec<[f64; 3]>, Vec<[u32; 3]>);
 
 fn read_ascii_stl(text: &str) -> Result<Vec<Facet>, String> {
     let mut out = Vec::new();

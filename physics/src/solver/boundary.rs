@@ -117,6 +117,8 @@ struct BoundaryStep<'a> {
     f_int: &'a [[f64; 3]],
     h_bar: f64,
     h_next: f64,
+    /// Some mould is not a plain plane (else every node takes the plane path at once).
+    general: bool,
 }
 
 /// The [`BoundaryStep`] of simulation `$sim` over h̄ = `$h_bar`, h_{n+3/2} = `$h_next`,
@@ -132,6 +134,7 @@ macro_rules! boundary_step {
             f_int: &$sim.f_int,
             h_bar: $h_bar,
             h_next: $h_next,
+            general: $sim.scratch.moulds.any_general(),
         }
     };
 }
@@ -200,7 +203,7 @@ impl BoundaryStep<'_> {
     #[inline]
     fn glue(&self, j: usize, k: usize) -> ([f64; 3], [[f64; 3]; 2]) {
         let ms = &self.scratch.moulds;
-        if ms.plane[k] {
+        if !self.general || ms.plane[k] {
             let sc = self.scratch;
             (
                 self.model.planes[k].normal,
@@ -219,7 +222,7 @@ impl BoundaryStep<'_> {
     fn surface(&self, k: usize, geo: Option<&NodeGeometry>) -> ([f64; 3], [[f64; 3]; 2]) {
         let ms = &self.scratch.moulds;
         match geo {
-            Some(g) if !ms.plane[k] => {
+            Some(g) if self.general && !ms.plane[k] => {
                 let v = [ms.velocity_old(k, g.point), ms.velocity_new(k, g.point)];
                 (g.normal, v)
             }
@@ -436,7 +439,7 @@ impl BoundaryStep<'_> {
             let spec = &self.model.interfaces[itf.interface as usize];
             let k = spec.plane;
             // On a curved mould the anchor's velocity and its normal at tₙ₊₂ (R(tₙ₊₂)N₀).
-            let (vp, n) = if ms.plane[k] {
+            let (vp, n) = if !self.general || ms.plane[k] {
                 (self.scratch.plane_v_new[k], self.model.planes[k].normal)
             } else {
                 let g = &ms.interface[j];
