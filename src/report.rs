@@ -52,6 +52,11 @@ pub struct RunSummary {
     /// warning). Absent when every glued node starts on its mould.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub glued_start_offsets: Vec<crate::solver::StartOffset>,
+    /// Each mould's work since t₀ [J] (force · velocity of the mould at the points it acts on,
+    /// moments included; their sum is `energies.plane_work`), as (name, work). Listed when a
+    /// scene has a mould that is not a plain fixed-orientation plane (issue 13).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub mould_work: Vec<(String, f64)>,
 }
 
 impl RunSummary {
@@ -107,6 +112,11 @@ impl RunSummary {
             #[cfg(not(target_arch = "wasm32"))]
             paraview: None,
             glued_start_offsets: sim.start_offsets.clone(),
+            mould_work: if sim.model.planes.iter().all(|p| p.is_plane()) {
+                vec![]
+            } else {
+                sim.mould_works()
+            },
         }
     }
 
@@ -182,6 +192,9 @@ impl RunSummary {
             ),
         );
         row("external work", format!("{:.6e} J", e.external_work));
+        for (name, w) in &self.mould_work {
+            row(&format!("  work of mould `{name}`"), format!("{w:.6e} J"));
+        }
         row(
             "balance residual",
             format!(

@@ -1,7 +1,8 @@
 //! Frames of a run for the explorer's 3-D view ([`super::view3d`]): what the view draws of the
 //! state at one step — the deformed surface x = X + U of the body (the recorder's surface,
 //! [`crate::output::surface`]), the colouring fields at its vertices, the interface nodes with
-//! their state and contact status, the displacement of each mould plane.
+//! their state and contact status, the displacement of each mould plane (half-spaces; the other
+//! mould shapes are not drawn yet).
 //!
 //! Built on the solver's thread from a `&Simulation` ([`FrameSampler::due`]), so the native
 //! run thread ([`super::job`]) and an in-page runner call the same function. A run's frames are
@@ -10,7 +11,7 @@
 //! its end time) or coarser.
 
 use crate::law::InterfaceState;
-use crate::model::Model;
+use crate::model::{Model, Shape};
 use crate::output::fields::Scalar;
 use crate::output::surface::Surface;
 use crate::solver::{ContactStatus, Simulation};
@@ -134,9 +135,11 @@ impl FrameBuilder {
         }
         let centre = [0, 1, 2].map(|i| 0.5 * (lo[i] + hi[i]));
         let extent = (0..3).map(|i| hi[i] - lo[i]).fold(0.0, f64::max);
+        // Half-spaces only, as in the recording: the other mould shapes are not drawn yet.
         let moulds = m
             .planes
             .iter()
+            .filter(|p| p.shape == Shape::HalfSpace)
             .map(|p| {
                 let n = p.normal;
                 let d = (0..3).map(|i| (centre[i] - p.point[i]) * n[i]).sum::<f64>();
@@ -196,6 +199,7 @@ impl FrameBuilder {
             mould_offsets: m
                 .planes
                 .iter()
+                .filter(|p| p.shape == Shape::HalfSpace)
                 .map(|p| f32x3(p.displacement(sim.time)))
                 .collect(),
         }

@@ -6,7 +6,7 @@ use super::layout::path_part;
 use super::stream::Columns;
 use super::{ColourField, Statics, ARROW_FRACTION};
 use crate::law::InterfaceState;
-use crate::model::Model;
+use crate::model::{Model, Shape};
 use crate::output::fields::Scalar;
 use crate::output::surface::{viridis, Surface};
 use crate::output::Snapshot;
@@ -92,7 +92,7 @@ impl Geometry {
                 .planes
                 .iter()
                 .enumerate()
-                .filter(|p| p.1.velocity.is_some())
+                .filter(|p| p.1.velocity.is_some() && p.1.shape == Shape::HalfSpace)
                 .map(|p| p.0)
                 .collect(),
         }

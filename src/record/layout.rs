@@ -7,7 +7,7 @@ use super::geometry::Geometry;
 use super::{log_err, ColourField, RecordError, Statics, ARROW_FRACTION};
 use crate::law::InterfaceState;
 use crate::mesh::{cross, dot, norm, sub};
-use crate::model::Model;
+use crate::model::{Model, Shape};
 use crate::output::surface::{contact_rgb, state_rgb};
 use crate::solver::{ContactStatus, Simulation};
 use rerun::blueprint::components::{PanelState, PlayState};
@@ -289,7 +289,9 @@ fn planes(
     extent: f64,
     centre: [f64; 3],
 ) -> Result<(), RecordError> {
-    for p in &m.planes {
+    // Half-spaces only: the other mould shapes are not drawn yet (issue 13, item 7).
+    let half_spaces = m.planes.iter().filter(|p| p.shape == Shape::HalfSpace);
+    for p in half_spaces {
         let n = p.normal;
         let a = if n[0].abs() < 0.9 {
             [1.0, 0.0, 0.0]
