@@ -1,7 +1,9 @@
 //! The scenes built into the web page: writes `$OUT_DIR/builtin_scenes.rs`, one
-//! `(path, include_str!(file))` entry per `scenes/*.toml` in the order of the file names, which
-//! `src/gui/settings.rs` includes (the page has no file system; the native explorer reads the
-//! files themselves). Adding a scene is adding its file: no list is edited by hand.
+//! `(path, include_str!(file))` entry per `scenes/*.toml` in the order of the file names, and one
+//! `(path, include_bytes!(file))` entry per file of `scenes/meshes/` (the meshes and mould
+//! surfaces scenes name), which `src/gui/settings.rs` includes (the page has no file system; the
+//! native explorer reads the files themselves). Adding a scene is adding its file: no list is
+//! edited by hand.
 
 use std::fmt::Write as _;
 use std::path::Path;
@@ -11,6 +13,7 @@ fn main() {
     let dir = Path::new(&manifest).join("scenes");
     // A directory: cargo reruns this script when any file in it is added, removed or changed.
     println!("cargo::rerun-if-changed=scenes");
+    println!("cargo::rerun-if-changed=scenes/meshes");
     let mut names: Vec<String> = std::fs::read_dir(&dir)
         .unwrap_or_else(|e| panic!("cannot list {}: {e}", dir.display()))
         .map(|entry| entry.expect("readable directory entry").path())
@@ -29,6 +32,31 @@ fn main() {
             out,
             "    (\"scenes/{name}\", include_str!({:?})),",
             file.display()
+        )
+        .expect("writing to a String");
+    }
+    out.push_str("];\n");
+    out.push_str(
+        "/// (path as a scene names it from `scenes/`, the file's bytes): `scenes/meshes/*`.\n\
+         pub const BUILTIN_FILES: &[(&str, &[u8])] = &[\n",
+    );
+    let meshes = dir.join("meshes");
+    let mut files: Vec<String> = std::fs::read_dir(&meshes)
+        .map(|entries| {
+            entries
+                .flatten()
+                .map(|e| e.path())
+                .filter(|p| p.is_file())
+                .filter_map(|p| Some(p.file_name()?.to_str()?.to_string()))
+                .collect()
+        })
+        .unwrap_or_default();
+    files.sort();
+    for name in &files {
+        writeln!(
+            out,
+            "    (\"scenes/meshes/{name}\", include_bytes!({:?})),",
+            meshes.join(name).display()
         )
         .expect("writing to a String");
     }

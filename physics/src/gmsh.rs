@@ -60,10 +60,20 @@ pub enum MshError {
     Mesh { file: String, message: String },
 }
 
+/// How a scene's files (meshes, mould surfaces) are read: `std::fs::read` by default; the web page,
+/// which has no file system, passes the files built into it.
+pub type ReadFile<'a> = &'a dyn Fn(&Path) -> std::io::Result<Vec<u8>>;
+
 /// Reads the `.msh` file at `path` (see the module docs for what is accepted).
 pub fn read_msh(path: &Path) -> Result<Mesh, MshError> {
+    read_msh_with(path, &|p| std::fs::read(p))
+}
+
+/// Reads the `.msh` file at `path` through `read` (the file system, or the files built into the
+/// web page).
+pub fn read_msh_with(path: &Path, read: ReadFile) -> Result<Mesh, MshError> {
     let file = path.display().to_string();
-    let bytes = std::fs::read(path).map_err(|source| MshError::Io {
+    let bytes = read(path).map_err(|source| MshError::Io {
         file: file.clone(),
         source,
     })?;

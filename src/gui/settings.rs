@@ -3,7 +3,9 @@
 //! its TOML, which then goes through the same parser and validation as a file.
 
 use super::LawSettings;
-use crate::scene::{parse_scene, Scene};
+#[cfg(not(target_arch = "wasm32"))]
+use crate::scene::parse_scene;
+use crate::scene::{Scene, SceneError};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 #[cfg(not(target_arch = "wasm32"))]
@@ -118,6 +120,37 @@ fn scene_entry(path: String) -> SceneEntry {
 #[cfg(any(target_arch = "wasm32", test))]
 pub(super) mod builtin {
     include!(concat!(env!("OUT_DIR"), "/builtin_scenes.rs"));
+
+    /// The file `path` names among [`BUILTIN_FILES`] (`scenes/meshes/…`, as a scene in `scenes/`
+    /// names it), as `std::fs::read` would give it; else `NotFound`, naming the files there are.
+    pub fn read_file(path: &std::path::Path) -> std::io::Result<Vec<u8>> {
+        let name: Vec<String> = path
+            .components()
+            .map(|c| c.as_os_str().to_string_lossy().into_owned())
+            .collect();
+        let name = name.join("/");
+        BUILTIN_FILES
+            .iter()
+            .find(|(p, _)| *p == name)
+            .map(|(_, bytes)| bytes.to_vec())
+            .ok_or_else(|| {
+                let names: Vec<&str> = BUILTIN_FILES.iter().map(|f| f.0).collect();
+                std::io::Error::new(
+                    std::io::ErrorKind::NotFound,
+                    format!("not built into this page (it has {})", names.join(", ")),
+                )
+            })
+    }
+}
+
+/// Loads a scene from its text as the file `file` would load: the files it names (a Gmsh mesh,
+/// a mould surface) from the file system on native, in the page from the files built into it
+/// ([`builtin::read_file`]).
+pub fn parse_text(text: &str, file: &str) -> Result<Scene, SceneError> {
+    #[cfg(not(target_arch = "wasm32"))]
+    return parse_scene(text, file, &[]);
+    #[cfg(target_arch = "wasm32")]
+    crate::scene::parse_scene_with(text, file, &[], &builtin::read_file)
 }
 
 /// The text of the scene file `path`: the file on native; in the page the scene built in under
@@ -144,7 +177,7 @@ pub fn open_scene(path: &str) -> Result<Scene, String> {
     #[cfg(not(target_arch = "wasm32"))]
     return crate::scene::load_scene(Path::new(path), &[]).map_err(|e| e.to_string());
     #[cfg(target_arch = "wasm32")]
-    parse_scene(&read_scene(path)?, path, &[]).map_err(|e| e.to_string())
+    parse_text(&read_scene(path)?, path).map_err(|e| e.to_string())
 }
 
 impl Settings {
@@ -221,7 +254,7 @@ impl Settings {
 
     /// The scene with these settings applied, validated as a file would be.
     pub fn scene(&self) -> Result<Scene, String> {
-        parse_scene(&self.scene_text()?, &self.edited_name(), &[]).map_err(|e| e.to_string())
+        parse_text(&self.scene_text()?, &self.edited_name()).map_err(|e| e.to_string())
     }
 
     /// The name of the edited scene in messages.
@@ -277,6 +310,41 @@ mod tests {
                 "{}",
                 e.path
             );
+        }
+    }
+
+    /// Every shipped scene loads in the page as from its file: the files it names (the tread's
+    /// Gmsh mesh) come from the ones built in, and give the same model; a file that is not built
+    /// in is refused naming the key, the file and the files there are.
+    #[test]
+    fn shipped_scenes_load_from_the_built_in_files() {
+        // Paths as the picker names them, relative to the package root (the tests' directory).
+        let mut with_files = 0;
+        for (path, text) in builtin::BUILTIN_SCENES {
+            let from_disk = crate::scene::load_scene(Path::new(path), &[]).unwrap();
+            let page = crate::scene::parse_scene_with(text, path, &[], &builtin::read_file)
+                .unwrap_or_else(|e| panic!("{path} in the page: {e}"));
+            assert_eq!(page.model.mesh.nodes, from_disk.model.mesh.nodes, "{path}");
+            assert_eq!(
+                page.model.mesh.elements, from_disk.model.mesh.elements,
+                "{path}"
+            );
+            with_files += usize::from(text.contains("file ="));
+        }
+        assert!(with_files >= 1, "no shipped scene names a file");
+        let text = std::fs::read_to_string("scenes/tread.toml").unwrap();
+        let text = text.replace("meshes/tread_block.msh", "meshes/nowhere.msh");
+        let e =
+            crate::scene::parse_scene_with(&text, "scenes/tread.toml", &[], &builtin::read_file)
+                .unwrap_err()
+                .to_string();
+        for part in [
+            "mesh.file",
+            "nowhere.msh",
+            "not built into this page",
+            "tread_block.msh",
+        ] {
+            assert!(e.contains(part), "{part:?} not in {e}");
         }
     }
 }

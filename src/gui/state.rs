@@ -10,7 +10,7 @@ use super::RecordChoice;
 use super::{list_scenes, HistoryRow, SceneEntry, Settings};
 #[cfg(not(target_arch = "wasm32"))]
 use crate::record::{find_on_path, Sink, RERUN_VERSION};
-use crate::scene::{parse_scene, Scene};
+use crate::scene::Scene;
 use crate::solver::Simulation;
 use serde::{Deserialize, Serialize};
 use std::collections::{BTreeSet, VecDeque};
@@ -181,7 +181,7 @@ impl App {
                 return r.clone();
             }
         }
-        let r = parse_scene(&text, &self.settings.edited_name(), &[])
+        let r = super::settings::parse_text(&text, &self.settings.edited_name())
             .map_err(|e| e.to_string())
             .and_then(|scene| {
                 let m = scene.model;

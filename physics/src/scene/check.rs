@@ -11,6 +11,8 @@ use std::path::Path;
 pub(super) struct Check<'a> {
     pub file: &'a str,
     pub dir: &'a Path,
+    /// Reads the files the scene names (meshes, mould surfaces) relative to `dir`.
+    pub read: crate::gmsh::ReadFile<'a>,
 }
 
 impl Check<'_> {

@@ -50,7 +50,7 @@ impl Check<'_> {
             "must be > 0 (metres per mesh unit)",
         )?;
         let path = self.dir.join(file);
-        let mut mesh = crate::gmsh::read_msh(&path)
+        let mut mesh = crate::gmsh::read_msh_with(&path, self.read)
             .map_err(|e| self.invalid("mesh.file", format!("{file:?}"), e.to_string()))?;
         if scale != 1.0 {
             for x in &mut mesh.nodes {
@@ -245,7 +245,7 @@ impl Check<'_> {
         )?;
         let bad = |e: String| self.invalid(format!("{key}.file"), format!("{file:?}"), e);
         let bytes =
-            std::fs::read(self.dir.join(file)).map_err(|e| bad(format!("cannot read it: {e}")))?;
+            (self.read)(&self.dir.join(file)).map_err(|e| bad(format!("cannot read it: {e}")))?;
         let msh = file.to_ascii_lowercase().ends_with(".msh");
         let (vertices, triangles, element): (_, _, Box<dyn Fn(usize) -> String>) = if msh {
             let group = m.group.as_deref().ok_or_else(|| {
