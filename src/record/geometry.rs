@@ -1,12 +1,12 @@
 //! The per-frame geometry of a recording: the body's surface (extracted once from the mesh's
 //! boundary faces; positions x = X + U and colours per frame), the viridis colour map of the
-//! colouring field, the moving planes, and the interface and contact nodes with their arrows.
+//! colouring field, the moving moulds (a rigid transform per frame), and the interface and contact nodes with their arrows.
 
 use super::layout::path_part;
 use super::stream::Columns;
 use super::{ColourField, Statics, ARROW_FRACTION};
 use crate::law::InterfaceState;
-use crate::model::{Model, Shape};
+use crate::model::Model;
 use crate::output::fields::Scalar;
 use crate::output::surface::{viridis, Surface};
 use crate::output::Snapshot;
@@ -57,8 +57,9 @@ pub(super) struct Geometry {
     colour: ColourField,
     /// Smallest and largest finite value of the colouring field so far.
     colour_range: (f64, f64),
-    /// Planes with a prescribed velocity: their translation is logged per frame.
-    moving_planes: Vec<usize>,
+    /// Moulds with a prescribed motion: (index, turns) — their translation is logged per
+    /// frame, and their rotation when they turn.
+    moving_moulds: Vec<(usize, bool)>,
 }
 
 /// Position x = X + U of node `n` in a snapshot [m].
@@ -88,12 +89,12 @@ impl Geometry {
             scales: Scales::of(m),
             colour,
             colour_range: (f64::INFINITY, f64::NEG_INFINITY),
-            moving_planes: m
+            moving_moulds: m
                 .planes
                 .iter()
                 .enumerate()
-                .filter(|p| p.1.velocity.is_some() && p.1.shape == Shape::HalfSpace)
-                .map(|p| p.0)
+                .filter(|p| p.1.velocity.is_some() || p.1.angular_velocity.is_some())
+                .map(|(k, p)| (k, p.angular_velocity.is_some()))
                 .collect(),
         }
     }
@@ -102,15 +103,22 @@ impl Geometry {
     pub(super) fn frame(&mut self, cols: &mut Columns, st: &Statics, s: &Snapshot) -> (f64, f64) {
         let m = &st.model;
         self.surface_frame(cols, m, s);
-        for &p in &self.moving_planes {
-            let plane = &m.planes[p];
-            let d = plane.displacement(s.time);
+        for &(k, turns) in &self.moving_moulds {
+            // x = R x₀ + T of the step's own pose (`Simulation::mould_pose`); the mesh logged
+            // at t = 0 is static, only this transform moves.
+            let (r, t) = s.moulds[k];
+            let path = format!("planes/{}", path_part(&m.planes[k].name));
             cols.push(
-                &format!("planes/{}", path_part(&plane.name)),
+                &path,
                 Transform3D::descriptor_translation(),
                 3,
-                &[d[0] as f32, d[1] as f32, d[2] as f32],
+                &t.map(|c| c as f32),
             );
+            if turns {
+                // Rerun's Mat3x3 is column-major.
+                let columns: [f32; 9] = std::array::from_fn(|i| r[i % 3][i / 3] as f32);
+                cols.push(&path, Transform3D::descriptor_mat3x3(), 9, &columns);
+            }
         }
         if !s.interface.is_empty() {
             self.interface_frame(cols, st, s);
