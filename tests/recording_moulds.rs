@@ -7,7 +7,7 @@
 mod common;
 
 use common::capture::{read_capture, steps_with};
-use common::cli::{decohesion, summary};
+use common::cli::{decohesion_ok, summary};
 use decohesion::model::Shape;
 use decohesion::scene::load_scene;
 use decohesion::solver::Simulation;
@@ -38,12 +38,7 @@ fn indent_capture_draws_the_sphere_and_moves_it_with_its_pose() {
     }
     args.extend(["--save", rrd.to_str().unwrap()]);
     args.extend(["--summary", json.to_str().unwrap()]);
-    let out = decohesion(&args);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    decohesion_ok(&args);
     let s = summary(&json);
     let t_end = simulated_time(&json);
     let steps = s["steps"].as_i64().unwrap();
