@@ -3,6 +3,7 @@
 //! of [`crate::material`] built for the CPU's instruction set ([`simd`]); and the node loop of
 //! stage 5 (free velocity).
 
+pub mod corner_bound;
 pub mod corners;
 pub mod flops;
 mod full;
