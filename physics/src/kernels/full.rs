@@ -11,8 +11,9 @@
 //! min J by the same tree. So every element gets the scalar kernel's bits, and the golden runs
 //! do not move.
 
+use super::simd::ISA_AVX2;
 use crate::material::{
-    displacement_gradient, first_piola_lanes, row_dot, F64x8, Law, Material, Real,
+    displacement_gradient, first_piola_lanes_into, row_dot, F64x8, Law, Material, Real,
 };
 use crate::mesh::GaussData;
 
@@ -104,25 +105,89 @@ fn min8(x: F64x8, y: F64x8) -> F64x8 {
     F64x8(r)
 }
 
+/// H = Σₐ uₐ ⊗ gₐ of 8 elements at one point into `h`, `u[a][i][l]` and `g(a, j)` per lane,
+/// as [`displacement_gradient`] on [`F64x8`] (each Hᵢⱼ accumulated node after node, fused
+/// when `FMA`: the same bits) but 4 lanes at a time: the nine sums of 4 lanes fill nine of
+/// AVX2's 16 registers, where the nine sums of 8 lanes (18 registers) spilled to the stack
+/// and each fused multiply–add waited on a store and a reload.
+#[inline(always)]
+pub(crate) fn gradient_by_halves<const FMA: bool>(
+    u: &[[[f64; 8]; 3]; 8],
+    g: impl Fn(usize, usize) -> F64x8,
+    h: &mut [[F64x8; 3]; 3],
+) {
+    for half in [0, 4] {
+        let mut acc = [[[0.0f64; 4]; 3]; 3];
+        for a in 0..8 {
+            for (i, acc_i) in acc.iter_mut().enumerate() {
+                for (j, acc_ij) in acc_i.iter_mut().enumerate() {
+                    let gj = g(a, j);
+                    for (l, s) in acc_ij.iter_mut().enumerate() {
+                        *s = u[a][i][half + l].fmadd::<FMA>(gj.0[half + l], *s);
+                    }
+                }
+            }
+        }
+        for i in 0..3 {
+            for j in 0..3 {
+                for l in 0..4 {
+                    h[i][j].0[half + l] = acc[i][j][l];
+                }
+            }
+        }
+    }
+}
+
+/// The per-point work arrays of [`full_lanes`] (P and J at the 8 Gauss points, H at one),
+/// kept by the caller across lane groups: every entry is written before it is read, and a
+/// fresh zeroed array per group cost the AVX2 build a 4.6 kB `memset` call per group (its
+/// ymm stores exceed the compiler's inline limit, AVX-512's zmm stores do not).
+#[derive(Clone)]
+pub(crate) struct FullScratch {
+    p: [[[F64x8; 3]; 3]; 8],
+    h: [[F64x8; 3]; 3],
+}
+
+impl Default for FullScratch {
+    fn default() -> Self {
+        let z = F64x8::splat(0.0);
+        FullScratch {
+            p: [[[z; 3]; 3]; 8],
+            h: [[z; 3]; 3],
+        }
+    }
+}
+
 /// Internal nodal forces of 8 elements, fₐ = Σ_q w_q det J₀ P(F_q) ∇ₓNₐ(ξ_q) (PHYSICS.md §2),
 /// element l in lane l: `u[a][i][l]` the displacement of its node a, `f[a][i][l]` its force.
 /// Returns per lane (strain energy Σ_q w_q det J₀ ψ_q if `ENERGY`, else 0; min_q J_q), each
-/// lane bit-identical to [`crate::material::element_forces`] on that element.
+/// lane bit-identical to [`crate::material::element_forces`] on that element. The AVX2 build
+/// (`ISA`) computes H 4 lanes at a time ([`gradient_by_halves`], for its 16 registers).
 #[inline(always)]
-pub(crate) fn full_lanes<L: Law, const ENERGY: bool, const FMA: bool, G: GaussLanes>(
+pub(crate) fn full_lanes<
+    L: Law,
+    const ENERGY: bool,
+    const FMA: bool,
+    const ISA: u8,
+    G: GaussLanes,
+>(
     mat: &Material,
     g: &G,
     u: &[[[f64; 8]; 3]; 8],
     f: &mut [[[f64; 8]; 3]; 8],
+    work: &mut FullScratch,
 ) -> (F64x8, F64x8) {
     let zero = F64x8::splat(0.0);
-    let mut p = [[[zero; 3]; 3]; 8];
+    let FullScratch { p, h } = work;
     let mut det = [zero; 8];
     let mut energy = zero;
     for q in 0..8 {
-        let h = displacement_gradient::<F64x8, FMA>(|a, i| F64x8(u[a][i]), |a, j| g.grad(a, j, q));
-        let (pq, psi, jq) = first_piola_lanes::<L, ENERGY, FMA>(mat, &h);
-        p[q] = pq;
+        if ISA == ISA_AVX2 {
+            gradient_by_halves::<FMA>(u, |a, j| g.grad(a, j, q), h);
+        } else {
+            *h = displacement_gradient::<F64x8, FMA>(|a, i| F64x8(u[a][i]), |a, j| g.grad(a, j, q));
+        }
+        let (psi, jq) = first_piola_lanes_into::<L, ENERGY, FMA>(mat, h, &mut p[q]);
         det[q] = jq;
         if ENERGY {
             energy = energy + psi * g.wdet(q);

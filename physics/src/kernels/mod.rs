@@ -3,6 +3,7 @@
 //! of [`crate::material`] built for the CPU's instruction set ([`simd`]); and the node loop of
 //! stage 5 (free velocity).
 
+pub mod corner_bound;
 pub mod corners;
 pub mod flops;
 mod full;
@@ -269,6 +270,7 @@ unsafe fn chunk_forces_impl<const FMA: bool, const ISA: u8>(
     // Lanes of several classes: each lane's data, rewritten when its class changes.
     let mut lanes = full::LaneGauss::default();
     let mut staged = [u32::MAX; 8];
+    let mut work = full::FullScratch::default();
     let gather = vector_gathers::<ISA>(mesh, u);
     for group in grouped.chunks_exact(8) {
         gather_group::<ISA>(mesh, u, group, gather, &mut ul);
@@ -278,7 +280,7 @@ unsafe fn chunk_forces_impl<const FMA: bool, const ISA: u8>(
             .all(|&e| *classes.class_of.get_unchecked(e as usize) == class);
         let (en, det) = if one_class {
             let g = full::OneClass(classes.data.get_unchecked(class as usize));
-            full_group::<FMA, _>(mat, &g, &ul, &mut fl, energy)
+            full_group::<FMA, ISA, _>(mat, &g, &ul, &mut fl, &mut work, energy)
         } else {
             for (l, &e) in group.iter().enumerate() {
                 let c = *classes.class_of.get_unchecked(e as usize);
@@ -287,7 +289,7 @@ unsafe fn chunk_forces_impl<const FMA: bool, const ISA: u8>(
                     lanes.set(l, classes.data.get_unchecked(c as usize));
                 }
             }
-            full_group::<FMA, _>(mat, &lanes, &ul, &mut fl, energy)
+            full_group::<FMA, ISA, _>(mat, &lanes, &ul, &mut fl, &mut work, energy)
         };
         for (l, &e) in group.iter().enumerate() {
             e_sum += en.0[l];
@@ -316,17 +318,18 @@ unsafe fn chunk_forces_impl<const FMA: bool, const ISA: u8>(
 
 /// [`full::full_lanes`] for the material's law, with or without the energy.
 #[inline(always)]
-fn full_group<const FMA: bool, G: full::GaussLanes>(
+fn full_group<const FMA: bool, const ISA: u8, G: full::GaussLanes>(
     mat: &Material,
     g: &G,
     ul: &[[[f64; 8]; 3]; 8],
     fl: &mut [[[f64; 8]; 3]; 8],
+    work: &mut full::FullScratch,
     energy: bool,
 ) -> (F64x8, F64x8) {
     with_law!(mat.model, L => if energy {
-        full::full_lanes::<L, true, FMA, G>(mat, g, ul, fl)
+        full::full_lanes::<L, true, FMA, ISA, G>(mat, g, ul, fl, work)
     } else {
-        full::full_lanes::<L, false, FMA, G>(mat, g, ul, fl)
+        full::full_lanes::<L, false, FMA, ISA, G>(mat, g, ul, fl, work)
     })
 }
 

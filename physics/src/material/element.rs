@@ -38,6 +38,19 @@ pub(crate) fn first_piola_lanes<L: Law, const ENERGY: bool, const FMA: bool>(
     h: &Mat3<F64x8>,
 ) -> (Mat3<F64x8>, F64x8, F64x8) {
     let mut p = [[F64x8::splat(0.0); 3]; 3];
+    let (psi, det) = first_piola_lanes_into::<L, ENERGY, FMA>(mat, h, &mut p);
+    (p, psi, det)
+}
+
+/// [`first_piola_lanes`] writing P into `p` (every component): a kernel that keeps P in its
+/// own array avoids a zeroed temporary and a copy, which the AVX2 build does not keep in
+/// registers (two 576-byte `memset`/`memcpy` calls per point there). Returns (ψ, J) per lane.
+#[inline(always)]
+pub(crate) fn first_piola_lanes_into<L: Law, const ENERGY: bool, const FMA: bool>(
+    mat: &Material,
+    h: &Mat3<F64x8>,
+    p: &mut Mat3<F64x8>,
+) -> (F64x8, F64x8) {
     let (mut psi, mut det) = (F64x8::splat(0.0), F64x8::splat(0.0));
     for l in 0..8 {
         let d = Deformation::of(std::array::from_fn(|i| {
@@ -51,7 +64,7 @@ pub(crate) fn first_piola_lanes<L: Law, const ENERGY: bool, const FMA: bool>(
         }
         (psi.0[l], det.0[l]) = (psil, d.j);
     }
-    (p, psi, det)
+    (psi, det)
 }
 
 /// Internal nodal forces of one element, fₐ = Σ_q w_q det J₀ P(F_q) ∇ₓNₐ(ξ_q)

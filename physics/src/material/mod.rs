@@ -16,7 +16,7 @@ pub mod element;
 mod kinematics;
 pub mod real;
 
-pub(crate) use element::first_piola_lanes;
+pub(crate) use element::first_piola_lanes_into;
 pub use element::{
     element_forces, element_forces_reduced, element_forces_reduced_lanes, hourglass_stiffness,
     LaneElements,
