@@ -13,19 +13,18 @@
 //! rib elements are trapezoids (the mesh is not a box: its elements have several shapes).
 //! Physical groups: `bottom` (z = 0), `top` (the rib tops, z = 20 mm), `groove` (walls and
 //! floors), `sides` (x = 0, x = 60, y = 0, y = 30 mm). Volume: 60·30·20 − 2·30·(8 + 4)/2·8
-//! = 33 120 mm³. `tests/gmsh.rs` checks that this program reproduces the committed file.
+//! = 33 120 mm³. `tests/gmsh.rs` checks that this program reproduces the committed file. The
+//! dimensions are in `examples/shared/tread_geometry.rs`, shared with `examples/ribbed_mould.rs`.
 
 use decohesion::gmsh::write_msh;
 use decohesion::mesh::Mesh;
 use std::collections::BTreeMap;
 
-/// Block length (x), width (y), height (z) [mm].
-pub const SIZE: [f64; 3] = [60.0, 30.0, 20.0];
-/// Groove centres (x), top width, floor width, depth [mm].
-pub const GROOVE_CENTRES: [f64; 2] = [20.0, 40.0];
-pub const GROOVE_TOP: f64 = 8.0;
-pub const GROOVE_FLOOR: f64 = 4.0;
-pub const GROOVE_DEPTH: f64 = 8.0;
+#[allow(dead_code)]
+#[path = "shared/tread_geometry.rs"]
+mod tread_geometry;
+pub use tread_geometry::{GROOVE_CENTRES, GROOVE_DEPTH, GROOVE_FLOOR, GROOVE_TOP, SIZE};
+
 /// Element size below the groove floor [mm].
 const CELL: f64 = 2.0;
 

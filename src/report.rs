@@ -57,6 +57,11 @@ pub struct RunSummary {
     /// scene has a mould that is not a plain fixed-orientation plane (issue 13).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub mould_work: Vec<(String, f64)>,
+    /// The friction dissipated on each mould since t₀ [J] (their sum is
+    /// `energies.friction_dissipated`, to round-off), as (name, dissipation); listed with
+    /// `mould_work`.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub mould_friction: Vec<(String, f64)>,
 }
 
 impl RunSummary {
@@ -73,6 +78,7 @@ impl RunSummary {
             Some(crate::solver::SolverError::Cancelled { .. }) => "cancelled",
             Some(_) => "failed",
         };
+        let moulds_listed = !sim.model.planes.iter().all(|p| p.is_plane());
         RunSummary {
             scene: sim.model.name.clone(),
             status: status.into(),
@@ -112,10 +118,15 @@ impl RunSummary {
             #[cfg(not(target_arch = "wasm32"))]
             paraview: None,
             glued_start_offsets: sim.start_offsets.clone(),
-            mould_work: if sim.model.planes.iter().all(|p| p.is_plane()) {
-                vec![]
-            } else {
+            mould_work: if moulds_listed {
                 sim.mould_works()
+            } else {
+                vec![]
+            },
+            mould_friction: if moulds_listed {
+                sim.mould_frictions()
+            } else {
+                vec![]
             },
         }
     }
@@ -194,6 +205,12 @@ impl RunSummary {
         row("external work", format!("{:.6e} J", e.external_work));
         for (name, w) in &self.mould_work {
             row(&format!("  work of mould `{name}`"), format!("{w:.6e} J"));
+        }
+        for (name, d) in &self.mould_friction {
+            row(
+                &format!("  friction on mould `{name}`"),
+                format!("{d:.6e} J"),
+            );
         }
         row(
             "balance residual",

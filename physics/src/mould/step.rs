@@ -52,6 +52,9 @@ pub struct MouldStep {
     pub contact: Vec<NodeGeometry>,
     /// Each mould's work (force · velocity of the mould at the points it acts on) [J].
     pub work: Vec<Work>,
+    /// Each mould's friction work (tangential contact impulse · velocity of the node relative
+    /// to the mould) [J]: minus the friction dissipated on it.
+    pub friction: Vec<Work>,
 }
 
 impl MouldStep {
@@ -67,6 +70,7 @@ impl MouldStep {
             d_next: vec![super::motion::IDENTITY; moulds.len()],
             d_prev: vec![super::motion::IDENTITY; moulds.len()],
             work: vec![Work::default(); moulds.len()],
+            friction: vec![Work::default(); moulds.len()],
             ..Default::default()
         }
     }

@@ -25,6 +25,7 @@ impl Simulation {
         self.reactions_and_peaks();
         self.push_work(first);
         self.push_mould_work(first);
+        self.push_mould_friction(first);
         let itf = self.interface_sums();
         let l = &mut self.ledger;
         l.interface_stored = itf.stored;
@@ -141,6 +142,94 @@ impl Simulation {
                 w.push(b, a);
             }
         }
+    }
+
+    /// Each mould's friction work, with the trapezoid pairing of `contact_tangential_work`:
+    /// the halves b = ½(V_{n+½} − v_m,old)·P_T and a = ½(V_{n+3/2} − v_m,new)·P_T of the
+    /// tangential part P_T = P − (P·n)n of every contact impulse P that mould gives a node
+    /// (glued entries with μ(α), contact entries with μ), v_m the mould's velocity at the
+    /// contact point and n its normal there: the same terms as the boundary pass's `ct_b`,
+    /// `ct_a`, sorted by mould, so their sum is the total friction work to round-off (the
+    /// contact impulse is read back per unit area). With one mould the total is its friction
+    /// and the pass is skipped ([`Simulation::mould_frictions`]).
+    fn push_mould_friction(&mut self, first: bool) {
+        let n_moulds = self.model.planes.len();
+        if n_moulds < 2 {
+            return;
+        }
+        let mut halves = vec![(0.0, 0.0); n_moulds];
+        for (b, node) in self.boundary.nodes.iter().enumerate() {
+            let (vo, v) = (self.scratch.v_old[b], self.v[node.node as usize]);
+            let mut add = |k: usize, p: [f64; 3], geo: Option<usize>, interface: bool| {
+                let (n, vm) = self.contact_frame(k, geo, interface);
+                let pn = dot(p, n);
+                let pt: [f64; 3] = std::array::from_fn(|c| p[c] - pn * n[c]);
+                let rel =
+                    |w: [f64; 3], m: [f64; 3]| -> [f64; 3] { std::array::from_fn(|c| w[c] - m[c]) };
+                halves[k].0 += 0.5 * dot(rel(vo, vm[0]), pt);
+                halves[k].1 += 0.5 * dot(rel(v, vm[1]), pt);
+            };
+            for e in node.interfaces.clone() {
+                let j = self.boundary.interfaces[e as usize] as usize;
+                let itf = &self.interface_nodes[j];
+                let k = self.model.interfaces[itf.interface as usize].plane;
+                add(k, itf.contact_impulse.map(|c| c * itf.area), Some(j), true);
+            }
+            for e in node.contacts.clone() {
+                let j = self.boundary.contacts[e as usize] as usize;
+                let cn = &self.contact_nodes[j];
+                let p = cn.contact_impulse.map(|c| c * cn.area);
+                add(cn.plane as usize, p, Some(j), false);
+            }
+        }
+        for (w, (b, a)) in self.scratch.moulds.friction.iter_mut().zip(halves) {
+            if first {
+                w.start(a);
+            } else {
+                w.push(b, a);
+            }
+        }
+    }
+
+    /// The normal of mould `k` at the contact point of interface entry (`interface`) or contact
+    /// entry `j` and the mould's velocity there before and after tₙ₊₁: a plain plane's normal
+    /// and velocities, or the entry's closest point on a curved mould.
+    fn contact_frame(
+        &self,
+        k: usize,
+        j: Option<usize>,
+        interface: bool,
+    ) -> ([f64; 3], [[f64; 3]; 2]) {
+        let ms = &self.scratch.moulds;
+        if ms.plane[k] {
+            return (
+                self.model.planes[k].normal,
+                self.mould_velocities(k, [0.0; 3]),
+            );
+        }
+        let (itf, cn) = if interface { (j, None) } else { (None, j) };
+        let (_, point) = self.mould_points(k, itf, cn);
+        let geo = if interface {
+            &ms.interface
+        } else {
+            &ms.contact
+        };
+        let n = j.and_then(|j| geo.get(j)).map_or([0.0; 3], |g| g.normal);
+        (n, self.mould_velocities(k, point))
+    }
+
+    /// Each mould's name and the friction dissipated on it since t₀ [J] (minus its friction
+    /// work, [`Simulation::push_mould_friction`]): with one mould, the ledger's
+    /// `friction_dissipated` itself; with several, their sum is it to round-off.
+    pub fn mould_frictions(&self) -> Vec<(String, f64)> {
+        let planes = &self.model.planes;
+        if planes.len() == 1 {
+            return vec![(planes[0].name.clone(), self.ledger.friction_dissipated)];
+        }
+        let works = &self.scratch.moulds.friction;
+        (planes.iter().zip(works))
+            .map(|(p, w)| (p.name.clone(), 0.0 - w.value))
+            .collect()
     }
 
     /// Σ Ψ_d = Σ W ½ g_N(αₙ)|[u]ₙ|² and Σ ΔDₙ over the interface nodes (PHYSICS.md §5), and
