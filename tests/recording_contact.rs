@@ -7,6 +7,7 @@ mod common;
 
 use common::capture::{read_capture, rows};
 use common::cli::{decohesion_ok, scratch};
+use common::turning;
 use decohesion::model::Shape;
 use decohesion::record::NORMAL_FRACTION;
 use decohesion::scene::load_scene;
@@ -117,23 +118,6 @@ fn contact_nodes_carry_their_status_and_the_moulds_normal() {
     assert!(stick + slip > 0, "no node in contact with the sphere");
 }
 
-/// R = exp([θ k]×) = I + sin θ K + (1 − cos θ) K², K = [k]× (Rodrigues), for the rotation
-/// vector φ = θ k.
-fn rotation(phi: [f64; 3]) -> [[f64; 3]; 3] {
-    let theta = (phi[0] * phi[0] + phi[1] * phi[1] + phi[2] * phi[2]).sqrt();
-    if theta == 0.0 {
-        return std::array::from_fn(|i| std::array::from_fn(|j| f64::from(u8::from(i == j))));
-    }
-    let k = phi.map(|c| c / theta);
-    let kx = [[0.0, -k[2], k[1]], [k[2], 0.0, -k[0]], [-k[1], k[0], 0.0]];
-    std::array::from_fn(|i| {
-        std::array::from_fn(|j| {
-            let k2: f64 = (0..3).map(|m| kx[i][m] * kx[m][j]).sum();
-            f64::from(u8::from(i == j)) + theta.sin() * kx[i][j] + (1.0 - theta.cos()) * k2
-        })
-    })
-}
-
 /// A box mould turning at a constant ω = (3, 4, 12) rad/s about a pivot off its centre while
 /// its pivot moves at a constant v, above the indent's pad (never touching it): its logged
 /// Transform3D at every frame is the analytic pose x = R(t)(x₀ − c₀) + c₀ + v t with
@@ -141,19 +125,9 @@ fn rotation(phi: [f64; 3]) -> [[f64; 3]; 3] {
 #[test]
 fn a_turning_moulds_transform_is_its_analytic_pose() {
     let dir = scratch("rec", "turning");
-    let scene = dir.join("turning.toml");
-    let (omega, v, pivot) = ([3.0, 4.0, 12.0], [0.0, 0.0, 0.5], [0.25, 0.3, 0.3]);
-    let text = std::fs::read_to_string("scenes/indent.toml").unwrap()
-        + "\n[[mould]]\nname = \"paddle\"\nshape = \"box\"\ncentre = [0.3, 0.3, 0.3]\n\
-           size = [0.04, 0.02, 0.01]\npivot = [0.25, 0.3, 0.3]\n\
-           velocity = [[0.0, 0.0, 0.0, 0.5]]\n\
-           angular_velocity = [[0.0, 3.0, 4.0, 12.0]]\n";
-    std::fs::write(&scene, text).unwrap();
-    let store = read_capture(&record(
-        &scene,
-        &["mesh.cells=[2,2,4]", "end_time=0.05"],
-        &dir,
-    ));
+    let scene = turning::scene(&dir);
+    let (omega, v, pivot) = (turning::OMEGA, turning::VELOCITY, turning::PIVOT);
+    let store = read_capture(&record(&scene, &turning::OVERRIDES, &dir));
     let entity = "/planes/paddle";
     let matrices = rows::<[f32; 9]>(&store, entity, Transform3D::descriptor_mat3x3().component);
     let translations = rows::<[f32; 3]>(
@@ -181,7 +155,7 @@ fn a_turning_moulds_transform_is_its_analytic_pose() {
     let mut turned = 0.0f64;
     for (n, m) in &matrices {
         let t = times[n];
-        let r = rotation(omega.map(|w| w * t));
+        let r = turning::rotation(omega.map(|w| w * t));
         // Rerun's Mat3x3 is column-major: m[3 j + i] = R_ij. The sim_time column holds t to
         // the nanosecond: |ω| × 0.5 ns = 7e-9 of angle; f32 rounding of entries ≤ 1: 6e-8.
         for i in 0..3 {

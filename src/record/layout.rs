@@ -17,7 +17,7 @@ use rerun::blueprint::{
 };
 use rerun::{
     AnnotationContext, Arrows3D, LineStrips2D, Mesh3D, Points2D, Points3D, RecordingStream, Rgba32,
-    SeriesLines, TextDocument, TextLog,
+    SeriesLines, TextDocument, TextLog, ViewCoordinates,
 };
 
 /// A name usable as one entity path part: `z+` → `z_plus`.
@@ -151,6 +151,10 @@ pub(super) fn log_static(
     alpha_per_node: bool,
 ) -> Result<(), RecordError> {
     scene_text(rec, st)?;
+    // The scenes are drawn with z up (their gravity and moulds' motions are along z): the
+    // viewer's default eye then looks at the scene from above its side, z up on the screen.
+    rec.log_static("/", &ViewCoordinates::RIGHT_HAND_Z_UP())
+        .map_err(log_err("the view coordinates"))?;
     classes_and_styles(rec, st, geometry.scales.point_radius)?;
     // Surface topology once; positions and colours per frame.
     rec.log_static(
