@@ -233,7 +233,11 @@ fn classes_and_styles(rec: &RecordingStream, st: &Statics, r: f32) -> Result<(),
             .map_err(log_err("the annotation context"))?;
     }
 
-    let styles: [(&str, &dyn rerun::AsComponents); 7] = [
+    // The normals' class labels (stick, slip) would be written over a small contact patch.
+    let unlabelled = Arrows3D::update_fields().with_show_labels(false);
+    let styles: [(&str, &dyn rerun::AsComponents); 9] = [
+        ("interface/contact_normal", &unlabelled),
+        ("contact/normal", &unlabelled),
         (
             "interface/nodes",
             &Points3D::update_fields().with_radii([r]),
