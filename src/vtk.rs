@@ -5,8 +5,11 @@
 //! and `.` replaced by `_`):
 //! - `NAME_000000.vtu`, `NAME_000001.vtu`, … — frame k, written in full under a hidden
 //!   temporary name and then renamed, so a `.vtu` that exists is complete;
-//! - `NAME.pvd` — `<VTKFile type="Collection">` with one `<DataSet timestep="tₙ" file="…"/>`
-//!   per frame. It is a valid file at every moment of the run: each frame is added (by
+//! - `NAME_<mould>.vtu` or `NAME_<mould>_000000.vtu`, … — each mould's surface ([`moulds`]):
+//!   once for a mould that does not move, at every frame for one that does;
+//! - `NAME.pvd` — `<VTKFile type="Collection">` with, per frame, one
+//!   `<DataSet timestep="tₙ" part="0" name="body" file="…"/>` and one per mould
+//!   (`part` = 1 + its index, `name` = its name): ParaView reads each part as a block. It is a valid file at every moment of the run: each frame is added (by
 //!   rewriting the closing tags) as soon as its `.vtu` is in place. A run that fails, is
 //!   cancelled (Ctrl-C) or is killed leaves an index of every frame written so far.
 //!
@@ -41,6 +44,10 @@
 //! it to every output; this one passes it to a writer thread over a bounded channel
 //! (back-pressure, nothing dropped, [`crate::output::worker`]), which computes the element
 //! fields, encodes and writes the files at a lower priority. This module uses no Rerun.
+
+mod moulds;
+
+pub use moulds::VTK_TRIANGLE;
 
 use crate::law::InterfaceState;
 use crate::model::Model;
@@ -224,11 +231,19 @@ impl Pvd {
         })
     }
 
-    /// Indexes `file` (a name in the same directory) at simulated time `t` [s]. The time is
-    /// written in Rust's shortest round-trip form: it reads back as the same f64.
-    fn add(&mut self, t: f64, file: &str) -> std::io::Result<()> {
-        let entry =
-            format!("    <DataSet timestep=\"{t}\" group=\"\" part=\"0\" file=\"{file}\"/>\n");
+    /// Indexes `file` (a name in the same directory) at simulated time `t` [s] as block
+    /// `part` called `name` (XML-escaped). The time is written in Rust's shortest round-trip
+    /// form: it reads back as the same f64.
+    fn add(&mut self, t: f64, part: usize, name: &str, file: &str) -> std::io::Result<()> {
+        let name = name
+            .replace('&', "&amp;")
+            .replace('"', "&quot;")
+            .replace('<', "&lt;")
+            .replace('>', "&gt;");
+        let entry = format!(
+            "    <DataSet timestep=\"{t}\" group=\"\" part=\"{part}\" name=\"{name}\" \
+             file=\"{file}\"/>\n"
+        );
         // The new text is longer than the tail it replaces: no truncation needed.
         self.file.seek(SeekFrom::Start(self.tail_at))?;
         self.file
@@ -276,6 +291,8 @@ struct Series {
     mesh_xml: String,
     /// (node, interface index) of each interface node.
     interface_nodes: Vec<(u32, u32)>,
+    /// Each mould's series.
+    moulds: Vec<moulds::MouldSeries>,
     /// Buffers reused from frame to frame.
     text: String,
     bytes: Vec<u8>,
@@ -335,6 +352,7 @@ impl Series {
                 .iter()
                 .map(|n| (n.node, n.interface))
                 .collect(),
+            moulds: moulds::MouldSeries::of(model),
             text: String::new(),
             bytes,
             frames: 0,
@@ -415,25 +433,45 @@ impl Series {
         out.push_str("    </Piece>\n  </UnstructuredGrid>\n</VTKFile>\n");
     }
 
-    /// Writes frame k under a hidden name, renames it into place, then indexes it.
+    /// Writes frame k and its moulds' files (each under a hidden name, renamed into place),
+    /// then indexes them.
     fn write(&mut self, f: &Snapshot) -> Result<(), VtkError> {
         let name = format!("{}_{:06}.vtu", self.stem, self.frames);
-        let path = self.dir.join(&name);
-        let part = self.dir.join(format!(".{name}.part"));
-        let err = |p: &Path, source| VtkError::Write {
-            path: p.to_path_buf(),
-            source,
-        };
         self.grid(f);
-        std::fs::write(&part, self.text.as_bytes()).map_err(|e| err(&part, e))?;
-        std::fs::rename(&part, &path).map_err(|e| err(&path, e))?;
+        write_in_place(&self.dir, &name, &self.text)?;
         self.written += self.text.len() as u64;
-        self.pvd
-            .add(f.time, &name)
-            .map_err(|e| err(&self.pvd.path, e))?;
+        let mut entries = vec![(0, "body".to_string(), name)];
+        for m in &mut self.moulds {
+            let pose = &f.moulds[m.index];
+            let (file, bytes) =
+                m.write(&self.dir, &self.stem, self.frames, pose, &mut self.bytes)?;
+            self.written += bytes;
+            entries.push((1 + m.index, m.name.clone(), file));
+        }
+        let pvd = &mut self.pvd;
+        for (part, name, file) in entries {
+            pvd.add(f.time, part, &name, &file)
+                .map_err(|source| VtkError::Write {
+                    path: pvd.path.clone(),
+                    source,
+                })?;
+        }
         self.frames += 1;
         Ok(())
     }
+}
+
+/// Writes `text` to `dir/name` under a hidden temporary name, then renames it into place: a
+/// file that exists is complete.
+fn write_in_place(dir: &Path, name: &str, text: &str) -> Result<(), VtkError> {
+    let path = dir.join(name);
+    let part = dir.join(format!(".{name}.part"));
+    let err = |p: &Path, source| VtkError::Write {
+        path: p.to_path_buf(),
+        source,
+    };
+    std::fs::write(&part, text.as_bytes()).map_err(|e| err(&part, e))?;
+    std::fs::rename(&part, &path).map_err(|e| err(&path, e))
 }
 
 #[cfg(test)]
@@ -455,13 +493,18 @@ mod tests {
         let mut pvd = Pvd::create(&path).unwrap();
         let read = || std::fs::read_to_string(&path).unwrap();
         assert_eq!(read(), format!("{PVD_HEAD}{PVD_TAIL}"));
-        pvd.add(0.0, "x_000000.vtu").unwrap();
-        pvd.add(0.1 + 0.2, "x_000001.vtu").unwrap();
+        pvd.add(0.0, 0, "body", "x_000000.vtu").unwrap();
+        pvd.add(0.1 + 0.2, 1, "a \"mould\"", "x_000001.vtu")
+            .unwrap();
         let text = read();
         assert!(text.ends_with(PVD_TAIL), "{text}");
         assert_eq!(text.matches("<DataSet ").count(), 2);
         // The time reads back as the same f64.
         assert!(text.contains("timestep=\"0.30000000000000004\""), "{text}");
+        assert!(
+            text.contains("part=\"1\" name=\"a &quot;mould&quot;\""),
+            "{text}"
+        );
         assert_eq!(pvd.len, text.len() as u64);
         std::fs::remove_dir_all(&dir).ok();
     }

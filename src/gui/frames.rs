@@ -1,8 +1,9 @@
 //! Frames of a run for the explorer's 3-D view ([`super::view3d`]): what the view draws of the
 //! state at one step — the deformed surface x = X + U of the body (the recorder's surface,
 //! [`crate::output::surface`]), the colouring fields at its vertices, the interface nodes with
-//! their state and contact status, the displacement of each mould plane (half-spaces; the other
-//! mould shapes are not drawn yet).
+//! their state and contact status, the contact-only nodes with their contact status, and the
+//! pose of each mould (its drawing, [`crate::output::surface::mould`], is in the run's
+//! [`Topology`], once: a frame holds 48 bytes a mould).
 //!
 //! Built on the solver's thread from a `&Simulation` ([`FrameSampler::due`]), so the native
 //! run thread ([`super::job`]) and an in-page runner call the same function. A run's frames are
@@ -11,8 +12,9 @@
 //! its end time) or coarser.
 
 use crate::law::InterfaceState;
-use crate::model::{Model, Shape};
+use crate::model::Model;
 use crate::output::fields::Scalar;
+use crate::output::surface::mould::{body_box, mould_drawing, place};
 use crate::output::surface::Surface;
 use crate::solver::{ContactStatus, Simulation};
 use std::sync::Arc;
@@ -64,10 +66,30 @@ pub struct Topology {
     pub centre: [f32; 3],
     /// Largest side of that box [m].
     pub extent: f32,
-    /// Each mould plane as a square at t = 0, 1.5 extents wide, centred on the projection of
-    /// the box centre on the plane: its corners [m].
-    pub moulds: Vec<[[f32; 3]; 4]>,
+    /// Each mould's drawing at t = 0 (a half-space as a square around the body's box).
+    pub moulds: Vec<MouldTriangles>,
 }
+
+/// A mould's drawing at t = 0: triangles of vertices [m], in its frame at t = 0.
+#[derive(Debug)]
+pub struct MouldTriangles {
+    pub vertices: Vec<[f64; 3]>,
+    pub triangles: Vec<[u32; 3]>,
+}
+
+impl MouldTriangles {
+    /// The corners of every triangle placed by `pose`, x = R x₀ + T, in triangle order.
+    pub fn placed(&self, pose: &Pose) -> impl Iterator<Item = [f32; 3]> + '_ {
+        let pose = (pose.0.map(|r| r.map(f64::from)), pose.1.map(f64::from));
+        self.triangles
+            .iter()
+            .flatten()
+            .map(move |&v| f32x3(place(&pose, self.vertices[v as usize])))
+    }
+}
+
+/// A mould's pose at a frame, (R, T) with x = R x₀ + T.
+pub type Pose = ([[f32; 3]; 3], [f32; 3]);
 
 /// The state of a run at one step, as the 3-D view draws it.
 #[derive(Debug, Clone)]
@@ -84,8 +106,12 @@ pub struct Frame {
     pub points: Vec<[f32; 3]>,
     /// State of the law at αₙ and contact status of each interface node.
     pub states: Vec<(InterfaceState, ContactStatus)>,
-    /// Displacement of each mould plane at tₙ [m].
-    pub mould_offsets: Vec<[f32; 3]>,
+    /// x = X + Uₙ of each contact-only node [m].
+    pub contact_points: Vec<[f32; 3]>,
+    /// Contact status of each contact-only node.
+    pub contact_states: Vec<ContactStatus>,
+    /// Pose of each mould at tₙ (`Simulation::mould_pose`).
+    pub mould_poses: Vec<Pose>,
 }
 
 impl Frame {
@@ -110,19 +136,6 @@ fn position(m: &Model, u: &[[f64; 3]], n: u32) -> [f32; 3] {
     f32x3([x[0] + u[0], x[1] + u[1], x[2] + u[2]])
 }
 
-/// Two unit vectors orthogonal to the unit vector `n` and to each other.
-fn tangents(n: [f64; 3]) -> ([f64; 3], [f64; 3]) {
-    use crate::mesh::{cross, norm};
-    let a = if n[0].abs() < 0.9 {
-        [1.0, 0.0, 0.0]
-    } else {
-        [0.0, 1.0, 0.0]
-    };
-    let t1 = cross(n, a);
-    let t1 = t1.map(|c| c / norm(t1));
-    (t1, cross(n, t1))
-}
-
 impl FrameBuilder {
     pub fn new(sim: &Simulation) -> FrameBuilder {
         let m = &sim.model;
@@ -135,19 +148,16 @@ impl FrameBuilder {
         }
         let centre = [0, 1, 2].map(|i| 0.5 * (lo[i] + hi[i]));
         let extent = (0..3).map(|i| hi[i] - lo[i]).fold(0.0, f64::max);
-        // Half-spaces only, as in the recording: the other mould shapes are not drawn yet.
+        let body = body_box(m);
         let moulds = m
             .planes
             .iter()
-            .filter(|p| p.shape == Shape::HalfSpace)
             .map(|p| {
-                let n = p.normal;
-                let d = (0..3).map(|i| (centre[i] - p.point[i]) * n[i]).sum::<f64>();
-                let c = [0, 1, 2].map(|i| centre[i] - d * n[i]);
-                let (t1, t2) = tangents(n);
-                let r = 0.75 * extent;
-                [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)]
-                    .map(|(a, b)| f32x3([0, 1, 2].map(|i| c[i] + r * (a * t1[i] + b * t2[i]))))
+                let d = mould_drawing(p, body);
+                MouldTriangles {
+                    vertices: d.vertices,
+                    triangles: d.triangles,
+                }
             })
             .collect();
         let topology = Arc::new(Topology {
@@ -196,21 +206,29 @@ impl FrameBuilder {
                     (law.state(n.alpha), n.contact)
                 })
                 .collect(),
-            mould_offsets: m
-                .planes
+            contact_points: sim
+                .contact_nodes
                 .iter()
-                .filter(|p| p.shape == Shape::HalfSpace)
-                .map(|p| f32x3(p.displacement(sim.time)))
+                .map(|n| position(m, u, n.node))
+                .collect(),
+            contact_states: sim.contact_nodes.iter().map(|n| n.contact).collect(),
+            mould_poses: (0..m.planes.len())
+                .map(|k| {
+                    let (r, t) = sim.mould_pose(k);
+                    (r.map(f32x3), f32x3(t))
+                })
                 .collect(),
         }
     }
 
     /// Memory of one frame of `sim` [bytes]: 24 a surface vertex (position, three fields),
-    /// 14 an interface node, 12 a mould, and the vectors' headers.
+    /// 14 an interface node, 13 a contact-only node, 48 a mould's pose, and the vectors'
+    /// headers (the moulds' triangles are the topology's, shared by every frame).
     pub fn frame_bytes(&self, sim: &Simulation) -> usize {
         24 * self.topology.vertices
             + 14 * sim.interface_nodes.len()
-            + 12 * self.topology.moulds.len()
+            + 13 * sim.contact_nodes.len()
+            + std::mem::size_of::<Pose>() * self.topology.moulds.len()
             + std::mem::size_of::<Frame>()
     }
 }
@@ -311,7 +329,7 @@ mod tests {
             (f.points.len(), f.states.len()),
             ((n + 1) * (n + 1), (n + 1) * (n + 1))
         );
-        assert_eq!(f.mould_offsets.len(), m.planes.len());
+        assert_eq!(f.mould_poses.len(), m.planes.len());
         assert_eq!(f.topology.moulds.len(), m.planes.len());
         // |U| at the vertices: the largest is the largest |U| on the surface.
         let max_u = |v: &[f32]| v.iter().fold(0.0f32, |a, &b| a.max(b));

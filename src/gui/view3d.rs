@@ -2,7 +2,9 @@
 //! field (|U|, von Mises, J; viridis over the range the run's frames reach so far), the
 //! interface nodes as points coloured by the state of their law (elastic / transition /
 //! ruptured) or by contact status (open / stick / slip), in the recording's colours
-//! ([`crate::output::surface`]), the moulds as see-through squares around the body. Orbit by
+//! ([`crate::output::surface`]), the contact-only nodes coloured by contact status, and the
+//! moulds see-through, every shape (a half-space as a square around the body), placed by
+//! each frame's pose. Orbit by
 //! dragging, zoom by scrolling, reset by double-click; a time slider over the run's frames
 //! ([`super::frames`]) that follows the newest frame while the run computes, unless the user
 //! picks one, and plays them.
@@ -392,7 +394,8 @@ fn to_array(m: &Matrix4<f32>) -> [f32; 16] {
     a
 }
 
-/// The vertices of a frame: surface (coloured by the field), points, mould quads.
+/// The vertices of a frame: surface (coloured by the field), interface and contact-only
+/// points, the moulds' triangles placed by the frame's poses.
 fn build_scene(f: &Frame, key: &Key, version: u64) -> Scene {
     let t = &f.topology;
     let c = t.centre;
@@ -410,30 +413,38 @@ fn build_scene(f: &Frame, key: &Key, version: u64) -> Scene {
             rgba: rgba(viridis(((v - lo) / span) as f64), 255),
         })
         .collect();
+    let colour = |s, k| {
+        if key.contact {
+            contact_rgb(k)
+        } else {
+            state_rgb(s)
+        }
+    };
     vertices.extend(f.points.iter().zip(&f.states).map(|(&x, &(s, k))| Vertex {
         pos: rel(x, [0.0; 3]),
-        rgba: rgba(
-            if key.contact {
-                contact_rgb(k)
-            } else {
-                state_rgb(s)
-            },
-            255,
-        ),
+        rgba: rgba(colour(s, k), 255),
     }));
-    for (quad, &d) in t.moulds.iter().zip(&f.mould_offsets) {
-        for k in [0, 1, 2, 0, 2, 3] {
-            vertices.push(Vertex {
-                pos: rel(quad[k], d),
-                rgba: [150, 155, 165, 70],
-            });
-        }
+    // Contact-only nodes have no law: coloured by their contact status always.
+    vertices.extend(
+        f.contact_points
+            .iter()
+            .zip(&f.contact_states)
+            .map(|(&x, &k)| Vertex {
+                pos: rel(x, [0.0; 3]),
+                rgba: rgba(contact_rgb(k), 255),
+            }),
+    );
+    for (mould, pose) in t.moulds.iter().zip(&f.mould_poses) {
+        vertices.extend(mould.placed(pose).map(|x| Vertex {
+            pos: rel(x, [0.0; 3]),
+            rgba: [150, 155, 165, 70],
+        }));
     }
     Scene {
         version,
         topology: t.clone(),
         vertices,
         surface: f.positions.len(),
-        points: f.points.len(),
+        points: f.points.len() + f.contact_points.len(),
     }
 }

@@ -3,7 +3,9 @@
 //! vertices, two triangles per face, the colouring field at each vertex (|U| at the node, or an
 //! element field of [`super::fields`] at the centres of the surface elements around it,
 //! averaged), the viridis colour map, and the colours of the interface states and contact
-//! statuses. Uses neither the Rerun SDK nor egui.
+//! statuses; the moulds' drawing is [`mould`]. Uses neither the Rerun SDK nor egui.
+
+pub mod mould;
 
 use super::fields::{centre_scalar, Scalar};
 use crate::law::InterfaceState;

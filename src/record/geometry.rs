@@ -1,13 +1,15 @@
 //! The per-frame geometry of a recording: the body's surface (extracted once from the mesh's
 //! boundary faces; positions x = X + U and colours per frame), the viridis colour map of the
-//! colouring field, the moving moulds (a rigid transform per frame), and the interface and contact nodes with their arrows.
+//! colouring field, the moving moulds (a rigid transform per frame), and the interface and
+//! contact nodes with their arrows: tractions, and the mould's normal where a node touches.
 
 use super::layout::path_part;
 use super::stream::Columns;
-use super::{ColourField, Statics, ARROW_FRACTION};
+use super::{ColourField, Statics, ARROW_FRACTION, NORMAL_FRACTION};
 use crate::law::InterfaceState;
 use crate::model::Model;
 use crate::output::fields::Scalar;
+use crate::output::surface::mould::{body_box, mould_normal};
 use crate::output::surface::{viridis, Surface};
 use crate::output::Snapshot;
 use crate::solver::ContactStatus;
@@ -17,8 +19,6 @@ use rerun::{Arrows3D, ComponentDescriptor, Mesh3D, Points3D, Transform3D};
 pub(super) struct Scales {
     /// Largest side of the bounding box [m].
     pub(super) extent: f64,
-    /// Centre of the bounding box [m].
-    pub(super) centre: [f64; 3],
     /// Arrow length per pascal [m/Pa].
     pub(super) arrow_scale: f64,
     pub(super) point_radius: f32,
@@ -26,13 +26,7 @@ pub(super) struct Scales {
 
 impl Scales {
     pub(super) fn of(m: &Model) -> Scales {
-        let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
-        for x in &m.mesh.nodes {
-            for i in 0..3 {
-                lo[i] = lo[i].min(x[i]);
-                hi[i] = hi[i].max(x[i]);
-            }
-        }
+        let (lo, hi) = body_box(m);
         let extent = (0..3).map(|i| hi[i] - lo[i]).fold(0.0, f64::max);
         let t_max = m
             .interfaces
@@ -43,7 +37,6 @@ impl Scales {
         let t_ref = if t_max > 0.0 { t_max } else { m.material.young };
         Scales {
             extent,
-            centre: [0, 1, 2].map(|i| 0.5 * (lo[i] + hi[i])),
             arrow_scale: ARROW_FRACTION * extent / t_ref,
             point_radius: (0.15 * m.mesh.min_edge()) as f32,
         }
@@ -166,7 +159,7 @@ impl Geometry {
     }
 
     /// Interface nodes: state, contact status, α and gap per node; −R_d on the solid and
-    /// R_c/h, both in Pa, as arrows (times the arrow scale).
+    /// R_c/h, both in Pa, as arrows (times the arrow scale); the mould's normal where in contact.
     fn interface_frame(&self, cols: &mut Columns, st: &Statics, s: &Snapshot) {
         let m = &st.model;
         let h = s.h.max(f64::MIN_POSITIVE);
@@ -221,9 +214,43 @@ impl Geometry {
             cols.push(path, Arrows3D::descriptor_vectors(), 3, vectors);
             cols.push(path, Arrows3D::descriptor_origins(), 3, &pts);
         }
+        let touching = nodes.iter().zip(&s.interface).map(|(&(n, itf), snap)| {
+            let k = m.interfaces[itf as usize].plane;
+            (n, k, snap.contact)
+        });
+        self.normals(cols, "interface/contact_normal", m, s, touching);
     }
 
-    /// Contact-only nodes: status, and R_c/h as arrows.
+    /// The mould's outward unit normal × [`NORMAL_FRACTION`] of the body's extent, at the
+    /// nodes in contact (stick or slip; none at an open node), class = their contact status:
+    /// `(node, mould, status)` of each node ([`mould_normal`] at x = X + U in the frame's pose
+    /// of the mould).
+    fn normals(
+        &self,
+        cols: &mut Columns,
+        path: &str,
+        m: &Model,
+        s: &Snapshot,
+        nodes: impl Iterator<Item = (u32, usize, ContactStatus)>,
+    ) {
+        let length = NORMAL_FRACTION * self.scales.extent;
+        let (mut origins, mut vectors, mut class) = (vec![], vec![], vec![]);
+        for (n, k, status) in nodes {
+            if status == ContactStatus::Open {
+                continue;
+            }
+            let x = position(m, s, n);
+            let normal = mould_normal(&m.planes[k], &s.moulds[k], x.map(f64::from));
+            origins.extend(x);
+            vectors.extend(normal.map(|c| (c * length) as f32));
+            class.push(contact_class(status));
+        }
+        cols.push(path, Arrows3D::descriptor_origins(), 3, &origins);
+        cols.push(path, Arrows3D::descriptor_vectors(), 3, &vectors);
+        cols.push(path, Arrows3D::descriptor_class_ids(), 1, &class);
+    }
+
+    /// Contact-only nodes: status, R_c/h as arrows, and the mould's normal where in contact.
     fn contact_frame(&self, cols: &mut Columns, st: &Statics, s: &Snapshot) {
         let m = &st.model;
         let h = s.h.max(f64::MIN_POSITIVE);
@@ -231,7 +258,7 @@ impl Geometry {
         let pts: Vec<f32> = st
             .contact_nodes
             .iter()
-            .flat_map(|&n| position(m, s, n))
+            .flat_map(|&(n, _)| position(m, s, n))
             .collect();
         let class: Vec<u16> = s.contact.iter().map(|c| contact_class(c.0)).collect();
         let pressure: Vec<f32> = s
@@ -248,6 +275,12 @@ impl Geometry {
             &pressure,
         );
         cols.push("contact/pressure", Arrows3D::descriptor_origins(), 3, &pts);
+        let touching = st
+            .contact_nodes
+            .iter()
+            .zip(&s.contact)
+            .map(|(&(n, k), c)| (n, k as usize, c.0));
+        self.normals(cols, "contact/normal", m, s, touching);
     }
 }
 

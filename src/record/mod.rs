@@ -12,13 +12,14 @@
 //! | `scene/file`, `scene/resolved` | TextDocument | static |
 //! | `body/surface` | Mesh3D: triangles static, positions and vertex colours per frame | frame |
 //! | `body/legend` | TextDocument: field, colormap, range | frame |
-//! | `planes/<name>` | each mould at t = 0, Mesh3D (static): a half-space as a quad, a box, sphere, capped cylinder or triangulated surface as its mesh; Transform3D per frame when it moves (translation; its 3×3 rotation when it turns) | static / frame |
+//! | `planes/<name>` | each mould at t = 0, Mesh3D (static): a half-space as a square around the body's bounding box, a box, sphere, capped cylinder or triangulated surface as its mesh; Transform3D per frame when it moves (translation; its 3×3 rotation when it turns) | static / frame |
 //! | `interface` | AnnotationContext: 0 elastic, 1 transition, 2 ruptured, 10 open, 11 stick, 12 slip | static |
 //! | `interface/nodes` | Points3D, class = state; `alpha_m`, `gap_m` per node (hover) | frame |
 //! | `interface/contact_status` | Points3D, class = open / stick / slip | frame |
 //! | `interface/cohesive_traction` | Arrows3D: −R_d on the solid [Pa] × arrow scale | frame |
 //! | `interface/contact_pressure` | Arrows3D: R_c / h [Pa] × arrow scale | frame |
-//! | `contact/nodes`, `contact/pressure` | the same for contact-only faces | frame |
+//! | `interface/contact_normal` | Arrows3D at the nodes in contact (stick, slip): the mould's outward unit normal there × [`NORMAL_FRACTION`] of the body's extent, class = status | frame |
+//! | `contact/nodes`, `contact/pressure`, `contact/normal` | the same for contact-only faces | frame |
 //! | `energy` | Scalars [J], one named series per ledger term (PHYSICS.md §5; hourglass with one-point integration) and the residual | frame |
 //! | `balance/relative_residual` | Scalars: residual / largest energy seen | frame |
 //! | `reaction/<faces>_<axis>` | Scalars [N]: reaction of a prescribed displacement | frame |
@@ -87,6 +88,9 @@ pub const ALPHA_PER_NODE_MAX: usize = 64;
 /// Longest arrow, drawn for the peak traction T_max of the law, as a fraction of the body's
 /// largest extent.
 pub const ARROW_FRACTION: f64 = 0.2;
+/// Length of a contact normal arrow (the mould's unit normal at a node in contact), as a
+/// fraction of the body's largest extent.
+pub const NORMAL_FRACTION: f64 = 0.08;
 /// Version of the Rerun viewer that reads our files (same as the SDK).
 pub const RERUN_VERSION: &str = "0.36.3";
 
@@ -232,7 +236,11 @@ impl Recorder {
                 .iter()
                 .map(|n| (n.node, n.interface))
                 .collect(),
-            contact_nodes: sim.contact_nodes.iter().map(|n| n.node).collect(),
+            contact_nodes: sim
+                .contact_nodes
+                .iter()
+                .map(|n| (n.node, n.plane))
+                .collect(),
             advisories: sim.advisories(),
         };
         let name = recording_name(sim);
@@ -324,7 +332,8 @@ struct Statics {
     h_crit: f64,
     /// (node, interface index) of each interface node.
     interface_nodes: Vec<(u32, u32)>,
-    contact_nodes: Vec<u32>,
+    /// (node, mould index) of each contact-only node.
+    contact_nodes: Vec<(u32, u32)>,
     /// [`Simulation::advisories`]: warnings about the regime of the model.
     advisories: Vec<String>,
 }

@@ -1,5 +1,6 @@
 //! Reading Rerun captures back with the SDK's chunk store (what the viewer loads).
 
+use rerun::external::re_chunk_store::external::re_chunk::ChunkComponentSlicer as Slicer;
 use rerun::TimelineName;
 use rerun::{ChunkStore, ChunkStoreConfig};
 use std::collections::BTreeMap;
@@ -20,7 +21,22 @@ pub fn read_capture(path: &Path) -> ChunkStore {
 
 /// Every row of a Scalars entity on the `step` timeline: step → values.
 pub fn scalars(store: &ChunkStore, entity: &str) -> BTreeMap<i64, Vec<f64>> {
-    let component = rerun::Scalars::descriptor_scalars().component;
+    rows::<f64>(
+        store,
+        entity,
+        rerun::Scalars::descriptor_scalars().component,
+    )
+}
+
+/// Every row of one component of an entity on the `step` timeline: step → instances.
+pub fn rows<T>(
+    store: &ChunkStore,
+    entity: &str,
+    component: rerun::ComponentIdentifier,
+) -> BTreeMap<i64, Vec<T>>
+where
+    T: Clone + for<'a> Slicer<Item<'a> = &'a [T]>,
+{
     let timeline = TimelineName::from_static_str("step");
     let mut rows = BTreeMap::new();
     for chunk in store.iter_physical_chunks() {
@@ -29,7 +45,7 @@ pub fn scalars(store: &ChunkStore, entity: &str) -> BTreeMap<i64, Vec<f64>> {
         }
         for ((t, _), v) in chunk
             .iter_component_indices(timeline, component)
-            .zip(chunk.iter_slices::<f64>(component))
+            .zip(chunk.iter_slices::<T>(component))
         {
             rows.insert(t.as_i64(), v.to_vec());
         }

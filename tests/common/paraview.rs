@@ -5,9 +5,26 @@ use std::collections::BTreeMap;
 use std::path::Path;
 use vtkio::model::{Attribute, CellType, DataSet, Piece, UnstructuredGridPiece, Vtk};
 
-/// The `(timestep, file)` entries of a `.pvd` collection, parsed as XML (an error if the file
-/// is not well-formed or not a collection).
+/// The `(timestep, file)` entries of the body (part 0) in a `.pvd` collection.
 pub fn read_pvd(path: &Path) -> Vec<(f64, String)> {
+    read_pvd_parts(path)
+        .into_iter()
+        .filter(|e| e.part == 0)
+        .map(|e| (e.time, e.file))
+        .collect()
+}
+
+/// One `<DataSet>` of a `.pvd` collection.
+pub struct PvdEntry {
+    pub time: f64,
+    pub part: usize,
+    pub name: String,
+    pub file: String,
+}
+
+/// Every entry of a `.pvd` collection, parsed as XML (an error if the file is not
+/// well-formed or not a collection).
+pub fn read_pvd_parts(path: &Path) -> Vec<PvdEntry> {
     use quick_xml::events::Event;
     let text = std::fs::read_to_string(path)
         .unwrap_or_else(|e| panic!("{} unreadable: {e}", path.display()));
@@ -28,9 +45,14 @@ pub fn read_pvd(path: &Path) -> Vec<(f64, String)> {
             Ok(Event::Empty(e)) if e.name().as_ref() == b"DataSet" => {
                 let attr = |k: &str| {
                     let a = e.try_get_attribute(k).unwrap().expect(k);
-                    String::from_utf8(a.value.to_vec()).unwrap()
+                    a.unescape_value().unwrap().into_owned()
                 };
-                entries.push((attr("timestep").parse::<f64>().unwrap(), attr("file")));
+                entries.push(PvdEntry {
+                    time: attr("timestep").parse::<f64>().unwrap(),
+                    part: attr("part").parse().unwrap(),
+                    name: attr("name"),
+                    file: attr("file"),
+                });
             }
             Ok(Event::Eof) => break,
             Ok(_) => {}
@@ -80,12 +102,20 @@ pub fn read_vtu(path: &Path) -> Grid {
         data,
     } = *piece;
     let (connectivity, offsets) = cells.cell_verts.into_xml();
-    assert_eq!(
-        offsets,
-        (1..=cells.types.len() as u64)
-            .map(|k| 8 * k)
-            .collect::<Vec<_>>()
-    );
+    // Hexahedra (the body) or triangles (a mould).
+    let corners = |t: &CellType| match t {
+        CellType::Triangle => 3,
+        _ => 8,
+    };
+    let ends: Vec<u64> = cells
+        .types
+        .iter()
+        .scan(0, |end, t| {
+            *end += corners(t);
+            Some(*end)
+        })
+        .collect();
+    assert_eq!(offsets, ends);
     Grid {
         points: points.cast_into::<f64>().unwrap(),
         connectivity,

@@ -3,8 +3,8 @@
 //! WebGL2), a depth buffer, Lambert shading with the face normal from the screen-space
 //! derivatives of the view-space position (flat faces, no normals in the vertex buffer).
 //!
-//! One vertex buffer holds the surface vertices, then the interface points, then the mould
-//! quads; it is uploaded only when [`Scene::version`] changes (a new frame, field or point
+//! One vertex buffer holds the surface vertices, then the interface and contact points, then
+//! the moulds' triangles (placed by the frame's poses); it is uploaded only when [`Scene::version`] changes (a new frame, field or point
 //! colouring), the index buffer only when the topology changes.
 
 use super::super::frames::Topology;
@@ -28,7 +28,8 @@ pub(super) struct Scene {
     pub(super) version: u64,
     /// The run's triangles.
     pub(super) topology: Arc<Topology>,
-    /// Surface vertices, then interface points, then six vertices per mould quad.
+    /// Surface vertices, then interface and contact points, then three vertices per mould
+    /// triangle.
     pub(super) vertices: Vec<Vertex>,
     pub(super) surface: usize,
     pub(super) points: usize,
@@ -61,7 +62,7 @@ void main() {
 }
 "#;
 
-/// `u_mode`: 0 the lit surface, 1 round points, 2 unlit (the moulds).
+/// `u_mode`: 0 lit faces (the surface; the moulds, see-through), 1 round points, 2 unlit.
 const FRAGMENT_SHADER: &str = r#"
 in vec3 v_view;
 in vec4 v_rgba;
@@ -233,12 +234,13 @@ impl GlView {
             gl.draw_elements(glow::TRIANGLES, n, glow::UNSIGNED_INT, 0);
             gl.uniform_1_i32(self.u_mode.as_ref(), 1);
             gl.draw_arrays(glow::POINTS, scene.surface as i32, scene.points as i32);
-            // The moulds: see-through, behind and in front of the body.
+            // The moulds: see-through, behind and in front of the body, lit so that a curved
+            // one shows its shape.
             let first = scene.surface + scene.points;
             gl.enable(glow::BLEND);
             gl.blend_func(glow::SRC_ALPHA, glow::ONE_MINUS_SRC_ALPHA);
             gl.depth_mask(false);
-            gl.uniform_1_i32(self.u_mode.as_ref(), 2);
+            gl.uniform_1_i32(self.u_mode.as_ref(), 0);
             let quads = (scene.vertices.len() - first) as i32;
             gl.draw_arrays(glow::TRIANGLES, first as i32, quads);
             gl.depth_mask(true);
