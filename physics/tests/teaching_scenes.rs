@@ -4,6 +4,7 @@
 mod common;
 use common::centre_of_mass;
 use common::scene_file;
+use common::{mean, slope};
 use decohesion_physics::scene::load_scene;
 use decohesion_physics::solver::Simulation;
 use std::f64::consts::FRAC_PI_2;
@@ -14,22 +15,6 @@ fn start(name: &str, overrides: &[&str]) -> Simulation {
     let scene =
         load_scene(&scene_file(&format!("{name}.toml")), &set).unwrap_or_else(|e| panic!("{e}"));
     Simulation::new(scene.model).unwrap_or_else(|e| panic!("{e}"))
-}
-
-/// Mean of the values.
-fn mean(v: impl IntoIterator<Item = f64>) -> f64 {
-    let (s, n) = v
-        .into_iter()
-        .fold((0.0, 0usize), |(s, n), x| (s + x, n + 1));
-    s / n as f64
-}
-
-/// Least-squares slope of y against x.
-fn slope(pts: &[(f64, f64)]) -> f64 {
-    let (mx, my) = (mean(pts.iter().map(|p| p.0)), mean(pts.iter().map(|p| p.1)));
-    let sxy: f64 = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
-    let sxx: f64 = pts.iter().map(|p| (p.0 - mx) * (p.0 - mx)).sum();
-    sxy / sxx
 }
 
 /// The 90° peel (scenes/peel.toml). The strip's end face is lifted at V with x free, so the

@@ -4,7 +4,7 @@
 
 use super::check::Check;
 use super::error::{num, SceneError};
-use super::raw::{RawMesh, RawMould};
+use super::raw::{RawFaceSet, RawMesh, RawMould};
 use crate::mesh::Mesh;
 use crate::model::RigidPlane;
 use crate::mould::surface::read_stl;
@@ -19,12 +19,69 @@ const FORMS: &str = "a mesh is either a Gmsh file (`file`, optional `scale`) or 
                      (`size` and `cells`, optional `origin`)";
 
 impl Check<'_> {
-    /// The `[mesh]` section: a Gmsh file or a box.
+    /// The `[mesh]` section: a Gmsh file or a box, and the face sets `[[mesh.face_set]]`
+    /// selects from its face sets.
     pub(super) fn mesh(&self, m: &RawMesh) -> Result<Mesh, SceneError> {
-        match &m.file {
+        let mut mesh = match &m.file {
             Some(file) => self.gmsh_mesh(m, file),
             None => self.box_mesh(m),
+        }?;
+        for (i, fs) in m.face_set.iter().enumerate() {
+            let quads = self.face_subset(&mesh, &format!("mesh.face_set[{i}]"), fs)?;
+            mesh.face_sets.insert(fs.name.clone(), quads);
         }
+        Ok(mesh)
+    }
+
+    /// `mesh.face_set[i]`: the faces of the face set `of` whose centre (the mean of its four
+    /// nodes) lies in the box `min` ≤ x ≤ `max` (each component, bounds included). The name
+    /// must be new, `of` a face set of the mesh (or one selected before), `min` ≤ `max`, and
+    /// the selection not empty.
+    fn face_subset(
+        &self,
+        mesh: &Mesh,
+        key: &str,
+        fs: &RawFaceSet,
+    ) -> Result<Vec<[u32; 4]>, SceneError> {
+        if mesh.face_sets.contains_key(&fs.name) {
+            return Err(self.invalid(
+                format!("{key}.name"),
+                format!("{:?}", fs.name),
+                "a face set of that name exists already: choose a new name",
+            ));
+        }
+        let of = self.faces(mesh, format!("{key}.of"), &fs.of)?;
+        if let Some(c) = (0..3).find(|&c| fs.min[c] > fs.max[c]) {
+            return Err(self.invalid(
+                format!("{key}.min"),
+                format!("{:?}", fs.min),
+                format!(
+                    "component {c} ({}) is above `max`'s ({}): the box needs min ≤ max",
+                    num(fs.min[c]),
+                    num(fs.max[c])
+                ),
+            ));
+        }
+        let centre = |q: &[u32; 4]| -> [f64; 3] {
+            std::array::from_fn(|c| q.iter().map(|&n| mesh.nodes[n as usize][c]).sum::<f64>() / 4.0)
+        };
+        let inside = |x: [f64; 3]| (0..3).all(|c| fs.min[c] <= x[c] && x[c] <= fs.max[c]);
+        let quads: Vec<[u32; 4]> = (mesh.face_sets[&of].iter())
+            .filter(|q| inside(centre(q)))
+            .copied()
+            .collect();
+        if quads.is_empty() {
+            return Err(self.invalid(
+                format!("{key}.max"),
+                format!("{:?}", fs.max),
+                format!(
+                    "no face of `{of}` has its centre in the box from `min` {:?} to `max` {:?}: \
+                     widen the box over the faces to select",
+                    fs.min, fs.max
+                ),
+            ));
+        }
+        Ok(quads)
     }
 
     /// A Gmsh file read by [`crate::gmsh::read_msh`] (its path relative to the scene file's

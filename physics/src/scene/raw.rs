@@ -62,6 +62,20 @@ pub struct RawMesh {
     pub cells: Option<[usize; 3]>,
     pub file: Option<String>,
     pub scale: Option<f64>,
+    /// `[[mesh.face_set]]`: named parts of face sets, selected by a box.
+    #[serde(default)]
+    pub face_set: Vec<RawFaceSet>,
+}
+
+/// `[[mesh.face_set]]`: the faces of the face set `of` whose centre lies in the box
+/// [`min`, `max`] (bounds included), as a new face set `name`.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawFaceSet {
+    pub name: String,
+    pub of: String,
+    pub min: [f64; 3],
+    pub max: [f64; 3],
 }
 
 #[derive(Deserialize)]

@@ -157,3 +157,19 @@ faces = "z+"
 component = "z"
 table = [[0.0, 0.0], [0.3, 0.6]]
 "#;
+
+/// Mean of the values.
+pub fn mean(v: impl IntoIterator<Item = f64>) -> f64 {
+    let (s, n) = v
+        .into_iter()
+        .fold((0.0, 0usize), |(s, n), x| (s + x, n + 1));
+    s / n as f64
+}
+
+/// Least-squares slope of y against x.
+pub fn slope(pts: &[(f64, f64)]) -> f64 {
+    let (mx, my) = (mean(pts.iter().map(|p| p.0)), mean(pts.iter().map(|p| p.1)));
+    let sxy: f64 = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
+    let sxx: f64 = pts.iter().map(|p| (p.0 - mx) * (p.0 - mx)).sum();
+    sxy / sxx
+}
