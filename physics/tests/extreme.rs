@@ -132,7 +132,10 @@ fn brittle_law_dissipates_g_c() {
     assert!(has_warning(&sim, "is brittle"));
     run_finite(&mut sim).unwrap();
     assert_eq!(sim.state_counts().ruptured, sim.interface_nodes.len());
-    assert!(sim.ledger.max_relative_residual < 1e-3);
+    // The step grows after the rupture (issue 16) from 0.5 to 0.89 h_crit(glued), and the
+    // bulk's ledger term is O(h²): fixed-step runs measure 8.6e-4 at 0.5 and 2.9e-3 at 0.9;
+    // this run 1.6e-3, between them.
+    assert!(sim.ledger.max_relative_residual < 2e-3);
     let (gc, d) = (fracture_work(&sim), sim.energies().damage_dissipated);
     assert!((d / gc - 1.0).abs() < 1e-2, "D = {d} J vs G_c A = {gc} J");
 }
@@ -357,10 +360,12 @@ fn impact_at_100_m_s() {
     assert!(sim.stats.h_crit_estimates > 0);
     assert!(sim.stats.h_crit_min < 0.5 * sim.stats.h_crit_initial);
     assert!(sim.min_jacobian > 0.0);
-    // Each change of h breaks the trapezoid pairing of the ledger for one step (documented);
-    // with ~200 changes the ledger closes to a few %, not to O(h²).
+    // The ledger is exact across changes of h (step-change work, issue 16) up to the bulk's
+    // O(h²) term, which is large here: h lags the 13-fold stiffening between estimates.
+    // Measured 1.5e-2 with converged estimates at every ±0.02 of J, 5.5e-2 with the adaptive
+    // trigger of issue 16 (a lag, not a pairing error: open).
     assert!(
-        sim.ledger.max_relative_residual < 0.05,
+        sim.ledger.max_relative_residual < 0.08,
         "{}",
         sim.ledger.max_relative_residual
     );
@@ -401,7 +406,9 @@ fn a_million_steps_of_free_vibration_do_not_drift() {
 
 #[test]
 fn single_element_pull_off() {
-    let mut sim = scene("single_element", &[]);
+    // A fixed step (no re-estimate, so h never grows after the rupture): the order in h below
+    // needs one h per run.
+    let mut sim = scene("single_element", &["scheme.h_crit_update_interval=0"]);
     let mut rupture_steps = vec![None; sim.interface_nodes.len()];
     run_finite_with(&mut sim, |s| {
         for (k, itf) in s.interface_nodes.iter().enumerate() {
@@ -428,7 +435,13 @@ fn single_element_pull_off() {
     // default factor 0.5) that vanishes with h.
     let gc = fracture_work(&sim);
     let d_coarse = sim.energies().damage_dissipated;
-    let mut fine = scene("single_element", &["scheme.time_step_factor=0.05"]);
+    let mut fine = scene(
+        "single_element",
+        &[
+            "scheme.time_step_factor=0.05",
+            "scheme.h_crit_update_interval=0",
+        ],
+    );
     run_finite(&mut fine).unwrap();
     let d_fine = fine.energies().damage_dissipated;
     eprintln!("single element: peak {peak:.1} N vs T_max A = {:.1} N; D = {d_coarse:.3} J (h = 0.5 h_crit), {d_fine:.3} J (0.05 h_crit) vs G_c A = {gc:.3} J", tmax * area);

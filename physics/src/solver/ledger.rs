@@ -5,13 +5,26 @@ use super::state::{SolverError, StateCounts};
 use super::Simulation;
 use crate::energy::Work;
 
-/// What the interface nodes hold after a step: Σ Ψ_d, Σ ΔD, the most negative ΔD and the
-/// state counts.
+/// What the interface nodes hold after a step: Σ Ψ_d, Σ ΔD, the most negative ΔD, the state
+/// counts, the glue's total spring stiffness Σ W g_N(αₙ) and the cohesive force's step-change
+/// work over the interval just taken.
 struct InterfaceSums {
     stored: f64,
     dissipated: f64,
     worst: f64,
     counts: StateCounts,
+    springs: f64,
+    step_change: f64,
+}
+
+/// The weights of a change of step in the interval [tₙ₋₁, tₙ] just taken (PHYSICS.md §8,
+/// README "Variable step"): with h₋ = h_{n−3/2}, h = h_{n−½}, h₊ = h_{n+½},
+/// `prev` = (h − h₋)/(2h) = 1 − h̄ₙ₋₁/h and `now` = (h₊ − h)/(2h) = h̄ₙ/h − 1; both 0 at a
+/// constant step.
+#[derive(Clone, Copy)]
+struct StepChange {
+    prev: f64,
+    now: f64,
 }
 
 impl Simulation {
@@ -20,10 +33,39 @@ impl Simulation {
     /// closing, the run statistics and the blow-up checks (non-finite values, negative damage
     /// dissipation, contact creating energy, energy growing without a source). `first`: the
     /// start of the run, where only the forward halves exist.
+    ///
+    /// *Variable step* (PHYSICS.md §8). The impulse form of every work, ½V_{n−½}·(Pₙ₋₁ + Pₙ)
+    /// with Pₙ = h̄ₙFₙ, sums exactly to Kₙ − Kₙ₋₁ at any sequence of steps. The stored-energy
+    /// identities (bulk Ψ to O(h²), cohesive Ψ_d + D exactly) hold for the plain trapezoid
+    /// ½ΔU·(Fₙ₋₁ + Fₙ), ΔU = h_{n−½}V_{n−½}. The two differ only where h changes, by
+    /// ½ΔU·((h̄ₙ₋₁/h_{n−½} − 1)Fₙ₋₁ + (h̄ₙ/h_{n−½} − 1)Fₙ) for each conservative force (internal
+    /// and cohesive on the body, the latter on the jump [u]): the **step-change work**
+    /// W_Δh that the change of step feeds into K. It enters the balance as a source,
+    /// residual = W_ext + W_Δh − (ΔK + ΔΨ + ΔΨ_hg + ΔΨ_d + D + D_c + D_f), which is then exact
+    /// up to the bulk's O(h²) term whatever the steps. In halves: the impulse halves b, a of
+    /// F_int (at tₙ, h̄ = ½(h_{n−½} + h_{n+½})) give b(1 − h_{n−½}/h̄) and a(1 − h_{n+½}/h̄);
+    /// the cohesive part uses [u]ₙ − [u]ₙ₋₁ directly ([`StepChange`]).
     pub(super) fn ledger(&mut self, first: bool) -> Result<(), SolverError> {
         self.reactions_and_peaks();
-        self.push_work(first);
-        let itf = self.interface_sums();
+        let c = &mut self.step_control;
+        if first {
+            c.h_before = self.h;
+        }
+        let (h_before, h, h_next) = (c.h_before, self.h, c.h_next);
+        let change = (!first && (h_before != h || h_next != h)).then(|| StepChange {
+            prev: (h - h_before) / (2.0 * h),
+            now: (h_next - h) / (2.0 * h),
+        });
+        let itf = self.interface_sums(change);
+        let c = &mut self.step_control;
+        c.springs_now = itf.springs;
+        if first {
+            (c.springs_initial, c.springs_at_estimate) = (itf.springs, itf.springs);
+        } else {
+            c.h_before = h;
+        }
+        let internal = (!first && h_next != h).then(|| (h_next - h) / (h_next + h));
+        self.push_work(first, internal, itf.step_change);
         let l = &mut self.ledger;
         l.interface_stored = itf.stored;
         l.damage_dissipated += itf.dissipated;
@@ -66,8 +108,11 @@ impl Simulation {
     }
 
     /// Kₙ and each force's half contributions of this step (backward ½V_{n−½}·P, forward
-    /// ½V_{n+½}·P) from the node loop and the boundary pass, into the ledger.
-    fn push_work(&mut self, first: bool) {
+    /// ½V_{n+½}·P) from the node loop and the boundary pass, into the ledger; and the
+    /// step-change work: `cohesive` for the interval just taken, and, with
+    /// `internal` = ρ = (h_{n+½} − h_{n−½})/(h_{n+½} + h_{n−½}), the internal force's halves
+    /// ρb and −ρa ([`Simulation::ledger`]).
+    fn push_work(&mut self, first: bool, internal: Option<f64>, cohesive: f64) {
         let (mut s, bs) = (self.scratch.node_sums, self.scratch.boundary_sums);
         s.int_a += bs.int_a;
         s.grav_a += bs.grav_a;
@@ -84,6 +129,7 @@ impl Simulation {
             (&mut l.contact_normal_work, bs.cn_b, bs.cn_a),
             (&mut l.contact_tangential_work, bs.ct_b, bs.ct_a),
         ];
+        let (rb, ra) = internal.map_or((0.0, 0.0), |rho| (rho * s.int_b, -rho * s.int_a));
         for (work, b, a) in works {
             if first {
                 work.start(a);
@@ -91,17 +137,26 @@ impl Simulation {
                 work.push(b, a);
             }
         }
+        if first {
+            l.step_change_work.start(0.0);
+        } else {
+            l.step_change_work.push(rb + cohesive, ra);
+        }
         self.kinetic_half = s.kinetic_half;
     }
 
-    /// Σ Ψ_d = Σ W ½ g_N(αₙ)|[u]ₙ|² and Σ ΔDₙ over the interface nodes (PHYSICS.md §5), and
-    /// their states; moves [u]ₙ, g_N(αₙ) into the "previous" slots for the next ΔD.
-    fn interface_sums(&mut self) -> InterfaceSums {
+    /// Σ Ψ_d = Σ W ½ g_N(αₙ)|[u]ₙ|² and Σ ΔDₙ over the interface nodes (PHYSICS.md §5), their
+    /// states, Σ W g_N(αₙ), and where the step changed (`change`) the cohesive step-change
+    /// work ½([u]ₙ − [u]ₙ₋₁)·W(prev R_d,ₙ₋₁ − now R_d,ₙ) (the force on the body is −W R_d);
+    /// moves [u]ₙ, g_N(αₙ) into the "previous" slots for the next ΔD.
+    fn interface_sums(&mut self, change: Option<StepChange>) -> InterfaceSums {
         let mut out = InterfaceSums {
             stored: 0.0,
             dissipated: 0.0,
             worst: 0.0,
             counts: StateCounts::default(),
+            springs: 0.0,
+            step_change: 0.0,
         };
         for itf in self.interface_nodes.iter_mut() {
             let spec = &self.model.interfaces[itf.interface as usize];
@@ -117,6 +172,18 @@ impl Simulation {
             );
             out.worst = out.worst.min(dd);
             out.dissipated += dd;
+            out.springs += itf.area * itf.stiffness;
+            if let Some(w) = change {
+                let r_prev = law.cohesive_traction(itf.prev_stiffness, itf.prev_jump, n);
+                out.step_change += (0..3)
+                    .map(|c| {
+                        let du = itf.jump[c] - itf.prev_jump[c];
+                        0.5 * du
+                            * itf.area
+                            * (w.prev * r_prev[c] - w.now * itf.cohesive_traction[c])
+                    })
+                    .sum::<f64>();
+            }
             itf.prev_stiffness = itf.stiffness;
             itf.prev_jump = itf.jump;
             out.counts.add(law.state(itf.alpha));
