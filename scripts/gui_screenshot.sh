@@ -11,8 +11,14 @@ shift || true
 args=("$@")
 [ ${#args[@]} -eq 0 ] && args=(--run-on-start)
 export CARGO_TARGET_DIR="${CARGO_TARGET_DIR:-$HOME/.cache/decohesion-target}"
-cargo build --release --quiet
-bin="$CARGO_TARGET_DIR/release/decohesion"
+# DECOHESION_BIN: an explorer already built; else build one and copy it at once (a target
+# directory shared with other checkouts may get their binary under the same name).
+bin="${DECOHESION_BIN:-}"
+if [ -z "$bin" ]; then
+  cargo build --release --quiet
+  bin="$(mktemp -d)/decohesion"
+  cp "$CARGO_TARGET_DIR/release/decohesion" "$bin"
+fi
 
 display=":${DECOHESION_XVFB_DISPLAY:-98}"
 Xvfb "$display" -screen 0 1600x1000x24 >/dev/null 2>&1 &

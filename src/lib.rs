@@ -17,18 +17,32 @@ pub use decohesion_physics::{
     energy, gmsh, interface, kernels, law, material, mesh, model, scene, solver, team,
 };
 
-/// The `decohesion` subcommands behind the command line's parsing (run, check, tradeoff, bench).
+/// The `decohesion` subcommands behind the command line's parsing (run, check, tradeoff, bench);
+/// on wasm32 only what the explorer shares with it (the `--vary` parser, the series colours).
 pub mod cli;
 /// The run driver: the outputs of a run, its loop, cancellation, progress, the summary.
+#[cfg(not(target_arch = "wasm32"))]
 pub mod driver;
-/// The explorer window (egui): reads scenes, runs simulations on a thread; not used by the physics.
+/// The explorer (egui): reads scenes, runs simulations on a thread or, in the web page, inside
+/// the frame loop; not used by the physics.
 pub mod gui;
-/// What the outputs share: frame cadence, snapshot, per-element fields, writer threads.
+/// What the outputs share: frame cadence, snapshot, per-element fields, writer threads (on
+/// wasm32 without the outputs themselves: the explorer's view may read the fields).
 pub mod output;
 /// Rerun recording (live or `.rrd`): reads a simulation, is not read by the physics.
+#[cfg(not(target_arch = "wasm32"))]
 pub mod record;
 pub mod report;
 /// Speed against accuracy: a grid of configurations of one scene compared with the finest.
+#[cfg(not(target_arch = "wasm32"))]
 pub mod tradeoff;
 /// ParaView output (`.vtu` frames and a `.pvd` index): reads a simulation, uses no Rerun.
+#[cfg(not(target_arch = "wasm32"))]
 pub mod vtk;
+/// The web page's entry point (wasm32): the explorer in a canvas, every scene of `scenes/`
+/// built in, runs stepped inside the frame loop.
+#[cfg(target_arch = "wasm32")]
+pub mod web;
+
+// Native-only (threads, files, Rerun, ParaView, the command line): on wasm32-unknown-unknown the
+// modules marked so above are left out, not stubbed; the page offers no recording and no files.

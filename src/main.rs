@@ -1,5 +1,10 @@
 //! The `decohesion` command: its arguments; the subcommands are in the library
 //! ([`decohesion::cli`]).
+//!
+//! Native only: on wasm32 the crate is the web page (`decohesion::web`, built as a cdylib by
+//! `scripts/build_site.sh`), and this binary is empty (no `main`, nothing offered).
+#![cfg_attr(target_arch = "wasm32", no_main)]
+#![cfg(not(target_arch = "wasm32"))]
 
 use clap::{Parser, Subcommand};
 use decohesion::cli::{bench, check, run, sweep, tradeoff, SweepArgs};

@@ -57,16 +57,23 @@ pub struct RunSummary {
     pub max_relative_residual: f64,
     pub stage_seconds: StageTimes,
     /// What went to Rerun, when the run was recorded.
+    #[cfg(not(target_arch = "wasm32"))]
     pub recording: Option<crate::record::RecordingReport>,
     /// [`Simulation::advisories`]: warnings about the regime of the model.
     pub warnings: Vec<String>,
     /// What went to ParaView files (`--vtk`).
+    #[cfg(not(target_arch = "wasm32"))]
     pub paraview: Option<crate::vtk::VtkReport>,
     /// Interfaces whose glued nodes start off their mould beyond the tolerance, or inside it:
     /// per interface the count and the largest offset ([`crate::solver::StartOffset`]; also a
     /// warning). Absent when every glued node starts on its mould.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub glued_start_offsets: Vec<crate::solver::StartOffset>,
+    /// Each mould's work since t₀ [J] (force · velocity of the mould at the points it acts on,
+    /// moments included; their sum is `energies.plane_work`), as (name, work). Listed when a
+    /// scene has a mould that is not a plain fixed-orientation plane (issue 13).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub mould_work: Vec<(String, f64)>,
 }
 
 impl RunSummary {
@@ -123,10 +130,17 @@ impl RunSummary {
             energies: sim.energies(),
             max_relative_residual: sim.ledger.max_relative_residual,
             stage_seconds: sim.stats.stage_times.clone(),
+            #[cfg(not(target_arch = "wasm32"))]
             recording: None,
             warnings: sim.advisories(),
+            #[cfg(not(target_arch = "wasm32"))]
             paraview: None,
             glued_start_offsets: sim.start_offsets.clone(),
+            mould_work: if sim.model.planes.iter().all(|p| p.is_plane()) {
+                vec![]
+            } else {
+                sim.mould_works()
+            },
         }
     }
 
@@ -210,6 +224,9 @@ impl RunSummary {
             ),
         );
         row("external work", format!("{:.6e} J", e.external_work));
+        for (name, w) in &self.mould_work {
+            row(&format!("  work of mould `{name}`"), format!("{w:.6e} J"));
+        }
         row(
             "balance residual",
             format!(
@@ -217,6 +234,7 @@ impl RunSummary {
                 e.residual, self.max_relative_residual
             ),
         );
+        #[cfg(not(target_arch = "wasm32"))]
         if let Some(r) = &self.recording {
             let size = r
                 .bytes
@@ -235,6 +253,7 @@ impl RunSummary {
                 ),
             );
         }
+        #[cfg(not(target_arch = "wasm32"))]
         if let Some(p) = &self.paraview {
             row(
                 "paraview",

@@ -60,10 +60,20 @@ pub enum MshError {
     Mesh { file: String, message: String },
 }
 
+/// How a scene's files (meshes, mould surfaces) are read: `std::fs::read` by default; the web page,
+/// which has no file system, passes the files built into it.
+pub type ReadFile<'a> = &'a dyn Fn(&Path) -> std::io::Result<Vec<u8>>;
+
 /// Reads the `.msh` file at `path` (see the module docs for what is accepted).
 pub fn read_msh(path: &Path) -> Result<Mesh, MshError> {
+    read_msh_with(path, &|p| std::fs::read(p))
+}
+
+/// Reads the `.msh` file at `path` through `read` (the file system, or the files built into the
+/// web page).
+pub fn read_msh_with(path: &Path, read: ReadFile) -> Result<Mesh, MshError> {
     let file = path.display().to_string();
-    let bytes = std::fs::read(path).map_err(|source| MshError::Io {
+    let bytes = read(path).map_err(|source| MshError::Io {
         file: file.clone(),
         source,
     })?;
@@ -466,6 +476,80 @@ fn with_face_sets(
         mesh.face_sets.insert(name, set);
     }
     Ok(mesh)
+}
+
+/// A surface group read from a `.msh` file: the nodes, the triangles, each triangle's element tag.
+pub type SurfaceGroup = (Vec<[f64; 3]>, Vec<[u32; 3]>, Vec<u64>);
+
+/// A triangulated surface (a rigid mould, [`crate::mould::surface`]): the elements of the 2-D
+/// physical group named `group` (or `physical_<tag>`) of the `.msh` file `bytes`, 3-node
+/// triangles as they are and 4-node quadrangles split along their 0–2 diagonal (both halves keep
+/// the quadrangle's orientation). Returns the file's nodes, the triangles (node indices) and the
+/// element tag of each triangle. A missing group lists the groups there are; any other element
+/// type in the group is refused with its tag.
+pub fn read_surface_group(bytes: &[u8], file: &str, group: &str) -> Result<SurfaceGroup, MshError> {
+    let binary = is_binary(bytes);
+    let msh = mshio::parse_msh_bytes(bytes).map_err(|e| syntax_error(&e, bytes, file, binary))?;
+    let err = MeshErr(file);
+    let names = physical_names(bytes, file, binary)?;
+    let nodes = FileNodes::read(&msh, &err)?;
+    let name_of = |tag: i32| {
+        names
+            .get(&(2, tag))
+            .cloned()
+            .unwrap_or_else(|| format!("physical_{tag}"))
+    };
+    let mut entities: Vec<i32> = Vec::new();
+    let mut all: Vec<String> = Vec::new();
+    for s in msh.data.entities.iter().flat_map(|e| &e.surfaces) {
+        for t in s.physical_tags.iter().map(|t| t.abs()) {
+            all.push(format!("\"{}\"", name_of(t)));
+            if name_of(t) == group {
+                entities.push(s.tag);
+            }
+        }
+    }
+    if entities.is_empty() {
+        all.sort();
+        all.dedup();
+        return Err(err.at(format!(
+            "no 2-D physical group named \"{group}\"; the file has: {}",
+            if all.is_empty() {
+                "none".to_string()
+            } else {
+                all.join(", ")
+            }
+        )));
+    }
+    let (mut tris, mut tags) = (Vec::new(), Vec::new());
+    let blocks = msh.data.elements.iter().flat_map(|e| &e.element_blocks);
+    for block in blocks.filter(|b| b.entity_dim == 2 && entities.contains(&b.entity_tag)) {
+        let ty = block.element_type as i32;
+        for el in &block.elements {
+            let n = match ty {
+                2 => 3,
+                QUAD4 => 4,
+                _ => {
+                    return Err(err.at(format!(
+                        "element {} ({}, in physical group \"{group}\"): a mould surface takes 3-node triangles (type 2) or 4-node quadrangles (type 3)",
+                        el.element_tag,
+                        type_name(ty)
+                    )))
+                }
+            };
+            let mut v = [0u32; 4];
+            for a in 0..n {
+                v[a] = nodes.get(el.nodes[a], el.element_tag, &err)? as u32;
+            }
+            tris.push([v[0], v[1], v[2]]);
+            tags.push(el.element_tag);
+            if n == 4 {
+                tris.push([v[0], v[2], v[3]]);
+                tags.push(el.element_tag);
+            }
+        }
+    }
+    Ok((nodes.coords, tris, tags))
 }
 
 /// Writes `mesh` as a `.msh` 4.1 ASCII file: one volume entity (physical group "body") holding

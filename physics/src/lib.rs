@@ -25,6 +25,8 @@ pub use interface::law;
 pub mod material;
 pub mod mesh;
 pub mod model;
+/// Rigid moulds of any shape: shapes, closest-point queries, prescribed rigid motion.
+pub mod mould;
 pub mod scene;
 pub mod solver;
 /// The persistent thread team of the step's parallel loops.

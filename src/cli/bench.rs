@@ -1,10 +1,16 @@
 //! `decohesion bench`: ns per element-step on cubes of n³ hex8 elements, the share of each stage
-//! of the step, and the scaling of the wall time with the mesh size.
+//! of the step, the scaling of the wall time with the mesh size, and the element kernels
+//! against the machine's limits (flops counted from the code, the peak rate and the memory
+//! bandwidth read at run time, [`super::peak`]).
 
+use super::peak::{peak, triad_gbs};
 use crate::report::state_bytes;
 use crate::scene::load_scene;
 use crate::solver::Simulation;
-use anyhow::{bail, Result};
+use anyhow::{anyhow, bail, Result};
+use decohesion_physics::kernels::flops;
+use decohesion_physics::kernels::simd::{Isa, ISA_VARIABLE};
+use decohesion_physics::model::Integration;
 use std::path::Path;
 use std::time::Instant;
 
@@ -31,6 +37,9 @@ pub fn bench(
         bail!("--repeats must be ≥ 1");
     }
     crate::tradeoff::require_box_mesh(&load_scene(path, &[])?, "--sizes")?;
+    // The build the kernels run (an invalid DECOHESION_ISA is refused here, not replaced).
+    let isa = Isa::from_env().map_err(|e| anyhow!(e))?;
+    let forced = std::env::var_os(ISA_VARIABLE).is_some();
     println!(
         "decohesion bench: {} on {} threads ({}; meshes under {} elements on one), interface on; full = 2×2×2 Gauss, reduced = one point + hourglass control",
         path.display(),
@@ -63,6 +72,7 @@ pub fn bench(
     }
     let fits = print_times(&mut configs);
     print_shares(&configs);
+    print_limits(&configs, isa, forced);
     for (integration, points) in fits {
         if points.len() >= 2 {
             println!(
@@ -214,6 +224,58 @@ fn print_shares(configs: &[Config]) {
             pct(d[2]),
             pct(d[3]),
             pct(d[4])
+        );
+    }
+}
+
+/// The element kernels against the machine's limits: flops per element-step (counted from the
+/// code, [`flops`]), the element loop's time per element-step (stage 3 alone), the rate that
+/// makes and its share of the peak; the bytes the element loop moves per element-step and the
+/// rate that makes against a measured memory bandwidth.
+fn print_limits(configs: &[Config], isa: Isa, forced: bool) {
+    let threads = rayon::current_num_threads();
+    let p = peak(threads, isa);
+    println!(
+        "the limit: kernels built for {} ({}; {ISA_VARIABLE}=portable|avx2|avx512 picks one)",
+        isa.name(),
+        if forced {
+            "forced by ".to_string() + ISA_VARIABLE
+        } else {
+            "the widest this CPU runs".to_string()
+        }
+    );
+    println!("peak: {}", p.describe());
+    let triad = triad_gbs();
+    println!("memory: {triad:.1} GB/s (triad a = b + s·c on 3 × 64 MiB, one thread, best of 5)");
+    println!(
+        "{:>8} {:>4} {:>12} {:>13} {:>8} {:>8} {:>11} {:>8}",
+        "rule", "n", "flops/elem", "kernel ns/el", "GFLOP/s", "of peak", "bytes/elem", "GB/s"
+    );
+    for c in configs {
+        let model = c.sim.model.material.model;
+        let count = match c.sim.model.scheme.integration {
+            Integration::Full => flops::full(model),
+            Integration::Reduced => flops::one_point(model),
+        };
+        let elements = c.sim.model.mesh.elements.len() as f64;
+        let nodes = c.sim.model.mesh.nodes.len() as f64;
+        let steps = (c.steps as usize * c.ns.len()) as f64;
+        let secs = c.sim.stats.stage_times.internal_forces - c.stages0.internal_forces;
+        let ns = secs * 1e9 / (steps * elements);
+        let gflops = count.total() as f64 / ns;
+        // Per element: its connectivity (8 × u32) and class (u32); per node: U read, F read
+        // and written (3 f64 each) — what reaches memory when the nodal arrays leave the caches.
+        let bytes = 36.0 + 72.0 * nodes / elements;
+        println!(
+            "{:>8} {:>4} {:>12} {:>13.1} {:>8.1} {:>7.1}% {:>11.0} {:>8.2}",
+            c.integration,
+            c.n,
+            count.total(),
+            ns,
+            gflops,
+            100.0 * gflops / p.gflops(),
+            bytes,
+            bytes / ns
         );
     }
 }

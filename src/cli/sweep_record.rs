@@ -3,14 +3,16 @@
 //!
 //! Timelines are integers, so each varied key gets one whose ticks are its values in a unit of
 //! 10^e, e the largest power that makes every value a whole number (`pull_speed [×1e-2]`: 0.01,
-//! 0.1, 1 → 1, 10, 100); values spanning two decades or more also get `log10 <key> [×1e-3]`
-//! (ticks 1000·log₁₀ v, evenly spaced for a sweep by decades); values that are not numbers
+//! 0.1, 1 → 1, 10, 100); values spanning two decades or more also get `log10 <key> [×1e-d]`
+//! (ticks 10^d·log₁₀ v, evenly spaced for a sweep by decades; d = 3 up to two decades, 2 up to
+//! twenty, so that the span stays within the 2000 ticks the viewer plots whole); values that are not numbers
 //! (`scheme.integration="full","reduced"`) are placed by their index in the `--vary` list.
 //! Entity `sweep/<key>/<observable>/<others>` is logged on the timelines of `<key>` only, one
 //! entity (series) per combination of the other varied keys' values. The table of runs is
 //! `table`.
 
 use super::sweep::{observable_names, observables, SweepRow, Vary};
+use super::vary::PALETTE;
 use anyhow::{Context, Result};
 use rerun::blueprint::components::{PanelState, PlayState};
 use rerun::blueprint::{
@@ -72,13 +74,30 @@ pub fn timelines(v: &Vary) -> Vec<(String, Vec<i64>)> {
         .iter()
         .fold((f64::INFINITY, 0.0f64), |(l, h), &x| (l.min(x), h.max(x)));
     if lo > 0.0 && hi / lo >= 100.0 {
+        let d = log_digits((hi / lo).log10());
+        let scale = 10f64.powi(d);
         let ticks = nums
             .iter()
-            .map(|x| (1000.0 * x.log10()).round() as i64)
+            .map(|x| (scale * x.log10()).round() as i64)
             .collect();
-        out.push((format!("log10 {} [×1e-3]", v.key), ticks));
+        out.push((format!("log10 {} [×1e-{d}]", v.key), ticks));
     }
     out
+}
+
+/// Widest span of ticks the viewer plots whole: on a sequence timeline whose data span more
+/// than 2000 ticks, Rerun 0.36's time-series views open on the time cursor ± 1000
+/// (`re_view_time_series` fallbacks), which cut a three-decade sweep at 1000 per decade to
+/// its last decade.
+const WHOLE_SPAN: f64 = 2000.0;
+
+/// Decimals of log₁₀ kept on a log timeline spanning `decades`: 3 (ticks 1000·log₁₀ v) while
+/// the span fits [`WHOLE_SPAN`] (up to 2 decades), then 2, 1, 0.
+fn log_digits(decades: f64) -> i32 {
+    (0..=3)
+        .rev()
+        .find(|&d| 10f64.powi(d) * decades <= WHOLE_SPAN)
+        .unwrap_or(0)
 }
 
 /// The label of the series of a row for key `k`: the other keys' values.
@@ -96,19 +115,6 @@ fn others(varies: &[Vary], row: &SweepRow, k: usize) -> String {
         parts.join(" ")
     }
 }
-
-/// Colours of series, in order (the first eight of Tableau 10): the sweep's series (one per
-/// combination of the other keys) and the explorer's compared runs.
-pub const PALETTE: [[u8; 3]; 8] = [
-    [31, 119, 180],
-    [214, 39, 40],
-    [44, 160, 44],
-    [148, 103, 189],
-    [255, 127, 14],
-    [23, 190, 207],
-    [140, 86, 75],
-    [227, 119, 194],
-];
 
 /// The viewer's layout: per varied key a grid of the observables (tabs when several keys;
 /// the plots show the timeline picked in the time panel, initially the first key's), the
@@ -256,6 +262,17 @@ mod tests {
             t[1],
             ("log10 speed [×1e-3]".to_string(), vec![-2000, -1000, 0])
         );
+        // Three decades and more: 100·log₁₀ v, a span the viewer still plots whole.
+        let t = timelines(&Vary::parse("speed=0.001,0.01,0.1,1").unwrap());
+        assert_eq!(
+            t[1],
+            ("log10 speed [×1e-2]".to_string(), vec![-300, -200, -100, 0])
+        );
+        let t = timelines(&Vary::parse("tau=1e-15,1e-2").unwrap());
+        assert_eq!(t[1], ("log10 tau [×1e-2]".to_string(), vec![-1500, -200]));
+        assert_eq!(log_digits(2.0), 3);
+        assert_eq!(log_digits(20.0), 2);
+        assert_eq!(log_digits(200.0), 1);
         let v = Vary::parse("g=5e8,1e9").unwrap();
         assert_eq!(timelines(&v), vec![("g [×1e8]".to_string(), vec![5, 10])]);
         let v = Vary::parse("n=0,3,-2").unwrap();

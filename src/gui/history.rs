@@ -4,12 +4,18 @@
 //! export.
 
 use super::Settings;
+#[cfg(not(target_arch = "wasm32"))]
 use crate::driver::Finished;
+#[cfg(not(target_arch = "wasm32"))]
 use crate::output::OutputError;
-use crate::solver::{SolverError, StateCounts};
+use crate::report::RunSummary;
+#[cfg(not(target_arch = "wasm32"))]
+use crate::solver::SolverError;
+use crate::solver::StateCounts;
 use serde::{Deserialize, Serialize};
+#[cfg(not(target_arch = "wasm32"))]
 use std::path::Path;
-use std::time::Instant;
+use web_time::Instant;
 
 /// One finished (or failed, or stopped) run.
 #[derive(Debug, Clone, Serialize, Deserialize)]
@@ -38,6 +44,10 @@ pub struct HistoryRow {
     /// The run's curves over time (empty for rows saved before they were kept).
     #[serde(default)]
     pub curve: RunCurve,
+    /// The run's summary as `decohesion run --summary` writes it (JSON), for *save summary*;
+    /// kept for the runs of this session only.
+    #[serde(skip)]
+    pub summary_json: Option<String>,
 }
 
 /// One sample of a run, taken by the solver thread.
@@ -203,25 +213,39 @@ impl HistoryRow {
             recording: None,
             paraview: None,
             curve: RunCurve::default(),
+            summary_json: None,
         }
     }
 
     /// The row of a run that went through the driver. The error is the first output's, else
     /// the solver's (none for a run stopped by the user); a run that completed with an output
     /// error counts as failed.
+    #[cfg(not(target_arch = "wasm32"))]
     pub fn from_run(
         id: u32,
         settings: &Settings,
         done: &Finished,
         recording: Option<String>,
     ) -> HistoryRow {
-        let summary = &done.summary;
         let error = match (&done.outcome, &done.output_error) {
             (_, Some(e)) => Some(output_error_text(e)),
             (Err(SolverError::Cancelled { .. }), None) => None,
             (Err(e), None) => Some(e.to_string()),
             (Ok(()), None) => None,
         };
+        HistoryRow::from_summary(id, settings, &done.summary, error, recording)
+    }
+
+    /// The row of a run that ended with `summary` (the thread's, through the driver, or the
+    /// page's); `error` is what the row shows, `None` for a run completed or stopped by the
+    /// user. A completed run with an error (an output's) counts as failed.
+    pub fn from_summary(
+        id: u32,
+        settings: &Settings,
+        summary: &RunSummary,
+        error: Option<String>,
+        recording: Option<String>,
+    ) -> HistoryRow {
         HistoryRow {
             id,
             settings: settings.clone(),
@@ -242,13 +266,18 @@ impl HistoryRow {
             interface_nodes: summary.interface_nodes,
             wall_seconds: summary.wall_seconds,
             recording,
+            #[cfg(not(target_arch = "wasm32"))]
             paraview: summary.paraview.as_ref().map(|p| p.pvd.clone()),
+            #[cfg(target_arch = "wasm32")]
+            paraview: None,
             curve: RunCurve::default(),
+            summary_json: serde_json::to_string_pretty(summary).ok(),
         }
     }
 }
 
 /// An output's error as the history shows it, naming the output.
+#[cfg(not(target_arch = "wasm32"))]
 pub fn output_error_text(e: &OutputError) -> String {
     match e {
         OutputError::Recording(e) => format!("recording: {e}"),
@@ -303,6 +332,7 @@ pub fn csv(rows: &[HistoryRow]) -> String {
 }
 
 /// Writes the history as CSV to `path` (its folder created if needed).
+#[cfg(not(target_arch = "wasm32"))]
 pub fn export_csv(rows: &[HistoryRow], path: &Path) -> Result<(), String> {
     if let Some(dir) = path.parent() {
         std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
@@ -359,7 +389,7 @@ mod tests {
     }
 
     fn row(id: u32, settings: Settings) -> HistoryRow {
-        HistoryRow::failed(id, &settings, String::new(), std::time::Instant::now())
+        HistoryRow::failed(id, &settings, String::new(), Instant::now())
     }
 
     /// The legend names the parameters that differ between the rows compared, and only them.

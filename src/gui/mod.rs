@@ -1,25 +1,31 @@
-//! The explorer window (`decohesion gui`): pick a scene, reshape the interface law, run it on a
-//! background thread, stream each run to the Rerun viewer as its own recording, keep a history.
+//! The explorer window (`decohesion gui`, and the web page: [`crate::web`]): pick a scene,
+//! reshape the interface law, run it on a background thread, stream each run to the Rerun
+//! viewer as its own recording, keep a history.
 //!
 //! The UI never blocks: the solver runs on its own thread ([`Job`]) and reports over a channel;
-//! Stop sets a flag the solver reads after every step. Parameters edited during a run apply to
+//! Stop sets a flag the solver reads after every step. In the web page (one thread, no files)
+//! the run is stepped inside the frame loop instead, a slice of steps per frame
+//! ([`page_run`]), with the same messages and no recording. Parameters edited during a run apply to
 //! the next one. The edited scene goes through the same parser and validation as a scene file
 //! ([`crate::scene::parse_scene`]), so the window can run nothing the CLI would refuse.
 //! The physics modules know nothing of this one.
 //!
 //! Modules: [`state`] (the state and logic, no egui), [`settings`] (what the user sets, the
 //! edited scene), [`law`] (the edited law: a family of the table and its parameter values),
-//! [`history`] (history rows, CSV), [`job`] (the run thread, through the run driver
-//! [`crate::driver`]), `views`, `law_editor` and `plots` (the egui code), and here the eframe
+//! [`history`] (history rows, CSV), [`job`] (a run: the thread, through the run driver, or
+//! [`page_run`], the page's), `views`, `law_editor` and `plots` (the egui code), and here the eframe
 //! application.
 
+pub mod frames;
 pub mod history;
 pub mod job;
 pub mod law;
 mod law_editor;
+pub mod page_run;
 mod plots;
 pub mod settings;
 pub mod state;
+pub mod view3d;
 mod views;
 
 pub use history::HistoryRow;
@@ -78,7 +84,8 @@ impl Explorer {
 }
 
 impl eframe::App for Explorer {
-    fn ui(&mut self, ui: &mut egui::Ui, _frame: &mut eframe::Frame) {
+    fn ui(&mut self, ui: &mut egui::Ui, frame: &mut eframe::Frame) {
+        self.app.view.glow = frame.gl().is_some();
         if self.run_on_start {
             self.run_on_start = false;
             self.app.start();
@@ -98,6 +105,7 @@ impl eframe::App for Explorer {
 
 /// Opens the window (blocks until it is closed); `compare` (`key=v1,v2,…`) queues runs to
 /// compare.
+#[cfg(not(target_arch = "wasm32"))]
 pub fn run_window(
     scene: Option<String>,
     run_on_start: bool,
@@ -108,6 +116,9 @@ pub fn run_window(
         viewport: egui::ViewportBuilder::default()
             .with_inner_size([1500.0, 950.0])
             .with_title("decohesion explorer"),
+        // The 3-D view draws through glow (OpenGL, WebGL2), with a depth buffer.
+        renderer: eframe::Renderer::Glow,
+        depth_buffer: 24,
         ..Default::default()
     };
     eframe::run_native(

@@ -3,16 +3,22 @@
 //! selected for comparison and its CSV export, what is persisted. The views ([`super::views`]) draw it and call these methods; a test can
 //! drive it without egui.
 
-use super::history::{export_csv, legend_labels, RunCurve};
+use super::history::{legend_labels, RunCurve};
 use super::job::{Job, JobMessage, Repaint};
-use super::{list_scenes, HistoryRow, RecordChoice, SceneEntry, Settings};
+#[cfg(not(target_arch = "wasm32"))]
+use super::RecordChoice;
+use super::{list_scenes, HistoryRow, SceneEntry, Settings};
+#[cfg(not(target_arch = "wasm32"))]
 use crate::record::{find_on_path, Sink, RERUN_VERSION};
-use crate::scene::{parse_scene, Scene};
+use crate::scene::Scene;
 use crate::solver::Simulation;
 use serde::{Deserialize, Serialize};
 use std::collections::{BTreeSet, VecDeque};
-use std::path::{Path, PathBuf};
+use std::path::Path;
+#[cfg(not(target_arch = "wasm32"))]
+use std::path::PathBuf;
 use std::sync::mpsc::TryRecvError;
+use std::time::Duration;
 
 /// Above this many elements the window does not estimate h_crit while settings are edited
 /// (set-up and Lanczos estimate: 40 ms at 20³, 130 ms at 28³ here); the run does it.
@@ -24,6 +30,10 @@ pub type Curve = RunCurve;
 /// Settings keys the explorer can vary over queued runs ([`App::queue_variants`]) besides the
 /// number parameters of the law.
 pub const VARIANT_KEYS: [&str; 4] = ["mu_inf", "cells", "factor", "end_time"];
+
+/// Wall time a run in the page steps per frame before the frame is drawn: the page stays
+/// responsive (≥ ~40 frames per second with the drawing) and Stop acts at the next frame.
+pub const FRAME_BUDGET: Duration = Duration::from_millis(10);
 
 /// Where the app is.
 #[derive(Debug, Clone, PartialEq)]
@@ -63,6 +73,12 @@ pub struct App {
     /// Frames still to draw after a run ended (the plots size their axes from the previous
     /// frame's labels, so the first frame with the final curves is not the last one drawn).
     pub(super) settle: u8,
+    /// The 3-D view and the frames of the running (or last) run.
+    pub view: super::view3d::View3d,
+    /// Runs are stepped inside the frame loop ([`Job::in_page`], [`FRAME_BUDGET`] per frame)
+    /// instead of on a thread: always in the web page, which has one thread and no files (no
+    /// recording, no ParaView files); on native for the tests.
+    pub in_page: bool,
 }
 
 /// What the current settings give, shown before a run.
@@ -111,18 +127,20 @@ impl App {
             queued_run: false,
             variants_text: String::new(),
             settle: 0,
+            view: Default::default(),
+            in_page: cfg!(target_arch = "wasm32"),
         }
     }
 
     /// Takes the law and run settings of a scene file.
     pub fn load_scene(&mut self, path: &str) {
-        match crate::scene::load_scene(Path::new(path), &[]) {
+        match super::settings::open_scene(path) {
             Ok(scene) => {
                 self.settings.scene = path.to_string();
                 self.settings.take_scene(&scene);
                 self.validation = None;
             }
-            Err(e) => self.notes.push(format!("{e}")),
+            Err(e) => self.notes.push(e),
         }
     }
 
@@ -163,7 +181,7 @@ impl App {
                 return r.clone();
             }
         }
-        let r = parse_scene(&text, &self.settings.edited_name(), &[])
+        let r = super::settings::parse_text(&text, &self.settings.edited_name())
             .map_err(|e| e.to_string())
             .and_then(|scene| {
                 let m = scene.model;
@@ -195,6 +213,7 @@ impl App {
     }
 
     /// Where run `id` is recorded, per the settings (a note when the viewer is missing).
+    #[cfg(not(target_arch = "wasm32"))]
     fn sink(&mut self, id: u32) -> Option<Sink> {
         let settings = &self.settings;
         let dir = PathBuf::from(&settings.output_dir);
@@ -239,13 +258,12 @@ impl App {
             }
         };
         let id = self.history.iter().map(|r| r.id).max().unwrap_or(0) + 1;
-        let sink = self.sink(id);
-        let settings = self.settings.clone();
-        match Job::start(id, scene, sink, settings, self.repaint.clone()) {
+        match self.launch(id, scene) {
             Ok(job) => {
                 self.job = Some(job);
                 self.status = Status::Running;
                 self.curve.clear();
+                self.view.clear();
                 self.curve_run = Some(id);
                 if std::mem::take(&mut self.queued_run) {
                     self.compare.insert(id);
@@ -255,9 +273,21 @@ impl App {
         }
     }
 
+    /// Starts run `id`: in the frame loop ([`App::in_page`]) or on its own thread, recorded
+    /// and written as the settings ask.
+    fn launch(&mut self, id: u32, scene: Scene) -> std::io::Result<Job> {
+        let settings = self.settings.clone();
+        #[cfg(not(target_arch = "wasm32"))]
+        if !self.in_page {
+            let sink = self.sink(id);
+            return Job::start(id, scene, sink, settings, self.repaint.clone());
+        }
+        Ok(Job::in_page(id, scene, settings))
+    }
+
     /// Asks the running job to stop after its current step.
     pub fn stop(&mut self) {
-        if let Some(j) = &self.job {
+        if let Some(j) = &mut self.job {
             j.stop();
         }
     }
@@ -273,12 +303,19 @@ impl App {
         let Some(job) = &mut self.job else {
             return false;
         };
+        if job.in_frames() && job.advance(FRAME_BUDGET) {
+            // The next slice of steps at the next frame, drawn at once.
+            if let Some(r) = &self.repaint {
+                r();
+            }
+        }
         loop {
             match job.try_recv() {
                 Ok(JobMessage::Progress { step, point }) => {
                     job.last = Some((step, point));
                     self.curve.push(point);
                 }
+                Ok(JobMessage::Frame(f)) => self.view.push(*f),
                 Ok(JobMessage::Done(row)) => {
                     self.curve = row.curve.clone();
                     self.status = Status::Ended(match row.status.as_str() {
@@ -408,8 +445,54 @@ impl App {
     }
 
     /// Writes the history as CSV.
+    #[cfg(not(target_arch = "wasm32"))]
     pub fn export_csv(&mut self, path: &Path) -> Result<(), String> {
-        export_csv(&self.history, path)
+        super::history::export_csv(&self.history, path)
+    }
+
+    /// Saves `text` as the file `name`: into the output folder on native, as a download in the
+    /// page; notes where it went or why not.
+    pub fn save_file(&mut self, name: &str, text: &str) {
+        #[cfg(not(target_arch = "wasm32"))]
+        let saved = {
+            let path = Path::new(&self.settings.output_dir).join(name);
+            std::fs::create_dir_all(&self.settings.output_dir)
+                .and_then(|()| std::fs::write(&path, text))
+                .map(|()| format!("{name} written to {}", path.display()))
+                .map_err(|e| format!("{}: {e}", path.display()))
+        };
+        #[cfg(target_arch = "wasm32")]
+        let saved = crate::web::download(name, text).map(|()| format!("{name} downloaded"));
+        match saved {
+            Ok(note) => self.notes.push(note),
+            Err(e) => self.notes.push(format!("cannot save {name}: {e}")),
+        }
+    }
+
+    /// Saves the history as CSV (`history.csv`, [`super::history::csv`]).
+    pub fn save_history_csv(&mut self) {
+        let text = super::history::csv(&self.history);
+        self.save_file("history.csv", &text);
+    }
+
+    /// Saves the summary of history row `i` as JSON (`runNNN_<scene>_summary.json`, what
+    /// `decohesion run --summary` writes), if the run is of this session.
+    pub fn save_summary(&mut self, i: usize) {
+        let Some(row) = self.history.get(i) else {
+            return;
+        };
+        let name = format!(
+            "run{:03}_{}_summary.json",
+            row.id,
+            row.settings.scene_stem()
+        );
+        match row.summary_json.clone() {
+            Some(json) => self.save_file(&name, &json),
+            None => self.notes.push(format!(
+                "run {}: its summary is kept for the runs of this session only",
+                row.id
+            )),
+        }
     }
 
     pub(super) fn persisted(&self) -> Persisted {

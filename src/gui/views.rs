@@ -57,6 +57,10 @@ impl App {
             .resizable(true)
             .default_size(230.0)
             .show(ui, |ui| self.history_ui(ui));
+        egui::Panel::right("view3d")
+            .resizable(true)
+            .default_size(470.0)
+            .show(ui, |ui| self.view.ui(ui));
         egui::CentralPanel::default().show(ui, |ui| {
             egui::ScrollArea::vertical().show(ui, |ui| {
                 self.run_ui(ui);
@@ -120,11 +124,13 @@ impl App {
                 .text("end time")
                 .suffix(" s"),
         );
-        ui.add(
-            egui::Slider::new(&mut s.frames, 1..=2000)
-                .logarithmic(true)
-                .text("frames per run (Rerun)"),
-        );
+        if !self.in_page {
+            ui.add(
+                egui::Slider::new(&mut s.frames, 1..=2000)
+                    .logarithmic(true)
+                    .text("frames per run (Rerun)"),
+            );
+        }
         egui::ComboBox::from_label("material")
             .selected_text(s.material.as_str())
             .show_ui(ui, |ui| {
@@ -147,16 +153,19 @@ impl App {
         if s.integration == "reduced" {
             ui.add(egui::Slider::new(&mut s.hourglass, 0.0..=0.3).text("hourglass κ"));
         }
-        ui.horizontal(|ui| {
-            ui.label("record to");
-            ui.radio_value(&mut s.record, RecordChoice::Viewer, "Rerun viewer");
-            ui.radio_value(&mut s.record, RecordChoice::File, ".rrd files");
-            ui.radio_value(&mut s.record, RecordChoice::Off, "off");
-        });
-        ui.checkbox(
-            &mut s.paraview,
-            "also write ParaView files (.vtu per frame + .pvd, in the output folder)",
-        );
+        // The page has no Rerun and no files: it offers neither.
+        if !self.in_page {
+            ui.horizontal(|ui| {
+                ui.label("record to");
+                ui.radio_value(&mut s.record, RecordChoice::Viewer, "Rerun viewer");
+                ui.radio_value(&mut s.record, RecordChoice::File, ".rrd files");
+                ui.radio_value(&mut s.record, RecordChoice::Off, "off");
+            });
+            ui.checkbox(
+                &mut s.paraview,
+                "also write ParaView files (.vtu per frame + .pvd, in the output folder)",
+            );
+        }
         match self.check() {
             Ok(c) if c.h.is_finite() => {
                 ui.label(format!(
@@ -291,12 +300,18 @@ impl App {
                 .add_enabled(!self.history.is_empty(), egui::Button::new("export CSV"))
                 .clicked()
             {
-                let path = Path::new(&self.settings.output_dir).join("history.csv");
-                match self.export_csv(&path) {
-                    Ok(()) => self
-                        .notes
-                        .push(format!("history written to {}", path.display())),
-                    Err(e) => self.notes.push(format!("export failed: {e}")),
+                self.save_history_csv();
+            }
+            let summary = sel.is_some_and(|i| self.history[i].summary_json.is_some());
+            if ui
+                .add_enabled(summary, egui::Button::new("save summary (JSON)"))
+                .on_hover_text(
+                    "the selected run's summary, as `decohesion run --summary` writes it",
+                )
+                .clicked()
+            {
+                if let Some(i) = sel {
+                    self.save_summary(i);
                 }
             }
         });

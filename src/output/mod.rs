@@ -6,18 +6,25 @@
 
 pub mod fields;
 pub mod snapshot;
+pub mod surface;
 pub mod worker;
 
 pub use snapshot::{InterfaceSnapshot, Snapshot};
 
-use crate::record::{RecordError, RecordingReport};
 use crate::solver::SolverError;
-use crate::vtk::{VtkError, VtkReport};
-use std::sync::Arc;
+// The outputs themselves are native (the web page has none); the cadence, the snapshot and the
+// per-element fields are shared.
+#[cfg(not(target_arch = "wasm32"))]
+use {
+    crate::record::{RecordError, RecordingReport},
+    crate::vtk::{VtkError, VtkReport},
+    std::sync::Arc,
+};
 
 /// One output of a run (the Rerun recording, the ParaView files), fed by the run driver
 /// ([`crate::driver::Driver`]) with one shared [`Snapshot`] per frame, at the cadence of the
 /// driver's one [`FrameClock`]: every output of a run holds the same steps.
+#[cfg(not(target_arch = "wasm32"))]
 pub trait Output {
     /// Takes one frame. An error stops the run; the output is still finished.
     fn frame(&mut self, snapshot: &Arc<Snapshot>) -> Result<(), OutputError>;
@@ -44,6 +51,7 @@ pub struct Ending<'a> {
 }
 
 /// What an output reports at the end, for the run summary.
+#[cfg(not(target_arch = "wasm32"))]
 #[derive(Debug, Clone)]
 pub enum OutputReport {
     Recording(RecordingReport),
@@ -51,6 +59,7 @@ pub enum OutputReport {
 }
 
 /// The error of one output, naming which.
+#[cfg(not(target_arch = "wasm32"))]
 #[derive(Debug, thiserror::Error)]
 pub enum OutputError {
     #[error("{0}")]

@@ -3,7 +3,8 @@
 
 use crate::energy::EnergySnapshot;
 use crate::solver::{ContactStatus, Simulation, StageTimes, StateCounts};
-use std::time::{Duration, Instant};
+use std::time::Duration;
+use web_time::Instant;
 
 /// The state of a simulation at one step: what the Rerun recording and the ParaView files
 /// show of it.
@@ -22,6 +23,9 @@ pub struct Snapshot {
     pub interface: Vec<InterfaceSnapshot>,
     /// Contact status and impulse per unit area [Pa·s] of the contact-only nodes.
     pub contact: Vec<(ContactStatus, [f64; 3])>,
+    /// The pose of each mould at tₙ, in `model.planes` order: (R, T) with x = R x₀ + T for a
+    /// point x₀ of the mould at t = 0 ([`Simulation::mould_pose`]).
+    pub moulds: Vec<([[f64; 3]; 3], [f64; 3])>,
     pub energies: EnergySnapshot,
     /// Reaction of each prescribed-displacement condition [N].
     pub reactions: Vec<f64>,
@@ -75,6 +79,9 @@ impl Snapshot {
                 .contact_nodes
                 .iter()
                 .map(|n| (n.contact, n.contact_impulse))
+                .collect(),
+            moulds: (0..sim.model.planes.len())
+                .map(|k| sim.mould_pose(k))
                 .collect(),
             energies: sim.energies(),
             reactions: sim.stats.reactions.clone(),

@@ -1,111 +1,17 @@
 //! The per-frame geometry of a recording: the body's surface (extracted once from the mesh's
 //! boundary faces; positions x = X + U and colours per frame), the viridis colour map of the
-//! colouring field, the moving planes, and the interface and contact nodes with their arrows.
+//! colouring field, the moving moulds (a rigid transform per frame), and the interface and contact nodes with their arrows.
 
 use super::layout::path_part;
 use super::stream::Columns;
 use super::{ColourField, Statics, ARROW_FRACTION};
 use crate::law::InterfaceState;
-use crate::mesh::norm;
 use crate::model::Model;
-use crate::output::fields::{centre_scalar, Scalar};
+use crate::output::fields::Scalar;
+use crate::output::surface::{viridis, Surface};
 use crate::output::Snapshot;
 use crate::solver::ContactStatus;
 use rerun::{Arrows3D, ComponentDescriptor, Mesh3D, Points3D, Transform3D};
-
-/// The body's surface: the nodes of the boundary faces, renumbered as vertices.
-pub(super) struct Surface {
-    /// Global node index of each surface vertex.
-    nodes: Vec<u32>,
-    /// Two triangles per boundary face, in vertex numbers.
-    pub(super) triangles: Vec<[u32; 3]>,
-    /// Surface elements, where element fields are evaluated.
-    elements: Vec<u32>,
-    /// Elements around each surface vertex (CSR: offsets, indices into `elements`).
-    vertex_elements: (Vec<u32>, Vec<u32>),
-}
-
-impl Surface {
-    pub(super) fn extract(m: &Model) -> Surface {
-        let faces = m.mesh.boundary_faces();
-        let mut index_of = vec![u32::MAX; m.mesh.nodes.len()];
-        let mut nodes = Vec::new();
-        let mut triangles = Vec::with_capacity(2 * faces.len());
-        let mut elements: Vec<u32> = faces.iter().map(|f| f.1).collect();
-        elements.sort_unstable();
-        elements.dedup();
-        for (q, _) in &faces {
-            let v = q.map(|n| {
-                if index_of[n as usize] == u32::MAX {
-                    index_of[n as usize] = nodes.len() as u32;
-                    nodes.push(n);
-                }
-                index_of[n as usize]
-            });
-            triangles.push([v[0], v[1], v[2]]);
-            triangles.push([v[0], v[2], v[3]]);
-        }
-        // Elements around each surface vertex (only surface elements touch the surface).
-        let mut offsets = vec![0u32; nodes.len() + 1];
-        for &e in &elements {
-            for &n in &m.mesh.elements[e as usize] {
-                let v = index_of[n as usize];
-                if v != u32::MAX {
-                    offsets[v as usize + 1] += 1;
-                }
-            }
-        }
-        for i in 1..offsets.len() {
-            offsets[i] += offsets[i - 1];
-        }
-        let mut fill = offsets.clone();
-        let mut adjacent = vec![0u32; *offsets.last().unwrap_or(&0) as usize];
-        for (k, &e) in elements.iter().enumerate() {
-            for &n in &m.mesh.elements[e as usize] {
-                let v = index_of[n as usize];
-                if v != u32::MAX {
-                    adjacent[fill[v as usize] as usize] = k as u32;
-                    fill[v as usize] += 1;
-                }
-            }
-        }
-        Surface {
-            nodes,
-            triangles,
-            elements,
-            vertex_elements: (offsets, adjacent),
-        }
-    }
-
-    /// The colouring field at each vertex: |U| at the node, or an element field at the centres
-    /// of the surface elements around it, averaged.
-    fn values(&self, m: &Model, u: &[[f64; 3]], colour: ColourField) -> Vec<f64> {
-        let field = match colour {
-            ColourField::Displacement => {
-                return self.nodes.iter().map(|&n| norm(u[n as usize])).collect()
-            }
-            ColourField::VonMises => Scalar::VonMises,
-            ColourField::Jacobian => Scalar::Jacobian,
-        };
-        let per_element: Vec<f64> = self
-            .elements
-            .iter()
-            .map(|&e| centre_scalar(m, e as usize, u, field))
-            .collect();
-        let (offsets, adjacent) = &self.vertex_elements;
-        (0..self.nodes.len())
-            .map(|v| {
-                let r = offsets[v] as usize..offsets[v + 1] as usize;
-                let k = r.len().max(1) as f64;
-                adjacent[r]
-                    .iter()
-                    .map(|&i| per_element[i as usize])
-                    .sum::<f64>()
-                    / k
-            })
-            .collect()
-    }
-}
 
 /// Sizes of the drawing, from the reference mesh.
 pub(super) struct Scales {
@@ -151,8 +57,9 @@ pub(super) struct Geometry {
     colour: ColourField,
     /// Smallest and largest finite value of the colouring field so far.
     colour_range: (f64, f64),
-    /// Planes with a prescribed velocity: their translation is logged per frame.
-    moving_planes: Vec<usize>,
+    /// Moulds with a prescribed motion: (index, turns) — their translation is logged per
+    /// frame, and their rotation when they turn.
+    moving_moulds: Vec<(usize, bool)>,
 }
 
 /// Position x = X + U of node `n` in a snapshot [m].
@@ -182,12 +89,12 @@ impl Geometry {
             scales: Scales::of(m),
             colour,
             colour_range: (f64::INFINITY, f64::NEG_INFINITY),
-            moving_planes: m
+            moving_moulds: m
                 .planes
                 .iter()
                 .enumerate()
-                .filter(|p| p.1.velocity.is_some())
-                .map(|p| p.0)
+                .filter(|p| p.1.velocity.is_some() || p.1.angular_velocity.is_some())
+                .map(|(k, p)| (k, p.angular_velocity.is_some()))
                 .collect(),
         }
     }
@@ -196,15 +103,22 @@ impl Geometry {
     pub(super) fn frame(&mut self, cols: &mut Columns, st: &Statics, s: &Snapshot) -> (f64, f64) {
         let m = &st.model;
         self.surface_frame(cols, m, s);
-        for &p in &self.moving_planes {
-            let plane = &m.planes[p];
-            let d = plane.displacement(s.time);
+        for &(k, turns) in &self.moving_moulds {
+            // x = R x₀ + T of the step's own pose (`Simulation::mould_pose`); the mesh logged
+            // at t = 0 is static, only this transform moves.
+            let (r, t) = s.moulds[k];
+            let path = format!("planes/{}", path_part(&m.planes[k].name));
             cols.push(
-                &format!("planes/{}", path_part(&plane.name)),
+                &path,
                 Transform3D::descriptor_translation(),
                 3,
-                &[d[0] as f32, d[1] as f32, d[2] as f32],
+                &t.map(|c| c as f32),
             );
+            if turns {
+                // Rerun's Mat3x3 is column-major.
+                let columns: [f32; 9] = std::array::from_fn(|i| r[i % 3][i / 3] as f32);
+                cols.push(&path, Transform3D::descriptor_mat3x3(), 9, &columns);
+            }
         }
         if !s.interface.is_empty() {
             self.interface_frame(cols, st, s);
@@ -225,7 +139,12 @@ impl Geometry {
             3,
             &flat,
         );
-        let values = self.surface.values(m, &s.u, self.colour);
+        let field = match self.colour {
+            ColourField::Displacement => None,
+            ColourField::VonMises => Some(Scalar::VonMises),
+            ColourField::Jacobian => Some(Scalar::Jacobian),
+        };
+        let values = self.surface.values(m, &s.u, field);
         for &v in &values {
             if v.is_finite() {
                 self.colour_range.0 = self.colour_range.0.min(v);
@@ -332,45 +251,6 @@ impl Geometry {
     }
 }
 
-/// Viridis, 9 samples (matplotlib), interpolated linearly.
-pub(super) fn viridis(t: f64) -> [u8; 3] {
-    const C: [[f64; 3]; 9] = [
-        [68.0, 1.0, 84.0],
-        [71.0, 44.0, 122.0],
-        [59.0, 81.0, 139.0],
-        [44.0, 113.0, 142.0],
-        [33.0, 144.0, 141.0],
-        [39.0, 173.0, 129.0],
-        [92.0, 200.0, 99.0],
-        [170.0, 220.0, 50.0],
-        [253.0, 231.0, 37.0],
-    ];
-    let t = if t.is_finite() {
-        t.clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    let x = t * 8.0;
-    let i = (x.floor() as usize).min(7);
-    let f = x - i as f64;
-    let c = |k: usize| (C[i][k] * (1.0 - f) + C[i + 1][k] * f).round() as u8;
-    [c(0), c(1), c(2)]
-}
-
 fn rgba(c: [u8; 3]) -> u32 {
     u32::from_be_bytes([c[0], c[1], c[2], 255])
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn viridis_ends_and_clamps() {
-        assert_eq!(viridis(0.0), [68, 1, 84]);
-        assert_eq!(viridis(1.0), [253, 231, 37]);
-        assert_eq!(viridis(-3.0), viridis(0.0));
-        assert_eq!(viridis(f64::NAN), viridis(0.0));
-        assert_eq!(viridis(0.5), [33, 144, 141]);
-    }
 }

@@ -5,9 +5,11 @@
 
 use super::geometry::Geometry;
 use super::{log_err, ColourField, RecordError, Statics, ARROW_FRACTION};
+use crate::law::InterfaceState;
 use crate::mesh::{cross, dot, norm, sub};
-use crate::model::Model;
-use crate::solver::Simulation;
+use crate::model::{Model, Shape};
+use crate::output::surface::{contact_rgb, state_rgb};
+use crate::solver::{ContactStatus, Simulation};
 use rerun::blueprint::components::{PanelState, PlayState};
 use rerun::blueprint::{
     Blueprint, BlueprintPanel, Horizontal, SelectionPanel, Spatial2DView, Spatial3DView, Tabs,
@@ -214,13 +216,16 @@ fn scene_text(rec: &RecordingStream, st: &Statics) -> Result<(), RecordError> {
 fn classes_and_styles(rec: &RecordingStream, st: &Statics, r: f32) -> Result<(), RecordError> {
     let m = &st.model;
     // Class ids for interface and contact nodes, for the whole subtree.
+    // The colours the explorer's 3-D view uses too (crate::output::surface).
+    let rgb = |c: [u8; 3]| Rgba32::from_rgb(c[0], c[1], c[2]);
+    let (s, c) = (|x| rgb(state_rgb(x)), |x| rgb(contact_rgb(x)));
     let classes = AnnotationContext::new([
-        (0, "elastic", Rgba32::from_rgb(46, 160, 67)),
-        (1, "transition", Rgba32::from_rgb(245, 166, 35)),
-        (2, "ruptured", Rgba32::from_rgb(208, 2, 27)),
-        (10, "open", Rgba32::from_rgb(160, 160, 160)),
-        (11, "stick", Rgba32::from_rgb(30, 120, 220)),
-        (12, "slip", Rgba32::from_rgb(200, 60, 200)),
+        (0, "elastic", s(InterfaceState::Elastic)),
+        (1, "transition", s(InterfaceState::Transition)),
+        (2, "ruptured", s(InterfaceState::Ruptured)),
+        (10, "open", c(ContactStatus::Open)),
+        (11, "stick", c(ContactStatus::Stick)),
+        (12, "slip", c(ContactStatus::Slip)),
     ]);
     rec.log_static("interface", &classes)
         .map_err(log_err("the annotation context"))?;
@@ -277,14 +282,33 @@ fn classes_and_styles(rec: &RecordingStream, st: &Statics, r: f32) -> Result<(),
     Ok(())
 }
 
-/// Planes: a square of 1.6 × the body extent centred under the body's centre.
+/// Moulds, each at its t = 0 placement under `planes/<name>` (static; a per-frame
+/// Transform3D moves it, [`super::geometry`]): a half-space as a square of 1.6 × the body
+/// extent centred under the body's centre, the other shapes as meshes ([`mould_mesh`]).
 fn planes(
     rec: &RecordingStream,
     m: &Model,
     extent: f64,
     centre: [f64; 3],
 ) -> Result<(), RecordError> {
+    let grey = Rgba32::from_unmultiplied_rgba(150, 155, 165, 160);
     for p in &m.planes {
+        let path = format!("planes/{}", path_part(&p.name));
+        if p.shape != Shape::HalfSpace {
+            let mesh = mould_mesh(&p.shape);
+            let f32s = |v: &[[f64; 3]]| -> Vec<[f32; 3]> {
+                v.iter().map(|x| x.map(|c| c as f32)).collect()
+            };
+            rec.log_static(
+                path,
+                &Mesh3D::new(f32s(&mesh.vertices))
+                    .with_vertex_normals(f32s(&mesh.normals))
+                    .with_triangle_indices(mesh.triangles)
+                    .with_albedo_factor(grey),
+            )
+            .map_err(log_err("a mould"))?;
+            continue;
+        }
         let n = p.normal;
         let a = if n[0].abs() < 0.9 {
             [1.0, 0.0, 0.0]
@@ -305,14 +329,188 @@ fn planes(
             corner(-1.0, 1.0),
         ];
         rec.log_static(
-            format!("planes/{}", path_part(&p.name)),
+            path,
             &Mesh3D::new(verts)
                 .with_triangle_indices([[0, 1, 2], [0, 2, 3], [0, 2, 1], [0, 3, 2]])
-                .with_albedo_factor(Rgba32::from_unmultiplied_rgba(150, 155, 165, 160)),
+                .with_albedo_factor(grey),
         )
         .map_err(log_err("a plane"))?;
     }
     Ok(())
+}
+
+/// A mould's surface as triangles, in its frame at t = 0, wound so that (b − a) × (c − a)
+/// points out of the mould (into the solid), with a unit normal per vertex.
+pub(super) struct MouldMesh {
+    pub(super) vertices: Vec<[f64; 3]>,
+    pub(super) normals: Vec<[f64; 3]>,
+    pub(super) triangles: Vec<[u32; 3]>,
+}
+
+/// Rings (pole to pole) and meridians of a sphere's drawing: 2 + 15 × 32 = 482 vertices,
+/// 960 triangles; each pole is a vertex, so the point of a sphere pressed along its axis is
+/// exact.
+pub(super) const SPHERE_RINGS: usize = 16;
+pub(super) const SPHERE_MERIDIANS: usize = 32;
+/// Segments around a cylinder's drawing.
+pub(super) const CYLINDER_SEGMENTS: usize = 48;
+
+/// The drawing of a mould shape other than the half-space (empty for a half-space): a box as
+/// 6 faces of 4 vertices (12 triangles, flat normals); a sphere as a UV sphere about z
+/// ([`SPHERE_RINGS`] × [`SPHERE_MERIDIANS`], vertices on the sphere); a capped cylinder as its
+/// side ([`CYLINDER_SEGMENTS`] quads, radial normals) and two fans for the caps (axial
+/// normals); a triangulated surface as its own triangles with parry's angle-weighted vertex
+/// pseudo-normals.
+pub(super) fn mould_mesh(shape: &Shape) -> MouldMesh {
+    let mut mesh = MouldMesh {
+        vertices: vec![],
+        normals: vec![],
+        triangles: vec![],
+    };
+    match shape {
+        Shape::HalfSpace => {}
+        Shape::Box { centre, half_size } => {
+            // Each face: its normal axis i, sign s, and two tangent axes (j, k) with
+            // e_j × e_k = s e_i, so the quad (−−, +−, ++, −+) in (j, k) winds outwards.
+            for i in 0..3 {
+                for s in [1.0, -1.0] {
+                    let (j, k) = if s > 0.0 {
+                        ((i + 1) % 3, (i + 2) % 3)
+                    } else {
+                        ((i + 2) % 3, (i + 1) % 3)
+                    };
+                    let base = mesh.vertices.len() as u32;
+                    for (a, b) in [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)] {
+                        let mut x = *centre;
+                        x[i] += s * half_size[i];
+                        x[j] += a * half_size[j];
+                        x[k] += b * half_size[k];
+                        mesh.vertices.push(x);
+                        let mut n = [0.0; 3];
+                        n[i] = s;
+                        mesh.normals.push(n);
+                    }
+                    mesh.triangles
+                        .extend([[base, base + 1, base + 2], [base, base + 2, base + 3]]);
+                }
+            }
+        }
+        Shape::Sphere { centre, radius } => {
+            let (nr, nm) = (SPHERE_RINGS, SPHERE_MERIDIANS);
+            let mut push = |n: [f64; 3]| {
+                mesh.vertices
+                    .push(std::array::from_fn(|c| centre[c] + radius * n[c]));
+                mesh.normals.push(n);
+            };
+            push([0.0, 0.0, 1.0]);
+            for r in 1..nr {
+                let theta = std::f64::consts::PI * r as f64 / nr as f64;
+                for k in 0..nm {
+                    let phi = 2.0 * std::f64::consts::PI * k as f64 / nm as f64;
+                    push([
+                        theta.sin() * phi.cos(),
+                        theta.sin() * phi.sin(),
+                        theta.cos(),
+                    ]);
+                }
+            }
+            push([0.0, 0.0, -1.0]);
+            let (nm32, south) = (nm as u32, (1 + (nr - 1) * nm) as u32);
+            let ring = |r: u32, k: u32| 1 + r * nm32 + k % nm32;
+            for k in 0..nm32 {
+                mesh.triangles.push([0, ring(0, k), ring(0, k + 1)]);
+                for r in 0..(nr as u32 - 2) {
+                    let (a, b) = (ring(r, k), ring(r, k + 1));
+                    let (c, d) = (ring(r + 1, k), ring(r + 1, k + 1));
+                    mesh.triangles.extend([[a, c, d], [a, d, b]]);
+                }
+                let last = nr as u32 - 2;
+                mesh.triangles
+                    .push([south, ring(last, k + 1), ring(last, k)]);
+            }
+        }
+        Shape::Cylinder {
+            centre,
+            axis,
+            radius,
+            half_length,
+        } => {
+            let a = normalise(*axis);
+            let e1 = normalise(cross(
+                a,
+                if a[0].abs() < 0.9 {
+                    [1.0, 0.0, 0.0]
+                } else {
+                    [0.0, 1.0, 0.0]
+                },
+            ));
+            let e2 = cross(a, e1);
+            let ns = CYLINDER_SEGMENTS as u32;
+            let radial = |k: u32| -> [f64; 3] {
+                let phi = 2.0 * std::f64::consts::PI * k as f64 / ns as f64;
+                std::array::from_fn(|c| phi.cos() * e1[c] + phi.sin() * e2[c])
+            };
+            let at = |z: f64, r: f64, n: [f64; 3]| -> [f64; 3] {
+                std::array::from_fn(|c| centre[c] + z * a[c] + r * n[c])
+            };
+            let l = *half_length;
+            // Side: vertices 2k (bottom, z = −l) and 2k + 1 (top).
+            for k in 0..ns {
+                let n = radial(k);
+                mesh.vertices
+                    .extend([at(-l, *radius, n), at(l, *radius, n)]);
+                mesh.normals.extend([n, n]);
+            }
+            for k in 0..ns {
+                let (b0, t0) = (2 * k, 2 * k + 1);
+                let (b1, t1) = (2 * ((k + 1) % ns), 2 * ((k + 1) % ns) + 1);
+                mesh.triangles.extend([[b0, b1, t1], [b0, t1, t0]]);
+            }
+            // Caps: a centre and a ring each, normal ±a.
+            for s in [1.0, -1.0] {
+                let n = a.map(|c| s * c);
+                let base = mesh.vertices.len() as u32;
+                mesh.vertices.push(at(s * l, 0.0, n));
+                mesh.normals.push(n);
+                for k in 0..ns {
+                    mesh.vertices.push(at(s * l, *radius, radial(k)));
+                    mesh.normals.push(n);
+                }
+                for k in 0..ns {
+                    let (p, q) = (base + 1 + k, base + 1 + (k + 1) % ns);
+                    mesh.triangles
+                        .push(if s > 0.0 { [base, p, q] } else { [base, q, p] });
+                }
+            }
+        }
+        Shape::Surface(s) => {
+            let tri = &s.mesh;
+            mesh.vertices = tri.vertices().iter().map(|p| [p.x, p.y, p.z]).collect();
+            mesh.triangles = tri.indices().to_vec();
+            mesh.normals = match tri.pseudo_normals() {
+                Some(pn) => pn
+                    .vertices_pseudo_normal
+                    .iter()
+                    .map(|n| normalise([n.x, n.y, n.z]))
+                    .collect(),
+                // Without pseudo-normals (not built oriented): the area-weighted face normals.
+                None => {
+                    let mut acc = vec![[0.0; 3]; mesh.vertices.len()];
+                    for t in &mesh.triangles {
+                        let [a, b, c] = t.map(|v| mesh.vertices[v as usize]);
+                        let n = cross(sub(b, a), sub(c, a));
+                        for &v in t {
+                            for i in 0..3 {
+                                acc[v as usize][i] += n[i];
+                            }
+                        }
+                    }
+                    acc.into_iter().map(normalise).collect()
+                }
+            };
+        }
+    }
+    mesh
 }
 
 /// Stiffness laws, normalised: x = α/u_r ∈ [0, 1] → 0..100, y = value/peak → 0..−100 (2-D views
@@ -473,5 +671,48 @@ mod tests {
         assert_eq!(path_part("z+"), "z_plus");
         assert_eq!(path_part("x-"), "x_minus");
         assert_eq!(path_part("mould 2"), "mould_2");
+    }
+
+    /// Every drawn triangle winds outwards (its (b − a) × (c − a) along the vertex normals),
+    /// normals are unit, a sphere's vertices are on it, and the counts are the documented ones.
+    #[test]
+    fn mould_meshes_are_closed_outward_and_on_the_shape() {
+        let shapes = [
+            Shape::Box {
+                centre: [1.0, 2.0, 3.0],
+                half_size: [0.5, 1.0, 2.0],
+            },
+            Shape::Sphere {
+                centre: [0.0, 0.0, 0.18],
+                radius: 0.1,
+            },
+            Shape::Cylinder {
+                centre: [0.0, 1.0, 0.0],
+                axis: [0.6, 0.0, 0.8],
+                radius: 0.3,
+                half_length: 1.0,
+            },
+        ];
+        let counts = [(24, 12), (482, 960), (194, 192)];
+        for (shape, (nv, nt)) in shapes.iter().zip(counts) {
+            let m = mould_mesh(shape);
+            assert_eq!((m.vertices.len(), m.triangles.len()), (nv, nt), "{shape:?}");
+            assert_eq!(m.normals.len(), nv);
+            assert!(m.normals.iter().all(|n| (norm(*n) - 1.0).abs() < 1e-12));
+            for t in &m.triangles {
+                let [a, b, c] = t.map(|v| m.vertices[v as usize]);
+                let f = cross(sub(b, a), sub(c, a));
+                let n = t.iter().fold([0.0; 3], |s, &v| {
+                    let n = m.normals[v as usize];
+                    [s[0] + n[0], s[1] + n[1], s[2] + n[2]]
+                });
+                assert!(dot(f, n) > 0.0, "{shape:?}: {t:?} winds inwards");
+            }
+        }
+        let m = mould_mesh(&shapes[1]);
+        for x in &m.vertices {
+            assert!((norm(sub(*x, [0.0, 0.0, 0.18])) - 0.1).abs() < 1e-15);
+        }
+        assert!(mould_mesh(&Shape::HalfSpace).vertices.is_empty());
     }
 }

@@ -12,7 +12,7 @@
 //! | `scene/file`, `scene/resolved` | TextDocument | static |
 //! | `body/surface` | Mesh3D: triangles static, positions and vertex colours per frame | frame |
 //! | `body/legend` | TextDocument: field, colormap, range | frame |
-//! | `planes/<name>` | Mesh3D quad (static) + Transform3D when the plane moves | static / frame |
+//! | `planes/<name>` | each mould at t = 0, Mesh3D (static): a half-space as a quad, a box, sphere, capped cylinder or triangulated surface as its mesh; Transform3D per frame when it moves (translation; its 3×3 rotation when it turns) | static / frame |
 //! | `interface` | AnnotationContext: 0 elastic, 1 transition, 2 ruptured, 10 open, 11 stick, 12 slip | static |
 //! | `interface/nodes` | Points3D, class = state; `alpha_m`, `gap_m` per node (hover) | frame |
 //! | `interface/contact_status` | Points3D, class = open / stick / slip | frame |

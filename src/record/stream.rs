@@ -128,7 +128,8 @@ struct Column {
     path: String,
     descriptor: ComponentDescriptor,
     data: Flat,
-    /// Values per instance (1, 2 or 3: scalars, 2-D or 3-D vectors; f32 only above 1).
+    /// Values per instance (1, 2, 3 or 9: scalars, 2-D or 3-D vectors, 3×3 matrices; f32 only
+    /// above 1).
     width: i32,
     /// Instances per frame.
     lengths: Vec<usize>,

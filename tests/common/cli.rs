@@ -22,6 +22,18 @@ pub fn decohesion(args: &[&str]) -> Output {
         .expect("the decohesion binary runs")
 }
 
+/// Runs the binary with `args`, which must succeed (else the test fails with its stderr).
+pub fn decohesion_ok(args: &[&str]) -> Output {
+    let out = decohesion(args);
+    assert!(
+        out.status.success(),
+        "decohesion {}: {}",
+        args.join(" "),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    out
+}
+
 /// The `--summary` JSON file at `path`.
 pub fn summary(path: &Path) -> serde_json::Value {
     serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()

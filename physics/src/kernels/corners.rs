@@ -25,7 +25,7 @@ fn det3<T: Real, const FMA: bool>(c0: [T; 3], c1: [T; 3], c2: [T; 3]) -> T {
 /// Plain loops into arrays (no `std::array::from_fn`, whose closures are not inlined into
 /// the kernels' `target_feature` builds: measured 3× slower).
 #[inline(always)]
-fn corner_jacobians<T: Real, const FMA: bool>(
+pub(super) fn corner_jacobians<T: Real, const FMA: bool>(
     edge: impl Fn(usize, usize) -> T,
     inv_det: impl Fn(usize) -> T,
     u: impl Fn(usize, usize) -> T,

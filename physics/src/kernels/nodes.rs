@@ -1,5 +1,7 @@
 //! Stage 5 on every node (PHYSICS.md §4): the free velocity and the ledger's dot products.
 
+// The AVX builds exist on x86_64 only (wasm32 runs the portable one).
+#[cfg_attr(not(target_arch = "x86_64"), allow(unused_imports))]
 use super::simd::{simd_dispatch, ISA_AVX2, ISA_AVX512, ISA_PORTABLE};
 use crate::mesh::dot;
 

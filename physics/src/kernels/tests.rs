@@ -177,67 +177,94 @@ fn fields(mesh: &Mesh) -> [(&'static str, Vec<[f64; 3]>); 2] {
 }
 
 /// Full integration: on every block of the box, and on a chunk that holds the inverted element,
-/// every build gives the portable forces, energies, min J and element; the portable build is
-/// its element kernel summed in chunk order, bit for bit; min J is that of nalgebra at the
-/// Gauss points.
+/// every build gives the portable forces, energies, min J and element; each build is its
+/// element kernel ([`element_forces`], fused like the build) summed in chunk order, bit for
+/// bit — the lane kernel of groups of 8 elements as much as the scalar remainder; min J is
+/// that of nalgebra at the Gauss points. Run on the distorted box (groups of several classes,
+/// staged lane by lane) and on a regular one (groups of one class, broadcast).
 #[test]
-fn full_chunk_every_build_matches_portable() {
-    let mesh = distorted_box();
-    let classes = mesh.element_classes().unwrap();
-    let n = mesh.nodes.len();
-    let (bad, _, _) = inverted(&mesh, &bent(&mesh));
-    let mut chunks: Vec<Vec<u32>> = mesh.element_blocks(64).into_iter().flatten().collect();
-    chunks.push((bad as u32 - 5..bad as u32 + 7).collect());
-    for model in [MaterialModel::Svk, MaterialModel::NeoHookean] {
-        let mat = Material::new(model, 5e6, 0.45, 1100.0);
-        for (field, u) in fields(&mesh) {
-            for chunk in &chunks {
-                let builds: Vec<_> = chunk_forces_builds()
-                    .into_iter()
-                    .map(|(name, build)| {
-                        let out = run_chunk(n, |p| {
-                            let (e, j, el) =
-                                unsafe { build(&mesh, &classes, &mat, &u, p, chunk, true) };
-                            (e, 0.0, j, el)
-                        });
-                        (name, out)
-                    })
-                    .collect();
-                let expect_min = min_j_of(chunk, |e| {
-                    let gd = &classes.data[classes.class_of[e] as usize];
-                    (0..8)
-                        .map(|q| jacobian(&u, &mesh.elements[e], |a, j| gd.grad[a][j][q]))
-                        .fold(f64::INFINITY, f64::min)
-                });
-                let what = format!("{model:?} {field} full");
-                check_builds(&what, &builds, expect_min);
-                // The portable chunk is element_forces::<_, false> scattered in chunk order.
-                let mut reference = vec![[0.0; 3]; n];
-                let mut strain = 0.0;
-                for &e in chunk {
-                    let conn = mesh.elements[e as usize];
-                    let gd = &classes.data[classes.class_of[e as usize] as usize];
-                    let ue = conn.map(|a| u[a as usize]);
-                    let mut fe = [[0.0; 3]; 8];
-                    strain += element_forces::<true, false>(&mat, gd, &ue, &mut fe).0;
-                    for a in 0..8 {
-                        for c in 0..3 {
-                            reference[conn[a] as usize][c] += fe[a][c];
-                        }
-                    }
+fn full_chunk_every_build_matches_portable_and_scalar_kernel() {
+    for mesh in [
+        distorted_box(),
+        Mesh::boxed([0.0; 3], [1.0, 0.8, 0.6], [8, 8, 6]),
+    ] {
+        let classes = mesh.element_classes().unwrap();
+        let (bad, _, _) = inverted(&mesh, &bent(&mesh));
+        let mut chunks: Vec<Vec<u32>> = mesh.element_blocks(64).into_iter().flatten().collect();
+        // 12 elements: one group of 8 and a remainder of 4, the inverted element in each.
+        chunks.push((bad as u32 - 5..bad as u32 + 7).collect());
+        chunks.push((bad as u32 - 9..bad as u32 + 3).collect());
+        for model in [MaterialModel::Svk, MaterialModel::NeoHookean] {
+            let mat = Material::new(model, 5e6, 0.45, 1100.0);
+            for (field, u) in fields(&mesh) {
+                for chunk in &chunks {
+                    full_chunk_builds(&mesh, &classes, &mat, &u, chunk, field);
                 }
-                let (f, sums) = &builds[0].1;
-                let same = |a: f64, b: f64| a.to_bits() == b.to_bits();
-                assert!(
-                    f.iter()
-                        .flatten()
-                        .zip(reference.iter().flatten())
-                        .all(|(a, b)| same(*a, *b))
-                        && same(sums.0, strain),
-                    "{what}: portable chunk ≠ its element kernel"
-                );
             }
         }
+    }
+}
+
+/// One chunk of [`full_chunk_every_build_matches_portable_and_scalar_kernel`].
+fn full_chunk_builds(
+    mesh: &Mesh,
+    classes: &ElementClasses,
+    mat: &Material,
+    u: &[[f64; 3]],
+    chunk: &[u32],
+    field: &str,
+) {
+    let n = mesh.nodes.len();
+    let builds: Vec<_> = chunk_forces_builds()
+        .into_iter()
+        .map(|(name, build)| {
+            let out = run_chunk(n, |p| {
+                let (e, j, el) = unsafe { build(mesh, classes, mat, u, p, chunk, true) };
+                (e, 0.0, j, el)
+            });
+            (name, out)
+        })
+        .collect();
+    let expect_min = min_j_of(chunk, |e| {
+        let gd = &classes.data[classes.class_of[e] as usize];
+        (0..8)
+            .map(|q| jacobian(u, &mesh.elements[e], |a, j| gd.grad[a][j][q]))
+            .fold(f64::INFINITY, f64::min)
+    });
+    let what = format!("{:?} {field} full", mat.model);
+    check_builds(&what, &builds, expect_min);
+    // Each build is element_forces::<_, FMA> scattered in chunk order (`mul_add` is the
+    // correctly rounded fused operation on every CPU, so the test's own build of the scalar
+    // kernel gives the vector builds' bits).
+    for (name, (f, sums)) in &builds {
+        let fma = *name != "portable";
+        let mut reference = vec![[0.0; 3]; n];
+        let mut strain = 0.0;
+        for &e in chunk {
+            let conn = mesh.elements[e as usize];
+            let gd = &classes.data[classes.class_of[e as usize] as usize];
+            let ue = conn.map(|a| u[a as usize]);
+            let mut fe = [[0.0; 3]; 8];
+            strain += if fma {
+                element_forces::<true, true>(mat, gd, &ue, &mut fe).0
+            } else {
+                element_forces::<true, false>(mat, gd, &ue, &mut fe).0
+            };
+            for a in 0..8 {
+                for c in 0..3 {
+                    reference[conn[a] as usize][c] += fe[a][c];
+                }
+            }
+        }
+        let same = |a: f64, b: f64| a.to_bits() == b.to_bits();
+        assert!(
+            f.iter()
+                .flatten()
+                .zip(reference.iter().flatten())
+                .all(|(a, b)| same(*a, *b))
+                && same(sums.0, strain),
+            "{what} {name}: the chunk ≠ its element kernel"
+        );
     }
 }
 

@@ -33,7 +33,7 @@ fn lanes3(x: &[[f64; 8]; 3]) -> [F64x8; 3] {
 /// separate lane-wise operations, which it did only partly: the full kernel ran ~20 % slower.)
 /// Returns (P, ψ, J) per lane.
 #[inline(always)]
-fn first_piola_lanes<L: Law, const ENERGY: bool, const FMA: bool>(
+pub(crate) fn first_piola_lanes<L: Law, const ENERGY: bool, const FMA: bool>(
     mat: &Material,
     h: &Mat3<F64x8>,
 ) -> (Mat3<F64x8>, F64x8, F64x8) {

@@ -16,10 +16,12 @@ pub mod element;
 mod kinematics;
 pub mod real;
 
+pub(crate) use element::first_piola_lanes;
 pub use element::{
     element_forces, element_forces_reduced, element_forces_reduced_lanes, hourglass_stiffness,
     LaneElements,
 };
+pub(crate) use kinematics::{displacement_gradient, hourglass_energy, hourglass_modes, row_dot};
 pub use real::{F64x8, Mat3, Real};
 
 use kinematics::{cofactor, green_lagrange, id};

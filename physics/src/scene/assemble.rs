@@ -34,13 +34,22 @@ impl Check<'_> {
         let mesh = self.mesh(&raw.mesh)?;
         let material = self.material(&raw.material)?;
         let scheme = self.scheme(&raw.scheme)?;
-        let planes = each(raw.plane, "plane", |key, p| self.plane_of(key, p))?;
+        let mut planes = each(raw.plane, "plane", |key, p| self.plane_of(key, p))?;
+        let n_planes = planes.len();
+        planes.extend(each(raw.mould, "mould", |key, m| self.mould_of(key, m))?);
+        let key_of = |i: usize| match i.checked_sub(n_planes) {
+            None => format!("plane[{i}]"),
+            Some(j) => format!("mould[{j}]"),
+        };
         for (i, p) in planes.iter().enumerate() {
             if let Some(j) = planes[..i].iter().position(|q| q.name == p.name) {
                 return Err(self.invalid(
-                    format!("plane[{i}].name"),
+                    format!("{}.name", key_of(i)),
                     format!("{:?}", p.name),
-                    format!("plane names must be unique (`plane[{j}]` has it already)"),
+                    format!(
+                        "plane and mould names must be unique (`{}` has it already)",
+                        key_of(j)
+                    ),
                 ));
             }
         }
@@ -208,17 +217,7 @@ impl Check<'_> {
 
     /// `plane[i]`: its normal normalised (it must not be zero), its velocity history if any.
     fn plane_of(&self, key: String, p: RawPlane) -> Result<RigidPlane, SceneError> {
-        // Scale before squaring so that neither tiny nor huge normals under/overflow.
-        let scale = p.normal.iter().fold(0.0f64, |m, c| m.max(c.abs()));
-        if scale == 0.0 {
-            return Err(self.invalid(
-                format!("{key}.normal"),
-                format!("{:?}", p.normal),
-                "must be a non-zero vector (it is normalised on load)",
-            ));
-        }
-        let n = p.normal.map(|c| c / scale);
-        let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
+        let normal = self.unit(&format!("{key}.normal"), p.normal)?;
         let velocity = match p.velocity {
             None => None,
             Some(rows) => Some(self.history(
@@ -229,8 +228,9 @@ impl Check<'_> {
         Ok(RigidPlane {
             name: p.name,
             point: p.point,
-            normal: n.map(|c| c / len),
+            normal,
             velocity,
+            ..Default::default()
         })
     }
 

@@ -11,6 +11,8 @@ use std::path::Path;
 pub(super) struct Check<'a> {
     pub file: &'a str,
     pub dir: &'a Path,
+    /// Reads the files the scene names (meshes, mould surfaces) relative to `dir`.
+    pub read: crate::gmsh::ReadFile<'a>,
 }
 
 impl Check<'_> {
@@ -94,12 +96,32 @@ impl Check<'_> {
             return Ok(i);
         }
         let reason = if planes.is_empty() {
-            "no plane of that name: the scene defines no [[plane]]".to_string()
+            "no plane or mould of that name: the scene defines no [[plane]] and no [[mould]]"
+                .to_string()
         } else {
             let names: Vec<String> = planes.iter().map(|p| format!("`{}`", p.name)).collect();
-            format!("no plane of that name; admissible: {}", names.join(", "))
+            format!(
+                "no plane or mould of that name; admissible: {}",
+                names.join(", ")
+            )
         };
         Err(self.invalid(key, format!("{name:?}"), reason))
+    }
+
+    /// The unit vector along `v` at `key` (a normal or an axis), which must not be zero.
+    pub fn unit(&self, key: &str, v: [f64; 3]) -> Result<[f64; 3], SceneError> {
+        // Scale before squaring so that neither tiny nor huge vectors under/overflow.
+        let scale = v.iter().fold(0.0f64, |m, c| m.max(c.abs()));
+        if scale == 0.0 {
+            return Err(self.invalid(
+                key,
+                format!("{v:?}"),
+                "must be a non-zero vector (it is normalised on load)",
+            ));
+        }
+        let n = v.map(|c| c / scale);
+        let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
+        Ok(n.map(|c| c / len))
     }
 
     /// A piecewise-linear history from rows (t, value): ≥ 1 row, t ≥ 0 strictly increasing.

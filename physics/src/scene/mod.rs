@@ -60,6 +60,18 @@ pub fn load_scene(path: &Path, overrides: &[String]) -> Result<Scene, SceneError
 /// is not one); a numeric segment indexes an array (`plane.0.normal=[0,0,1]`); an array of one
 /// table is entered without an index (`interface.law.u_r=0.02` with a single interface).
 pub fn parse_scene(text: &str, file: &str, overrides: &[String]) -> Result<Scene, SceneError> {
+    parse_scene_with(text, file, overrides, &|p| std::fs::read(p))
+}
+
+/// [`parse_scene`] with the files the scene names (a Gmsh mesh, a mould surface; paths relative
+/// to `file`'s directory) read through `read` instead of the file system: the web page passes
+/// the files built into it.
+pub fn parse_scene_with(
+    text: &str,
+    file: &str,
+    overrides: &[String],
+    read: crate::gmsh::ReadFile,
+) -> Result<Scene, SceneError> {
     let mut doc: toml::Table = from_toml(text, file)?;
     for spec in overrides {
         apply_override(&mut doc, spec).map_err(|reason| SceneError::Override {
@@ -90,6 +102,7 @@ pub fn parse_scene(text: &str, file: &str, overrides: &[String]) -> Result<Scene
     let check = Check {
         file: &label,
         dir: Path::new(file).parent().unwrap_or(Path::new("")),
+        read,
     };
     for (key, value) in &doc {
         check.finite(key, value)?;

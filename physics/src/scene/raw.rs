@@ -41,6 +41,8 @@ pub struct RawScene {
     #[serde(default)]
     pub plane: Vec<RawPlane>,
     #[serde(default)]
+    pub mould: Vec<RawMould>,
+    #[serde(default)]
     pub interface: Vec<RawInterface>,
     #[serde(default)]
     pub contact: Vec<RawContact>,
@@ -91,10 +93,33 @@ pub struct RawPlane {
     pub velocity: Option<Vec<[f64; 4]>>,
 }
 
+/// `[[mould]]`: a rigid mould of any shape (`scene/mesh.rs` checks which keys each shape takes).
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawMould {
+    pub name: String,
+    pub shape: String,
+    pub point: Option<[f64; 3]>,
+    pub normal: Option<[f64; 3]>,
+    pub centre: Option<[f64; 3]>,
+    pub size: Option<[f64; 3]>,
+    pub radius: Option<f64>,
+    pub axis: Option<[f64; 3]>,
+    pub length: Option<f64>,
+    pub file: Option<String>,
+    pub group: Option<String>,
+    pub scale: Option<f64>,
+    pub pivot: Option<[f64; 3]>,
+    pub velocity: Option<Vec<[f64; 4]>>,
+    pub angular_velocity: Option<Vec<[f64; 4]>>,
+}
+
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct RawInterface {
     pub faces: String,
+    /// The plane or mould, by name (`mould` is the same key).
+    #[serde(alias = "mould")]
     pub plane: String,
     #[serde(default)]
     pub mu_inf: f64,
@@ -125,6 +150,8 @@ pub struct RawLaw {
 #[serde(deny_unknown_fields)]
 pub struct RawContact {
     pub faces: String,
+    /// The plane or mould, by name (`mould` is the same key).
+    #[serde(alias = "mould")]
     pub plane: String,
     #[serde(default)]
     pub mu: f64,

@@ -12,8 +12,11 @@ use crate::interface::contact::contact_impulse;
 use crate::kernels::internal_and_gravity_impulses;
 use crate::mesh::dot;
 use crate::model::Model;
+use crate::mould::step::NodeGeometry;
 use crate::team::SharedSlice;
 use std::ops::Range;
+
+mod moulds;
 
 /// No prescribed condition on this component.
 pub(super) const NONE: u16 = u16::MAX;
@@ -114,6 +117,8 @@ struct BoundaryStep<'a> {
     f_int: &'a [[f64; 3]],
     h_bar: f64,
     h_next: f64,
+    /// Some mould is not a plain plane (else every node takes the plane path at once).
+    general: bool,
 }
 
 /// The [`BoundaryStep`] of simulation `$sim` over h̄ = `$h_bar`, h_{n+3/2} = `$h_next`,
@@ -129,6 +134,7 @@ macro_rules! boundary_step {
             f_int: &$sim.f_int,
             h_bar: $h_bar,
             h_next: $h_next,
+            general: $sim.scratch.moulds.any_general(),
         }
     };
 }
@@ -175,18 +181,61 @@ impl BoundarySums {
 }
 
 /// The impulses that acted on one node in this step, kept for its ledger halves: cohesion
-/// (per interface entry) and contact (per constraint, with its plane).
+/// (per interface entry) and contact (per constraint), each with its mould and the entry it
+/// came from (interface node, or contact node when `from_interface` is false), whose geometry
+/// gives the mould's velocity and normal where it acts ([`BoundaryStep::glue`],
+/// [`BoundaryStep::surface`]).
 #[derive(Default)]
 struct NodeImpulses {
     cohesion: [[f64; 3]; MAX_CONSTRAINTS],
-    cohesion_plane: [usize; MAX_CONSTRAINTS],
+    cohesion_from: [(usize, u32); MAX_CONSTRAINTS],
     cohesions: usize,
     contact: [[f64; 3]; MAX_CONSTRAINTS],
-    contact_plane: [usize; MAX_CONSTRAINTS],
+    contact_from: [(usize, u32, bool); MAX_CONSTRAINTS],
     contacts: usize,
 }
 
 impl BoundaryStep<'_> {
+    /// The glue normal of interface node `j` on mould `k` and the mould's velocity at its
+    /// anchor over the intervals before and after tₙ₊₁: a plain plane's normal and velocities,
+    /// or on a curved mould the normal at the anchor turned with it and the anchor's velocity
+    /// ([`crate::mould::step`]).
+    #[inline]
+    fn glue(&self, j: usize, k: usize) -> ([f64; 3], [[f64; 3]; 2]) {
+        let ms = &self.scratch.moulds;
+        if !self.general || ms.plane[k] {
+            let sc = self.scratch;
+            (
+                self.model.planes[k].normal,
+                [sc.plane_v_old[k], sc.plane_v_new[k]],
+            )
+        } else {
+            let g = &ms.interface[j];
+            let v = [ms.velocity_old(k, g.anchor), ms.velocity_new(k, g.anchor)];
+            (g.glue_normal, v)
+        }
+    }
+
+    /// The contact normal of a node on mould `k` and the mould's velocity at the contact point
+    /// before and after tₙ₊₁ (`geo`: the node's geometry on a curved mould).
+    #[inline]
+    fn surface(&self, k: usize, geo: Option<&NodeGeometry>) -> ([f64; 3], [[f64; 3]; 2]) {
+        let ms = &self.scratch.moulds;
+        match geo {
+            Some(g) if self.general && !ms.plane[k] => {
+                let v = [ms.velocity_old(k, g.point), ms.velocity_new(k, g.point)];
+                (g.normal, v)
+            }
+            _ => {
+                let sc = self.scratch;
+                (
+                    self.model.planes[k].normal,
+                    [sc.plane_v_old[k], sc.plane_v_new[k]],
+                )
+            }
+        }
+    }
+
     /// External traction impulse of entry `e` over the step, P = h̄ a(tₙ₊₁) W t (a dead load on
     /// the reference area W; `fv` = W t is stored per entry) [N·s].
     #[inline]
@@ -223,15 +272,17 @@ impl BoundaryStep<'_> {
     ) {
         let im = self.inv_mass[b.node as usize];
         for (slot, e) in b.interfaces.clone().enumerate() {
-            let itf = itfs.get(self.boundary.interfaces[e as usize] as usize);
-            let law = &self.model.interfaces[itf.interface as usize].law;
-            let n = self.model.planes[self.model.interfaces[itf.interface as usize].plane].normal;
+            let j = self.boundary.interfaces[e as usize] as usize;
+            let itf = itfs.get(j);
+            let spec = &self.model.interfaces[itf.interface as usize];
+            let n = self.glue(j, spec.plane).0;
+            let law = &spec.law;
             itf.stiffness = law.g_n(itf.alpha);
             itf.cohesive_traction = law.cohesive_traction(itf.stiffness, itf.jump, n);
             let p = itf.cohesive_traction.map(|c| -self.h_bar * itf.area * c);
             if slot < MAX_CONSTRAINTS {
                 impulses.cohesion[slot] = p;
-                impulses.cohesion_plane[slot] = self.model.interfaces[itf.interface as usize].plane;
+                impulses.cohesion_from[slot] = (spec.plane, j as u32);
                 impulses.cohesions = slot + 1;
             }
             for c in 0..3 {
@@ -279,27 +330,36 @@ impl BoundaryStep<'_> {
         impulses: &mut NodeImpulses,
     ) {
         let m = self.mass[b.node as usize];
-        let planes = &self.model.planes;
-        let mut solve = |gap: f64, plane: usize, mu: f64, area: f64| {
-            let (n, v_plane) = (planes[plane].normal, self.scratch.plane_v_new[plane]);
-            let (impulse, status) = contact_impulse(v, gap, n, v_plane, mu, m, free);
+        let ms = &self.scratch.moulds;
+        let mut solve = |gap: f64, plane: usize, from: (u32, bool), mu: f64, area: f64| {
+            let geo = match from {
+                (j, true) => ms.interface.get(j as usize),
+                (j, false) => ms.contact.get(j as usize),
+            };
+            let (n, vm) = self.surface(plane, geo);
+            let (impulse, status) = contact_impulse(v, gap, n, vm[1], mu, m, free);
             let k = impulses.contacts;
             if k < MAX_CONSTRAINTS {
                 impulses.contact[k] = impulse;
-                impulses.contact_plane[k] = plane;
+                impulses.contact_from[k] = (plane, from.0, from.1);
                 impulses.contacts += 1;
             }
             (impulse.map(|c| c / area.max(f64::MIN_POSITIVE)), status)
         };
         for e in b.interfaces.clone() {
-            let itf = itfs.get(self.boundary.interfaces[e as usize] as usize);
+            let j = self.boundary.interfaces[e as usize] as usize;
+            let itf = itfs.get(j);
             let spec = &self.model.interfaces[itf.interface as usize];
             let mu = spec.law.mu(itf.alpha, spec.mu_inf);
-            (itf.contact_impulse, itf.contact) = solve(itf.gap, spec.plane, mu, itf.area);
+            let from = (j as u32, true);
+            (itf.contact_impulse, itf.contact) = solve(itf.gap, spec.plane, from, mu, itf.area);
         }
         for e in b.contacts.clone() {
-            let cn = cns.get(self.boundary.contacts[e as usize] as usize);
-            (cn.contact_impulse, cn.contact) = solve(cn.gap, cn.plane as usize, cn.mu, cn.area);
+            let j = self.boundary.contacts[e as usize] as usize;
+            let cn = cns.get(j);
+            let from = (j as u32, false);
+            (cn.contact_impulse, cn.contact) =
+                solve(cn.gap, cn.plane as usize, from, cn.mu, cn.area);
         }
     }
 
@@ -333,37 +393,35 @@ impl BoundaryStep<'_> {
                 out.reac_a += 0.5 * v[c] * m * (v[c] - v_free[c]);
             }
         }
-        let (plane_v_old, plane_v_new) = (&self.scratch.plane_v_old, &self.scratch.plane_v_new);
-        // Glue of moving planes: the plane's share ½ v_plane·P_coh of the cohesive work.
+        // Glue of moving moulds: the mould's share ½ v_mould·P_coh of the cohesive work, with
+        // the mould's velocity at the anchor.
+        let ms = &self.scratch.moulds;
         for slot in 0..impulses.cohesions {
-            let k = impulses.cohesion_plane[slot];
-            out.plane_b += 0.5 * dot(plane_v_old[k], impulses.cohesion[slot]);
-            out.plane_a += 0.5 * dot(plane_v_new[k], impulses.cohesion[slot]);
+            let (k, j) = impulses.cohesion_from[slot];
+            let [v_old, v_new] = self.glue(j as usize, k).1;
+            out.plane_b += 0.5 * dot(v_old, impulses.cohesion[slot]);
+            out.plane_a += 0.5 * dot(v_new, impulses.cohesion[slot]);
         }
         // Contact: split the work on the relative velocity (dissipation, normal and
-        // tangential) and on the plane's velocity (external work).
-        for j in 0..impulses.contacts {
-            let k = impulses.contact_plane[j];
-            let n = self.model.planes[k].normal;
-            let p = impulses.contact[j];
+        // tangential) and on the mould's velocity at the contact point (external work).
+        for c in 0..impulses.contacts {
+            let (k, j, from_interface) = impulses.contact_from[c];
+            let geo = match from_interface {
+                true => ms.interface.get(j as usize),
+                false => ms.contact.get(j as usize),
+            };
+            let (n, [v_old, v_new]) = self.surface(k, geo);
+            let p = impulses.contact[c];
             let pn = dot(p, n);
             let pt = [p[0] - pn * n[0], p[1] - pn * n[1], p[2] - pn * n[2]];
-            let rel_o = [
-                vo[0] - plane_v_old[k][0],
-                vo[1] - plane_v_old[k][1],
-                vo[2] - plane_v_old[k][2],
-            ];
-            let rel_n = [
-                v[0] - plane_v_new[k][0],
-                v[1] - plane_v_new[k][1],
-                v[2] - plane_v_new[k][2],
-            ];
+            let rel_o = [vo[0] - v_old[0], vo[1] - v_old[1], vo[2] - v_old[2]];
+            let rel_n = [v[0] - v_new[0], v[1] - v_new[1], v[2] - v_new[2]];
             out.cn_b += 0.5 * dot(rel_o, n) * pn;
             out.cn_a += 0.5 * dot(rel_n, n) * pn;
             out.ct_b += 0.5 * dot(rel_o, pt);
             out.ct_a += 0.5 * dot(rel_n, pt);
-            out.plane_b += 0.5 * dot(plane_v_old[k], p);
-            out.plane_a += 0.5 * dot(plane_v_new[k], p);
+            out.plane_b += 0.5 * dot(v_old, p);
+            out.plane_a += 0.5 * dot(v_new, p);
         }
     }
 
@@ -374,13 +432,24 @@ impl BoundaryStep<'_> {
     /// # Safety
     /// No other thread may touch the interface entries of `b`.
     unsafe fn damage(&self, b: &BoundaryNode, itfs: SharedSlice<InterfaceNode>, v: [f64; 3]) {
+        let ms = &self.scratch.moulds;
         for e in b.interfaces.clone() {
-            let itf = itfs.get(self.boundary.interfaces[e as usize] as usize);
+            let j = self.boundary.interfaces[e as usize] as usize;
+            let itf = itfs.get(j);
             let spec = &self.model.interfaces[itf.interface as usize];
-            let vp = self.scratch.plane_v_new[spec.plane];
+            let k = spec.plane;
+            // On a curved mould the anchor's velocity and its normal at tₙ₊₂ (R(tₙ₊₂)N₀).
+            let (vp, n) = if !self.general || ms.plane[k] {
+                (self.scratch.plane_v_new[k], self.model.planes[k].normal)
+            } else {
+                let g = &ms.interface[j];
+                (
+                    ms.velocity_new(k, g.anchor),
+                    ms.glue_normal_next(k, g.normal0),
+                )
+            };
             let next: [f64; 3] =
                 std::array::from_fn(|c| itf.jump[c] + self.h_next * (v[c] - vp[c]));
-            let n = self.model.planes[spec.plane].normal;
             itf.alpha_next =
                 (spec.law).next_damage(itf.alpha, &mut itf.alpha_static, next, n, self.h_next);
         }
@@ -437,6 +506,7 @@ impl Simulation {
     /// [`Simulation::free_velocity`] of this step; leaves the chunks' sums and the reactions in
     /// the step's scratch for stage 9.
     pub(super) fn boundary_pass(&mut self, h_bar: f64, h_next: f64) {
+        self.scratch.moulds.h_bar = h_bar;
         let cx = boundary_step!(self, h_bar, h_next);
         let (v_all, itfs, cns) = (
             SharedSlice::new(&mut self.v),

@@ -4,6 +4,7 @@
 use super::state::{SolverError, StateCounts};
 use super::Simulation;
 use crate::energy::Work;
+use crate::mesh::dot;
 
 /// What the interface nodes hold after a step: Σ Ψ_d, Σ ΔD, the most negative ΔD, the state
 /// counts, the glue's total spring stiffness Σ W g_N(αₙ) and the cohesive force's step-change
@@ -66,6 +67,7 @@ impl Simulation {
         }
         let internal = (!first && h_next != h).then(|| (h_next - h) / (h_next + h));
         self.push_work(first, internal, itf.step_change);
+        self.push_mould_work(first);
         let l = &mut self.ledger;
         l.interface_stored = itf.stored;
         l.damage_dissipated += itf.dissipated;
@@ -145,6 +147,53 @@ impl Simulation {
         self.kinetic_half = s.kinetic_half;
     }
 
+    /// Each mould's work (issue 13), with the trapezoid pairing of the other works: the
+    /// halves b = ½v_m,old·P and a = ½v_m,new·P of every impulse P the mould gives a node —
+    /// the glue's −h̄W R_d at the anchor and the contact's W R_c at the contact point — with
+    /// v_m the mould's velocity at that point over the interval before and after tₙ₊₁
+    /// ([`crate::mould::step`]): force · velocity at the contact points, so the moment about
+    /// the pivot times ω is included. Their sum is `plane_work` (to round-off: the contact
+    /// impulse is read back per unit area). With one mould there is nothing to split and
+    /// `plane_work` is its work (the pass is skipped).
+    fn push_mould_work(&mut self, first: bool) {
+        let n = self.model.planes.len();
+        if n < 2 {
+            return;
+        }
+        let mut halves = vec![(0.0, 0.0); n];
+        for j in 0..self.interface_nodes.len() {
+            let itf = &self.interface_nodes[j];
+            let k = self.model.interfaces[itf.interface as usize].plane;
+            let h_bar = self.scratch.moulds.h_bar;
+            let coh = itf.cohesive_traction.map(|c| -h_bar * itf.area * c);
+            let con = itf.contact_impulse.map(|c| c * itf.area);
+            let (anchor, point) = self.mould_points(k, Some(j), None);
+            let (a, b) = (
+                self.mould_velocities(k, anchor),
+                self.mould_velocities(k, point),
+            );
+            halves[k].0 += 0.5 * (dot(a[0], coh) + dot(b[0], con));
+            halves[k].1 += 0.5 * (dot(a[1], coh) + dot(b[1], con));
+        }
+        for j in 0..self.contact_nodes.len() {
+            let cn = &self.contact_nodes[j];
+            let k = cn.plane as usize;
+            let con = cn.contact_impulse.map(|c| c * cn.area);
+            let (_, point) = self.mould_points(k, None, Some(j));
+            let v = self.mould_velocities(k, point);
+            halves[k].0 += 0.5 * dot(v[0], con);
+            halves[k].1 += 0.5 * dot(v[1], con);
+        }
+        let works = &mut self.scratch.moulds.work;
+        for (w, (b, a)) in works.iter_mut().zip(halves) {
+            if first {
+                w.start(a);
+            } else {
+                w.push(b, a);
+            }
+        }
+    }
+
     /// Σ Ψ_d = Σ W ½ g_N(αₙ)|[u]ₙ|² and Σ ΔDₙ over the interface nodes (PHYSICS.md §5), their
     /// states, Σ W g_N(αₙ), and where the step changed (`change`) the cohesive step-change
     /// work ½([u]ₙ − [u]ₙ₋₁)·W(prev R_d,ₙ₋₁ − now R_d,ₙ) (the force on the body is −W R_d);
@@ -158,9 +207,11 @@ impl Simulation {
             springs: 0.0,
             step_change: 0.0,
         };
-        for itf in self.interface_nodes.iter_mut() {
+        for j in 0..self.interface_nodes.len() {
+            let n = self.glue_normal(j);
+            let itf = &mut self.interface_nodes[j];
             let spec = &self.model.interfaces[itf.interface as usize];
-            let (law, n) = (&spec.law, self.model.planes[spec.plane].normal);
+            let law = &spec.law;
             out.stored += law.stored_energy(itf.area, itf.stiffness, itf.jump, n);
             let dd = law.loading().dissipation_increment(
                 itf.area,

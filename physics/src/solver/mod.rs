@@ -45,7 +45,8 @@ use crate::team::Team;
 use boundary::{Boundary, BoundarySums};
 use stable_step::StepControl;
 use stages::StepScratch;
-use std::time::Instant;
+// std's `Instant` on native; the browser's clock on wasm32, where std's panics.
+use web_time::Instant;
 
 /// Smallest element block ([`crate::mesh::Mesh::element_blocks`]), and nodes per chunk in node
 /// loops. Fixed, so the reduction order never depends on the thread count.
@@ -234,6 +235,29 @@ impl Simulation {
     /// The ledger's values now.
     pub fn energies(&self) -> EnergySnapshot {
         self.ledger.snapshot()
+    }
+
+    /// The pose of mould `k` (index into `model.planes`) at the current time tₙ, as the affine
+    /// map (R, T) that takes a point x₀ of the mould at t = 0 to its place now, x = R x₀ + T:
+    /// R the rotation the step composed ([`crate::mould::step::MouldStep`]: R(tₙ), exactly
+    /// the pose stage 2 used at tₙ), T = d + (c₀ − R c₀) with c₀ the pivot at t = 0 and
+    /// d = c(tₙ) − c₀ = ∫₀ᵗ v dτ the prescribed translation (taken from the motion itself, not
+    /// as a difference of positions, so T = d to the bit when R = I). A plain plane: R = I,
+    /// T = its displacement. Read-only (for the outputs); the step does not use it.
+    pub fn mould_pose(&self, k: usize) -> ([[f64; 3]; 3], [f64; 3]) {
+        use crate::mould::motion::{mat_vec, IDENTITY};
+        let m = &self.model.planes[k];
+        let ms = &self.scratch.moulds;
+        if ms.plane.get(k).copied().unwrap_or(true) {
+            return (IDENTITY, m.displacement(self.time));
+        }
+        let pose = ms.pose_at(k, self.time);
+        let (c0, d) = (m.pivot(), m.displacement(pose.time));
+        let rc0 = mat_vec(&pose.rotation, c0);
+        (
+            pose.rotation,
+            std::array::from_fn(|i| d[i] + (c0[i] - rc0[i])),
+        )
     }
 }
 

@@ -13,6 +13,7 @@ use crate::energy::Ledger;
 use crate::law::StiffnessLaw;
 use crate::mesh::{dot, sub, ElementClasses, Mesh};
 use crate::model::{Model, RigidPlane};
+use crate::mould::step::MouldStep;
 use crate::team::Team;
 use std::collections::BTreeMap;
 
@@ -42,14 +43,14 @@ fn lumped_masses(model: &Model, classes: &ElementClasses) -> Result<Vec<f64>, So
     Ok(mass)
 }
 
-/// What the glue and the contact need of a rigid mould at one point x (PHYSICS.md §8, "Rigid
-/// moulds"): the closest mould point p to x and the mould's unit normal n there, pointing into
-/// the solid, so that the gap is g = n·(x − p). For a plane (today's only mould shape) p is
-/// the orthogonal projection and n the plane's normal, the same at every point.
+/// What the glue and the contact need of a rigid mould at one point x at t = 0 (PHYSICS.md §8,
+/// "Rigid moulds", generalised in [`crate::mould`]): the closest point p of the mould's surface
+/// to x and the mould's outward unit normal n there (into the solid), so that the gap is
+/// g = n·(x − p). For a plane p is the orthogonal projection and n the plane's normal, the same
+/// at every point; on a faceted surface n is the pseudo-normal of the feature hit.
 pub fn mould_closest_point(plane: &RigidPlane, x: [f64; 3]) -> ([f64; 3], [f64; 3]) {
-    let n = plane.normal;
-    let g = dot(n, sub(x, plane.point));
-    ([x[0] - g * n[0], x[1] - g * n[1], x[2] - g * n[2]], n)
+    let pr = plane.project0(x);
+    (pr.point, pr.normal)
 }
 
 /// Largest distance between a glued node and its mould at t = 0 that is taken as "on the
@@ -289,7 +290,11 @@ impl Simulation {
             .iter()
             .map(|&c| classes.data[c as usize].volume())
             .sum();
+        #[cfg(not(target_arch = "wasm32"))]
         let threads = rayon::current_num_threads();
+        // wasm32-unknown-unknown has one thread: the page steps on a team of one.
+        #[cfg(target_arch = "wasm32")]
+        let threads = 1;
         let team = (mesh.elements.len() >= PARALLEL_MIN_ELEMENTS && threads > 1)
             .then(|| Team::new(threads));
         let coordinate_scale = mesh
@@ -351,6 +356,8 @@ impl Simulation {
             coordinate_scale,
             model,
         };
+        sim.scratch.moulds = MouldStep::new(&sim.model.planes, 0.0);
+        sim.mould_geometry_at_start();
         sim.start()?;
         Ok(sim)
     }
@@ -382,9 +389,11 @@ impl Simulation {
     /// α₀ = min(u_r, max(initial damage, f₀)): eq. 12's "largest jump ever reached", with the
     /// damage the interface had before the run.
     fn initial_damage(&mut self) {
-        for itf in self.interface_nodes.iter_mut() {
+        for j in 0..self.interface_nodes.len() {
+            let n = self.glue_normal(j);
+            let itf = &mut self.interface_nodes[j];
             let spec = &self.model.interfaces[itf.interface as usize];
-            let (law, n) = (&spec.law, self.model.planes[spec.plane].normal);
+            let law = &spec.law;
             itf.alpha = law.initial_damage(spec.initial_damage, itf.jump, n);
             (itf.alpha_next, itf.alpha_static) = (itf.alpha, itf.alpha);
             itf.stiffness = law.g_n(itf.alpha);

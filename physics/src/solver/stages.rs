@@ -35,6 +35,8 @@ pub(super) struct StepScratch {
     /// Sums of the all-node loop (stage 5) and of the boundary pass (4–8), for stage 9.
     pub node_sums: NodeSums,
     pub boundary_sums: BoundarySums,
+    /// The moulds' poses, per-node geometry against curved moulds, and works (issue 13).
+    pub moulds: crate::mould::step::MouldStep,
 }
 
 impl Simulation {
@@ -126,6 +128,7 @@ impl Simulation {
                 tol[cn.plane as usize],
             );
         }
+        self.mould_gaps();
     }
 
     /// Stage 3: F_int(Uₙ₊₁) = Σ_e fₑ(Uₙ₊₁) (PHYSICS.md §2) and Ψₙ₊₁; an inverted element
@@ -176,6 +179,7 @@ impl Simulation {
         let planes = &self.model.planes;
         let h_prev = self.h;
         let sc = &mut self.scratch;
+        (sc.moulds).advance(planes, t, h_next, h_prev, first || h_prev <= 0.0);
         sc.plane_v_old.clear();
         sc.plane_v_old.extend(planes.iter().map(|p| {
             if first || h_prev <= 0.0 {

@@ -62,6 +62,7 @@ pub fn mould() -> RigidPlane {
         point: [0.0; 3],
         normal: [0.0, 0.0, 1.0],
         velocity: None,
+        ..Default::default()
     }
 }
 

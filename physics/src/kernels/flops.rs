@@ -1,0 +1,228 @@
+//! Floating-point operations per element-step of each element kernel, counted from the code:
+//! the kernels' own generic formulas (H = Σₐ uₐ ⊗ gₐ, F, J, the stress of
+//! [`crate::material::first_piola`], the row products P·g, the hourglass modes, the corner
+//! Jacobians) are run once on a number type, [`Counted`], that counts its operations: +, −, ×,
+//! ÷ one each, a multiply–add two (fused or not; an FMA is 2 flops), ln apart (a library call,
+//! not a flop). What the kernels write out by hand on lanes (the pairwise sum over the Gauss
+//! points, the energy sums, the one-point force assembly) is counted here by the same
+//! operations, written once more on [`Counted`]. Comparisons (min J) are not counted.
+//!
+//! Counted with the energy (the time loop asks for it at every step, for the ledger), one
+//! element, either law.
+
+use super::corners::corner_jacobians;
+use crate::material::{
+    displacement_gradient, first_piola, row_dot, with_law, Deformation, Grouped, Law, Material,
+    MaterialModel, Real,
+};
+use std::cell::Cell;
+use std::ops::{Add, Div, Mul, Sub};
+
+thread_local! {
+    /// Flops and logarithms counted on this thread.
+    static COUNT: Cell<(u64, u64)> = const { Cell::new((0, 0)) };
+}
+
+fn tally(flops: u64, logs: u64) {
+    COUNT.with(|c| {
+        let (f, l) = c.get();
+        c.set((f + flops, l + logs));
+    });
+}
+
+/// The flops and logarithms counted while `run` runs.
+fn count(run: impl FnOnce()) -> (u64, u64) {
+    let before = COUNT.with(|c| c.get());
+    run();
+    let after = COUNT.with(|c| c.get());
+    (after.0 - before.0, after.1 - before.1)
+}
+
+/// A number that counts the operations done on it (its value is carried along, unused).
+#[derive(Clone, Copy, Debug)]
+pub struct Counted(f64);
+
+/// `impl $op for Counted`: one flop each.
+macro_rules! counted {
+    ($($trait:ident :: $method:ident),*) => {$(
+        impl $trait for Counted {
+            type Output = Counted;
+            fn $method(self, o: Counted) -> Counted {
+                tally(1, 0);
+                Counted($trait::$method(self.0, o.0))
+            }
+        }
+    )*};
+}
+counted!(Add::add, Sub::sub, Mul::mul, Div::div);
+
+impl Real for Counted {
+    fn splat(v: f64) -> Counted {
+        Counted(v)
+    }
+    fn ln(self) -> Counted {
+        tally(0, 1);
+        Counted(self.0.ln())
+    }
+    fn fmadd<const FMA: bool>(self, b: Counted, c: Counted) -> Counted {
+        tally(2, 0);
+        Counted(self.0 * b.0 + c.0)
+    }
+}
+
+/// The flops of one element-step of a kernel, by part.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct KernelFlops {
+    /// H = Σₐ uₐ ⊗ gₐ at every point.
+    pub gradient: u64,
+    /// F = I + H, J = det F, the stress P and the energy density ψ at every point.
+    pub stress: u64,
+    /// The nodal forces fₐ (with the hourglass forces for one point) and the energy sums.
+    pub forces: u64,
+    /// The hourglass mode amplitudes qᵅ = Σₐ γₐᵅ uₐ and Ψ_hg (one point).
+    pub hourglass: u64,
+    /// The 8 corner Jacobians (one point's inversion check, when it runs).
+    pub corners: u64,
+    /// Natural logarithms (neo-Hookean), not in the flops.
+    pub logs: u64,
+}
+
+impl KernelFlops {
+    /// Every flop of the kernel, the corner check included.
+    pub fn total(&self) -> u64 {
+        self.gradient + self.stress + self.forces + self.hourglass + self.corners
+    }
+}
+
+fn c(v: f64) -> Counted {
+    Counted(v)
+}
+
+/// F, J, P and ψ at one point (what the kernels' pointwise stress does).
+fn stress_point<L: Law>(mat: &Material) -> (u64, u64) {
+    count(|| {
+        let h = [[c(0.01); 3]; 3];
+        let d = Deformation::of(h);
+        let _ = first_piola::<L, Counted, true, Grouped<true>>(mat, &d);
+    })
+}
+
+/// At one point: the flops of H, those of F, J, P and ψ, and the logarithms.
+fn point(model: MaterialModel) -> (u64, u64, u64) {
+    let mat = Material::new(model, 5e6, 0.3, 1000.0);
+    let (gradient, _) = count(|| {
+        let _ = displacement_gradient::<Counted, true>(|_, _| c(1e-3), |_, _| c(1.0));
+    });
+    let (stress, logs) = with_law!(model, L => stress_point::<L>(&mat));
+    (gradient, stress, logs)
+}
+
+/// One element-step of the full (2×2×2) kernel ([`super::full::full_lanes`]).
+pub fn full(model: MaterialModel) -> KernelFlops {
+    let (gradient, stress, logs) = point(model);
+    let (forces, _) = count(|| {
+        let p = [c(1.0); 3];
+        let g = [c(1.0); 3];
+        // 8 nodes × 3 rows: a row product per Gauss point, then the pairwise sum of the 8.
+        for _ in 0..24 {
+            let a: [Counted; 8] = std::array::from_fn(|_| row_dot::<_, true>(&p, g));
+            let _ = ((a[0] + a[1]) + (a[2] + a[3])) + ((a[4] + a[5]) + (a[6] + a[7]));
+        }
+        // Ψ = Σ_q ψ_q w_q det J₀.
+        let mut e = c(0.0);
+        for _ in 0..8 {
+            e = e + c(1.0) * c(1.0);
+        }
+    });
+    KernelFlops {
+        gradient: 8 * gradient,
+        stress: 8 * stress,
+        forces,
+        hourglass: 0,
+        corners: 0,
+        logs: 8 * logs,
+    }
+}
+
+/// One element-step of the one-point kernel with hourglass control
+/// ([`crate::material::element_forces_reduced_lanes`]) and its corner check
+/// ([`super::corners`]).
+pub fn one_point(model: MaterialModel) -> KernelFlops {
+    let (gradient, stress, logs) = point(model);
+    let (hourglass, _) = count(|| {
+        let q = crate::material::hourglass_modes::<Counted, true>(|_, _| c(1.0), |_, _| c(1e-3));
+        let _ = crate::material::hourglass_energy(c(1.0), &q);
+    });
+    let (forces, _) = count(|| {
+        let (p, b, gamma, vol, k) = ([c(1.0); 3], [c(1.0); 3], c(1.0), c(1.0), c(1.0));
+        // fₐ = V P bₐ + k Σᵅ γₐᵅ qᵅ, 8 nodes × 3 components.
+        for _ in 0..24 {
+            let pb = row_dot::<_, true>(&p, b);
+            let mut hg = c(0.0);
+            for _ in 0..4 {
+                hg = gamma.fmadd::<true>(c(1.0), hg);
+            }
+            let _ = vol.fmadd::<true>(pb, k * hg);
+        }
+        // V ψ.
+        let _ = vol * c(1.0);
+    });
+    let (corners, _) = count(|| {
+        let _ = corner_jacobians::<Counted, true>(|_, _| c(1.0), |_| c(1.0), |_, _| c(1e-3));
+    });
+    KernelFlops {
+        gradient,
+        stress,
+        forces,
+        hourglass,
+        corners,
+        logs,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The counts against a count by hand (an FMA is 2 flops). Per point: H is 8 nodes × 9
+    /// multiply–adds = 144; F = I + H 3; J 14 (3 minors of 2 × and 1 −, then 3 × and 2 ±);
+    /// SVK: E 9 × 8 (3 ×, 2 + for the column product, 2 + and 1 × for ½(H + Hᵀ + …)), tr E 2,
+    /// S 9 + 6, ψ 12 + 4, P = S + H·S 9 × (5 + 1) = 176. Full: 8 points, forces 24 × (8 row
+    /// products of 5 + 7 pairwise +), energy 8 × 2. One point: 1 point, hourglass modes
+    /// 4 × 24 multiply–adds and Ψ_hg 4 × 6 + 2, forces 24 × (5 + 8 + 1 + 2) and V ψ 1, corners
+    /// 12 edges × 3 × 2 and 8 × (triple product 17 + 1 ×).
+    #[test]
+    fn counts_match_a_count_by_hand() {
+        let full_svk = full(MaterialModel::Svk);
+        assert_eq!(
+            full_svk,
+            KernelFlops {
+                gradient: 8 * 144,
+                stress: 8 * 176,
+                forces: 24 * (8 * 5 + 7) + 16,
+                hourglass: 0,
+                corners: 0,
+                logs: 0,
+            }
+        );
+        assert_eq!(full_svk.total(), 3704);
+        let one = one_point(MaterialModel::Svk);
+        assert_eq!(
+            one,
+            KernelFlops {
+                gradient: 144,
+                stress: 176,
+                forces: 24 * 16 + 1,
+                hourglass: 4 * 24 * 2 + 4 * 6 + 2,
+                corners: 12 * 3 * 2 + 8 * 18,
+                logs: 0,
+            }
+        );
+        // Neo-Hookean: one ln per point, the same H and forces.
+        let nh = full(MaterialModel::NeoHookean);
+        assert_eq!(
+            (nh.gradient, nh.forces, nh.logs),
+            (8 * 144, full_svk.forces, 8)
+        );
+    }
+}

@@ -1,0 +1,318 @@
+//! Triangulated mould surfaces: read from STL (ASCII or binary) or from a 2-D physical group of a
+//! Gmsh `.msh` file (triangles, or quadrangles split in two), checked, and queried with
+//! `parry3d-f64` (a BVH over the triangles, projection with the feature hit, pseudo-normals).
+//!
+//! Orientation: a triangle (a, b, c) has the normal (b − a) × (c − a) (right-hand rule), which
+//! must point **out of the mould**, into the solid (STL's convention for a solid's facets).
+//! The loader refuses, naming the file, the element and the reason: a degenerate triangle
+//! (area ≤ 1e-12 × its longest edge², or a repeated vertex), an edge shared by more than two
+//! triangles (not a surface), two triangles that run through their shared edge the same way
+//! (inconsistent orientation), and an STL facet whose written normal opposes its vertex order.
+
+use super::Projection;
+use crate::mesh::{cross, dot, norm, sub};
+use parry3d_f64::math::Point;
+use parry3d_f64::query::PointQueryWithLocation;
+use parry3d_f64::shape::{TriMesh, TriMeshFlags, TrianglePointLocation};
+use std::collections::HashMap;
+
+/// Why a surface could not be used; the message names the file and the element.
+#[derive(Debug, Clone, thiserror::Error)]
+#[error("{file}: {message}")]
+pub struct SurfaceError {
+    pub file: String,
+    pub message: String,
+}
+
+/// A checked triangulated surface and its BVH.
+pub struct SurfaceMesh {
+    /// The file it was read from, its physical group (Gmsh) and the scale applied.
+    pub file: String,
+    pub group: Option<String>,
+    pub scale: f64,
+    pub mesh: TriMesh,
+}
+
+impl std::fmt::Debug for SurfaceMesh {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "SurfaceMesh({}, {:?}, ×{}, {} triangles)",
+            self.file,
+            self.group,
+            self.scale,
+            self.mesh.num_triangles()
+        )
+    }
+}
+
+/// Two surfaces are equal when read from the same source with the same scale.
+impl PartialEq for SurfaceMesh {
+    fn eq(&self, o: &Self) -> bool {
+        (
+            &self.file,
+            &self.group,
+            self.scale,
+            self.mesh.num_triangles(),
+        ) == (&o.file, &o.group, o.scale, o.mesh.num_triangles())
+    }
+}
+
+impl serde::Serialize for SurfaceMesh {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeStruct;
+        let mut st = s.serialize_struct("SurfaceMesh", 4)?;
+        st.serialize_field("file", &self.file)?;
+        st.serialize_field("group", &self.group)?;
+        st.serialize_field("scale", &self.scale)?;
+        st.serialize_field("triangles", &self.mesh.num_triangles())?;
+        st.end()
+    }
+}
+
+impl SurfaceMesh {
+    /// Checks the triangles ([`check_orientation`]) and builds the BVH and pseudo-normals.
+    /// `element[k]` names triangle k in messages.
+    pub fn new(
+        file: &str,
+        group: Option<String>,
+        scale: f64,
+        vertices: Vec<[f64; 3]>,
+        triangles: Vec<[u32; 3]>,
+        element: &dyn Fn(usize) -> String,
+    ) -> Result<SurfaceMesh, SurfaceError> {
+        let err = |message: String| SurfaceError {
+            file: file.to_string(),
+            message,
+        };
+        if triangles.is_empty() {
+            return Err(err("the surface has no triangle".into()));
+        }
+        let vertices: Vec<[f64; 3]> = vertices.iter().map(|v| v.map(|c| c * scale)).collect();
+        let id = check_orientation(&vertices, &triangles, element).map_err(err)?;
+        // Shared vertices once (an STL repeats them per facet): the pseudo-normals of edges and
+        // vertices need the triangles around them.
+        let mut new_index = vec![u32::MAX; vertices.len()];
+        let mut points = Vec::new();
+        for (i, &c) in id.iter().enumerate() {
+            if new_index[c as usize] == u32::MAX {
+                new_index[c as usize] = points.len() as u32;
+                let v = vertices[i];
+                points.push(Point::new(v[0], v[1], v[2]));
+            }
+        }
+        let triangles = (triangles.iter())
+            .map(|t| t.map(|v| new_index[id[v as usize] as usize]))
+            .collect();
+        let mesh = TriMesh::with_flags(points, triangles, TriMeshFlags::ORIENTED)
+            .map_err(|e| err(format!("cannot build the triangle mesh: {e}")))?;
+        Ok(SurfaceMesh {
+            file: file.to_string(),
+            group,
+            scale,
+            mesh,
+        })
+    }
+
+    /// Closest point p and the pseudo-normal n of its feature (face, edge or vertex), in the
+    /// mould's frame at t = 0 (module docs of [`super`]).
+    pub fn project(&self, x: [f64; 3]) -> Projection {
+        let (proj, (tri, loc)) =
+            (self.mesh).project_local_point_and_get_location(&Point::new(x[0], x[1], x[2]), false);
+        let face = || self.mesh.triangle(tri).scaled_normal();
+        let pn = self.mesh.pseudo_normals_if_oriented();
+        let n = match (loc, pn) {
+            (TrianglePointLocation::OnEdge(i, _), Some(pn)) => {
+                pn.edges_pseudo_normal[tri as usize][i as usize]
+            }
+            (TrianglePointLocation::OnVertex(i), Some(pn)) => {
+                let v = self.mesh.indices()[tri as usize][i as usize];
+                pn.vertices_pseudo_normal[v as usize]
+            }
+            _ => face(),
+        };
+        let n = [n.x, n.y, n.z];
+        let l = norm(n);
+        Projection {
+            point: [proj.point.x, proj.point.y, proj.point.z],
+            normal: n.map(|c| c / l),
+        }
+    }
+}
+
+/// Refuses degenerate triangles, edges of more than two triangles and inconsistently oriented
+/// neighbours (module docs). Vertices that coincide exactly are one vertex: returns, per
+/// vertex, the index of the first vertex at its position.
+pub fn check_orientation(
+    vertices: &[[f64; 3]],
+    triangles: &[[u32; 3]],
+    element: &dyn Fn(usize) -> String,
+) -> Result<Vec<u32>, String> {
+    let mut canon: HashMap<[u64; 3], u32> = HashMap::new();
+    let id: Vec<u32> = vertices
+        .iter()
+        .enumerate()
+        .map(|(i, v)| *canon.entry(v.map(f64::to_bits)).or_insert(i as u32))
+        .collect();
+    // Directed edge (a, b) → the triangle that runs through it, and undirected use counts.
+    let mut directed: HashMap<(u32, u32), usize> = HashMap::new();
+    let mut uses: HashMap<(u32, u32), usize> = HashMap::new();
+    for (k, t) in triangles.iter().enumerate() {
+        if t.iter().any(|&v| v as usize >= vertices.len()) {
+            return Err(format!(
+                "{} refers to a vertex that does not exist",
+                element(k)
+            ));
+        }
+        let [a, b, c] = t.map(|v| vertices[v as usize]);
+        let area2 = norm(cross(sub(b, a), sub(c, a)));
+        let longest = [
+            dot(sub(b, a), sub(b, a)),
+            dot(sub(c, b), sub(c, b)),
+            dot(sub(a, c), sub(a, c)),
+        ]
+        .into_iter()
+        .fold(0.0f64, f64::max);
+        let v = t.map(|v| id[v as usize]);
+        if v[0] == v[1] || v[1] == v[2] || v[0] == v[2] || !(area2 > 1e-12 * longest) {
+            return Err(format!(
+                "{} is degenerate (zero area or a repeated vertex): its orientation is undefined",
+                element(k)
+            ));
+        }
+        for e in 0..3 {
+            let (p, q) = (v[e], v[(e + 1) % 3]);
+            if let Some(j) = directed.insert((p, q), k) {
+                return Err(format!(
+                    "{} and {} run through their shared edge the same way: the surface's orientation is inconsistent (one of them is flipped; the normal (b − a) × (c − a) must point out of the mould)",
+                    element(j),
+                    element(k)
+                ));
+            }
+            let n = uses.entry((p.min(q), p.max(q))).or_insert(0);
+            *n += 1;
+            if *n > 2 {
+                return Err(format!(
+                    "{} shares an edge with two other triangles: not a surface (an edge belongs to at most two triangles)",
+                    element(k)
+                ));
+            }
+        }
+    }
+    Ok(id)
+}
+
+/// The triangles of an STL file (binary when it is not ASCII `solid … facet`), checked with the
+/// file's facet normals: a written normal (non-zero) that opposes the vertex order's normal is
+/// refused. Returns (vertices, triangles), three vertices per triangle.
+pub fn read_stl(bytes: &[u8], file: &str) -> Result<Triangles, SurfaceError> {
+    let err = |message: String| SurfaceError {
+        file: file.to_string(),
+        message,
+    };
+    let text = std::str::from_utf8(bytes).ok();
+    let ascii = text.filter(|t| t.trim_start().starts_with("solid") && t.contains("facet"));
+    let facets: Vec<([f64; 3], [[f64; 3]; 3])> = match ascii {
+        Some(t) => read_ascii_stl(t).map_err(err)?,
+        None => read_binary_stl(bytes).map_err(err)?,
+    };
+    if facets.is_empty() {
+        return Err(err("not an STL file with triangles (no facet found)".into()));
+    }
+    let mut vertices = Vec::with_capacity(3 * facets.len());
+    for (k, (n, v)) in facets.iter().enumerate() {
+        let computed = cross(sub(v[1], v[0]), sub(v[2], v[0]));
+        if dot(*n, computed) < 0.0 {
+            return Err(err(format!(
+                "facet {k}: its written normal {n:?} opposes the normal of its vertex order (counter-clockwise seen from outside): inconsistent orientation"
+            )));
+        }
+        vertices.extend_from_slice(v);
+    }
+    let triangles = (0..facets.len() as u32)
+        .map(|k| [3 * k, 3 * k + 1, 3 * k + 2])
+        .collect();
+    Ok((vertices, triangles))
+}
+
+type Facet = ([f64; 3], [[f64; 3]; 3]);
+
+/// Vertices and triangles (indices into the vertices).
+pub type Triangles = (Vec<[f64; 3]>, Vec<[u32; 3]>);
+
+fn read_ascii_stl(text: &str) -> Result<Vec<Facet>, String> {
+    let mut out = Vec::new();
+    let mut words = text.split_whitespace().enumerate().peekable();
+    let triple = |words: &mut std::iter::Peekable<_>, what: &str| -> Result<[f64; 3], String> {
+        let mut v = [0.0; 3];
+        for c in &mut v {
+            let (_, w): (usize, &str) = words
+                .next()
+                .ok_or_else(|| format!("ASCII STL ends inside a {what}"))?;
+            *c = w
+                .parse()
+                .map_err(|_| format!("ASCII STL: expected a number in a {what}, found {w:?}"))?;
+        }
+        Ok(v)
+    };
+    while let Some((_, w)) = words.next() {
+        if w != "facet" {
+            continue;
+        }
+        match words.next() {
+            Some((_, "normal")) => {}
+            _ => {
+                return Err(format!(
+                    "ASCII STL facet {}: expected `facet normal`",
+                    out.len()
+                ))
+            }
+        }
+        let n = triple(&mut words, "facet normal")?;
+        let mut v = [[0.0; 3]; 3];
+        let mut k = 0;
+        while k < 3 {
+            match words.next() {
+                Some((_, "vertex")) => {
+                    v[k] = triple(&mut words, "vertex")?;
+                    k += 1;
+                }
+                Some((_, "endfacet")) | None => {
+                    return Err(format!(
+                        "ASCII STL facet {}: fewer than 3 vertices",
+                        out.len()
+                    ))
+                }
+                _ => {}
+            }
+        }
+        out.push((n, v));
+    }
+    Ok(out)
+}
+
+fn read_binary_stl(bytes: &[u8]) -> Result<Vec<Facet>, String> {
+    if bytes.len() < 84 {
+        return Err(format!(
+            "not an STL file: {} bytes, neither ASCII (`solid … facet …`) nor a binary STL (80-byte header and a triangle count)",
+            bytes.len()
+        ));
+    }
+    let count = u32::from_le_bytes([bytes[80], bytes[81], bytes[82], bytes[83]]) as usize;
+    let expected = 84 + 50 * count;
+    if bytes.len() != expected {
+        return Err(format!(
+            "not an STL file: a binary STL with {count} triangles has {expected} bytes, this file has {}",
+            bytes.len()
+        ));
+    }
+    let f =
+        |o: usize| f32::from_le_bytes([bytes[o], bytes[o + 1], bytes[o + 2], bytes[o + 3]]) as f64;
+    let v3 = |o: usize| [f(o), f(o + 4), f(o + 8)];
+    Ok((0..count)
+        .map(|k| {
+            let o = 84 + 50 * k;
+            (v3(o), [v3(o + 12), v3(o + 24), v3(o + 36)])
+        })
+        .collect())
+}

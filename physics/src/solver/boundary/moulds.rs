@@ -1,0 +1,130 @@
+//! Stage 2 against moulds that are not plain planes (issue 13, [`crate::mould`]): each glued
+//! node's anchor, jump and glue normal, each node's closest mould point, normal and gap. Plain
+//! planes keep stage 2 of `stages.rs` untouched (the same arithmetic as before moulds existed).
+
+use super::super::Simulation;
+use crate::mesh::{dot, sub};
+use crate::mould::step::{MouldStep, NodeGeometry};
+
+impl Simulation {
+    /// At t₀: the per-node geometry of glued and contact nodes on curved moulds (empty when
+    /// every mould is a plain plane): the glue normal N₀ at each anchor y₀ (the closest mould
+    /// point to the node at t₀, already in `bonded_point`).
+    pub(in crate::solver) fn mould_geometry_at_start(&mut self) {
+        let ms = &mut self.scratch.moulds;
+        if !ms.any_general() {
+            return;
+        }
+        let planes = &self.model.planes;
+        ms.interface = (self.interface_nodes.iter())
+            .map(|itf| {
+                let k = self.model.interfaces[itf.interface as usize].plane;
+                let n0 = planes[k].project0(itf.bonded_point).normal;
+                NodeGeometry {
+                    normal0: n0,
+                    glue_normal: n0,
+                    anchor: itf.bonded_point,
+                    ..Default::default()
+                }
+            })
+            .collect();
+        ms.contact = vec![NodeGeometry::default(); self.contact_nodes.len()];
+    }
+
+    /// Stage 2 on curved moulds at tₙ₊₁ (module docs of [`crate::mould`]): for a glued node, the
+    /// anchor y(t) = c + R(y₀ − c₀) (a material point of the mould), [u] = x − y(t) and the glue
+    /// normal R N₀; for every node on such a mould, the closest point p, the outward normal n
+    /// there and the gap g = n·(x − p) (snapped to 0 within the round-off of positions, as for
+    /// planes).
+    pub(in crate::solver) fn mould_gaps(&mut self) {
+        if !self.scratch.moulds.any_general() {
+            return;
+        }
+        let (nodes, t) = (&self.model.mesh.nodes, self.time);
+        let (planes, u) = (&self.model.planes, &self.u);
+        let sc = &mut self.scratch;
+        let (ms, tol) = (&mut sc.moulds, &sc.plane_tol);
+        let snap = |g: f64, tol: f64| if g.abs() <= tol { 0.0 } else { g };
+        let place = |i: usize| -> [f64; 3] { std::array::from_fn(|c| nodes[i][c] + u[i][c]) };
+        for (j, itf) in self.interface_nodes.iter_mut().enumerate() {
+            let k = self.model.interfaces[itf.interface as usize].plane;
+            if ms.plane[k] {
+                continue;
+            }
+            let (m, x) = (&planes[k], place(itf.node as usize));
+            let pose = ms.pose_at(k, t);
+            let mut geo = ms.interface[j];
+            geo.anchor = pose.place(m.pivot(), itf.bonded_point);
+            geo.glue_normal = crate::mould::motion::mat_vec(&pose.rotation, geo.normal0);
+            itf.jump = sub(x, geo.anchor);
+            let pr = MouldStep::project(m, &pose, x);
+            (geo.point, geo.normal) = (pr.point, pr.normal);
+            itf.gap = snap(dot(pr.normal, sub(x, pr.point)), tol[k]);
+            ms.interface[j] = geo;
+        }
+        for (j, cn) in self.contact_nodes.iter_mut().enumerate() {
+            let k = cn.plane as usize;
+            if ms.plane[k] {
+                continue;
+            }
+            let x = place(cn.node as usize);
+            let pr = MouldStep::project(&planes[k], &ms.pose_at(k, t), x);
+            (ms.contact[j].point, ms.contact[j].normal) = (pr.point, pr.normal);
+            cn.gap = snap(dot(pr.normal, sub(x, pr.point)), tol[k]);
+        }
+    }
+
+    /// The glue normal of interface node `j` at tₙ₊₁: its plane's normal, or on a curved mould
+    /// the mould's normal at the anchor turned with the mould (R N₀).
+    #[inline]
+    pub(in crate::solver) fn glue_normal(&self, j: usize) -> [f64; 3] {
+        let k = self.model.interfaces[self.interface_nodes[j].interface as usize].plane;
+        if self.scratch.moulds.plane[k] {
+            self.model.planes[k].normal
+        } else {
+            self.scratch.moulds.interface[j].glue_normal
+        }
+    }
+
+    /// The anchor of interface node `itf` and the contact point of it or of contact node `cn`
+    /// on mould `k` at tₙ₊₁ (any point of a plain plane: its velocity is the same everywhere).
+    pub(in crate::solver) fn mould_points(
+        &self,
+        k: usize,
+        itf: Option<usize>,
+        cn: Option<usize>,
+    ) -> ([f64; 3], [f64; 3]) {
+        let ms = &self.scratch.moulds;
+        if ms.plane[k] {
+            return ([0.0; 3], [0.0; 3]);
+        }
+        match (itf, cn) {
+            (Some(j), _) => (ms.interface[j].anchor, ms.interface[j].point),
+            (_, Some(j)) => ([0.0; 3], ms.contact[j].point),
+            _ => ([0.0; 3], [0.0; 3]),
+        }
+    }
+
+    /// The velocity of mould `k` at the point p over the intervals before and after tₙ₊₁.
+    pub(in crate::solver) fn mould_velocities(&self, k: usize, p: [f64; 3]) -> [[f64; 3]; 2] {
+        let sc = &self.scratch;
+        if sc.moulds.plane[k] {
+            [sc.plane_v_old[k], sc.plane_v_new[k]]
+        } else {
+            [sc.moulds.velocity_old(k, p), sc.moulds.velocity_new(k, p)]
+        }
+    }
+
+    /// Each mould's name and its work since t₀ [J] (force · velocity at the points it acts
+    /// on, moments included): with one mould, the ledger's `plane_work`.
+    pub fn mould_works(&self) -> Vec<(String, f64)> {
+        let planes = &self.model.planes;
+        if planes.len() == 1 {
+            return vec![(planes[0].name.clone(), self.ledger.plane_work.value)];
+        }
+        let works = &self.scratch.moulds.work;
+        (planes.iter().zip(works))
+            .map(|(p, w)| (p.name.clone(), w.value))
+            .collect()
+    }
+}

@@ -1,0 +1,365 @@
+//! Frames of a run for the explorer's 3-D view ([`super::view3d`]): what the view draws of the
+//! state at one step — the deformed surface x = X + U of the body (the recorder's surface,
+//! [`crate::output::surface`]), the colouring fields at its vertices, the interface nodes with
+//! their state and contact status, the displacement of each mould plane (half-spaces; the other
+//! mould shapes are not drawn yet).
+//!
+//! Built on the solver's thread from a `&Simulation` ([`FrameSampler::due`]), so the native
+//! run thread ([`super::job`]) and an in-page runner call the same function. A run's frames are
+//! bounded in memory: at most [`MAX_RUN_BYTES`] in all (28³ pull-off: ≈ 125 kB a frame, see
+//! [`FrameBuilder::frame_bytes`]), so the cadence is the recorder's (the run's `frames` over
+//! its end time) or coarser.
+
+use crate::law::InterfaceState;
+use crate::model::{Model, Shape};
+use crate::output::fields::Scalar;
+use crate::output::surface::Surface;
+use crate::solver::{ContactStatus, Simulation};
+use std::sync::Arc;
+
+/// The most memory a run's frames take [bytes].
+pub const MAX_RUN_BYTES: usize = 64 << 20;
+
+/// The field that colours the surface.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Field {
+    /// |U| at the node [m].
+    #[default]
+    Displacement,
+    /// Von Mises stress of the Cauchy stress at the element centres, averaged to the nodes [Pa].
+    VonMises,
+    /// J = det F at the element centres, averaged to the nodes [-].
+    Jacobian,
+}
+
+impl Field {
+    pub const ALL: [Field; 3] = [Field::Displacement, Field::VonMises, Field::Jacobian];
+
+    /// Name and unit.
+    pub fn label(self) -> (&'static str, &'static str) {
+        match self {
+            Field::Displacement => ("|U|", "m"),
+            Field::VonMises => ("von Mises", "Pa"),
+            Field::Jacobian => ("J = det F", "-"),
+        }
+    }
+
+    fn scalar(self) -> Option<Scalar> {
+        match self {
+            Field::Displacement => None,
+            Field::VonMises => Some(Scalar::VonMises),
+            Field::Jacobian => Some(Scalar::Jacobian),
+        }
+    }
+}
+
+/// What does not change over a run: the surface's triangles, the reference box, the moulds.
+#[derive(Debug)]
+pub struct Topology {
+    /// Two triangles per boundary face, in surface vertex numbers.
+    pub triangles: Vec<[u32; 3]>,
+    /// Number of surface vertices.
+    pub vertices: usize,
+    /// Centre of the reference surface's bounding box [m].
+    pub centre: [f32; 3],
+    /// Largest side of that box [m].
+    pub extent: f32,
+    /// Each mould plane as a square at t = 0, 1.5 extents wide, centred on the projection of
+    /// the box centre on the plane: its corners [m].
+    pub moulds: Vec<[[f32; 3]; 4]>,
+}
+
+/// The state of a run at one step, as the 3-D view draws it.
+#[derive(Debug, Clone)]
+pub struct Frame {
+    pub topology: Arc<Topology>,
+    pub step: u64,
+    /// tₙ [s].
+    pub time: f64,
+    /// x = X + Uₙ of each surface vertex [m].
+    pub positions: Vec<[f32; 3]>,
+    /// Each [`Field`] (in [`Field::ALL`] order) at each surface vertex.
+    pub fields: [Vec<f32>; 3],
+    /// x = X + Uₙ of each interface node [m].
+    pub points: Vec<[f32; 3]>,
+    /// State of the law at αₙ and contact status of each interface node.
+    pub states: Vec<(InterfaceState, ContactStatus)>,
+    /// Displacement of each mould plane at tₙ [m].
+    pub mould_offsets: Vec<[f32; 3]>,
+}
+
+impl Frame {
+    pub fn field(&self, f: Field) -> &[f32] {
+        &self.fields[f as usize]
+    }
+}
+
+/// Builds the frames of one simulation.
+pub struct FrameBuilder {
+    surface: Surface,
+    topology: Arc<Topology>,
+}
+
+fn f32x3(x: [f64; 3]) -> [f32; 3] {
+    x.map(|c| c as f32)
+}
+
+/// x = X + U of node `n` [m].
+fn position(m: &Model, u: &[[f64; 3]], n: u32) -> [f32; 3] {
+    let (x, u) = (m.mesh.nodes[n as usize], u[n as usize]);
+    f32x3([x[0] + u[0], x[1] + u[1], x[2] + u[2]])
+}
+
+/// Two unit vectors orthogonal to the unit vector `n` and to each other.
+fn tangents(n: [f64; 3]) -> ([f64; 3], [f64; 3]) {
+    use crate::mesh::{cross, norm};
+    let a = if n[0].abs() < 0.9 {
+        [1.0, 0.0, 0.0]
+    } else {
+        [0.0, 1.0, 0.0]
+    };
+    let t1 = cross(n, a);
+    let t1 = t1.map(|c| c / norm(t1));
+    (t1, cross(n, t1))
+}
+
+impl FrameBuilder {
+    pub fn new(sim: &Simulation) -> FrameBuilder {
+        let m = &sim.model;
+        let surface = Surface::extract(m);
+        let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+        for &n in &surface.nodes {
+            let x = m.mesh.nodes[n as usize];
+            lo = [0, 1, 2].map(|i| lo[i].min(x[i]));
+            hi = [0, 1, 2].map(|i| hi[i].max(x[i]));
+        }
+        let centre = [0, 1, 2].map(|i| 0.5 * (lo[i] + hi[i]));
+        let extent = (0..3).map(|i| hi[i] - lo[i]).fold(0.0, f64::max);
+        // Half-spaces only, as in the recording: the other mould shapes are not drawn yet.
+        let moulds = m
+            .planes
+            .iter()
+            .filter(|p| p.shape == Shape::HalfSpace)
+            .map(|p| {
+                let n = p.normal;
+                let d = (0..3).map(|i| (centre[i] - p.point[i]) * n[i]).sum::<f64>();
+                let c = [0, 1, 2].map(|i| centre[i] - d * n[i]);
+                let (t1, t2) = tangents(n);
+                let r = 0.75 * extent;
+                [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)]
+                    .map(|(a, b)| f32x3([0, 1, 2].map(|i| c[i] + r * (a * t1[i] + b * t2[i]))))
+            })
+            .collect();
+        let topology = Arc::new(Topology {
+            triangles: surface.triangles.clone(),
+            vertices: surface.nodes.len(),
+            centre: f32x3(centre),
+            extent: extent as f32,
+            moulds,
+        });
+        FrameBuilder { surface, topology }
+    }
+
+    pub fn topology(&self) -> &Arc<Topology> {
+        &self.topology
+    }
+
+    /// The frame of `sim`'s current state.
+    pub fn frame(&self, sim: &Simulation) -> Frame {
+        let m = &sim.model;
+        let u = &sim.u;
+        let field = |f: Field| -> Vec<f32> {
+            let v = self.surface.values(m, u, f.scalar());
+            v.into_iter().map(|x| x as f32).collect()
+        };
+        Frame {
+            topology: self.topology.clone(),
+            step: sim.step_count,
+            time: sim.time,
+            positions: self
+                .surface
+                .nodes
+                .iter()
+                .map(|&n| position(m, u, n))
+                .collect(),
+            fields: Field::ALL.map(field),
+            points: sim
+                .interface_nodes
+                .iter()
+                .map(|n| position(m, u, n.node))
+                .collect(),
+            states: sim
+                .interface_nodes
+                .iter()
+                .map(|n| {
+                    let law = &m.interfaces[n.interface as usize].law;
+                    (law.state(n.alpha), n.contact)
+                })
+                .collect(),
+            mould_offsets: m
+                .planes
+                .iter()
+                .filter(|p| p.shape == Shape::HalfSpace)
+                .map(|p| f32x3(p.displacement(sim.time)))
+                .collect(),
+        }
+    }
+
+    /// Memory of one frame of `sim` [bytes]: 24 a surface vertex (position, three fields),
+    /// 14 an interface node, 12 a mould, and the vectors' headers.
+    pub fn frame_bytes(&self, sim: &Simulation) -> usize {
+        24 * self.topology.vertices
+            + 14 * sim.interface_nodes.len()
+            + 12 * self.topology.moulds.len()
+            + std::mem::size_of::<Frame>()
+    }
+}
+
+/// When a frame is due: every `end_time / frames` of simulated time (the recorder's cadence),
+/// or less often if that many frames would take more than [`MAX_RUN_BYTES`]; the first at
+/// t = 0 and the last at the end of the run ([`FrameSampler::last`]).
+pub struct FrameSampler {
+    builder: FrameBuilder,
+    /// Simulated time between two frames [s].
+    pub interval: f64,
+    next: f64,
+    /// Step of the last frame given.
+    last_step: Option<u64>,
+}
+
+impl FrameSampler {
+    /// About `frames` frames over the run of `sim` (at least one).
+    pub fn new(sim: &Simulation, frames: u32) -> FrameSampler {
+        let builder = FrameBuilder::new(sim);
+        // t = 0, `most` intervals and possibly the final state.
+        let most = (MAX_RUN_BYTES / builder.frame_bytes(sim)).max(3) - 2;
+        let frames = (frames.max(1) as usize).min(most);
+        FrameSampler {
+            builder,
+            interval: sim.model.end_time / frames as f64,
+            next: sim.time,
+            last_step: None,
+        }
+    }
+
+    /// The frame of `sim` if one is due at its time.
+    pub fn due(&mut self, sim: &Simulation) -> Option<Frame> {
+        if sim.time < self.next {
+            return None;
+        }
+        // Next multiple of the interval after t (a long step may pass several).
+        self.next = ((sim.time / self.interval).floor() + 1.0) * self.interval;
+        self.last_step = Some(sim.step_count);
+        Some(self.builder.frame(sim))
+    }
+
+    /// The frame of the final state, unless it was given already.
+    pub fn last(&mut self, sim: &Simulation) -> Option<Frame> {
+        (self.last_step != Some(sim.step_count)).then(|| {
+            self.last_step = Some(sim.step_count);
+            self.builder.frame(sim)
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn pull_off(cells: usize, set: &[&str]) -> Simulation {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/pull_off.toml");
+        let mut o = vec![format!("mesh.cells=[{cells},{cells},{cells}]")];
+        o.extend(set.iter().map(|s| s.to_string()));
+        Simulation::new(crate::scene::load_scene(&path, &o).unwrap().model).unwrap()
+    }
+
+    /// Some steps into the pull-off (the top moving, the body deformed): the frame's surface is
+    /// the nodes on the faces of the box, X + U of each (the nodes found from their reference
+    /// coordinates, not from the mesh's faces), its counts those of an n³ box.
+    #[test]
+    fn frame_is_the_deformed_box_surface() {
+        let n = 4;
+        let mut sim = pull_off(n, &[]);
+        for _ in 0..200 {
+            sim.step().unwrap();
+        }
+        let f = FrameBuilder::new(&sim).frame(&sim);
+        let m = &sim.model;
+        let (lo, hi) = (0..3).fold(([f64::MAX; 3], [f64::MIN; 3]), |(lo, hi), i| {
+            let c = m.mesh.nodes.iter().map(|x| x[i]);
+            let (a, b) = c.fold((f64::MAX, f64::MIN), |(a, b), v| (a.min(v), b.max(v)));
+            let (mut lo, mut hi) = (lo, hi);
+            (lo[i], hi[i]) = (a, b);
+            (lo, hi)
+        });
+        let on_face = |x: &[f64; 3]| (0..3).any(|i| x[i] == lo[i] || x[i] == hi[i]);
+        let key = |p: [f32; 3]| p.map(f32::to_bits);
+        let mut expected: Vec<_> = (0..m.mesh.nodes.len())
+            .filter(|&k| on_face(&m.mesh.nodes[k]))
+            .map(|k| key([0, 1, 2].map(|i| (m.mesh.nodes[k][i] + sim.u[k][i]) as f32)))
+            .collect();
+        let mut got: Vec<_> = f.positions.iter().map(|&p| key(p)).collect();
+        expected.sort_unstable();
+        got.sort_unstable();
+        assert_eq!(got, expected);
+        assert!(sim.u.iter().any(|u| u[2] > 1e-4), "the body has moved");
+        assert_eq!(f.positions.len(), (n + 1).pow(3) - (n - 1).pow(3));
+        assert_eq!(f.topology.triangles.len(), 2 * 6 * n * n);
+        assert!(f.fields.iter().all(|v| v.len() == f.positions.len()));
+        // The glued bottom face: (n + 1)² interface nodes.
+        assert_eq!(
+            (f.points.len(), f.states.len()),
+            ((n + 1) * (n + 1), (n + 1) * (n + 1))
+        );
+        assert_eq!(f.mould_offsets.len(), m.planes.len());
+        assert_eq!(f.topology.moulds.len(), m.planes.len());
+        // |U| at the vertices: the largest is the largest |U| on the surface.
+        let max_u = |v: &[f32]| v.iter().fold(0.0f32, |a, &b| a.max(b));
+        let surface_max = (0..m.mesh.nodes.len())
+            .filter(|&k| on_face(&m.mesh.nodes[k]))
+            .map(|k| crate::mesh::norm(sim.u[k]) as f32)
+            .fold(0.0f32, f32::max);
+        assert_eq!(max_u(f.field(Field::Displacement)), surface_max);
+    }
+
+    /// At t = 0 nothing is deformed: J = 1 and the von Mises stress 0 at every vertex, to the
+    /// round-off of F = I.
+    #[test]
+    fn undeformed_fields() {
+        let sim = pull_off(3, &[]);
+        let f = FrameBuilder::new(&sim).frame(&sim);
+        assert!(f.field(Field::Jacobian).iter().all(|&j| j == 1.0));
+        assert!(f.field(Field::VonMises).iter().all(|&s| s == 0.0));
+        assert!(f.field(Field::Displacement).iter().all(|&u| u == 0.0));
+    }
+
+    /// The recorder's cadence over a whole run: t = 0, then every end_time/frames, then the
+    /// end; and a cadence that would exceed [`MAX_RUN_BYTES`] is made coarser.
+    #[test]
+    fn sampler_cadence_and_memory_cap() {
+        let mut sim = pull_off(2, &["end_time=0.02"]);
+        let mut s = FrameSampler::new(&sim, 10);
+        let mut times = vec![];
+        times.extend(s.due(&sim).map(|f| f.time));
+        while sim.time < sim.model.end_time - 1e-6 * sim.h {
+            sim.step().unwrap();
+            times.extend(s.due(&sim).map(|f| f.time));
+        }
+        times.extend(s.last(&sim).map(|f| f.time));
+        assert!(s.last(&sim).is_none(), "the last frame is given once");
+        assert!((11..=12).contains(&times.len()), "{times:?}");
+        assert_eq!(times[0], 0.0);
+        for w in times.windows(2) {
+            // One frame per interval, within a step of its multiple of the interval.
+            assert!(w[1] - w[0] <= s.interval + sim.h, "{times:?}");
+        }
+        let big = FrameSampler::new(&sim, u32::MAX);
+        // t = 0, one a full interval, the final state.
+        let frames = (sim.model.end_time / big.interval).round() as usize + 2;
+        let bytes = FrameBuilder::new(&sim).frame_bytes(&sim);
+        assert!(
+            frames * bytes <= MAX_RUN_BYTES,
+            "{frames} frames of {bytes} bytes"
+        );
+    }
+}

@@ -1,0 +1,145 @@
+//! The web page's entry point (wasm32-unknown-unknown, built by `scripts/build_site.sh`): the
+//! explorer ([`crate::gui`]) in the canvas `#explorer` through eframe's web runner (glow on
+//! WebGL2), every scene of `scenes/` built in, each run stepped inside the frame loop
+//! ([`crate::gui::page_run`]) on the page's one thread.
+//!
+//! URL parameters: `scene=NAME` opens `scenes/NAME.toml` with the file's values; `run=1` starts a
+//! run at once. The page reports in the DOM, for scripts (the browser test, `web/test_page.py`):
+//! `#status` holds the explorer's status (`ready`, `running`, `finished`, `stopped`, `failed: …`),
+//! `#result` the summary JSON of the last run (what `decohesion run --summary` writes), also
+//! logged to the console; the title follows the status.
+
+use crate::gui::{Explorer, RecordChoice, Status};
+use wasm_bindgen::prelude::*;
+use wasm_bindgen::JsCast;
+
+/// Starts the explorer in the page (called by wasm-bindgen's loader when the module loads).
+#[wasm_bindgen(start)]
+pub fn start() {
+    wasm_bindgen_futures::spawn_local(async {
+        if let Err(e) = run().await {
+            let text = format!("the explorer could not start: {e}");
+            web_sys::console::error_1(&text.clone().into());
+            set_text("status", &format!("failed: {text}"));
+        }
+    });
+}
+
+async fn run() -> Result<(), String> {
+    let document = document()?;
+    let canvas = document
+        .get_element_by_id("explorer")
+        .ok_or("the page has no canvas #explorer")?
+        .dyn_into::<web_sys::HtmlCanvasElement>()
+        .map_err(|_| "#explorer is not a canvas")?;
+    let (scene, run_on_start) = url_parameters()?;
+    eframe::WebRunner::new()
+        .start(
+            canvas,
+            eframe::WebOptions::default(),
+            Box::new(move |cc| {
+                let explorer =
+                    Explorer::new(cc, scene, run_on_start, Some(RecordChoice::Off), None);
+                Ok(Box::new(PageExplorer {
+                    explorer,
+                    reported: None,
+                }))
+            }),
+        )
+        .await
+        .map_err(js_text)
+}
+
+/// `scene=NAME` as `scenes/NAME.toml` (a path is taken as it is) and `run=1` of the page's URL.
+fn url_parameters() -> Result<(Option<String>, bool), String> {
+    let window = web_sys::window().ok_or("no window")?;
+    let search = window.location().search().map_err(js_text)?;
+    let params = web_sys::UrlSearchParams::new_with_str(&search).map_err(js_text)?;
+    let scene = params.get("scene").map(|s| {
+        if s.ends_with(".toml") {
+            s
+        } else {
+            format!("scenes/{s}.toml")
+        }
+    });
+    let run = params.get("run").is_some_and(|v| v == "1" || v == "true");
+    Ok((scene, run))
+}
+
+/// The explorer, with its status and last result written into the DOM.
+struct PageExplorer {
+    explorer: Explorer,
+    /// (status, runs in the history) last written.
+    reported: Option<(String, usize)>,
+}
+
+impl eframe::App for PageExplorer {
+    fn ui(&mut self, ui: &mut egui::Ui, frame: &mut eframe::Frame) {
+        eframe::App::ui(&mut self.explorer, ui, frame);
+        let app = &self.explorer.app;
+        let status = match &app.status {
+            Status::Idle => "ready".to_string(),
+            Status::Running => "running".to_string(),
+            Status::Ended(s) => s.clone(),
+        };
+        let now = (status, app.history.len());
+        if self.reported.as_ref() == Some(&now) {
+            return;
+        }
+        if let Some(json) = app.history.last().and_then(|r| r.summary_json.as_deref()) {
+            set_text("result", json);
+            log(&format!("decohesion summary: {json}"));
+        }
+        set_text("status", &now.0);
+        if let Ok(d) = document() {
+            d.set_title(&format!("decohesion explorer — {}", now.0));
+        }
+        self.reported = Some(now);
+    }
+
+    fn save(&mut self, storage: &mut dyn eframe::Storage) {
+        eframe::App::save(&mut self.explorer, storage);
+    }
+}
+
+fn document() -> Result<web_sys::Document, String> {
+    web_sys::window()
+        .and_then(|w| w.document())
+        .ok_or_else(|| "no document".to_string())
+}
+
+/// Sets the text of the element `#id`, if the page has it.
+fn set_text(id: &str, text: &str) {
+    if let Some(e) = document().ok().and_then(|d| d.get_element_by_id(id)) {
+        e.set_text_content(Some(text));
+    }
+}
+
+/// Writes `text` to the browser's console.
+pub fn log(text: &str) {
+    web_sys::console::log_1(&text.into());
+}
+
+/// A JavaScript error as text.
+fn js_text(e: JsValue) -> String {
+    e.as_string().unwrap_or_else(|| format!("{e:?}"))
+}
+
+/// Saves `text` as the file `name` through the browser (a download).
+pub fn download(name: &str, text: &str) -> Result<(), String> {
+    let parts = js_sys::Array::of1(&JsValue::from_str(text));
+    let options = web_sys::BlobPropertyBag::new();
+    options.set_type("text/plain;charset=utf-8");
+    let blob =
+        web_sys::Blob::new_with_str_sequence_and_options(&parts, &options).map_err(js_text)?;
+    let url = web_sys::Url::create_object_url_with_blob(&blob).map_err(js_text)?;
+    let link = document()?
+        .create_element("a")
+        .map_err(js_text)?
+        .dyn_into::<web_sys::HtmlAnchorElement>()
+        .map_err(|_| "cannot make a link")?;
+    link.set_href(&url);
+    link.set_download(name);
+    link.click();
+    web_sys::Url::revoke_object_url(&url).map_err(js_text)
+}
