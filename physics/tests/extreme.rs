@@ -128,16 +128,27 @@ fn glue_1000_times_stiffer_than_the_bulk() {
 
 #[test]
 fn brittle_law_dissipates_g_c() {
-    let mut sim = scene("brittle", &[]);
+    // At a fixed step (no re-estimate, h never grows): main's bounds.
+    let mut sim = scene("brittle", &["scheme.h_crit_update_interval=0"]);
     assert!(has_warning(&sim, "is brittle"));
     run_finite(&mut sim).unwrap();
     assert_eq!(sim.state_counts().ruptured, sim.interface_nodes.len());
-    // The step grows after the rupture (issue 16) from 0.5 to 0.89 h_crit(glued), and the
-    // bulk's ledger term is O(h²): fixed-step runs measure 8.6e-4 at 0.5 and 2.9e-3 at 0.9;
-    // this run 1.6e-3, between them.
-    assert!(sim.ledger.max_relative_residual < 2e-3);
+    assert!(sim.ledger.max_relative_residual < 1e-3);
     let (gc, d) = (fracture_work(&sim), sim.energies().damage_dissipated);
     assert!((d / gc - 1.0).abs() < 1e-2, "D = {d} J vs G_c A = {gc} J");
+    // As the scene runs, h grows once the glue has torn (issue 16) and is held while it tears:
+    // D keeps its bound; the ledger's residual, the trapezoid error of the stored energy
+    // (O(h²), README "Variable step"), keeps main's bound scaled by (h_max/h₀)².
+    let mut grown = scene("brittle", &[]);
+    run_finite(&mut grown).unwrap();
+    assert_eq!(grown.state_counts().ruptured, grown.interface_nodes.len());
+    let d = grown.energies().damage_dissipated;
+    assert!((d / gc - 1.0).abs() < 1e-2, "D = {d} J vs G_c A = {gc} J");
+    let ratio = grown.stats.h_max / grown.stats.h_min;
+    let r = grown.ledger.max_relative_residual;
+    eprintln!("brittle: h grew {ratio:.3}×, residual {r:.3e}");
+    assert!(ratio > 1.1, "h grew {ratio}× only");
+    assert!(r < 1e-3 * ratio * ratio, "{r} with h × {ratio}");
 }
 
 #[test]
@@ -360,14 +371,24 @@ fn impact_at_100_m_s() {
     assert!(sim.stats.h_crit_estimates > 0);
     assert!(sim.stats.h_crit_min < 0.5 * sim.stats.h_crit_initial);
     assert!(sim.min_jacobian > 0.0);
-    // The ledger is exact across changes of h (step-change work, issue 16) up to the bulk's
-    // O(h²) term, which is large here: h lags the 13-fold stiffening between estimates.
-    // Measured 1.5e-2 with converged estimates at every ±0.02 of J, 5.5e-2 with the adaptive
-    // trigger of issue 16 (a lag, not a pairing error: open).
+    // The ledger pairs exactly across the changes of h (step-change work, README "Variable
+    // step"): what is left is the trapezoid error of the stored energy,
+    // Σ [Ψ(Uₙ₊₁) − Ψ(Uₙ) − ½ΔU·(fₙ + fₙ₊₁)], local O(ΔU³ Ψ''') and so O(h²) over the run —
+    // large here, where the first steps (h = 8e-5 s against a contact after 1e-5 s) take the
+    // 13-fold stiffening in a few intervals. (The pairing of main before issue 16, the impulse
+    // form without W_Δh, measured 1.5e-2 at this h: part of its step-change error cancelled
+    // this trapezoid error.) Main's bound 0.05 holds at h/2 with the h² factor to spare
+    // (0.05/4), and halving h divides the residual by 4 (second order; measured 5.1, then 4.3
+    // and 4.2 at h/4, h/8), so the bound is the order, not a copied value.
+    let coarse = sim.ledger.max_relative_residual;
+    let mut fine = scene("impact_100", &["scheme.time_step_factor=0.25"]);
+    run_finite(&mut fine).expect("the 100 m/s impact completes at h/2");
+    let fine = fine.ledger.max_relative_residual;
+    eprintln!("impact_100 max relative residual: {coarse:.3e} at h, {fine:.3e} at h/2");
+    assert!(fine < 0.05 / 4.0, "{fine} at h/2");
     assert!(
-        sim.ledger.max_relative_residual < 0.08,
-        "{}",
-        sim.ledger.max_relative_residual
+        (3.0..6.0).contains(&(coarse / fine)),
+        "residual {coarse:.3e} at h, {fine:.3e} at h/2: not second order"
     );
 }
 

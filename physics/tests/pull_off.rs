@@ -60,11 +60,9 @@ fn pull_off_tears_off_at_a_third_and_the_ledger_closes() {
         d >= 0.99 * gc_area && d <= 1.08 * gc_area,
         "damage dissipation {d} vs G_c·A {gc_area}"
     );
-    // PHYSICS.md §5: an exact ledger is ~1e-5..1e-4 here; 0.5 % would be a bug. The step
-    // grows as the glue tears (issue 16, h × 1.49) and the bulk's term is O(h²): 4.7e-4 at the
-    // fixed step becomes 1.03e-3 (× 2.2 = 1.49²), hence 1.5e-3.
+    // PHYSICS.md §5: an exact ledger is ~1e-5..1e-4 here; 0.5 % would be a bug.
     assert!(
-        sim.ledger.max_relative_residual < 1.5e-3,
+        sim.ledger.max_relative_residual < 1e-3,
         "residual {}",
         sim.ledger.max_relative_residual
     );

@@ -65,6 +65,10 @@ pub(super) struct StepControl {
     pub springs_now: f64,
     pub springs_at_estimate: f64,
     pub springs_initial: f64,
+    /// Glued nodes whose damage is evolving after the last step (stage 9): while there are
+    /// any, h does not grow (a step grown while the glue softens enlarges the O(h) error of
+    /// the dissipation pairing ΔD, PHYSICS.md §5).
+    pub damage_evolving: usize,
     /// The Jacobian change that triggers an estimate now (0: [`JACOBIAN_RETRIGGER`]).
     pub jacobian_trigger: f64,
     /// The element of the smallest Jacobian at the last force evaluation.
@@ -90,7 +94,12 @@ impl Simulation {
     /// when stiffening makes h exceed h* by more than [`STEP_BAND`] (or h_crit itself), h
     /// becomes (1 − [`STEP_BAND`]) × h* at once; when softening makes h* exceed h by more than
     /// [`STEP_BAND`], h grows towards h* by at most [`GROWTH_RATIO`] per step, and not while
-    /// some element is compressed below [`JACOBIAN_COMPRESSED`]. The dead band
+    /// some element is compressed below [`JACOBIAN_COMPRESSED`] nor while the glue's damage is
+    /// evolving ([`StepControl::damage_evolving`]: a node in transition, a delayed α behind its
+    /// target, or the tearing under way, some node damaged and some not ruptured). The step is
+    /// held through the tearing because the dissipation pairing ΔD (PHYSICS.md §5) has an O(h)
+    /// error: grown while the glue tore, the 7³ pull-off's D rose from 1.042 to 1.074 G_c·A;
+    /// held, D is the fixed-step value, and h grows once the glue has torn. The dead band
     /// keeps estimate noise from moving h. A change of step is exact in the ledger
     /// ([`Simulation::ledger`], the step-change work of PHYSICS.md §8).
     pub(super) fn next_time_step(&mut self) -> f64 {
@@ -144,7 +153,7 @@ impl Simulation {
             }
         }
         match self.step_control.goal {
-            Some(_) if compressed => self.h,
+            Some(_) if compressed || self.step_control.damage_evolving > 0 => self.h,
             Some(goal) if goal > self.h => (GROWTH_RATIO * self.h).min(goal),
             _ => {
                 self.step_control.goal = None;
