@@ -5,6 +5,19 @@ use crate::energy::EnergySnapshot;
 use crate::solver::{PeakReaction, Simulation, StageTimes, StateCounts};
 use serde::Serialize;
 
+/// The run's steps: h's range and changes, and the cost of the h_crit estimates.
+#[derive(Debug, Clone, Serialize, Default)]
+pub struct StepHistory {
+    /// Smallest and largest step [s].
+    pub h_min: f64,
+    pub h_max: f64,
+    /// Steps after which h changed.
+    pub changes: u64,
+    /// Estimates of h_crit after the first, and their Lanczos iterations in all.
+    pub h_crit_estimates: u64,
+    pub h_crit_iterations: u64,
+}
+
 /// What a run produced, as printed at the end and written by `--summary`.
 #[derive(Debug, Clone, Serialize)]
 pub struct RunSummary {
@@ -24,6 +37,10 @@ pub struct RunSummary {
     pub h_crit_initial: f64,
     pub h_crit_min: f64,
     pub time_step_factor: f64,
+    /// How the step moved: smallest and largest h, the number of changes, and the h_crit
+    /// estimates after the first with their Lanczos iterations (about one force evaluation
+    /// each).
+    pub steps_taken: StepHistory,
     /// Simulated time reached [s].
     pub simulated_time: f64,
     /// Wall time of the whole run, set-up included [s].
@@ -92,6 +109,13 @@ impl RunSummary {
             h_crit_initial: sim.stats.h_crit_initial,
             h_crit_min: sim.stats.h_crit_min,
             time_step_factor: sim.model.scheme.time_step_factor,
+            steps_taken: StepHistory {
+                h_min: sim.stats.h_min,
+                h_max: sim.stats.h_max,
+                changes: sim.stats.step_changes,
+                h_crit_estimates: sim.stats.h_crit_estimates,
+                h_crit_iterations: sim.stats.h_crit_estimate_iterations,
+            },
             simulated_time: sim.time,
             wall_seconds,
             step_wall_seconds: step_wall,
@@ -154,6 +178,14 @@ impl RunSummary {
             format!(
                 "h = {:.4e} s (factor {} × h_crit; h_crit {:.4e} s initial, {:.4e} s min)",
                 self.time_step, self.time_step_factor, self.h_crit_initial, self.h_crit_min
+            ),
+        );
+        let st = &self.steps_taken;
+        row(
+            "step changes",
+            format!(
+                "{} (h from {:.4e} to {:.4e} s), {} h_crit estimates ({} Lanczos iterations)",
+                st.changes, st.h_min, st.h_max, st.h_crit_estimates, st.h_crit_iterations
             ),
         );
         row(

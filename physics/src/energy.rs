@@ -68,6 +68,11 @@ pub struct Ledger {
     pub plane_work: Work,
     /// Trapezoid work of the internal forces (diagnostic: −Wint − ΔΨ is the O(h²) bulk term).
     pub internal_work: Work,
+    /// Step-change work W_Δh: what a change of the time step feeds into the kinetic energy
+    /// through the conservative forces (internal, cohesive), the difference between their
+    /// impulse-form and plain trapezoid works (0 at a constant step; PHYSICS.md §8,
+    /// `solver/ledger.rs`). A source in the balance.
+    pub step_change_work: Work,
     /// Contact work on relative displacement, normal and tangential (negated into dissipations).
     pub contact_normal_work: Work,
     pub contact_tangential_work: Work,
@@ -98,7 +103,9 @@ pub struct EnergySnapshot {
     pub reaction_work: f64,
     pub plane_work: f64,
     pub internal_work: f64,
-    /// external work − (ΔK + ΔΨ + ΔΨ_d + D_damage + D_contact + D_friction).
+    /// Step-change work W_Δh (0 at a constant step), a source in the balance.
+    pub step_change_work: f64,
+    /// external work + step-change work − (ΔK + ΔΨ + ΔΨ_d + D_damage + D_contact + D_friction).
     pub residual: f64,
     /// residual / largest energy seen.
     pub relative_residual: f64,
@@ -122,10 +129,10 @@ impl Ledger {
             + self.plane_work.settled()
     }
 
-    /// Balance residual = W_ext − (ΔK + ΔΨ + ΔΨ_hg + ΔΨ_d + D_damage + D_normal + D_friction)
+    /// Balance residual = W_ext + W_Δh − (ΔK + ΔΨ + ΔΨ_hg + ΔΨ_d + D_damage + D_normal + D_friction)
     /// (PHYSICS.md §5).
     pub fn residual(&self) -> f64 {
-        self.external_work()
+        self.external_work() + self.step_change_work.value
             - ((self.kinetic - self.initial_kinetic)
                 + (self.strain - self.initial_strain)
                 + (self.hourglass - self.initial_hourglass)
@@ -186,6 +193,7 @@ impl Ledger {
             reaction_work: self.reaction_work.value,
             plane_work: self.plane_work.value,
             internal_work: self.internal_work.value,
+            step_change_work: self.step_change_work.value,
             residual: self.residual(),
             relative_residual: self.relative_residual(),
         }

@@ -128,13 +128,27 @@ fn glue_1000_times_stiffer_than_the_bulk() {
 
 #[test]
 fn brittle_law_dissipates_g_c() {
-    let mut sim = scene("brittle", &[]);
+    // At a fixed step (no re-estimate, h never grows): main's bounds.
+    let mut sim = scene("brittle", &["scheme.h_crit_update_interval=0"]);
     assert!(has_warning(&sim, "is brittle"));
     run_finite(&mut sim).unwrap();
     assert_eq!(sim.state_counts().ruptured, sim.interface_nodes.len());
     assert!(sim.ledger.max_relative_residual < 1e-3);
     let (gc, d) = (fracture_work(&sim), sim.energies().damage_dissipated);
     assert!((d / gc - 1.0).abs() < 1e-2, "D = {d} J vs G_c A = {gc} J");
+    // As the scene runs, h grows once the glue has torn (issue 16) and is held while it tears:
+    // D keeps its bound; the ledger's residual, the trapezoid error of the stored energy
+    // (O(h²), README "Variable step"), keeps main's bound scaled by (h_max/h₀)².
+    let mut grown = scene("brittle", &[]);
+    run_finite(&mut grown).unwrap();
+    assert_eq!(grown.state_counts().ruptured, grown.interface_nodes.len());
+    let d = grown.energies().damage_dissipated;
+    assert!((d / gc - 1.0).abs() < 1e-2, "D = {d} J vs G_c A = {gc} J");
+    let ratio = grown.stats.h_max / grown.stats.h_min;
+    let r = grown.ledger.max_relative_residual;
+    eprintln!("brittle: h grew {ratio:.3}×, residual {r:.3e}");
+    assert!(ratio > 1.1, "h grew {ratio}× only");
+    assert!(r < 1e-3 * ratio * ratio, "{r} with h × {ratio}");
 }
 
 #[test]
@@ -357,12 +371,24 @@ fn impact_at_100_m_s() {
     assert!(sim.stats.h_crit_estimates > 0);
     assert!(sim.stats.h_crit_min < 0.5 * sim.stats.h_crit_initial);
     assert!(sim.min_jacobian > 0.0);
-    // Each change of h breaks the trapezoid pairing of the ledger for one step (documented);
-    // with ~200 changes the ledger closes to a few %, not to O(h²).
+    // The ledger pairs exactly across the changes of h (step-change work, README "Variable
+    // step"): what is left is the trapezoid error of the stored energy,
+    // Σ [Ψ(Uₙ₊₁) − Ψ(Uₙ) − ½ΔU·(fₙ + fₙ₊₁)], local O(ΔU³ Ψ''') and so O(h²) over the run —
+    // large here, where the first steps (h = 8e-5 s against a contact after 1e-5 s) take the
+    // 13-fold stiffening in a few intervals. (The pairing of main before issue 16, the impulse
+    // form without W_Δh, measured 1.5e-2 at this h: part of its step-change error cancelled
+    // this trapezoid error.) Main's bound 0.05 holds at h/2 with the h² factor to spare
+    // (0.05/4), and halving h divides the residual by 4 (second order; measured 5.1, then 4.3
+    // and 4.2 at h/4, h/8), so the bound is the order, not a copied value.
+    let coarse = sim.ledger.max_relative_residual;
+    let mut fine = scene("impact_100", &["scheme.time_step_factor=0.25"]);
+    run_finite(&mut fine).expect("the 100 m/s impact completes at h/2");
+    let fine = fine.ledger.max_relative_residual;
+    eprintln!("impact_100 max relative residual: {coarse:.3e} at h, {fine:.3e} at h/2");
+    assert!(fine < 0.05 / 4.0, "{fine} at h/2");
     assert!(
-        sim.ledger.max_relative_residual < 0.05,
-        "{}",
-        sim.ledger.max_relative_residual
+        (3.0..6.0).contains(&(coarse / fine)),
+        "residual {coarse:.3e} at h, {fine:.3e} at h/2: not second order"
     );
 }
 
@@ -401,7 +427,9 @@ fn a_million_steps_of_free_vibration_do_not_drift() {
 
 #[test]
 fn single_element_pull_off() {
-    let mut sim = scene("single_element", &[]);
+    // A fixed step (no re-estimate, so h never grows after the rupture): the order in h below
+    // needs one h per run.
+    let mut sim = scene("single_element", &["scheme.h_crit_update_interval=0"]);
     let mut rupture_steps = vec![None; sim.interface_nodes.len()];
     run_finite_with(&mut sim, |s| {
         for (k, itf) in s.interface_nodes.iter().enumerate() {
@@ -428,7 +456,13 @@ fn single_element_pull_off() {
     // default factor 0.5) that vanishes with h.
     let gc = fracture_work(&sim);
     let d_coarse = sim.energies().damage_dissipated;
-    let mut fine = scene("single_element", &["scheme.time_step_factor=0.05"]);
+    let mut fine = scene(
+        "single_element",
+        &[
+            "scheme.time_step_factor=0.05",
+            "scheme.h_crit_update_interval=0",
+        ],
+    );
     run_finite(&mut fine).unwrap();
     let d_fine = fine.energies().damage_dissipated;
     eprintln!("single element: peak {peak:.1} N vs T_max A = {:.1} N; D = {d_coarse:.3} J (h = 0.5 h_crit), {d_fine:.3} J (0.05 h_crit) vs G_c A = {gc:.3} J", tmax * area);

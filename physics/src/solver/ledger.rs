@@ -6,13 +6,28 @@ use super::Simulation;
 use crate::energy::Work;
 use crate::mesh::dot;
 
-/// What the interface nodes hold after a step: Σ Ψ_d, Σ ΔD, the most negative ΔD and the
-/// state counts.
+/// What the interface nodes hold after a step: Σ Ψ_d, Σ ΔD, the most negative ΔD, the state
+/// counts, the glue's total spring stiffness Σ W g_N(αₙ) and the cohesive force's step-change
+/// work over the interval just taken.
 struct InterfaceSums {
     stored: f64,
     dissipated: f64,
     worst: f64,
     counts: StateCounts,
+    springs: f64,
+    step_change: f64,
+    /// Glued nodes whose damage is evolving ([`damage_evolving`]).
+    evolving: usize,
+}
+
+/// The weights of a change of step in the interval [tₙ₋₁, tₙ] just taken (PHYSICS.md §8,
+/// README "Variable step"): with h₋ = h_{n−3/2}, h = h_{n−½}, h₊ = h_{n+½},
+/// `prev` = (h − h₋)/(2h) = 1 − h̄ₙ₋₁/h and `now` = (h₊ − h)/(2h) = h̄ₙ/h − 1; both 0 at a
+/// constant step.
+#[derive(Clone, Copy)]
+struct StepChange {
+    prev: f64,
+    now: f64,
 }
 
 impl Simulation {
@@ -21,12 +36,42 @@ impl Simulation {
     /// closing, the run statistics and the blow-up checks (non-finite values, negative damage
     /// dissipation, contact creating energy, energy growing without a source). `first`: the
     /// start of the run, where only the forward halves exist.
+    ///
+    /// *Variable step* (PHYSICS.md §8). The impulse form of every work, ½V_{n−½}·(Pₙ₋₁ + Pₙ)
+    /// with Pₙ = h̄ₙFₙ, sums exactly to Kₙ − Kₙ₋₁ at any sequence of steps. The stored-energy
+    /// identities (bulk Ψ to O(h²), cohesive Ψ_d + D exactly) hold for the plain trapezoid
+    /// ½ΔU·(Fₙ₋₁ + Fₙ), ΔU = h_{n−½}V_{n−½}. The two differ only where h changes, by
+    /// ½ΔU·((h̄ₙ₋₁/h_{n−½} − 1)Fₙ₋₁ + (h̄ₙ/h_{n−½} − 1)Fₙ) for each conservative force (internal
+    /// and cohesive on the body, the latter on the jump [u]): the **step-change work**
+    /// W_Δh that the change of step feeds into K. It enters the balance as a source,
+    /// residual = W_ext + W_Δh − (ΔK + ΔΨ + ΔΨ_hg + ΔΨ_d + D + D_c + D_f), which is then exact
+    /// up to the bulk's O(h²) term whatever the steps. In halves: the impulse halves b, a of
+    /// F_int (at tₙ, h̄ = ½(h_{n−½} + h_{n+½})) give b(1 − h_{n−½}/h̄) and a(1 − h_{n+½}/h̄);
+    /// the cohesive part uses [u]ₙ − [u]ₙ₋₁ directly ([`StepChange`]).
     pub(super) fn ledger(&mut self, first: bool) -> Result<(), SolverError> {
         self.reactions_and_peaks();
-        self.push_work(first);
+        let c = &mut self.step_control;
+        if first {
+            c.h_before = self.h;
+        }
+        let (h_before, h, h_next) = (c.h_before, self.h, c.h_next);
+        let change = (!first && (h_before != h || h_next != h)).then(|| StepChange {
+            prev: (h - h_before) / (2.0 * h),
+            now: (h_next - h) / (2.0 * h),
+        });
+        let itf = self.interface_sums(change);
+        let c = &mut self.step_control;
+        c.springs_now = itf.springs;
+        c.damage_evolving = itf.evolving + usize::from(tearing(itf.counts));
+        if first {
+            (c.springs_initial, c.springs_at_estimate) = (itf.springs, itf.springs);
+        } else {
+            c.h_before = h;
+        }
+        let internal = (!first && h_next != h).then(|| (h_next - h) / (h_next + h));
+        self.push_work(first, internal, itf.step_change);
         self.push_mould_work(first);
         self.push_mould_friction(first);
-        let itf = self.interface_sums();
         let l = &mut self.ledger;
         l.interface_stored = itf.stored;
         l.damage_dissipated += itf.dissipated;
@@ -69,8 +114,11 @@ impl Simulation {
     }
 
     /// Kₙ and each force's half contributions of this step (backward ½V_{n−½}·P, forward
-    /// ½V_{n+½}·P) from the node loop and the boundary pass, into the ledger.
-    fn push_work(&mut self, first: bool) {
+    /// ½V_{n+½}·P) from the node loop and the boundary pass, into the ledger; and the
+    /// step-change work: `cohesive` for the interval just taken, and, with
+    /// `internal` = ρ = (h_{n+½} − h_{n−½})/(h_{n+½} + h_{n−½}), the internal force's halves
+    /// ρb and −ρa ([`Simulation::ledger`]).
+    fn push_work(&mut self, first: bool, internal: Option<f64>, cohesive: f64) {
         let (mut s, bs) = (self.scratch.node_sums, self.scratch.boundary_sums);
         s.int_a += bs.int_a;
         s.grav_a += bs.grav_a;
@@ -87,12 +135,18 @@ impl Simulation {
             (&mut l.contact_normal_work, bs.cn_b, bs.cn_a),
             (&mut l.contact_tangential_work, bs.ct_b, bs.ct_a),
         ];
+        let (rb, ra) = internal.map_or((0.0, 0.0), |rho| (rho * s.int_b, -rho * s.int_a));
         for (work, b, a) in works {
             if first {
                 work.start(a);
             } else {
                 work.push(b, a);
             }
+        }
+        if first {
+            l.step_change_work.start(0.0);
+        } else {
+            l.step_change_work.push(rb + cohesive, ra);
         }
         self.kinetic_half = s.kinetic_half;
     }
@@ -232,14 +286,19 @@ impl Simulation {
             .collect()
     }
 
-    /// Σ Ψ_d = Σ W ½ g_N(αₙ)|[u]ₙ|² and Σ ΔDₙ over the interface nodes (PHYSICS.md §5), and
-    /// their states; moves [u]ₙ, g_N(αₙ) into the "previous" slots for the next ΔD.
-    fn interface_sums(&mut self) -> InterfaceSums {
+    /// Σ Ψ_d = Σ W ½ g_N(αₙ)|[u]ₙ|² and Σ ΔDₙ over the interface nodes (PHYSICS.md §5), their
+    /// states, Σ W g_N(αₙ), and where the step changed (`change`) the cohesive step-change
+    /// work ½([u]ₙ − [u]ₙ₋₁)·W(prev R_d,ₙ₋₁ − now R_d,ₙ) (the force on the body is −W R_d);
+    /// moves [u]ₙ, g_N(αₙ) into the "previous" slots for the next ΔD.
+    fn interface_sums(&mut self, change: Option<StepChange>) -> InterfaceSums {
         let mut out = InterfaceSums {
             stored: 0.0,
             dissipated: 0.0,
             worst: 0.0,
             counts: StateCounts::default(),
+            springs: 0.0,
+            step_change: 0.0,
+            evolving: 0,
         };
         for j in 0..self.interface_nodes.len() {
             let n = self.glue_normal(j);
@@ -257,9 +316,22 @@ impl Simulation {
             );
             out.worst = out.worst.min(dd);
             out.dissipated += dd;
+            out.springs += itf.area * itf.stiffness;
+            if let Some(w) = change {
+                let r_prev = law.cohesive_traction(itf.prev_stiffness, itf.prev_jump, n);
+                out.step_change += (0..3)
+                    .map(|c| {
+                        let du = itf.jump[c] - itf.prev_jump[c];
+                        0.5 * du
+                            * itf.area
+                            * (w.prev * r_prev[c] - w.now * itf.cohesive_traction[c])
+                    })
+                    .sum::<f64>();
+            }
             itf.prev_stiffness = itf.stiffness;
             itf.prev_jump = itf.jump;
             out.counts.add(law.state(itf.alpha));
+            out.evolving += usize::from(damage_evolving(law, itf.alpha, itf.alpha_static));
         }
         out
     }
@@ -309,4 +381,24 @@ impl Simulation {
         }
         Ok(())
     }
+}
+
+/// Whether the glue is tearing: some node has left the elastic range and some has not yet
+/// ruptured. Between the two the front moves from node to node, and a node still elastic
+/// next to a torn one is about to soften within a few steps (in the 7³ pull-off no node was in
+/// transition at t = 0.097 s, 11 ms before the full rupture: a gate on transition alone let
+/// h grow there and D rose by 3 %).
+fn tearing(counts: StateCounts) -> bool {
+    let n = counts.elastic + counts.transition + counts.ruptured;
+    counts.elastic < n && counts.ruptured < n
+}
+
+/// Whether a glued node's damage is evolving, the state in which the step is held
+/// ([`super::stable_step::StepControl::damage_evolving`]): softening, α_e < α < u_r (fig. 6's
+/// transition, the same classification for every family: for `rccm` α_e = u₀ and u_r =
+/// u₀/√β_r), or, with a delayed law, α still behind its rate-independent target α_s (the
+/// damage keeps growing while α ≤ α_e or after the jump has turned back).
+fn damage_evolving(law: &crate::interface::law::StiffnessLaw, alpha: f64, alpha_s: f64) -> bool {
+    law.state(alpha) == crate::interface::law::InterfaceState::Transition
+        || (law.delay().is_some() && alpha < alpha_s)
 }

@@ -10,7 +10,7 @@
 //! | 1 positions and state | [`Simulation::advance_positions`] | `stages.rs` |
 //! | 2 surfaces, gaps, prescribed values | [`Simulation::surfaces_and_gaps`], [`Simulation::prescribed_motion`] | `stages.rs` |
 //! | 3 internal forces | [`Simulation::internal_forces`] | `stages.rs` |
-//! | §6 next step | [`Simulation::next_time_step`] | `stable_step.rs` |
+//! | §6 next step | [`Simulation::next_time_step`] | `stable_step.rs`, `lanczos.rs` |
 //! | 5 free velocity, all nodes | [`Simulation::free_velocity`] | `stages.rs` |
 //! | 4–8 at boundary nodes | [`Simulation::boundary_pass`]: per node, tractions, cohesion (4), free velocity (5), prescribed components (6), contact (7), the ledger's halves, damage (8) | `boundary.rs` |
 //! | 9 ledger | [`Simulation::ledger`] | `ledger.rs` |
@@ -23,6 +23,7 @@
 
 mod boundary;
 mod diagnostics;
+mod lanczos;
 mod ledger;
 mod setup;
 mod stable_step;
@@ -42,6 +43,7 @@ use crate::mesh::ElementClasses;
 use crate::model::Model;
 use crate::team::Team;
 use boundary::{Boundary, BoundarySums};
+use stable_step::StepControl;
 use stages::StepScratch;
 // std's `Instant` on native; the browser's clock on wasm32, where std's panics.
 use web_time::Instant;
@@ -103,6 +105,8 @@ pub struct Simulation {
     pub h_crit_bulk: Option<f64>,
     /// Smallest Jacobian when h_crit was last estimated.
     jacobian_at_estimate: f64,
+    /// The variable step's state: the previous interval, the growth goal, the glue's stiffness.
+    step_control: StepControl,
     /// ½ V_{n+½}ᵀ M V_{n+½}, for the energy-growth check.
     pub kinetic_half: f64,
     /// Initial energy plus Σ|ΔW_ext|: what may have entered the system [J].
@@ -144,7 +148,9 @@ impl Simulation {
         self.boundary_pass(h_bar, h_next);
         let t5 = Instant::now();
         // 9. Energy ledger and blow-up checks.
+        self.step_control.h_next = h_next;
         self.ledger(false)?;
+        self.count_step_change(h, h_next);
         self.h = h_next;
         let t6 = Instant::now();
         let st = &mut self.stats.stage_times;
@@ -156,6 +162,19 @@ impl Simulation {
         st.bookkeeping += (t6 - t5).as_secs_f64();
         self.stats.steps_wall += t6 - t0;
         Ok(())
+    }
+
+    /// The run's smallest and largest step and its count of step changes.
+    fn count_step_change(&mut self, h: f64, h_next: f64) {
+        let st = &mut self.stats;
+        if st.h_max == 0.0 {
+            (st.h_min, st.h_max) = (h, h);
+        }
+        st.h_min = st.h_min.min(h_next);
+        st.h_max = st.h_max.max(h_next);
+        if h_next != h {
+            st.step_changes += 1;
+        }
     }
 
     /// Steps until `model.end_time`, calling `on_step` after each step; `on_step` returning

@@ -348,6 +348,7 @@ impl Simulation {
             ritz_vector: Vec::new(),
             h_crit_bulk: None,
             jacobian_at_estimate: 1.0,
+            step_control: Default::default(),
             kinetic_half: 0.0,
             energy_budget: 0.0,
             last_external_work: 0.0,

@@ -152,6 +152,7 @@ impl Simulation {
         let asm = elements.assemble(&self.u, &mut self.f_int, energy, &mut self.parts_elements);
         let (min_j, min_e) = (asm.min_j, asm.min_element);
         self.min_jacobian = min_j;
+        self.step_control.compressed_element = min_e;
         if energy {
             self.ledger.strain = asm.strain;
             self.ledger.hourglass = asm.hourglass;

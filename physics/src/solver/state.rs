@@ -148,8 +148,14 @@ pub struct RunStats {
     pub reactions: Vec<f64>,
     pub stage_times: StageTimes,
     pub steps_wall: Duration,
-    /// Number of h_crit estimates after the first (scheduled or triggered by strain).
+    /// Number of h_crit estimates after the first (scheduled, or triggered by strain or by the
+    /// glue's softening), and their Lanczos iterations in all (about one force evaluation each).
     pub h_crit_estimates: u64,
+    pub h_crit_estimate_iterations: u64,
+    /// Smallest and largest step taken [s], and the number of steps whose successor differs.
+    pub h_min: f64,
+    pub h_max: f64,
+    pub step_changes: u64,
 }
 
 /// Result of a stable-step estimate (PHYSICS.md §6).

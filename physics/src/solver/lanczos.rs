@@ -1,0 +1,151 @@
+//! Lanczos tridiagonalisation for the stable-step estimate (PHYSICS.md §6): the largest Ritz
+//! value θ of a symmetric operator, its residual ‖r‖ and Ritz vector.
+
+use super::state::StableStep;
+
+/// When a Lanczos run stops: after `max_iter` iterations, or at a check (every `check_every`
+/// iterations) where the largest Ritz value changed by at most `tol` (relative) since the last
+/// check, or where the Ritz residual is at most `residual` × θ (0: not used).
+pub(super) struct LanczosStop {
+    pub max_iter: usize,
+    pub tol: f64,
+    pub residual: f64,
+    pub check_every: usize,
+}
+
+/// A Lanczos run's result: the tridiagonal's diagonal α, the largest Ritz value θ, its residual
+/// β_j|s_j| and the eigenvector s of T.
+pub(super) struct LanczosOut {
+    pub alphas: Vec<f64>,
+    pub theta: f64,
+    pub resid: f64,
+    pub s: Vec<f64>,
+}
+
+impl LanczosOut {
+    /// ω_max² ≈ θ + ‖r‖ and h_crit = 2/ω_max.
+    pub fn stable_step(&self) -> StableStep {
+        let omega_sq = self.theta + self.resid;
+        StableStep {
+            omega_max_sq: omega_sq,
+            ritz_value: self.theta,
+            h_crit: 2.0 / omega_sq.sqrt(),
+            iterations: self.alphas.len(),
+        }
+    }
+}
+
+/// The Ritz vector y = Σ sⱼqⱼ of `out` into `ritz` (zeroed), by running the same Lanczos
+/// iterations again from `start` (the basis was not kept).
+pub(super) fn regenerate(
+    apply: &mut dyn FnMut(&[f64], &mut [f64]),
+    start: &[f64],
+    out: &LanczosOut,
+    ritz: &mut [f64],
+) {
+    let stop = LanczosStop {
+        max_iter: out.alphas.len(),
+        tol: 0.0,
+        residual: 0.0,
+        check_every: usize::MAX,
+    };
+    lanczos(apply, start, &stop, Some((&out.s, ritz)), None);
+}
+
+/// Lanczos tridiagonalisation of a symmetric operator from `start`, without
+/// reorthogonalisation (extreme Ritz values still converge), until `stop`
+/// ([`LanczosStop`]). With `accumulate = (s, y)`, runs exactly `max_iter` iterations and
+/// accumulates y = Σ sⱼ qⱼ instead of checking; with `basis`, keeps the vectors qⱼ.
+pub(super) fn lanczos(
+    apply: &mut dyn FnMut(&[f64], &mut [f64]),
+    start: &[f64],
+    stop: &LanczosStop,
+    mut accumulate: Option<(&[f64], &mut [f64])>,
+    mut basis: Option<&mut Vec<Vec<f64>>>,
+) -> LanczosOut {
+    let max_iter = stop.max_iter;
+    let n = start.len();
+    let nrm = start.iter().map(|x| x * x).sum::<f64>().sqrt();
+    let mut q: Vec<f64> = start
+        .iter()
+        .map(|x| x / nrm.max(f64::MIN_POSITIVE))
+        .collect();
+    let mut q_prev = vec![0.0; n];
+    let mut w = vec![0.0; n];
+    let (mut alphas, mut betas) = (Vec::new(), Vec::new());
+    let mut beta_prev = 0.0;
+    let mut last_theta = f64::NAN;
+    let mut result = (0.0, 0.0, vec![1.0]);
+    for j in 0..max_iter {
+        if let Some((s, y)) = accumulate.as_mut() {
+            for k in 0..n {
+                y[k] += s[j] * q[k];
+            }
+        }
+        if let Some(b) = basis.as_mut() {
+            b.push(q.clone());
+        }
+        apply(&q, &mut w);
+        let a: f64 = w.iter().zip(&q).map(|(x, y)| x * y).sum();
+        for k in 0..n {
+            w[k] -= a * q[k] + beta_prev * q_prev[k];
+        }
+        let b = w.iter().map(|x| x * x).sum::<f64>().sqrt();
+        alphas.push(a);
+        betas.push(b);
+        let done = j + 1 == max_iter || b <= 1e-14 * a.abs();
+        if accumulate.is_none() && ((j + 1) % stop.check_every == 0 || done) {
+            let (theta, resid, s) = top_ritz_pair(&alphas, &betas);
+            let converged = (theta - last_theta).abs() <= stop.tol * theta.abs()
+                || (stop.residual > 0.0 && resid <= stop.residual * theta.abs());
+            result = (theta, resid, s);
+            if converged || done {
+                break;
+            }
+            last_theta = theta;
+        }
+        if b <= 1e-14 * a.abs() {
+            break;
+        }
+        for k in 0..n {
+            q_prev[k] = q[k];
+            q[k] = w[k] / b;
+        }
+        beta_prev = b;
+    }
+    LanczosOut {
+        alphas,
+        theta: result.0,
+        resid: result.1,
+        s: result.2,
+    }
+}
+
+/// The largest eigenvalue θ of the Lanczos tridiagonal T (diagonal `alphas`, off-diagonal
+/// `betas`), its residual β_m|s_m| and its eigenvector s.
+fn top_ritz_pair(alphas: &[f64], betas: &[f64]) -> (f64, f64, Vec<f64>) {
+    let m = alphas.len();
+    let t = nalgebra::DMatrix::from_fn(m, m, |r, c| {
+        if r == c {
+            alphas[r]
+        } else if r + 1 == c {
+            betas[r]
+        } else if c + 1 == r {
+            betas[c]
+        } else {
+            0.0
+        }
+    });
+    let eig = nalgebra::SymmetricEigen::new(t);
+    let (imax, theta) =
+        eig.eigenvalues
+            .iter()
+            .enumerate()
+            .fold(
+                (0, f64::NEG_INFINITY),
+                |acc, (i, &v)| if v > acc.1 { (i, v) } else { acc },
+            );
+    let s: Vec<f64> = eig.eigenvectors.column(imax).iter().copied().collect();
+    let resid = (betas[m - 1] * s[m - 1]).abs();
+    (theta, resid, s)
+}
