@@ -150,6 +150,8 @@ pub struct RunStats {
     pub steps_wall: Duration,
     /// Number of h_crit estimates after the first (scheduled or triggered by strain).
     pub h_crit_estimates: u64,
+    /// Stage 7's joint solves at nodes with several active constraints, over the run.
+    pub joint_contact: crate::interface::contact::JointStats,
 }
 
 /// Result of a stable-step estimate (PHYSICS.md §6).
