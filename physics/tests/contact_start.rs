@@ -11,19 +11,10 @@ use decohesion_physics::scene::parse_scene;
 /// A 1 m cube resting on the plane z = `z0` by contact on its `z-` face (9 nodes), another
 /// plane far off as a second mould.
 fn scene(z0: &str) -> String {
+    // The glued cube's mesh and material (common::GLUED_CUBE), with contact instead of glue.
+    let head = &common::GLUED_CUBE[..common::GLUED_CUBE.find("[[plane]]").unwrap()];
     format!(
-        r#"
-end_time = 0.01
-
-[mesh]
-size = [1.0, 1.0, 1.0]
-cells = [2, 2, 2]
-
-[material]
-young = 5.0e6
-poisson = 0.45
-density = 1100.0
-
+        r#"{head}
 [[plane]]
 name = "floor"
 point = [0.0, 0.0, {z0}]
