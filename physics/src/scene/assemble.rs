@@ -88,6 +88,9 @@ impl Check<'_> {
         for k in 0..model.interfaces.len() {
             self.glued_start(&model, k)?;
         }
+        for k in 0..model.contacts.len() {
+            self.contact_start(&model, k)?;
+        }
         Ok(model)
     }
 

@@ -2,8 +2,9 @@
 //! that must exist (face sets, planes) and piecewise-linear histories.
 
 use super::error::{num, SceneError};
-use crate::mesh::Mesh;
-use crate::model::{PiecewiseLinear, RigidPlane};
+use crate::mesh::{dot, sub, Mesh};
+use crate::model::{Model, PiecewiseLinear, RigidPlane};
+use crate::solver::mould_closest_point;
 use std::path::Path;
 
 /// Validation of the raw scene; knows the file label for its errors and the directory that
@@ -124,6 +125,43 @@ impl Check<'_> {
         Ok(n.map(|c| c / len))
     }
 
+    /// Refuses the contact face set `model.contacts[k]` if some of its nodes start inside its
+    /// mould beyond the tolerance: gap g₀ = n·(X − p) < −δ at the closest mould point p
+    /// ([`mould_closest_point`]), δ = [`contact_start_tolerance`]. Contact acts on velocities
+    /// (PHYSICS.md §4 step 7): it stops a node from going deeper but never pushes it out, so a
+    /// node that starts inside stays inside for the whole run, its contact force taking the
+    /// interpenetration as the rest state. The message names the face set, the mould, how many
+    /// nodes and how deep.
+    pub fn contact_start(&self, model: &Model, k: usize) -> Result<(), SceneError> {
+        let (mesh, c) = (&model.mesh, &model.contacts[k]);
+        let Some(quads) = mesh.face_sets.get(&c.faces) else {
+            return Ok(());
+        };
+        let plane = &model.planes[c.plane];
+        let tol = contact_start_tolerance(mesh, plane);
+        let (mut count, mut deepest) = (0usize, 0.0f64);
+        for node in mesh.face_set_nodes(quads) {
+            let x = mesh.nodes[node as usize];
+            let (p, n) = mould_closest_point(plane, x);
+            let depth = -dot(n, sub(x, p));
+            if depth > tol {
+                count += 1;
+                deepest = deepest.max(depth);
+            }
+        }
+        if count == 0 {
+            return Ok(());
+        }
+        Err(self.invalid(
+            format!("contact[{k}].faces"),
+            format!("{:?}", c.faces),
+            format!(
+                "{count} of its nodes start inside mould `{}` by up to {deepest:.4e} m, beyond the tolerance {tol:.4e} m (1e-6 of the body's size): contact acts on velocities and would never push them out; move the face set or the mould so that the face lies on or off the mould",
+                plane.name
+            ),
+        ))
+    }
+
     /// A piecewise-linear history from rows (t, value): ≥ 1 row, t ≥ 0 strictly increasing.
     pub fn history<const N: usize>(
         &self,
@@ -149,4 +187,20 @@ impl Check<'_> {
         }
         Ok(PiecewiseLinear { points: rows })
     }
+}
+
+/// Largest depth inside its mould at which a contact node is taken as "on the mould" at
+/// t = 0: 1e-6 of the body's size (the largest edge of the mesh's bounding box; a mesh written
+/// with six significant digits puts its nodes there), and never below the round-off of
+/// positions, 16ε·(largest |coordinate|, the mould's point included).
+pub fn contact_start_tolerance(mesh: &Mesh, plane: &RigidPlane) -> f64 {
+    let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+    for x in &mesh.nodes {
+        for c in 0..3 {
+            (lo[c], hi[c]) = (lo[c].min(x[c]), hi[c].max(x[c]));
+        }
+    }
+    let size = (0..3).fold(0.0f64, |a, c| a.max(hi[c] - lo[c]));
+    let scale = (lo.iter().chain(&hi).chain(&plane.point)).fold(0.0f64, |a, x| a.max(x.abs()));
+    (1e-6 * size).max(16.0 * f64::EPSILON * scale)
 }

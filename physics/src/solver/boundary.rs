@@ -8,7 +8,7 @@
 use super::stages::StepScratch;
 use super::state::{ContactNode, InterfaceNode};
 use super::{Simulation, BOUNDARY_GRAIN};
-use crate::interface::contact::contact_impulse;
+use crate::interface::contact::{contact_impulse, JointStats};
 use crate::kernels::internal_and_gravity_impulses;
 use crate::mesh::dot;
 use crate::model::Model;
@@ -16,7 +16,10 @@ use crate::mould::step::NodeGeometry;
 use crate::team::SharedSlice;
 use std::ops::Range;
 
+mod joint;
 mod moulds;
+
+pub(super) use joint::check_constraint_count;
 
 /// No prescribed condition on this component.
 pub(super) const NONE: u16 = u16::MAX;
@@ -158,6 +161,8 @@ pub(super) struct BoundarySums {
     pub grav_a: f64,
     pub kinetic: f64,
     pub kinetic_half: f64,
+    /// Stage 7's joint solves at nodes with several active constraints.
+    pub joint: JointStats,
 }
 
 impl BoundarySums {
@@ -176,6 +181,7 @@ impl BoundarySums {
         self.grav_a += o.grav_a;
         self.kinetic += o.kinetic;
         self.kinetic_half += o.kinetic_half;
+        self.joint = self.joint.merge(o.joint);
         self
     }
 }
@@ -234,6 +240,18 @@ impl BoundaryStep<'_> {
                 )
             }
         }
+    }
+
+    /// [`BoundaryStep::surface`] for the entry `from` (interface node, or contact node when
+    /// the flag is false) on mould `k`.
+    #[inline]
+    fn surface_of(&self, k: usize, from: (u32, bool)) -> ([f64; 3], [[f64; 3]; 2]) {
+        let ms = &self.scratch.moulds;
+        let geo = match from {
+            (j, true) => ms.interface.get(j as usize),
+            (j, false) => ms.contact.get(j as usize),
+        };
+        self.surface(k, geo)
     }
 
     /// External traction impulse of entry `e` over the step, P = h̄ a(tₙ₊₁) W t (a dead load on
@@ -316,10 +334,13 @@ impl BoundaryStep<'_> {
     }
 
     /// Stage 7 on node `b`: each glued entry (μ(αₙ₊₁) of its law) and each contact entry
-    /// against its plane, in closed form on the node's `free` components ([`contact_impulse`]).
+    /// against its mould, on the node's `free` components. A node with at most one active
+    /// constraint (gₙ₊₁ ≤ 0) gets the one-surface closed form ([`contact_impulse`]); a node
+    /// with several gets them solved together ([`BoundaryStep::contact_together`]).
     ///
     /// # Safety
     /// No other thread may touch the interface and contact entries of `b`.
+    #[allow(clippy::too_many_arguments)]
     unsafe fn contact(
         &self,
         b: &BoundaryNode,
@@ -328,38 +349,23 @@ impl BoundaryStep<'_> {
         v: &mut [f64; 3],
         free: [bool; 3],
         impulses: &mut NodeImpulses,
+        sums: &mut BoundarySums,
     ) {
+        if self.several_active(b, itfs, cns) {
+            return self.contact_together(b, itfs, cns, v, free, impulses, sums);
+        }
         let m = self.mass[b.node as usize];
-        let ms = &self.scratch.moulds;
-        let mut solve = |gap: f64, plane: usize, from: (u32, bool), mu: f64, area: f64| {
-            let geo = match from {
-                (j, true) => ms.interface.get(j as usize),
-                (j, false) => ms.contact.get(j as usize),
-            };
-            let (n, vm) = self.surface(plane, geo);
-            let (impulse, status) = contact_impulse(v, gap, n, vm[1], mu, m, free);
+        for e in self.entries(b, itfs, cns) {
+            let (n, vm) = self.surface_of(e.plane, e.from);
+            let (impulse, status) = contact_impulse(v, e.gap, n, vm[1], e.mu, m, free);
             let k = impulses.contacts;
             if k < MAX_CONSTRAINTS {
                 impulses.contact[k] = impulse;
-                impulses.contact_from[k] = (plane, from.0, from.1);
+                impulses.contact_from[k] = (e.plane, e.from.0, e.from.1);
                 impulses.contacts += 1;
             }
-            (impulse.map(|c| c / area.max(f64::MIN_POSITIVE)), status)
-        };
-        for e in b.interfaces.clone() {
-            let j = self.boundary.interfaces[e as usize] as usize;
-            let itf = itfs.get(j);
-            let spec = &self.model.interfaces[itf.interface as usize];
-            let mu = spec.law.mu(itf.alpha, spec.mu_inf);
-            let from = (j as u32, true);
-            (itf.contact_impulse, itf.contact) = solve(itf.gap, spec.plane, from, mu, itf.area);
-        }
-        for e in b.contacts.clone() {
-            let j = self.boundary.contacts[e as usize] as usize;
-            let cn = cns.get(j);
-            let from = (j as u32, false);
-            (cn.contact_impulse, cn.contact) =
-                solve(cn.gap, cn.plane as usize, from, cn.mu, cn.area);
+            let per_area = impulse.map(|c| c / e.area.max(f64::MIN_POSITIVE));
+            joint::put(itfs, cns, e.from, per_area, status);
         }
     }
 
@@ -395,7 +401,6 @@ impl BoundaryStep<'_> {
         }
         // Glue of moving moulds: the mould's share ½ v_mould·P_coh of the cohesive work, with
         // the mould's velocity at the anchor.
-        let ms = &self.scratch.moulds;
         for slot in 0..impulses.cohesions {
             let (k, j) = impulses.cohesion_from[slot];
             let [v_old, v_new] = self.glue(j as usize, k).1;
@@ -406,11 +411,7 @@ impl BoundaryStep<'_> {
         // tangential) and on the mould's velocity at the contact point (external work).
         for c in 0..impulses.contacts {
             let (k, j, from_interface) = impulses.contact_from[c];
-            let geo = match from_interface {
-                true => ms.interface.get(j as usize),
-                false => ms.contact.get(j as usize),
-            };
-            let (n, [v_old, v_new]) = self.surface(k, geo);
+            let (n, [v_old, v_new]) = self.surface_of(k, (j, from_interface));
             let p = impulses.contact[c];
             let pn = dot(p, n);
             let pt = [p[0] - pn * n[0], p[1] - pn * n[1], p[2] - pn * n[2]];
@@ -488,7 +489,7 @@ unsafe fn boundary_chunk(
         let free = cx.prescribed(b, vo, &mut v, reactions, &mut out);
         // 7. Contact and friction, on the free components.
         if free != [false; 3] {
-            cx.contact(b, itfs, cns, &mut v, free, &mut impulses);
+            cx.contact(b, itfs, cns, &mut v, free, &mut impulses, &mut out);
         }
         *v_all.get(b.node as usize) = v;
         // 9 (this node's share): forward halves of the ledger.
@@ -536,6 +537,7 @@ impl Simulation {
         }
         let sc = &mut self.scratch;
         sc.boundary_sums = parts.iter().fold(BoundarySums::default(), |a, &b| a.add(b));
+        self.stats.joint_contact = self.stats.joint_contact.merge(sc.boundary_sums.joint);
         for (k, r) in sc.reactions.iter_mut().enumerate() {
             *r = (0..chunks).fold(0.0, |acc, c| acc + self.parts_reactions[c * n_bc + k]);
         }

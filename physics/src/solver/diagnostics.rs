@@ -155,6 +155,19 @@ impl Simulation {
                 .iter()
                 .map(|o| self.start_offset_warning(o)),
         );
+        let joint = &self.stats.joint_contact;
+        if joint.capped + joint.friction_dropped > 0 {
+            out.push(format!(
+                "contact: of {} joint solves at nodes with several active constraints, {} did not converge with friction in {} sweeps (tolerance {:.0e} of the node's velocity) and took the frictionless projection for that step, and {} did not converge even so (last change {:.1e}, approach velocity left up to {:.1e} of the node's velocity): projected Gauss–Seidel contracts slowly for a node barely slipping on two surfaces, or between nearly opposite normals (a narrow slot).",
+                joint.nodes,
+                joint.friction_dropped,
+                crate::interface::contact::JOINT_MAX_SWEEPS,
+                crate::interface::contact::JOINT_TOLERANCE,
+                joint.capped,
+                joint.worst_change,
+                joint.worst_approach.max(0.0)
+            ));
+        }
         let factor = m.scheme.time_step_factor;
         if factor > 1.0 {
             out.push(format!(

@@ -285,6 +285,7 @@ impl Simulation {
             traction_entries(&model)?,
             &prescribed_components(&model)?,
         );
+        super::boundary::check_constraint_count(&boundary.nodes)?;
         let volume: f64 = classes
             .class_of
             .iter()

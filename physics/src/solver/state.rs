@@ -156,6 +156,8 @@ pub struct RunStats {
     pub h_min: f64,
     pub h_max: f64,
     pub step_changes: u64,
+    /// Stage 7's joint solves at nodes with several active constraints, over the run.
+    pub joint_contact: crate::interface::contact::JointStats,
 }
 
 /// Result of a stable-step estimate (PHYSICS.md §6).
