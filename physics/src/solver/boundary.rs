@@ -24,8 +24,10 @@ pub(super) use joint::check_constraint_count;
 /// No prescribed condition on this component.
 pub(super) const NONE: u16 = u16::MAX;
 
-/// Contact constraints on one node kept for the ledger (a node on a cavity corner has a few).
-const MAX_CONSTRAINTS: usize = 4;
+/// Contact constraints on one node kept for the ledger (a node on a cavity corner has a few):
+/// as many as the joint solve takes ([`joint::MAX_JOINT`], refused beyond at setup), so no
+/// impulse that acted is left out of the ledger.
+const MAX_CONSTRAINTS: usize = joint::MAX_JOINT;
 
 /// Per boundary node: which interface entries, contact entries, traction entries and prescribed
 /// components act on it.
