@@ -185,6 +185,45 @@ fn a_partly_prescribed_node_in_a_corner_gets_both_constraints_on_its_free_compon
     assert!(p.iter().all(|p| p[0] == 0.0));
 }
 
+/// Four surfaces whose admissible cone is {0} (the relative velocity must vanish), three of
+/// them almost through one line (cond G = 1.7e6 for their active set): found by the proptest
+/// below in a debug build, where the exact projection's first λ left the fourth surface
+/// approached at 1.9e-11 s and no active set passed, so the sweeps ran to their cap. The
+/// refined λ must give the exact answer, V = v_surface, to the round-off of forming ΔV from
+/// impulses of ~800 m·s (ε Σ|λ|/m ≈ 1e-12 s).
+#[test]
+fn an_ill_conditioned_active_set_still_gives_the_exact_projection() {
+    let raw = [
+        [-0.6676862573850261, 0.6500144455847704, 0.537891497783138],
+        [0.7325664510423866, 0.11271478147290309, -0.6637368727082611],
+        [
+            0.007537511981399864,
+            -0.9272324727356182,
+            0.07861542958418648,
+        ],
+        [0.0, 0.0, -0.4434505665349474],
+    ];
+    let vs = [0.0, 0.5351738147890193, 0.0];
+    let cs: Vec<Constraint> = (raw.iter())
+        .map(|&n| Constraint {
+            normal: unit(n),
+            v_surface: vs,
+            mu: 0.0,
+        })
+        .collect();
+    let v0 = [0.0, 0.0, -1.6398750073771164];
+    let (mut v, mut p) = (v0, vec![[0.0; 3]; cs.len()]);
+    let mut st = vec![ContactStatus::Open; cs.len()];
+    let solve = contact_impulses(&mut v, &cs, M, [true; 3], &mut p, &mut st);
+    let s = norm([v0[0] - vs[0], v0[1] - vs[1], v0[2] - vs[2]]);
+    assert!(solve.converged && solve.sweeps == 0, "{solve:?}");
+    assert_close(v, vs, 4e-12 * s);
+    for c in &cs {
+        let rel = [v[0] - vs[0], v[1] - vs[1], v[2] - vs[2]];
+        assert!(dot(rel, c.normal) >= -(cs.len() as f64) * JOINT_TOLERANCE * s);
+    }
+}
+
 proptest! {
     /// Random 2–4 normals within 150° of each other (no narrow slot, where the sweeps
     /// contract slowly), a surface velocity shared by all (so the admissible set is not

@@ -255,20 +255,36 @@ fn projection(
             .map(|&i| s.iter().map(|&j| dot(a[i], a[j])).collect())
             .collect();
         let rhs: Vec<f64> = s.iter().map(|&i| -m * b[i]).collect();
-        let Some(lambda) = solve_small(g, rhs) else {
+        let Some(mut lambda) = solve_small(g.clone(), rhs) else {
             continue;
         };
+        let dv_of = |lambda: &[f64]| -> [f64; 3] {
+            std::array::from_fn(|j| {
+                s.iter().zip(lambda).map(|(&i, l)| l * a[i][j]).sum::<f64>() / m
+            })
+        };
+        let gap_rate = |i: usize, dv: [f64; 3]| b[i] + dot(constraints[i].normal, dv);
+        let mut dv = dv_of(&lambda);
+        if (0..k).any(|i| gap_rate(i, dv) < -tol) {
+            // Nearly dependent normals (cond G up to ~1e6: three surfaces almost through one
+            // line) leave λ with an error along G's near-null direction that shows as a
+            // violation of ~cond(G)·ε·s. Iterative refinement on the quantity that matters,
+            // the active rates cᵢ = bᵢ + nᵢ·ΔV(λ) (i ∈ S): G δλ = −m c, λ += δλ, twice,
+            // brings them to the round-off of forming ΔV, ~ε Σ|λᵢ|/m. Only a set that failed
+            // the check is refined, so a well-conditioned set keeps its bits.
+            for _ in 0..2 {
+                let r: Vec<f64> = s.iter().map(|&i| -m * gap_rate(i, dv)).collect();
+                let Some(d) = solve_small(g.clone(), r) else {
+                    break;
+                };
+                lambda.iter_mut().zip(d).for_each(|(l, d)| *l += d);
+                dv = dv_of(&lambda);
+            }
+        }
         if lambda.iter().any(|&l| l < -1e-12 * m * scale) {
             continue;
         }
-        let dv: [f64; 3] = std::array::from_fn(|j| {
-            s.iter()
-                .zip(&lambda)
-                .map(|(&i, l)| l * a[i][j])
-                .sum::<f64>()
-                / m
-        });
-        let ok = (0..k).all(|i| b[i] + dot(constraints[i].normal, dv) >= -tol);
+        let ok = (0..k).all(|i| gap_rate(i, dv) >= -tol);
         let d = norm(dv);
         if ok && best.is_none_or(|(bd, ..)| d < bd) {
             let mut lam = [0.0; 3];
