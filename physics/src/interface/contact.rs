@@ -110,6 +110,9 @@ pub const JOINT_TOLERANCE: f64 = 1e-12;
 /// Sweeps after which the joint solve stops unconverged (and says so, [`JointSolve`]).
 pub const JOINT_MAX_SWEEPS: u32 = 200;
 
+/// The most constraints one node's joint solve takes (the solver refuses more at setup).
+pub const JOINT_MAX_CONSTRAINTS: usize = 8;
+
 /// What a joint solve took: the sweeps, whether the impulses converged to
 /// [`JOINT_TOLERANCE`] before [`JOINT_MAX_SWEEPS`], and the last sweep's largest impulse change
 /// relative to s.
@@ -232,33 +235,47 @@ fn projection(
     scale: f64,
 ) -> bool {
     let k = constraints.len();
+    if k > JOINT_MAX_CONSTRAINTS {
+        return false;
+    }
     let dim = free.iter().filter(|&&f| f).count();
-    let a: Vec<[f64; 3]> = (constraints.iter())
-        .map(|c| std::array::from_fn(|j| if free[j] { c.normal[j] } else { 0.0 }))
-        .collect();
-    let b: Vec<f64> = (constraints.iter())
-        .map(|c| {
-            dot(
-                c.normal,
-                std::array::from_fn(|j| v_free[j] - c.v_surface[j]),
-            )
-        })
-        .collect();
+    // Fixed-size work arrays: this runs inside the time step, at every node with several
+    // active constraints, and must not allocate.
+    let (mut a, mut b) = (
+        [[0.0; 3]; JOINT_MAX_CONSTRAINTS],
+        [0.0; JOINT_MAX_CONSTRAINTS],
+    );
+    for (i, c) in constraints.iter().enumerate() {
+        a[i] = std::array::from_fn(|j| if free[j] { c.normal[j] } else { 0.0 });
+        b[i] = dot(
+            c.normal,
+            std::array::from_fn(|j| v_free[j] - c.v_surface[j]),
+        );
+    }
     let tol = 1e-12 * scale;
     let mut best: Option<(f64, u32, [f64; 3])> = None;
     for set in 0u32..(1 << k) {
-        let s: Vec<usize> = (0..k).filter(|&i| set & (1 << i) != 0).collect();
-        if s.len() > dim {
+        let (mut s_all, mut ns) = ([0usize; JOINT_MAX_CONSTRAINTS], 0);
+        for i in (0..k).filter(|&i| set & (1 << i) != 0) {
+            s_all[ns] = i;
+            ns += 1;
+        }
+        if ns > dim {
             continue;
         }
-        let g: Vec<Vec<f64>> = (s.iter())
-            .map(|&i| s.iter().map(|&j| dot(a[i], a[j])).collect())
-            .collect();
-        let rhs: Vec<f64> = s.iter().map(|&i| -m * b[i]).collect();
-        let Some(mut lambda) = solve_small(g.clone(), rhs) else {
+        let s = &s_all[..ns];
+        let mut g = [[0.0; 3]; 3];
+        let mut rhs = [0.0; 3];
+        for (r, &i) in s.iter().enumerate() {
+            rhs[r] = -m * b[i];
+            for (c, &j) in s.iter().enumerate() {
+                g[r][c] = dot(a[i], a[j]);
+            }
+        }
+        let Some(mut lambda) = solve_small(g, rhs, ns) else {
             continue;
         };
-        let dv_of = |lambda: &[f64]| -> [f64; 3] {
+        let dv_of = |lambda: &[f64; 3]| -> [f64; 3] {
             std::array::from_fn(|j| {
                 s.iter().zip(lambda).map(|(&i, l)| l * a[i][j]).sum::<f64>() / m
             })
@@ -273,23 +290,24 @@ fn projection(
             // brings them to the round-off of forming ΔV, ~ε Σ|λᵢ|/m. Only a set that failed
             // the check is refined, so a well-conditioned set keeps its bits.
             for _ in 0..2 {
-                let r: Vec<f64> = s.iter().map(|&i| -m * gap_rate(i, dv)).collect();
-                let Some(d) = solve_small(g.clone(), r) else {
+                let mut r = [0.0; 3];
+                for (r, &i) in r.iter_mut().zip(s) {
+                    *r = -m * gap_rate(i, dv);
+                }
+                let Some(d) = solve_small(g, r, ns) else {
                     break;
                 };
                 lambda.iter_mut().zip(d).for_each(|(l, d)| *l += d);
                 dv = dv_of(&lambda);
             }
         }
-        if lambda.iter().any(|&l| l < -1e-12 * m * scale) {
+        if lambda[..ns].iter().any(|&l| l < -1e-12 * m * scale) {
             continue;
         }
         let ok = (0..k).all(|i| gap_rate(i, dv) >= -tol);
         let d = norm(dv);
         if ok && best.is_none_or(|(bd, ..)| d < bd) {
-            let mut lam = [0.0; 3];
-            lam[..lambda.len()].copy_from_slice(&lambda);
-            best = Some((d, set, lam));
+            best = Some((d, set, lambda));
         }
     }
     let Some((_, set, lam)) = best else {
@@ -313,11 +331,13 @@ fn projection(
     true
 }
 
-/// Solves the small symmetric system g x = rhs by Gaussian elimination with partial pivoting;
-/// `None` when a pivot is below 1e-12 of the largest entry (dependent normals).
-fn solve_small(mut g: Vec<Vec<f64>>, mut rhs: Vec<f64>) -> Option<Vec<f64>> {
-    let n = rhs.len();
-    let big = g.iter().flatten().fold(0.0f64, |a, x| a.max(x.abs()));
+/// Solves the small symmetric system g x = rhs of its first `n` rows and columns (n ≤ 3) by
+/// Gaussian elimination with partial pivoting; `None` when a pivot is below 1e-12 of the
+/// largest entry (dependent normals). Entries beyond `n` are left 0.
+fn solve_small(mut g: [[f64; 3]; 3], mut rhs: [f64; 3], n: usize) -> Option<[f64; 3]> {
+    let big = (g[..n].iter())
+        .flat_map(|row| &row[..n])
+        .fold(0.0f64, |a, x| a.max(x.abs()));
     for c in 0..n {
         let p = (c..n).max_by(|&i, &j| g[i][c].abs().total_cmp(&g[j][c].abs()))?;
         if g[p][c].abs() <= 1e-12 * big {
@@ -333,7 +353,7 @@ fn solve_small(mut g: Vec<Vec<f64>>, mut rhs: Vec<f64>) -> Option<Vec<f64>> {
             rhs[r] -= f * rhs[c];
         }
     }
-    let mut x = vec![0.0; n];
+    let mut x = [0.0; 3];
     for c in (0..n).rev() {
         let s: f64 = (c + 1..n).map(|j| g[c][j] * x[j]).sum();
         x[c] = (rhs[c] - s) / g[c][c];

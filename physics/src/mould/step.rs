@@ -55,6 +55,9 @@ pub struct MouldStep {
     /// Each mould's friction work (tangential contact impulse · velocity of the node relative
     /// to the mould) [J]: minus the friction dissipated on it.
     pub friction: Vec<Work>,
+    /// Work array of the per-mould ledger passes (one (before, after) pair per mould), kept
+    /// between steps so that the time step does not allocate.
+    pub halves: Vec<(f64, f64)>,
 }
 
 impl MouldStep {

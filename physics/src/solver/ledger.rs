@@ -164,7 +164,7 @@ impl Simulation {
         if n < 2 {
             return;
         }
-        let mut halves = vec![(0.0, 0.0); n];
+        let mut halves = self.mould_halves(n);
         for j in 0..self.interface_nodes.len() {
             let itf = &self.interface_nodes[j];
             let k = self.model.interfaces[itf.interface as usize].plane;
@@ -188,14 +188,17 @@ impl Simulation {
             halves[k].0 += 0.5 * dot(v[0], con);
             halves[k].1 += 0.5 * dot(v[1], con);
         }
-        let works = &mut self.scratch.moulds.work;
-        for (w, (b, a)) in works.iter_mut().zip(halves) {
-            if first {
-                w.start(a);
-            } else {
-                w.push(b, a);
-            }
-        }
+        push_halves(&mut self.scratch.moulds.work, &halves, first);
+        self.scratch.moulds.halves = halves;
+    }
+
+    /// The per-mould (before, after) work array, zeroed for `n` moulds: taken out of the
+    /// step's scratch (give it back after use), so that no step allocates.
+    fn mould_halves(&mut self, n: usize) -> Vec<(f64, f64)> {
+        let mut halves = std::mem::take(&mut self.scratch.moulds.halves);
+        halves.clear();
+        halves.resize(n, (0.0, 0.0));
+        halves
     }
 
     /// Each mould's friction work, with the trapezoid pairing of `contact_tangential_work`:
@@ -211,7 +214,7 @@ impl Simulation {
         if n_moulds < 2 {
             return;
         }
-        let mut halves = vec![(0.0, 0.0); n_moulds];
+        let mut halves = self.mould_halves(n_moulds);
         for (b, node) in self.boundary.nodes.iter().enumerate() {
             let (vo, v) = (self.scratch.v_old[b], self.v[node.node as usize]);
             let mut add = |k: usize, p: [f64; 3], geo: Option<usize>, interface: bool| {
@@ -236,13 +239,8 @@ impl Simulation {
                 add(cn.plane as usize, p, Some(j), false);
             }
         }
-        for (w, (b, a)) in self.scratch.moulds.friction.iter_mut().zip(halves) {
-            if first {
-                w.start(a);
-            } else {
-                w.push(b, a);
-            }
-        }
+        push_halves(&mut self.scratch.moulds.friction, &halves, first);
+        self.scratch.moulds.halves = halves;
     }
 
     /// The normal of mould `k` at the contact point of interface entry (`interface`) or contact
@@ -401,4 +399,16 @@ fn tearing(counts: StateCounts) -> bool {
 fn damage_evolving(law: &crate::interface::law::StiffnessLaw, alpha: f64, alpha_s: f64) -> bool {
     law.state(alpha) == crate::interface::law::InterfaceState::Transition
         || (law.delay().is_some() && alpha < alpha_s)
+}
+
+/// Trapezoid pairing of per-mould works: at the start only the forward halves `a`, then each
+/// step's ½(b + a) pairs (PHYSICS.md §8's ledger, per mould).
+fn push_halves(works: &mut [Work], halves: &[(f64, f64)], first: bool) {
+    for (w, &(b, a)) in works.iter_mut().zip(halves) {
+        if first {
+            w.start(a);
+        } else {
+            w.push(b, a);
+        }
+    }
 }

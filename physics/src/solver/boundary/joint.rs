@@ -13,7 +13,7 @@ use crate::team::SharedSlice;
 
 /// Most constraint entries (glued and contact) one node may have; setup refuses more
 /// ([`check_constraint_count`]).
-pub(in crate::solver) const MAX_JOINT: usize = 8;
+pub(in crate::solver) const MAX_JOINT: usize = crate::interface::contact::JOINT_MAX_CONSTRAINTS;
 
 /// Refuses a node with more than [`MAX_JOINT`] constraint entries (a node can only be on so
 /// many moulds at once; more means the scene attaches one face set many times).
