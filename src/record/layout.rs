@@ -12,12 +12,12 @@ use crate::output::surface::{contact_rgb, state_rgb};
 use crate::solver::{ContactStatus, Simulation};
 use rerun::blueprint::components::{PanelState, PlayState};
 use rerun::blueprint::{
-    Blueprint, BlueprintPanel, Horizontal, SelectionPanel, Spatial2DView, Spatial3DView, Tabs,
-    TextDocumentView, TimePanel, TimeSeriesView, Vertical,
+    Blueprint, BlueprintPanel, ContainerLike, Horizontal, SelectionPanel, Spatial2DView,
+    Spatial3DView, Tabs, TextDocumentView, TimePanel, TimeSeriesView, Vertical,
 };
 use rerun::{
-    AnnotationContext, Arrows3D, LineStrips2D, Mesh3D, Points2D, Points3D, RecordingStream, Rgba32,
-    SeriesLines, TextDocument, TextLog, ViewCoordinates,
+    AnnotationContext, Arrows3D, EntityPath, LineStrips2D, Mesh3D, Points2D, Points3D,
+    RecordingStream, Rgba32, SeriesLines, TextDocument, TextLog, ViewCoordinates,
 };
 
 /// A name usable as one entity path part: `z+` → `z_plus`.
@@ -85,13 +85,20 @@ pub fn recording_name(sim: &Simulation) -> String {
 }
 
 /// The default layout: 3-D view on the left; energies and state counts on the right, with
-/// reactions, α(t), the law, the time step, timings and the scene text in tabs below.
-pub fn default_blueprint() -> Blueprint {
-    Blueprint::new(Horizontal::new([
-        Spatial3DView::new("body and interface")
-            .with_origin("/")
-            .with_contents(["/body/**", "/planes/**", "/interface/**", "/contact/**"])
-            .into(),
+/// reactions, α(t), the law, the time step, timings and the scene text in tabs below. Returns
+/// also the 3-D view's blueprint path (`view/<id>`), where its eye is set
+/// ([`super::eye::send_blueprint`]).
+pub fn default_blueprint() -> (Blueprint, EntityPath) {
+    let view: ContainerLike = Spatial3DView::new("body and interface")
+        .with_origin("/")
+        .with_contents(["/body/**", "/planes/**", "/interface/**", "/contact/**"])
+        .into();
+    let ContainerLike::View(v) = &view else {
+        unreachable!("a Spatial3DView is a view");
+    };
+    let path = v.blueprint_path();
+    let bp = Blueprint::new(Horizontal::new([
+        view,
         Vertical::new([
             TimeSeriesView::new("energy [J]")
                 .with_origin("/energy")
@@ -139,7 +146,8 @@ pub fn default_blueprint() -> Blueprint {
             .with_state(PanelState::Collapsed),
     )
     .with_blueprint_panel(BlueprintPanel::new().with_state(PanelState::Collapsed))
-    .with_selection_panel(SelectionPanel::new().with_state(PanelState::Collapsed))
+    .with_selection_panel(SelectionPanel::new().with_state(PanelState::Collapsed));
+    (bp, path)
 }
 
 /// Logs everything static, before the first frame.

@@ -2,6 +2,7 @@
 //! each [`Snapshot`] into one buffered row of every entity (geometry, [`super::geometry`]; the
 //! scalar series, here) and closes the stream with the run's outcome.
 
+use super::eye::scene_eye;
 use super::geometry::Geometry;
 use super::layout::{log_static, path_part, AXES};
 use super::stream::Stream;
@@ -27,7 +28,7 @@ pub(super) fn run(
     colour: ColourField,
 ) -> Result<LoggerEnd, RecordError> {
     let started = Instant::now();
-    let stream = Stream::open(&sink, name)?;
+    let stream = Stream::open(&sink, name, &scene_eye(&st.model))?;
     let mut logger = Logger::new(stream, st, colour)?;
     let mut busy = started.elapsed();
     while let Ok(msg) = rx.recv() {

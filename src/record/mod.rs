@@ -36,7 +36,8 @@
 //! # Modules
 //! [`stream`] (the Rerun stream: sink, columnar buffering, flushing), [`geometry`] (the
 //! per-frame geometry: surface, colours, nodes, arrows), [`layout`] (the static layout: entity
-//! names, blueprint, annotation context, law curves), [`logger`] (the logger thread),
+//! names, blueprint, annotation context, law curves), [`eye`] (the 3-D view's default eye,
+//! placed from the scene and sent in the blueprint), [`logger`] (the logger thread),
 //! [`frontier`] (the speed–accuracy study's own recording).
 //!
 //! # Threads
@@ -52,6 +53,7 @@
 //! file is closed, so a live viewer lags at most that much and nothing is lost when a run fails.
 //! The reaction–displacement curve is re-sent whole at each flush.
 
+pub mod eye;
 mod frontier;
 mod geometry;
 mod layout;

@@ -4,6 +4,7 @@
 //! at most [`FLUSH_WALL`] of wall time, and always before the stream is closed, so a live
 //! viewer lags at most that much and nothing is lost when a run fails.
 
+use super::eye::{send_blueprint, Eye};
 use super::{
     default_blueprint, log_err, RecordError, Sink, APPLICATION_ID, FLUSH_BYTES, FLUSH_ROWS,
     FLUSH_WALL, RERUN_VERSION,
@@ -37,10 +38,23 @@ fn batcher_config() -> rerun::log::ChunkBatcherConfig {
 
 /// Opens the Rerun stream for a sink (errors are the user's: a file that cannot be written,
 /// no viewer executable, a malformed URL).
-pub(super) fn open_stream(sink: &Sink, name: String) -> Result<RecordingStream, RecordError> {
+pub(super) fn open_stream(
+    sink: &Sink,
+    name: String,
+    eye: Option<&Eye>,
+) -> Result<RecordingStream, RecordError> {
+    let rec = open_sink(sink, name)?;
+    // The layout before anything else, as the builder's `with_blueprint` would send it, with
+    // the 3-D view's eye ([`super::eye`]).
+    let (bp, view) = default_blueprint();
+    send_blueprint(&rec, &bp, eye.map(|e| (view, e))).map_err(log_err("the blueprint"))?;
+    Ok(rec)
+}
+
+/// The SDK's stream for a sink, without a blueprint.
+fn open_sink(sink: &Sink, name: String) -> Result<RecordingStream, RecordError> {
     let builder = RecordingStreamBuilder::new(APPLICATION_ID)
         .recording_name(name)
-        .with_blueprint(default_blueprint())
         .batcher_config(batcher_config());
     match sink {
         Sink::Save(path) => builder.save(path).map_err(|e| {
@@ -239,9 +253,9 @@ pub(super) struct Stream {
 
 impl Stream {
     /// Opens the stream of a sink, recording `name` (see [`open_stream`]).
-    pub(super) fn open(sink: &Sink, name: String) -> Result<Stream, RecordError> {
+    pub(super) fn open(sink: &Sink, name: String, eye: &Eye) -> Result<Stream, RecordError> {
         Ok(Stream {
-            rec: open_stream(sink, name)?,
+            rec: open_stream(sink, name, Some(eye))?,
             columns: Columns::default(),
             network: !matches!(sink, Sink::Save(_)),
             last_flush: Instant::now(),
