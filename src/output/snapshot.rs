@@ -26,6 +26,12 @@ pub struct Snapshot {
     /// The pose of each mould at tₙ, in `model.planes` order: (R, T) with x = R x₀ + T for a
     /// point x₀ of the mould at t = 0 ([`Simulation::mould_pose`]).
     pub moulds: Vec<([[f64; 3]; 3], [f64; 3])>,
+    /// The force F [N] and the moment M about its pivot at tₙ [N·m] that the body exerted on
+    /// each mould over the last step, in `model.planes` order ([`mould_loads`]).
+    pub mould_loads: Vec<([f64; 3], [f64; 3])>,
+    /// The friction dissipated on each mould since t₀ [J], in `model.planes` order
+    /// ([`Simulation::mould_frictions`]: with one mould, `friction_dissipated` itself).
+    pub mould_friction: Vec<f64>,
     pub energies: EnergySnapshot,
     /// Reaction of each prescribed-displacement condition [N].
     pub reactions: Vec<f64>,
@@ -83,6 +89,8 @@ impl Snapshot {
             moulds: (0..sim.model.planes.len())
                 .map(|k| sim.mould_pose(k))
                 .collect(),
+            mould_loads: mould_loads(sim),
+            mould_friction: sim.mould_frictions().into_iter().map(|m| m.1).collect(),
             energies: sim.energies(),
             reactions: sim.stats.reactions.clone(),
             counts: sim.state_counts(),
@@ -98,4 +106,54 @@ impl Snapshot {
     pub fn bytes(sim: &Simulation) -> usize {
         48 * sim.u.len() + 96 * (sim.interface_nodes.len() + sim.contact_nodes.len()) + 512
     }
+}
+
+/// The force F [N] and moment M about its pivot c = R c₀ + T at tₙ [N·m] that the body exerted
+/// on each mould over the last step of length h, from the impulses that mould gave the
+/// body's nodes: the glue's −h̄ W R_d at a glued node's anchor x − [u] (the force on the
+/// mould is W R_d) and the contact's W R_c at the node (the force on the mould is −W R_c/h),
+/// F = Σ f, M = Σ (p − c) × f. The same sums as the ledger's per-mould work (force · velocity
+/// at these points) and as the roller-peel test's load; zero before the first step.
+pub fn mould_loads(sim: &Simulation) -> Vec<([f64; 3], [f64; 3])> {
+    let n = sim.model.planes.len();
+    let mut loads = vec![([0.0; 3], [0.0; 3]); n];
+    if n == 0 || sim.step_count == 0 || sim.h <= 0.0 {
+        return loads;
+    }
+    let pivots: Vec<[f64; 3]> = (0..n)
+        .map(|k| {
+            let (r, t) = sim.mould_pose(k);
+            let c0 = sim.model.planes[k].pivot();
+            std::array::from_fn(|i| r[i][0] * c0[0] + r[i][1] * c0[1] + r[i][2] * c0[2] + t[i])
+        })
+        .collect();
+    let x = |node: u32| -> [f64; 3] {
+        let (x0, u) = (sim.model.mesh.nodes[node as usize], sim.u[node as usize]);
+        std::array::from_fn(|i| x0[i] + u[i])
+    };
+    let mut add = |k: usize, p: [f64; 3], f: [f64; 3]| {
+        let (force, moment) = &mut loads[k];
+        let d: [f64; 3] = std::array::from_fn(|i| p[i] - pivots[k][i]);
+        let m = [
+            d[1] * f[2] - d[2] * f[1],
+            d[2] * f[0] - d[0] * f[2],
+            d[0] * f[1] - d[1] * f[0],
+        ];
+        for i in 0..3 {
+            force[i] += f[i];
+            moment[i] += m[i];
+        }
+    };
+    for itf in &sim.interface_nodes {
+        let k = sim.model.interfaces[itf.interface as usize].plane;
+        let xn = x(itf.node);
+        let anchor: [f64; 3] = std::array::from_fn(|i| xn[i] - itf.jump[i]);
+        add(k, anchor, itf.cohesive_traction.map(|r| r * itf.area));
+        add(k, xn, itf.contact_impulse.map(|r| -r * itf.area / sim.h));
+    }
+    for cn in &sim.contact_nodes {
+        let f = cn.contact_impulse.map(|r| -r * cn.area / sim.h);
+        add(cn.plane as usize, x(cn.node), f);
+    }
+    loads
 }

@@ -6,7 +6,7 @@
 use super::geometry::Geometry;
 use super::{log_err, ColourField, RecordError, Statics, ARROW_FRACTION, NORMAL_FRACTION};
 use crate::law::InterfaceState;
-use crate::model::{Model, Shape};
+use crate::model::{Model, RigidPlane, Shape};
 use crate::output::surface::mould::{body_box, mould_drawing};
 use crate::output::surface::{contact_rgb, state_rgb};
 use crate::solver::{ContactStatus, Simulation};
@@ -52,6 +52,26 @@ pub(super) const ENERGY_TERMS: [&str; 13] = [
     "plane_work",
     "residual",
 ];
+
+/// The friction dissipated on each mould [J] (`Simulation::mould_frictions`), one instance per
+/// mould in `model.planes` order, in the energy view: logged when there are several moulds
+/// (with one, it is `friction_dissipated`, already drawn).
+pub(super) const MOULD_FRICTION: &str = "energy/mould_friction";
+
+/// Does mould `p` move (a velocity or an angular-velocity history)? Its load is plotted.
+pub(super) fn moving(p: &RigidPlane) -> bool {
+    p.velocity.is_some() || p.angular_velocity.is_some()
+}
+
+/// The force the body exerts on a moving mould [N] (x, y, z), in the reaction view.
+pub(super) fn mould_force_path(p: &RigidPlane) -> String {
+    format!("reaction/mould_{}", path_part(&p.name))
+}
+
+/// The moment about its pivot the body exerts on a turning mould [N·m] (x, y, z).
+pub(super) fn mould_moment_path(p: &RigidPlane) -> String {
+    format!("mould_moment/{}", path_part(&p.name))
+}
 
 /// Stages logged as the instances of `timing` [µs per step], in this order.
 pub(super) const STAGES: [&str; 8] = [
@@ -109,6 +129,9 @@ pub fn default_blueprint() -> (Blueprint, EntityPath) {
             Tabs::new([
                 TimeSeriesView::new("reaction [N]")
                     .with_origin("/reaction")
+                    .into(),
+                TimeSeriesView::new("moment on turning moulds [N·m]")
+                    .with_origin("/mould_moment")
                     .into(),
                 TimeSeriesView::new("imposed displacement [m]")
                     .with_origin("/imposed_displacement")
@@ -417,6 +440,19 @@ fn series_names(
             SeriesLines::new().with_names(["min", "max"]),
         ),
     ];
+    let planes = &st.model.planes;
+    if planes.len() > 1 {
+        let names = planes.iter().map(|p| format!("friction on {}", p.name));
+        styles.push((MOULD_FRICTION.into(), SeriesLines::new().with_names(names)));
+    }
+    for p in planes.iter().filter(|p| moving(p)) {
+        let names = AXES.map(|a| format!("{} F_{a}", p.name));
+        styles.push((mould_force_path(p), SeriesLines::new().with_names(names)));
+        if p.angular_velocity.is_some() {
+            let names = AXES.map(|a| format!("{} M_{a}", p.name));
+            styles.push((mould_moment_path(p), SeriesLines::new().with_names(names)));
+        }
+    }
     if !st.interface_nodes.is_empty() {
         let names: Vec<String> = if alpha_per_node {
             st.interface_nodes

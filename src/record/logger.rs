@@ -4,7 +4,9 @@
 
 use super::eye::scene_eye;
 use super::geometry::Geometry;
-use super::layout::{log_static, path_part, AXES};
+use super::layout::{
+    log_static, mould_force_path, mould_moment_path, moving, path_part, AXES, MOULD_FRICTION,
+};
 use super::stream::Stream;
 use super::{ColourField, Msg, RecordError, Sink, Statics, ALPHA_PER_NODE_MAX};
 use crate::output::Snapshot;
@@ -124,6 +126,17 @@ impl Logger {
             ],
         );
         cols.scalars("balance/relative_residual", &[e.relative_residual]);
+        if m.planes.len() > 1 {
+            cols.scalars(MOULD_FRICTION, &s.mould_friction);
+        }
+        for (p, (f, mm)) in m.planes.iter().zip(&s.mould_loads) {
+            if moving(p) {
+                cols.scalars(&mould_force_path(p), f);
+            }
+            if p.angular_velocity.is_some() {
+                cols.scalars(&mould_moment_path(p), mm);
+            }
+        }
         for (k, d) in m.displacements.iter().enumerate() {
             let name = format!("{}_{}", path_part(&d.faces), AXES[d.component.min(2)]);
             cols.scalars(
