@@ -11,33 +11,21 @@
 
 mod common;
 
-use common::capture::read_capture;
+use common::capture::{read_capture, rows_on};
 use common::cli::{decohesion_ok, summary};
 use decohesion::output::surface::mould::body_box;
 use decohesion::scene::load_scene;
-use rerun::{ChunkStore, TimelineName};
+use rerun::ChunkStore;
 use std::path::Path;
 
 const SCENE: &str = "scenes/roller_peel.toml";
 
 /// Every row of a Scalars entity on the `sim_time` timeline: (t [s], values), in time order.
 fn series(store: &ChunkStore, entity: &str) -> Vec<(f64, Vec<f64>)> {
-    let timeline = TimelineName::from_static_str("sim_time");
     let component = rerun::Scalars::descriptor_scalars().component;
-    let mut rows = vec![];
-    for chunk in store.iter_physical_chunks() {
-        if chunk.entity_path().to_string() != entity {
-            continue;
-        }
-        for ((t, _), v) in chunk
-            .iter_component_indices(timeline, component)
-            .zip(chunk.iter_slices::<f64>(component))
-        {
-            rows.push((1e-9 * t.as_i64() as f64, v.to_vec()));
-        }
-    }
-    rows.sort_by(|a, b| a.0.total_cmp(&b.0));
-    rows
+    (rows_on::<f64>(store, entity, component, "sim_time").into_iter())
+        .map(|(t, v)| (1e-9 * t as f64, v))
+        .collect()
 }
 
 /// The whole run, captured every 20 steps (~1100 frames, ~270 in the steady window: the

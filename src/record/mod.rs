@@ -21,8 +21,11 @@
 //! | `interface/contact_normal` | Arrows3D at the nodes in contact (stick, slip): the mould's outward unit normal there × [`NORMAL_FRACTION`] of the body's extent, class = status | frame |
 //! | `contact/nodes`, `contact/pressure`, `contact/normal` | the same for contact-only faces | frame |
 //! | `energy` | Scalars [J], one named series per ledger term (PHYSICS.md §5; hourglass with one-point integration) and the residual | frame |
+//! | `energy/mould_friction` | Scalars [J]: friction dissipated on each mould (several moulds) | frame |
 //! | `balance/relative_residual` | Scalars: residual / largest energy seen | frame |
 //! | `reaction/<faces>_<axis>` | Scalars [N]: reaction of a prescribed displacement | frame |
+//! | `reaction/mould_<name>` | Scalars [N]: force of the body on a moving mould over the last step | frame |
+//! | `mould_moment/<name>` | Scalars [N·m]: its moment about a turning mould's pivot | frame |
 //! | `imposed_displacement/<faces>_<axis>` | Scalars [m] | frame |
 //! | `plots/reaction_vs_displacement` | LineStrips2D: (U [mm], F [kN], y up as −y) | frame |
 //! | `interface/count` | Scalars: elastic, transition, ruptured node counts (paper fig. 6 right) | frame |

@@ -37,7 +37,21 @@ pub fn rows<T>(
 where
     T: Clone + for<'a> Slicer<Item<'a> = &'a [T]>,
 {
-    let timeline = TimelineName::from_static_str("step");
+    rows_on(store, entity, component, "step")
+}
+
+/// Every row of one component of an entity on a timeline (`step`: the step; `sim_time`: the
+/// simulated time in ns): time → instances.
+pub fn rows_on<T>(
+    store: &ChunkStore,
+    entity: &str,
+    component: rerun::ComponentIdentifier,
+    timeline: &'static str,
+) -> BTreeMap<i64, Vec<T>>
+where
+    T: Clone + for<'a> Slicer<Item<'a> = &'a [T]>,
+{
+    let timeline = TimelineName::from_static_str(timeline);
     let mut rows = BTreeMap::new();
     for chunk in store.iter_physical_chunks() {
         if chunk.entity_path().to_string() != entity {
