@@ -1,5 +1,5 @@
 //! A finely triangulated ribbed mould surface, z = A sin(2π x / λ) over a square, for the
-//! measurement of the closest-point cache (`examples/mould_cache.rs`) and its test
+//! measurement of the closest-point cache (`physics/examples/mould_cache.rs`) and its test
 //! (`physics/tests/mould_cache.rs`), which include this file with `#[path]`. The mould is below
 //! the surface: each triangle (a, b, c) is ordered so that (b − a) × (c − a) points up (+z),
 //! out of the mould, as the mould loader requires.

@@ -78,7 +78,7 @@ pub struct MouldStep {
     /// between steps so that the time step does not allocate.
     pub halves: Vec<(f64, f64)>,
     /// Query triangulated moulds cold (the full BVH query at every step, the cache unused):
-    /// only for measuring what the cache saves (`examples/mould_cache.rs`); off in runs.
+    /// only for measuring what the cache saves (`physics/examples/mould_cache.rs`); off in runs.
     pub cold: bool,
 }
 
