@@ -13,11 +13,13 @@
 //! the contact points, moments included (Σ P·(v + ω × (p − c)) = F·v + M_c·ω).
 
 use super::motion::{mat_mul_t, mat_vec, Mat3, Pose};
+use super::surface::NO_FEATURE;
+use super::Shape;
 use crate::energy::Work;
 use crate::model::Mould;
 
 /// A node's geometry against a mould that is not a plain plane, at tₙ₊₁.
-#[derive(Debug, Clone, Copy, Default)]
+#[derive(Debug, Clone, Copy)]
 pub struct NodeGeometry {
     /// Glued nodes: the mould's outward normal at the anchor at t = 0 (in the mould's frame).
     pub normal0: [f64; 3],
@@ -27,6 +29,23 @@ pub struct NodeGeometry {
     /// Closest mould point p to the node and the outward normal there (contact).
     pub point: [f64; 3],
     pub normal: [f64; 3],
+    /// The triangle of a triangulated mould that held the closest point at the last query
+    /// (the warm start of [`super::SurfaceMesh::project_cached`]; [`NO_FEATURE`] before the
+    /// first, unused on other shapes).
+    pub feature: u32,
+}
+
+impl Default for NodeGeometry {
+    fn default() -> Self {
+        NodeGeometry {
+            normal0: [0.0; 3],
+            glue_normal: [0.0; 3],
+            anchor: [0.0; 3],
+            point: [0.0; 3],
+            normal: [0.0; 3],
+            feature: NO_FEATURE,
+        }
+    }
 }
 
 /// The moulds' poses and per-node geometry of the current step (see the module docs).
@@ -58,6 +77,9 @@ pub struct MouldStep {
     /// Work array of the per-mould ledger passes (one (before, after) pair per mould), kept
     /// between steps so that the time step does not allocate.
     pub halves: Vec<(f64, f64)>,
+    /// Query triangulated moulds cold (the full BVH query at every step, the cache unused):
+    /// only for measuring what the cache saves (`physics/examples/mould_cache.rs`); off in runs.
+    pub cold: bool,
 }
 
 impl MouldStep {
@@ -142,9 +164,22 @@ impl MouldStep {
         }
     }
 
-    /// Closest point and outward normal of mould `m` at x in the pose `pose`.
-    pub fn project(m: &Mould, pose: &Pose, x: [f64; 3]) -> super::Projection {
-        let pr = m.project0(pose.unplace(m.pivot(), x));
+    /// Closest point and outward normal of mould `m` at x in the pose `pose`; on a
+    /// triangulated mould warm-started from and updating the node's cached triangle `feature`
+    /// ([`super::SurfaceMesh::project_cached`]: the cold query's result, about one triangle
+    /// projection and a pruned traversal instead of a full one), unless `cold`.
+    pub fn project(
+        m: &Mould,
+        pose: &Pose,
+        x: [f64; 3],
+        feature: &mut u32,
+        cold: bool,
+    ) -> super::Projection {
+        let x0 = pose.unplace(m.pivot(), x);
+        let pr = match &m.shape {
+            Shape::Surface(s) if !cold => s.project_cached(x0, feature),
+            _ => m.project0(x0),
+        };
         super::Projection {
             point: pose.place(m.pivot(), pr.point),
             normal: mat_vec(&pose.rotation, pr.normal),

@@ -115,10 +115,64 @@ impl SurfaceMesh {
     }
 
     /// Closest point p and the pseudo-normal n of its feature (face, edge or vertex), in the
-    /// mould's frame at t = 0 (module docs of [`super`]).
+    /// mould's frame at t = 0 (module docs of [`super`]): the full BVH query (best-first).
     pub fn project(&self, x: [f64; 3]) -> Projection {
         let (proj, (tri, loc)) =
             (self.mesh).project_local_point_and_get_location(&Point::new(x[0], x[1], x[2]), false);
+        self.projection(proj.point, tri, loc)
+    }
+
+    /// [`SurfaceMesh::project`] warm-started from the triangle `feature` found at the node's
+    /// last query (the cache, [`NO_FEATURE`] when there is none; updated to the triangle found).
+    ///
+    /// Let d₀ = |x − p₀| be the distance to the cached triangle's closest point (one triangle
+    /// projection, the same arithmetic as the BVH's leaf test, so the same bits). The closest
+    /// point of the surface is at a distance d* ≤ d₀, so asking the BVH only for a point closer
+    /// than d_max = d₀(1 + 10⁻¹²) prunes every node whose box is farther, without losing the
+    /// answer: the best-first traversal starts with its best cost at d_max instead of ∞, and
+    /// keeps a triangle only when strictly closer than the best so far, as the cold query does. The result is the cold query's: the same
+    /// triangle (hence the same point and pseudo-normal) whenever the closest triangle is
+    /// unique. Ties: a point on the surface (d* = 0) is at distance 0 from every triangle
+    /// around it, and parry reports it on one's face or on another's edge, with different
+    /// normals, the choice set by the visit order, which the pruning changes: there the warm
+    /// query calls the cold one (a node exactly on its mould: at t = 0 and rarely after). Off
+    /// the surface, several triangles at exactly the same distance d* > 0 share the closest
+    /// feature (a vertex or an edge: the point is in its Voronoi region), each query keeps the
+    /// first it visits, and the visit orders can differ; a shared vertex gives the same point
+    /// (the vertex) and the same vertex pseudo-normal from any of its triangles, a shared edge
+    /// the same edge pseudo-normal (parry stores one per edge) and a point computed from
+    /// either end of the edge, equal in exact arithmetic: so warm and cold can differ there in
+    /// the last bit of p only (`physics/tests/mould_cache.rs` checks vertices, edge midpoints,
+    /// centroids, on and off the surface, and random walks, bit for bit: no difference seen).
+    /// No allocation but the traversal's own queue (parry's, as in the cold query).
+    pub fn project_cached(&self, x: [f64; 3], feature: &mut u32) -> Projection {
+        let pt = Point::new(x[0], x[1], x[2]);
+        let warm = (*feature < self.mesh.num_triangles() as u32).then(|| {
+            let p0 = (self.mesh.triangle(*feature))
+                .project_local_point_and_get_location(&pt, false)
+                .0
+                .point;
+            let d0 = nalgebra::distance(&pt, &p0);
+            let max_dist = d0 * (1.0 + 1e-12);
+            (d0 > 0.0).then(|| {
+                (self.mesh).project_local_point_and_get_location_with_max_dist(&pt, false, max_dist)
+            })
+        });
+        // A point on the surface (d = 0) is at the same distance from every triangle around
+        // it, and parry reports it on the face of one or on the edge of another (different
+        // normals): the cold query decides. So does it when round-off in a box's distance
+        // prunes the cached triangle's own leaf (never seen).
+        let (proj, (tri, loc)) = match warm.flatten().flatten() {
+            Some(found) if found.0.point != pt => found,
+            _ => self.mesh.project_local_point_and_get_location(&pt, false),
+        };
+        *feature = tri;
+        self.projection(proj.point, tri, loc)
+    }
+
+    /// The projection onto triangle `tri` at `loc` as a [`Projection`]: the point and the
+    /// unit pseudo-normal of the feature.
+    fn projection(&self, p: Point<f64>, tri: u32, loc: TrianglePointLocation) -> Projection {
         let face = || self.mesh.triangle(tri).scaled_normal();
         let pn = self.mesh.pseudo_normals_if_oriented();
         let n = match (loc, pn) {
@@ -134,11 +188,14 @@ impl SurfaceMesh {
         let n = [n.x, n.y, n.z];
         let l = norm(n);
         Projection {
-            point: [proj.point.x, proj.point.y, proj.point.z],
+            point: [p.x, p.y, p.z],
             normal: n.map(|c| c / l),
         }
     }
 }
+
+/// No cached feature yet ([`SurfaceMesh::project_cached`]).
+pub const NO_FEATURE: u32 = u32::MAX;
 
 /// Refuses degenerate triangles, edges of more than two triangles and inconsistently oriented
 /// neighbours (module docs). Vertices that coincide exactly are one vertex: returns, per

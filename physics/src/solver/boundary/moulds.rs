@@ -57,7 +57,7 @@ impl Simulation {
             geo.anchor = pose.place(m.pivot(), itf.bonded_point);
             geo.glue_normal = crate::mould::motion::mat_vec(&pose.rotation, geo.normal0);
             itf.jump = sub(x, geo.anchor);
-            let pr = MouldStep::project(m, &pose, x);
+            let pr = MouldStep::project(m, &pose, x, &mut geo.feature, ms.cold);
             (geo.point, geo.normal) = (pr.point, pr.normal);
             itf.gap = snap(dot(pr.normal, sub(x, pr.point)), tol[k]);
             ms.interface[j] = geo;
@@ -68,10 +68,19 @@ impl Simulation {
                 continue;
             }
             let x = place(cn.node as usize);
-            let pr = MouldStep::project(&planes[k], &ms.pose_at(k, t), x);
-            (ms.contact[j].point, ms.contact[j].normal) = (pr.point, pr.normal);
+            let (pose, cold) = (ms.pose_at(k, t), ms.cold);
+            let geo = &mut ms.contact[j];
+            let pr = MouldStep::project(&planes[k], &pose, x, &mut geo.feature, cold);
+            (geo.point, geo.normal) = (pr.point, pr.normal);
             cn.gap = snap(dot(pr.normal, sub(x, pr.point)), tol[k]);
         }
+    }
+
+    /// Query triangulated moulds cold (the full BVH query at every step) instead of
+    /// warm-started from each node's cached triangle: the same results (see
+    /// [`crate::mould::SurfaceMesh::project_cached`]), slower; for measuring the cache only.
+    pub fn set_mould_queries_cold(&mut self, cold: bool) {
+        self.scratch.moulds.cold = cold;
     }
 
     /// The glue normal of interface node `j` at tₙ₊₁: its plane's normal, or on a curved mould
