@@ -35,43 +35,86 @@ impl LanczosOut {
     }
 }
 
-/// The Ritz vector y = Σ sⱼqⱼ of `out` into `ritz` (zeroed), by running the same Lanczos
-/// iterations again from `start` (the basis was not kept).
-pub(super) fn regenerate(
-    apply: &mut dyn FnMut(&[f64], &mut [f64]),
-    start: &[f64],
-    out: &LanczosOut,
-    ritz: &mut [f64],
-) {
-    let stop = LanczosStop {
-        max_iter: out.alphas.len(),
-        tol: 0.0,
-        residual: 0.0,
-        check_every: usize::MAX,
-    };
-    lanczos(apply, start, &stop, Some((&out.s, ritz)), None);
+/// The vectors of a Lanczos run, kept between runs so that an estimate allocates nothing once
+/// the first has sized them: the current and previous Lanczos vectors, the work vector, and the
+/// basis q₀, q₁, … (flat, `n` values each) while it fits in `basis_limit` vectors.
+#[derive(Debug, Default, Clone)]
+pub(super) struct LanczosWork {
+    q: Vec<f64>,
+    q_prev: Vec<f64>,
+    w: Vec<f64>,
+    basis: Vec<f64>,
+    /// Largest number of basis vectors kept (0: none).
+    pub basis_limit: usize,
+}
+
+impl LanczosWork {
+    /// The Ritz vector y = Σ sⱼqⱼ of `out` into `ritz` (resized, zeroed): from the kept basis
+    /// when the run fitted in it, otherwise by running the same Lanczos iterations again from
+    /// `start` (the same arithmetic in the same order: the same y to the bit either way).
+    pub fn ritz_vector(
+        &mut self,
+        apply: &mut dyn FnMut(&[f64], &mut [f64]),
+        start: &[f64],
+        out: &LanczosOut,
+        ritz: &mut Vec<f64>,
+    ) {
+        let n = start.len();
+        ritz.clear();
+        ritz.resize(n, 0.0);
+        let m = out.alphas.len();
+        if n == 0 {
+            return;
+        }
+        if self.basis.len() >= m * n {
+            for (sj, q) in out.s.iter().zip(self.basis.chunks_exact(n)) {
+                for k in 0..n {
+                    ritz[k] += sj * q[k];
+                }
+            }
+            return;
+        }
+        let stop = LanczosStop {
+            max_iter: m,
+            tol: 0.0,
+            residual: 0.0,
+            check_every: usize::MAX,
+        };
+        let limit = std::mem::replace(&mut self.basis_limit, 0);
+        lanczos(apply, start, &stop, Some((&out.s, ritz)), self);
+        self.basis_limit = limit;
+    }
 }
 
 /// Lanczos tridiagonalisation of a symmetric operator from `start`, without
 /// reorthogonalisation (extreme Ritz values still converge), until `stop`
 /// ([`LanczosStop`]). With `accumulate = (s, y)`, runs exactly `max_iter` iterations and
-/// accumulates y = Σ sⱼ qⱼ instead of checking; with `basis`, keeps the vectors qⱼ.
+/// accumulates y = Σ sⱼ qⱼ instead of checking; keeps the first `work.basis_limit` vectors qⱼ
+/// in `work` ([`LanczosWork::ritz_vector`]).
 pub(super) fn lanczos(
     apply: &mut dyn FnMut(&[f64], &mut [f64]),
     start: &[f64],
     stop: &LanczosStop,
     mut accumulate: Option<(&[f64], &mut [f64])>,
-    mut basis: Option<&mut Vec<Vec<f64>>>,
+    work: &mut LanczosWork,
 ) -> LanczosOut {
     let max_iter = stop.max_iter;
     let n = start.len();
     let nrm = start.iter().map(|x| x * x).sum::<f64>().sqrt();
-    let mut q: Vec<f64> = start
-        .iter()
-        .map(|x| x / nrm.max(f64::MIN_POSITIVE))
-        .collect();
-    let mut q_prev = vec![0.0; n];
-    let mut w = vec![0.0; n];
+    let LanczosWork {
+        q,
+        q_prev,
+        w,
+        basis,
+        basis_limit,
+    } = work;
+    q.clear();
+    q.extend(start.iter().map(|x| x / nrm.max(f64::MIN_POSITIVE)));
+    q_prev.clear();
+    q_prev.resize(n, 0.0);
+    w.clear();
+    w.resize(n, 0.0);
+    basis.clear();
     let (mut alphas, mut betas) = (Vec::new(), Vec::new());
     let mut beta_prev = 0.0;
     let mut last_theta = f64::NAN;
@@ -82,11 +125,11 @@ pub(super) fn lanczos(
                 y[k] += s[j] * q[k];
             }
         }
-        if let Some(b) = basis.as_mut() {
-            b.push(q.clone());
+        if j < *basis_limit {
+            basis.extend_from_slice(q);
         }
-        apply(&q, &mut w);
-        let a: f64 = w.iter().zip(&q).map(|(x, y)| x * y).sum();
+        apply(q, w);
+        let a: f64 = w.iter().zip(q.iter()).map(|(x, y)| x * y).sum();
         for k in 0..n {
             w[k] -= a * q[k] + beta_prev * q_prev[k];
         }
@@ -107,8 +150,9 @@ pub(super) fn lanczos(
         if b <= 1e-14 * a.abs() {
             break;
         }
+        // q_{j+1} = w/β, q_j becomes the previous vector (a swap, no copy).
+        std::mem::swap(q_prev, q);
         for k in 0..n {
-            q_prev[k] = q[k];
             q[k] = w[k] / b;
         }
         beta_prev = b;

@@ -29,6 +29,7 @@ mod setup;
 mod stable_step;
 mod stages;
 mod state;
+mod stiffness;
 
 pub use setup::{mould_closest_point, start_offset_tolerance, StartOffset};
 pub use state::{
