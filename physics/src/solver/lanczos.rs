@@ -193,3 +193,63 @@ fn top_ritz_pair(alphas: &[f64], betas: &[f64]) -> (f64, f64, Vec<f64>) {
     let resid = (betas[m - 1] * s[m - 1]).abs();
     (theta, resid, s)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The kept basis and the regenerating second pass give the same Ritz vector to the bit
+    /// (what leaves every golden file unchanged), and it is the top eigenvector: on the 1-D
+    /// Laplacian tridiag(−1, 2, −1) of order n, λ_max = 2 − 2 cos(nπ/(n+1)) exactly.
+    #[test]
+    fn the_kept_basis_gives_the_regenerated_ritz_vector_to_the_bit() {
+        let n = 40;
+        let mut apply = |q: &[f64], y: &mut [f64]| {
+            for k in 0..n {
+                let left = if k > 0 { q[k - 1] } else { 0.0 };
+                let right = if k + 1 < n { q[k + 1] } else { 0.0 };
+                y[k] = 2.0 * q[k] - left - right;
+            }
+        };
+        let start: Vec<f64> = (0..n).map(|k| ((k * 7919) % 101) as f64 - 50.0).collect();
+        let stop = LanczosStop {
+            max_iter: n,
+            tol: 1e-13,
+            residual: 0.0,
+            check_every: 5,
+        };
+        let ritz = |limit: usize, apply: &mut dyn FnMut(&[f64], &mut [f64])| {
+            let mut work = LanczosWork {
+                basis_limit: limit,
+                ..Default::default()
+            };
+            let out = lanczos(apply, &start, &stop, None, &mut work);
+            let mut y = Vec::new();
+            work.ritz_vector(apply, &start, &out, &mut y);
+            (out, y)
+        };
+        let (out, kept) = ritz(n, &mut apply);
+        for limit in [0, 3] {
+            let (_, regenerated) = ritz(limit, &mut apply);
+            let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(&kept), bits(&regenerated), "basis limit {limit}");
+        }
+        let lambda = 2.0 - 2.0 * (n as f64 * std::f64::consts::PI / (n as f64 + 1.0)).cos();
+        assert!(
+            (out.theta - lambda).abs() <= 1e-10 * lambda,
+            "θ {} vs {lambda}",
+            out.theta
+        );
+        let mut ay = vec![0.0; n];
+        apply(&kept, &mut ay);
+        let norm = kept.iter().map(|x| x * x).sum::<f64>().sqrt();
+        let res = (0..n)
+            .map(|k| (ay[k] - out.theta * kept[k]).powi(2))
+            .sum::<f64>()
+            .sqrt();
+        assert!(
+            res <= 1e-6 * lambda * norm,
+            "‖Ay − θy‖ = {res:.3e}, ‖y‖ = {norm}"
+        );
+    }
+}
