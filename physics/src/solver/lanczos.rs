@@ -35,7 +35,7 @@ impl LanczosOut {
     }
 }
 
-/// The vectors of a Lanczos run, kept between runs so that an estimate allocates nothing once
+/// The vectors of a Lanczos run, kept between runs so that an estimate allocates no mesh-sized vector once
 /// the first has sized them: the current and previous Lanczos vectors, the work vector, and the
 /// basis q₀, q₁, … (flat, `n` values each) while it fits in `basis_limit` vectors.
 #[derive(Debug, Default, Clone)]

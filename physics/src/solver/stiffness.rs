@@ -12,7 +12,7 @@ use crate::team::{SharedSlice, Team};
 const DOF_GRAIN: usize = 3 * NODE_GRAIN;
 
 /// What the stable-step estimates keep from one estimate to the next, so that an estimate
-/// allocates nothing once the first has sized the buffers, and costs per Lanczos iteration
+/// allocates no mesh-sized vector once the first has sized them, and costs per Lanczos iteration
 /// one internal-force assembly (the step's own kernel, on the step's thread team) and a few
 /// streaming passes over the degrees of freedom.
 #[derive(Debug, Default, Clone)]
