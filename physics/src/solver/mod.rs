@@ -10,7 +10,7 @@
 //! | 1 positions and state | [`Simulation::advance_positions`] | `stages.rs` |
 //! | 2 surfaces, gaps, prescribed values | [`Simulation::surfaces_and_gaps`], [`Simulation::prescribed_motion`] | `stages.rs` |
 //! | 3 internal forces | [`Simulation::internal_forces`] | `stages.rs` |
-//! | §6 next step | [`Simulation::next_time_step`] | `stable_step.rs`, `lanczos.rs` |
+//! | §6 next step | [`Simulation::next_time_step`] | `stable_step.rs`, `lanczos.rs`, `stiffness.rs` |
 //! | 5 free velocity, all nodes | [`Simulation::free_velocity`] | `stages.rs` |
 //! | 4–8 at boundary nodes | [`Simulation::boundary_pass`]: per node, tractions, cohesion (4), free velocity (5), prescribed components (6), contact (7), the ledger's halves, damage (8) | `boundary.rs` |
 //! | 9 ledger | [`Simulation::ledger`] | `ledger.rs` |
@@ -29,6 +29,7 @@ mod setup;
 mod stable_step;
 mod stages;
 mod state;
+mod stiffness;
 
 pub use setup::{mould_closest_point, start_offset_tolerance, StartOffset};
 pub use state::{

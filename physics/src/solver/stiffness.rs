@@ -1,0 +1,270 @@
+//! The operator of the stable-step estimate (PHYSICS.md §6), y = M^{-½} K M^{-½} q at the
+//! current state, and the buffers every estimate reuses (`solver/stable_step.rs`).
+
+use super::boundary::NONE;
+use super::lanczos::LanczosWork;
+use super::{ElementLoop, Simulation, NODE_GRAIN};
+use crate::kernels::ElementSums;
+use crate::team::{SharedSlice, Team};
+
+/// Degrees of freedom per chunk of the operator's streaming passes: the nodes of a chunk of
+/// the step's node loops.
+const DOF_GRAIN: usize = 3 * NODE_GRAIN;
+
+/// What the stable-step estimates keep from one estimate to the next, so that an estimate
+/// allocates no mesh-sized vector once the first has sized them, and costs per Lanczos iteration
+/// one internal-force assembly (the step's own kernel, on the step's thread team) and a few
+/// streaming passes over the degrees of freedom.
+#[derive(Debug, Default, Clone)]
+pub(super) struct EstimateCache {
+    /// Prescribed degrees of freedom (node·3 + component) and M^{-½} (they never change),
+    /// and ε's length scale, 1e-6 of the smallest reference edge (empty until the first).
+    mask: Vec<bool>,
+    sqrt_inv_m: Vec<f64>,
+    eps_len: f64,
+    /// U + εx and F_int(U + εx), F_int(U) when the step's own is not current.
+    up: Vec<[f64; 3]>,
+    fp: Vec<[f64; 3]>,
+    f0: Vec<[f64; 3]>,
+    /// (node, W g_N(α)) of the glued nodes of this estimate, their free degrees of freedom
+    /// (once each) and a flag per degree of freedom, true on them.
+    springs: Vec<(usize, f64)>,
+    spring_dofs: Vec<usize>,
+    has_spring: Vec<bool>,
+    /// Per-chunk results of the parallel passes.
+    parts: Vec<ElementSums>,
+    maxima: Vec<f64>,
+    units: Vec<()>,
+    /// The Lanczos start vector and the Lanczos run's vectors.
+    pub start: Vec<f64>,
+    pub work: LanczosWork,
+}
+
+/// y = M^{-½} K M^{-½} q at `sim`'s state (PHYSICS.md §6): K q matrix-free as the forward
+/// difference (F_int(U + ε x) − F_int(U))/ε, x = M^{-½} q, with ε = 1e-6 of the smallest edge
+/// over max|x|, plus the interface springs W g_N(α) of glued nodes; prescribed components are
+/// removed (rows and columns zero).
+pub(super) struct StiffnessOperator<'a> {
+    sim: &'a Simulation,
+    elements: ElementLoop<'a>,
+    /// F_int(U), the base of the difference: the step's own (stage 3 has just computed it at
+    /// U) or `cache.f0`.
+    forces_current: bool,
+    pub cache: &'a mut EstimateCache,
+}
+
+impl<'a> StiffnessOperator<'a> {
+    /// The operator at `sim`'s state, with the interface springs or without them; with
+    /// `forces_current`, F_int(U) is the step's own, otherwise it is assembled here into
+    /// `cache`, whose buffers the operator uses.
+    pub fn new(
+        sim: &'a Simulation,
+        springs: bool,
+        forces_current: bool,
+        cache: &'a mut EstimateCache,
+    ) -> Self {
+        let elements = ElementLoop {
+            model: &sim.model,
+            classes: &sim.classes,
+            blocks: &sim.blocks,
+            team: sim.team.as_ref(),
+        };
+        let nodes = sim.u.len();
+        if cache.mask.len() != 3 * nodes {
+            cache.mask = prescribed_mask(sim);
+            cache.sqrt_inv_m = (0..3 * nodes).map(|k| sim.inv_mass[k / 3].sqrt()).collect();
+            cache.eps_len = 1e-6 * sim.model.mesh.min_edge();
+            cache.up = vec![[0.0; 3]; nodes];
+            cache.fp = vec![[0.0; 3]; nodes];
+            cache.has_spring = vec![false; 3 * nodes];
+        }
+        if !forces_current {
+            cache.f0.clear();
+            cache.f0.resize(nodes, [0.0; 3]);
+            elements.assemble(&sim.u, &mut cache.f0, false, &mut cache.parts);
+        }
+        for &k in &cache.spring_dofs {
+            cache.has_spring[k] = false;
+        }
+        cache.springs.clear();
+        cache.spring_dofs.clear();
+        if springs {
+            cache.springs.extend(sim.interface_nodes.iter().map(|itf| {
+                let law = &sim.model.interfaces[itf.interface as usize].law;
+                (
+                    itf.node as usize,
+                    itf.area * law.spring_stiffness(itf.alpha),
+                )
+            }));
+        }
+        for &(i, _) in &cache.springs {
+            for k in 3 * i..3 * i + 3 {
+                if !cache.mask[k] && !cache.has_spring[k] {
+                    cache.has_spring[k] = true;
+                    cache.spring_dofs.push(k);
+                }
+            }
+        }
+        StiffnessOperator {
+            sim,
+            elements,
+            forces_current,
+            cache,
+        }
+    }
+
+    /// Sets `cache.start` to the Lanczos start: the previous Ritz vector `warm` (warm start)
+    /// plus a deterministic pseudo-random vector so that every mode is represented.
+    pub fn start_vector(&mut self, warm: Option<&[f64]>) {
+        let c = &mut *self.cache;
+        let n = c.mask.len();
+        c.start.clear();
+        c.start
+            .extend((0..n).map(|k| if c.mask[k] { 0.0 } else { splitmix(k as u64) }));
+        if let Some(w) = warm.filter(|w| w.len() == n) {
+            let nw = w.iter().map(|x| x * x).sum::<f64>().sqrt();
+            let ns = c.start.iter().map(|x| x * x).sum::<f64>().sqrt();
+            if nw > 0.0 {
+                for k in 0..n {
+                    c.start[k] = w[k] / nw + 1e-3 * c.start[k] / ns;
+                }
+            }
+        }
+    }
+
+    /// Adds to the start (of norm about 1) a unit pseudo-random vector on the free components
+    /// of `element`'s nodes. Under compression the stiffest mode sits at the most compressed
+    /// element, which moves with the compression wave: a start from the previous top Ritz
+    /// vector alone would need many iterations to reach it (K couples neighbours only, one
+    /// layer of elements per iteration), and could stop on a lower, local mode with a small
+    /// residual.
+    pub fn add_local_start(&mut self, element: usize) {
+        let Some(conn) = self.sim.model.mesh.elements.get(element) else {
+            return;
+        };
+        let (mask, start) = (&self.cache.mask, &mut self.cache.start);
+        let dofs = || {
+            (conn.iter())
+                .flat_map(|&a| (0..3).map(move |i| 3 * a as usize + i))
+                .filter(|&k| !mask[k])
+        };
+        let norm = dofs()
+            .map(|k| splitmix(k as u64).powi(2))
+            .sum::<f64>()
+            .sqrt();
+        if norm > 0.0 {
+            for k in dofs() {
+                start[k] += splitmix(k as u64) / norm;
+            }
+        }
+    }
+
+    /// y = M^{-½} K M^{-½} q. The streaming passes run on the step's team, each participant on
+    /// its own contiguous share of the degrees of freedom, the share it has in the step's node
+    /// loops: U + εx and the zeroed F are written where the element loop's threads read and
+    /// add to them (written by one thread, they cost the other a transfer from its cache at
+    /// every assembly, measured to double the assembly's time at 28³).
+    pub fn apply(&mut self, q: &[f64], y: &mut [f64]) {
+        let team = self.sim.team.as_ref();
+        let c = &mut *self.cache;
+        let (mask, s) = (&c.mask[..], &c.sqrt_inv_m[..]);
+        let u = self.sim.u.as_flattened();
+        let f0 = if self.forces_current {
+            self.sim.f_int.as_flattened()
+        } else {
+            c.f0.as_flattened()
+        };
+        let n = mask.len();
+        let x = |k: usize| if mask[k] { 0.0 } else { q[k] * s[k] };
+        dof_chunks(team, n, &mut c.maxima, |a, b| {
+            (a..b).fold(0.0f64, |m, k| m.max(x(k).abs()))
+        });
+        let xmax = c.maxima.iter().fold(0.0f64, |m, &x| m.max(x));
+        if xmax == 0.0 {
+            y.fill(0.0);
+            return;
+        }
+        let eps = c.eps_len / xmax;
+        let up = SharedSlice::new(c.up.as_flattened_mut());
+        let fp = SharedSlice::new(c.fp.as_flattened_mut());
+        // SAFETY: range a..b of `up` and `fp` is touched by this item only.
+        dof_chunks(team, n, &mut c.units, |a, b| unsafe {
+            for (i, upk) in up.range(a, b).iter_mut().enumerate() {
+                *upk = u[a + i] + eps * x(a + i);
+            }
+            fp.range(a, b).fill(0.0);
+        });
+        self.elements
+            .assemble(&c.up, &mut c.fp, false, &mut c.parts);
+        let fp = c.fp.as_flattened();
+        // K x of the bulk, M^{-½} applied at once except where a glued node's spring
+        // W g_N(α) x is added first.
+        let has_spring = &c.has_spring;
+        let yy = SharedSlice::new(y);
+        // SAFETY: range a..b of `y` is touched by this item only.
+        dof_chunks(team, n, &mut c.units, |a, b| unsafe {
+            for (i, yk) in yy.range(a, b).iter_mut().enumerate() {
+                let k = a + i;
+                let d = (fp[k] - f0[k]) / eps;
+                *yk = if mask[k] {
+                    0.0
+                } else if has_spring[k] {
+                    d
+                } else {
+                    d * s[k]
+                };
+            }
+        });
+        for &(i, ks) in &c.springs {
+            for k in 3 * i..3 * i + 3 {
+                if !mask[k] {
+                    y[k] += ks * q[k] * s[k];
+                }
+            }
+        }
+        for &k in &c.spring_dofs {
+            y[k] *= s[k];
+        }
+    }
+}
+
+/// `f(a, b)` over the consecutive ranges a..b of [`DOF_GRAIN`] degrees of freedom, on `team`
+/// (participant t on its contiguous share, as in the step's node loops) or on the calling
+/// thread; the results into `out` in order.
+fn dof_chunks<R: Send>(
+    team: Option<&Team>,
+    n: usize,
+    out: &mut Vec<R>,
+    f: impl Fn(usize, usize) -> R + Sync,
+) {
+    let chunk = |i: usize| f(i * DOF_GRAIN, ((i + 1) * DOF_GRAIN).min(n));
+    match team {
+        Some(team) => team.map_into(n.div_ceil(DOF_GRAIN), out, chunk),
+        None => {
+            out.clear();
+            out.extend((0..n.div_ceil(DOF_GRAIN)).map(chunk));
+        }
+    }
+}
+
+/// Prescribed degrees of freedom (node·3 + component), true where prescribed.
+fn prescribed_mask(sim: &Simulation) -> Vec<bool> {
+    let mut mask = vec![false; 3 * sim.u.len()];
+    for b in &sim.boundary.nodes {
+        for c in 0..3 {
+            if b.prescribed[c] != NONE {
+                mask[3 * b.node as usize + c] = true;
+            }
+        }
+    }
+    mask
+}
+
+/// A deterministic pseudo-random number in [−1, 1) (splitmix64 of the index).
+fn splitmix(k: u64) -> f64 {
+    let mut z = k.wrapping_add(0x9E37_79B9_7F4A_7C15);
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^= z >> 31;
+    (z >> 11) as f64 / (1u64 << 52) as f64 - 1.0
+}
