@@ -22,25 +22,67 @@ fn det3<T: Real, const FMA: bool>(c0: [T; 3], c1: [T; 3], c2: [T; 3]) -> T {
 
 /// J at the 8 corners, J_a = det[e](x)/det[E](X), from the reference edges `edge(k, j)`, the
 /// reciprocal reference determinants `inv_det(a)` and the nodal displacements `u(a, j)`.
-/// Plain loops into arrays (no `std::array::from_fn`, whose closures are not inlined into
-/// the kernels' `target_feature` builds: measured 3× slower).
+/// Written out edge by edge and corner by corner with constant indices, so that the tables
+/// fold into the code: a loop over them kept a zero-initialised 2.3 kB array of edges (a
+/// `memset` call per lane group) and bounds checks on the table entries. (No
+/// `std::array::from_fn` either: its closures were not inlined into the kernels'
+/// `target_feature` builds, measured 3× slower.)
 #[inline(always)]
 pub(super) fn corner_jacobians<T: Real, const FMA: bool>(
     edge: impl Fn(usize, usize) -> T,
     inv_det: impl Fn(usize) -> T,
     u: impl Fn(usize, usize) -> T,
 ) -> [T; 8] {
-    let mut e = [[T::splat(0.0); 3]; 12];
-    for (k, &(a, b)) in ORIENTED_EDGES.iter().enumerate() {
-        for j in 0..3 {
-            e[k][j] = edge(k, j) + (u(b, j) - u(a, j));
-        }
-    }
-    let mut out = [T::splat(0.0); 8];
-    for (a, &[i, j, k]) in CORNER_EDGES.iter().enumerate() {
-        out[a] = det3::<T, FMA>(e[i], e[j], e[k]) * inv_det(a);
-    }
-    out
+    let e = [
+        edge_now(0, &edge, &u),
+        edge_now(1, &edge, &u),
+        edge_now(2, &edge, &u),
+        edge_now(3, &edge, &u),
+        edge_now(4, &edge, &u),
+        edge_now(5, &edge, &u),
+        edge_now(6, &edge, &u),
+        edge_now(7, &edge, &u),
+        edge_now(8, &edge, &u),
+        edge_now(9, &edge, &u),
+        edge_now(10, &edge, &u),
+        edge_now(11, &edge, &u),
+    ];
+    [
+        corner_jacobian::<T, FMA>(0, &e, &inv_det),
+        corner_jacobian::<T, FMA>(1, &e, &inv_det),
+        corner_jacobian::<T, FMA>(2, &e, &inv_det),
+        corner_jacobian::<T, FMA>(3, &e, &inv_det),
+        corner_jacobian::<T, FMA>(4, &e, &inv_det),
+        corner_jacobian::<T, FMA>(5, &e, &inv_det),
+        corner_jacobian::<T, FMA>(6, &e, &inv_det),
+        corner_jacobian::<T, FMA>(7, &e, &inv_det),
+    ]
+}
+
+/// Edge k of [`ORIENTED_EDGES`] now, e_k = E_k + (u_b − u_a).
+#[inline(always)]
+fn edge_now<T: Real>(
+    k: usize,
+    edge: &impl Fn(usize, usize) -> T,
+    u: &impl Fn(usize, usize) -> T,
+) -> [T; 3] {
+    let (a, b) = ORIENTED_EDGES[k];
+    [
+        edge(k, 0) + (u(b, 0) - u(a, 0)),
+        edge(k, 1) + (u(b, 1) - u(a, 1)),
+        edge(k, 2) + (u(b, 2) - u(a, 2)),
+    ]
+}
+
+/// J at corner a from the current edges `e`: det[e_i, e_j, e_k] / det[E_i, E_j, E_k].
+#[inline(always)]
+fn corner_jacobian<T: Real, const FMA: bool>(
+    a: usize,
+    e: &[[T; 3]; 12],
+    inv_det: &impl Fn(usize) -> T,
+) -> T {
+    let [i, j, k] = CORNER_EDGES[a];
+    det3::<T, FMA>(e[i], e[j], e[k]) * inv_det(a)
 }
 
 /// The corner Jacobians of one element (`cd` its shape, `u` its nodal displacements).

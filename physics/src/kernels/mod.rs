@@ -13,8 +13,8 @@ pub mod simd;
 pub(crate) use nodes::{free_velocity_chunk, internal_and_gravity_impulses, NodeSums};
 
 use crate::material::{
-    element_forces, element_forces_reduced, element_forces_reduced_lanes, hourglass_stiffness,
-    with_law, F64x8, LaneElements, Material,
+    element_forces, element_forces_reduced, element_forces_reduced_lanes_in, hourglass_stiffness,
+    with_law, F64x8, LaneElements, Material, OnePointScratch,
 };
 use crate::mesh::{CentreData, ElementClasses, GaussData, Mesh};
 use crate::model::Integration;
@@ -131,7 +131,8 @@ pub fn assemble_internal_forces(
 
 simd_dispatch! {
     /// One chunk of a colour with one-point integration: groups of 8 elements go through the
-    /// lane kernel ([`element_forces_reduced_lanes`]), the remainder through the scalar one
+    /// lane kernel ([`element_forces_reduced_lanes_in`]; H and the hourglass modes 4 lanes at a
+    /// time on AVX2), the remainder through the scalar one
     /// ([`element_forces_reduced`]).
     fn chunk_forces_reduced / chunk_forces_reduced_avx2 / chunk_forces_reduced_avx512
         / chunk_forces_reduced_builds
@@ -171,7 +172,7 @@ unsafe fn chunk_forces_reduced_impl<const FMA: bool, const ISA: u8>(
     // Class whose data sits in each lane: most meshes have few classes (a structured box has
     // one), so the lane data is rarely rewritten.
     let mut staged = [u32::MAX; 8];
-    let gather = vector_gathers::<ISA>(mesh, u);
+    let work = &mut OnePointScratch::default();
     for group in groups {
         for (l, &e) in group.iter().enumerate() {
             let class = *classes.class_of.get_unchecked(e as usize);
@@ -183,11 +184,20 @@ unsafe fn chunk_forces_reduced_impl<const FMA: bool, const ISA: u8>(
             lanes.set(l, cd, hourglass_stiffness(mat, cd, kappa));
             corner_lanes.set(l, cd);
         }
-        gather_group::<ISA>(mesh, u, group, gather, &mut ul);
-        let [en, hg, det] = if energy {
-            element_forces_reduced_lanes::<true, FMA>(mat, &lanes, &ul, &mut fl)
-        } else {
-            element_forces_reduced_lanes::<false, FMA>(mat, &lanes, &ul, &mut fl)
+        gather_group::<ISA>(mesh, u, group, &mut ul);
+        let [en, hg, det] = match (energy, ISA == ISA_AVX2) {
+            (true, true) => {
+                element_forces_reduced_lanes_in::<true, FMA, true>(mat, &lanes, &ul, &mut fl, work)
+            }
+            (true, false) => {
+                element_forces_reduced_lanes_in::<true, FMA, false>(mat, &lanes, &ul, &mut fl, work)
+            }
+            (false, true) => {
+                element_forces_reduced_lanes_in::<false, FMA, true>(mat, &lanes, &ul, &mut fl, work)
+            }
+            (false, false) => element_forces_reduced_lanes_in::<false, FMA, false>(
+                mat, &lanes, &ul, &mut fl, work,
+            ),
         };
         // The corners' J too (hourglassing turns corners, not the centre); a NaN centre stays.
         let corner_j = corner_lanes.min_jacobian::<FMA>(&ul);
@@ -271,9 +281,8 @@ unsafe fn chunk_forces_impl<const FMA: bool, const ISA: u8>(
     let mut lanes = full::LaneGauss::default();
     let mut staged = [u32::MAX; 8];
     let mut work = full::FullScratch::default();
-    let gather = vector_gathers::<ISA>(mesh, u);
     for group in grouped.chunks_exact(8) {
-        gather_group::<ISA>(mesh, u, group, gather, &mut ul);
+        gather_group::<ISA>(mesh, u, group, &mut ul);
         let class = *classes.class_of.get_unchecked(group[0] as usize);
         let one_class = group
             .iter()
@@ -333,41 +342,29 @@ fn full_group<const FMA: bool, const ISA: u8, G: full::GaussLanes>(
     })
 }
 
-/// Whether [`gather_group`] may use the vector gathers: a vector build, and every offset fits
-/// in the gathers' i32 indices.
-#[inline(always)]
-fn vector_gathers<const ISA: u8>(mesh: &Mesh, u: &[[f64; 3]]) -> bool {
-    ISA != ISA_PORTABLE
-        && u.len() <= i32::MAX as usize / 3
-        && mesh.elements.len() <= i32::MAX as usize / 8
-}
-
 /// Stages the displacements of the 8 nodes of the 8 elements `group` into lanes,
-/// `ul[a][j][l]` = U[conn(group[l])[a]][j]: with the AVX-512 or AVX2 gathers when `gather`
-/// ([`vector_gathers`]), else element by element.
+/// `ul[a][j][l]` = U[conn(group[l])[a]][j]: with the AVX-512 or AVX2 loads and transposes
+/// ([`simd::load_lanes_avx512`]) in those builds, else element by element.
 ///
 /// # Safety
-/// Every element of `group` and every node of theirs must be in range.
+/// `group` holds 8 elements; every one and every node of theirs must be in range.
 #[inline(always)]
 unsafe fn gather_group<const ISA: u8>(
     mesh: &Mesh,
     u: &[[f64; 3]],
     group: &[u32],
-    gather: bool,
     ul: &mut [[[f64; 8]; 3]; 8],
 ) {
     #[cfg(target_arch = "x86_64")]
-    if gather {
-        let elements = mesh.elements.as_ptr() as *const i32;
+    if ISA != ISA_PORTABLE {
         let base = u.as_ptr() as *const f64;
         if ISA == ISA_AVX512 {
-            simd::gather_lanes_avx512(elements, group, base, ul);
+            simd::load_lanes_avx512(&mesh.elements, group, base, ul);
         } else {
-            simd::gather_lanes_avx2(elements, group, base, ul);
+            simd::load_lanes_avx2(&mesh.elements, group, base, ul);
         }
         return;
     }
-    let _ = gather;
     for (l, &e) in group.iter().enumerate() {
         let conn = mesh.elements.get_unchecked(e as usize);
         for a in 0..8 {

@@ -7,7 +7,8 @@
 //! a·b + c), so forces and energies agree to round-off, 1e-12 of the largest nodal force or of
 //! the energy (a sum of ~100 terms loses ≲ 100 ε ≈ 2e-14 relative; a wrong lane, node or
 //! element is an O(1) error). Where the arithmetic is the same, the results must be the same
-//! bits: the AVX2 and AVX-512 builds (both fused; they differ only in vector width and gathers),
+//! bits: the AVX2 and AVX-512 builds (both fused; they differ only in vector width, in the node
+//! loads and, on AVX2, in forming the one-point H and hourglass modes 4 lanes at a time),
 //! the portable chunk and its element kernel summed in chunk order, and every build of the
 //! free-velocity loop (no fused operation).
 

@@ -7,8 +7,8 @@
 //! kernels are compiled once per [`Law`], so that their bodies are straight-line code.
 
 use super::kinematics::{
-    displacement_gradient, hourglass_energy, hourglass_modes, row_dot, Deformation, Grouped,
-    Sequential,
+    displacement_gradient, hourglass_energy, hourglass_modes, lane_sums_by_halves, row_dot,
+    Deformation, Grouped, Sequential,
 };
 use super::real::{F64x8, Mat3, Real};
 use super::{first_piola, with_law, Law, Material};
@@ -196,21 +196,68 @@ pub fn element_forces_reduced_lanes<const ENERGY: bool, const FMA: bool>(
     u: &[[[f64; 8]; 3]; 8],
     f: &mut [[[f64; 8]; 3]; 8],
 ) -> [[f64; 8]; 3] {
-    with_law!(mat.model, L => one_point_lanes::<L, ENERGY, FMA>(mat, el, u, f))
+    let mut work = OnePointScratch::default();
+    element_forces_reduced_lanes_in::<ENERGY, FMA, false>(mat, el, u, f, &mut work)
 }
 
-/// [`element_forces_reduced_lanes`] for the law `L`.
+/// The per-group work arrays of the one-point lane kernel (H, P, the hourglass modes q),
+/// kept by the caller across lane groups: every entry is written before it is read, and
+/// fresh zeroed arrays per group cost the AVX2 build `memset` calls (its 32-byte stores
+/// exceed the compiler's inline limit for 576 and 768 bytes).
+#[derive(Clone)]
+pub struct OnePointScratch {
+    h: Mat3<F64x8>,
+    p: Mat3<F64x8>,
+    q: [[F64x8; 3]; 4],
+}
+
+impl Default for OnePointScratch {
+    fn default() -> Self {
+        let z = F64x8::splat(0.0);
+        OnePointScratch {
+            h: [[z; 3]; 3],
+            p: [[z; 3]; 3],
+            q: [[z; 3]; 4],
+        }
+    }
+}
+
+/// [`element_forces_reduced_lanes`] with the caller's work arrays; `HALVES` forms H and the
+/// hourglass modes 4 lanes at a time ([`lane_sums_by_halves`], for AVX2's 16 registers; the
+/// same bits).
 #[inline(always)]
-fn one_point_lanes<L: Law, const ENERGY: bool, const FMA: bool>(
+pub fn element_forces_reduced_lanes_in<const ENERGY: bool, const FMA: bool, const HALVES: bool>(
     mat: &Material,
     el: &LaneElements,
     u: &[[[f64; 8]; 3]; 8],
     f: &mut [[[f64; 8]; 3]; 8],
+    work: &mut OnePointScratch,
 ) -> [[f64; 8]; 3] {
+    with_law!(mat.model, L => one_point_lanes::<L, ENERGY, FMA, HALVES>(mat, el, u, f, work))
+}
+
+/// [`element_forces_reduced_lanes_in`] for the law `L`.
+#[inline(always)]
+fn one_point_lanes<L: Law, const ENERGY: bool, const FMA: bool, const HALVES: bool>(
+    mat: &Material,
+    el: &LaneElements,
+    u: &[[[f64; 8]; 3]; 8],
+    f: &mut [[[f64; 8]; 3]; 8],
+    work: &mut OnePointScratch,
+) -> [[f64; 8]; 3] {
+    let OnePointScratch { h, p, q } = work;
     let ul = |a: usize, i: usize| F64x8(u[a][i]);
-    let h = displacement_gradient::<F64x8, FMA>(ul, |a, j| F64x8(el.b[a][j]));
-    let (p, psi, det) = first_piola_lanes::<L, ENERGY, FMA>(mat, &h);
-    let q = hourglass_modes::<F64x8, FMA>(|al, a| F64x8(el.gamma[al][a]), ul);
+    let b = |a: usize, j: usize| F64x8(el.b[a][j]);
+    let gamma = |al: usize, a: usize| F64x8(el.gamma[al][a]);
+    if HALVES {
+        let ur = |a: usize, i: usize| &u[a][i];
+        lane_sums_by_halves::<3, 3, FMA>(ur, |a, j| &el.b[a][j], h);
+        lane_sums_by_halves::<4, 3, FMA>(|a, al| &el.gamma[al][a], ur, q);
+    } else {
+        *h = displacement_gradient::<F64x8, FMA>(ul, b);
+        *q = hourglass_modes::<F64x8, FMA>(gamma, ul);
+    }
+    let (psi, det) = first_piola_lanes_into::<L, ENERGY, FMA>(mat, h, p);
     let (vol, k_hg) = (F64x8(el.vol), F64x8(el.k_hg));
     for a in 0..8 {
         let ba = lanes3(&el.b[a]);
@@ -224,7 +271,7 @@ fn one_point_lanes<L: Law, const ENERGY: bool, const FMA: bool>(
         }
     }
     if ENERGY {
-        [(vol * psi).0, hourglass_energy(k_hg, &q).0, det.0]
+        [(vol * psi).0, hourglass_energy(k_hg, q).0, det.0]
     } else {
         [[0.0; 8], [0.0; 8], det.0]
     }

@@ -4,7 +4,7 @@
 //! operation order every kernel that uses it shares, except P = F·S, whose two orders are
 //! [`Grouped`] and [`Sequential`].
 
-use super::real::{Mat3, Real};
+use super::real::{F64x8, Mat3, Real};
 
 /// H = ∂U/∂X = Σₐ uₐ ⊗ gₐ, `u(a, i)` the displacement of node a, `g(a, j)` = ∂Nₐ/∂Xⱼ;
 /// accumulated node after node (a·b + c fused when `FMA`).
@@ -170,6 +170,42 @@ pub(crate) fn hourglass_modes<T: Real, const FMA: bool>(
         }
     }
     q
+}
+
+/// The R × C sums out[r][c] = Σₐ x(a, r) y(a, c) of 8 lanes, each accumulated node after node
+/// (a = 0..8, x·y + s fused when `FMA`), computed 4 lanes at a time: H = Σₐ uₐ ⊗ gₐ
+/// (x = u, y = g) and the hourglass modes qᵅ = Σₐ γₐᵅ uₐ (x = γ, y = u; the product
+/// commutes exactly) with the bits of [`displacement_gradient`] and [`hourglass_modes`] on
+/// [`F64x8`]. For AVX2: the nine (twelve) sums of 4 lanes stay in registers, where the sums of
+/// 8 lanes (18 or 24 of its 16 registers) went through the stack at every node. The lanes
+/// are read by reference: an [`F64x8`] by value was copied to the stack first.
+#[inline(always)]
+pub(crate) fn lane_sums_by_halves<'a, const R: usize, const C: usize, const FMA: bool>(
+    x: impl Fn(usize, usize) -> &'a [f64; 8],
+    y: impl Fn(usize, usize) -> &'a [f64; 8],
+    out: &mut [[F64x8; C]; R],
+) {
+    for half in [0, 4] {
+        let mut acc = [[[0.0f64; 4]; C]; R];
+        for a in 0..8 {
+            for (r, acc_r) in acc.iter_mut().enumerate() {
+                let xr = x(a, r);
+                for (c, acc_rc) in acc_r.iter_mut().enumerate() {
+                    let yc = y(a, c);
+                    for (l, s) in acc_rc.iter_mut().enumerate() {
+                        *s = xr[half + l].fmadd::<FMA>(yc[half + l], *s);
+                    }
+                }
+            }
+        }
+        for r in 0..R {
+            for c in 0..C {
+                for l in 0..4 {
+                    out[r][c].0[half + l] = acc[r][c][l];
+                }
+            }
+        }
+    }
 }
 
 /// Hourglass energy Ψ_hg = ½ k Σᵅ |qᵅ|².

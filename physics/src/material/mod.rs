@@ -18,8 +18,8 @@ pub mod real;
 
 pub(crate) use element::first_piola_lanes_into;
 pub use element::{
-    element_forces, element_forces_reduced, element_forces_reduced_lanes, hourglass_stiffness,
-    LaneElements,
+    element_forces, element_forces_reduced, element_forces_reduced_lanes,
+    element_forces_reduced_lanes_in, hourglass_stiffness, LaneElements, OnePointScratch,
 };
 pub(crate) use kinematics::{displacement_gradient, hourglass_energy, hourglass_modes, row_dot};
 pub use real::{F64x8, Mat3, Real};
