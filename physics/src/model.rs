@@ -157,6 +157,13 @@ pub struct Interface {
     /// α₀ ≥ u_r is an interface already ruptured (contact with friction μ_inf only). Damage that
     /// happened before the run is not counted as dissipated in its ledger. Default 0.
     pub initial_damage: f64,
+    /// `Some(μ)`: glue that forms on contact (a `[[contact]]` entry with an adhesive law,
+    /// README "Model"): no glue at t = 0, the face set is in contact with Coulomb friction μ; a
+    /// node that comes into contact is glued from then on, anchored where it touched, with
+    /// intact glue (α = 0), and follows this law like any glued node (rupture leaves contact
+    /// with μ_inf; a ruptured node is never glued again). `None`: glued from t = 0.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub forms_on_contact: Option<f64>,
 }
 
 /// A face set in unilateral contact with Coulomb friction (constant μ) against a rigid plane,

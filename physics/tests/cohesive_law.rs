@@ -42,6 +42,7 @@ fn pull_damaged(law: StiffnessLaw, alpha0: f64) {
         law: law.clone(),
         mu_inf: 0.0,
         initial_damage: alpha0,
+        forms_on_contact: None,
     });
     m.displacements.push(PrescribedDisplacement {
         faces: "z+".into(),

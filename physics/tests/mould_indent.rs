@@ -2,6 +2,7 @@
 //! Hertz on loading, the ledger closing with the sphere's work.
 
 mod common;
+mod hertz;
 use common::*;
 use decohesion_physics::scene::load_scene;
 use decohesion_physics::solver::Simulation;
@@ -34,29 +35,11 @@ fn indent() -> (Curve, Curve, Simulation) {
     (load, unload, sim)
 }
 
-/// The nodal quadrature of the Hertz pressure p(r) = p₀√(1 − r²/a²) on the pad's top-face
-/// grid (spacing Δx, tributary areas Δx², halved on the symmetry edges, quartered at the
-/// corner), times 4, against its exact integral F = (4/3)E*√R δ^{3/2}: the error a node-based
-/// contact makes on this mesh whatever the solver does, q(δ) = |Σ W p(rᵢ)/F − 1|.
-fn quadrature_error(delta: f64, r: f64, dx: f64, n: usize) -> f64 {
-    let a = (r * delta).sqrt();
-    let mut sum = 0.0;
-    for i in 0..=n {
-        for j in 0..=n {
-            let w = dx * dx * if i == 0 { 0.5 } else { 1.0 } * if j == 0 { 0.5 } else { 1.0 };
-            let rr = ((i * i + j * j) as f64).sqrt() * dx / a;
-            sum += w * (1.0 - rr * rr).max(0.0).sqrt();
-        }
-    }
-    // ∫ p = (2/3)π a² p₀ over the full disc: Σ over the quarter × 4, per unit p₀.
-    (4.0 * sum / (2.0 / 3.0 * std::f64::consts::PI * a * a) - 1.0).abs()
-}
-
 /// Hertz on loading, F = (4/3)E*√R δ^{3/2}, E* = E/(1 − ν²) (rigid sphere), for
 /// δ ∈ [0.25, 0.95] mm (a = √(Rδ) from 2Δx to 3.9Δx, 5 to 9.7 mm), within
 /// tol(δ) = q(δ) + a/H + 1 %:
 /// - q(δ), the node-based contact's quadrature error of the Hertz pressure on this grid
-///   ([`quadrature_error`], 0.5–4 % here);
+///   (`hertz::quadrature_error`, 0.5–4 % here);
 /// - a/H (0.06–0.12), a bound on the finite pad: Hertz is the half-space limit and a layer of
 ///   thickness H bonded to a rigid base is stiffer by a relative amount of order a/H, while
 ///   its free sides at 4a make it softer by less (the pad's full width is 8a ≥ 8 × the
@@ -72,22 +55,7 @@ fn quadrature_error(delta: f64, r: f64, dx: f64, n: usize) -> f64 {
 #[test]
 fn hertz_on_loading_and_the_work_of_the_cycle() {
     let (load, unload, sim) = indent();
-    let (e, nu, r, dx, h) = (1e6f64, 0.3f64, 0.1f64, 2.5e-3, 0.08);
-    let e_star = e / (1.0 - nu * nu);
-    let hertz = |d: f64| 4.0 / 3.0 * e_star * r.sqrt() * d.powf(1.5);
-    let mut checked = 0;
-    for &(d, f) in load.iter().filter(|p| p.0 >= 2.5e-4 && p.0 <= 9.5e-4) {
-        let a = (r * d).sqrt();
-        let tol = quadrature_error(d, r, dx, 16) + a / h + 0.01;
-        let ratio = f / hertz(d);
-        assert!(
-            (ratio - 1.0).abs() <= tol,
-            "δ = {d:.4e}: F = {f:.4e} N, Hertz {:.4e} N (ratio {ratio:.4}, tol {tol:.4})",
-            hertz(d)
-        );
-        checked += 1;
-    }
-    assert!(checked > 1000, "{checked} samples");
+    hertz::check_loading(&load);
     // The cycle: ∮F dδ by the trapezoid over load then unload.
     let cycle: Vec<(f64, f64)> = load.iter().chain(&unload).copied().collect();
     let loop_area: f64 = cycle

@@ -72,6 +72,7 @@ fn run_case(law: &StiffnessLaw, mu_inf: f64, zs: &[f64], xs: &[f64]) -> Result<C
         law: law.clone(),
         mu_inf,
         initial_damage: 0.0,
+        forms_on_contact: None,
     });
     // Top-face displacement per unit jump: the glue (g_N(0)) in series with the bulk (E/L).
     let scale = law.u_r * (1.0 + law.g_n0 * size / young);

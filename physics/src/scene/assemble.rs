@@ -2,25 +2,24 @@
 //! order of the format (end time, mesh, material, scheme, planes, interfaces, contacts, loads);
 //! the first error found is returned.
 
+use super::adhesion::ContactEntry;
 use super::check::Check;
 use super::error::{num, SceneError};
 use super::raw::{
-    RawContact, RawDisplacement, RawInterface, RawMaterial, RawPlane, RawScene, RawScheme,
-    RawTraction,
+    RawDisplacement, RawInterface, RawMaterial, RawPlane, RawScene, RawScheme, RawTraction,
 };
 use crate::material::{Material, MaterialModel};
 use crate::mesh::{dot, Mesh};
 use crate::model::{
-    ContactFaces, Interface, Model, PiecewiseLinear, PrescribedDisplacement, RigidPlane,
-    SchemeParams, Traction,
+    Interface, Model, PiecewiseLinear, PrescribedDisplacement, RigidPlane, SchemeParams, Traction,
 };
 use crate::solver::{mould_closest_point, StartOffset};
 
 /// The (face set, plane) pairs attached so far, with the key that attached each: a face set
 /// meets a plane through one `[[interface]]` or one `[[contact]]`.
-struct Attachments<'p> {
-    planes: &'p [RigidPlane],
-    pairs: Vec<(String, usize, String)>,
+pub(super) struct Attachments<'p> {
+    pub planes: &'p [RigidPlane],
+    pub pairs: Vec<(String, usize, String)>,
 }
 
 impl Check<'_> {
@@ -60,9 +59,15 @@ impl Check<'_> {
         let interfaces = each(raw.interface, "interface", |key, it| {
             self.interface(&mesh, &mut attached, key, it)
         })?;
-        let contacts = each(raw.contact, "contact", |key, c| {
+        let (mut interfaces, mut contacts) = (interfaces, vec![]);
+        for entry in each(raw.contact, "contact", |key, c| {
             self.contact(&mesh, &mut attached, key, c)
-        })?;
+        })? {
+            match entry {
+                ContactEntry::Plain(c) => contacts.push(c),
+                ContactEntry::Adhesive(itf) => interfaces.push(itf),
+            }
+        }
         let displacements = each(raw.displacement, "displacement", |key, d| {
             self.displacement(&mesh, key, d, raw.end_time)
         })?;
@@ -87,9 +92,6 @@ impl Check<'_> {
         };
         for k in 0..model.interfaces.len() {
             self.glued_start(&model, k)?;
-        }
-        for k in 0..model.contacts.len() {
-            self.contact_start(&model, k)?;
         }
         Ok(model)
     }
@@ -117,7 +119,7 @@ impl Check<'_> {
     /// at its centre (beyond 1e-6, the round-off of unit vectors) looks away from the mould: its
     /// nodes could only be pulled off the mould by moving into the body, and the glue could
     /// never tear.
-    fn glued_faces_face_mould(
+    pub(super) fn glued_faces_face_mould(
         &self,
         mesh: &Mesh,
         plane: &RigidPlane,
@@ -267,29 +269,12 @@ impl Check<'_> {
             law,
             mu_inf: it.mu_inf,
             initial_damage: it.initial_damage,
-        })
-    }
-
-    /// `contact[i]`: its face set and plane, μ ≥ 0.
-    fn contact(
-        &self,
-        mesh: &Mesh,
-        attached: &mut Attachments,
-        key: String,
-        c: RawContact,
-    ) -> Result<ContactFaces, SceneError> {
-        let (faces, plane) = self.on_plane(mesh, attached, &key, &c.faces, &c.plane)?;
-        self.require(c.mu >= 0.0, format!("{key}.mu"), c.mu, "must be ≥ 0")?;
-        self.attach(attached, &faces, plane, key)?;
-        Ok(ContactFaces {
-            faces,
-            plane,
-            mu: c.mu,
+            forms_on_contact: None,
         })
     }
 
     /// The face set and the plane index that `key` names (`key.faces`, `key.plane`).
-    fn on_plane(
+    pub(super) fn on_plane(
         &self,
         mesh: &Mesh,
         attached: &Attachments,
@@ -304,7 +289,7 @@ impl Check<'_> {
     }
 
     /// Records that `key` attaches `faces` to `plane`, unless another key did already.
-    fn attach(
+    pub(super) fn attach(
         &self,
         attached: &mut Attachments,
         faces: &str,

@@ -3,7 +3,7 @@
 
 use super::error::{num, SceneError};
 use crate::mesh::{dot, sub, Mesh};
-use crate::model::{Model, PiecewiseLinear, RigidPlane};
+use crate::model::{PiecewiseLinear, RigidPlane};
 use crate::solver::mould_closest_point;
 use std::path::Path;
 
@@ -125,19 +125,24 @@ impl Check<'_> {
         Ok(n.map(|c| c / len))
     }
 
-    /// Refuses the contact face set `model.contacts[k]` if some of its nodes start inside its
+    /// Refuses the contact face set `faces` of entry `key` (`contact[k]`, plain or adhesive) on
+    /// mould `plane` if some of its nodes start inside its
     /// mould beyond the tolerance: gap g₀ = n·(X − p) < −δ at the closest mould point p
     /// ([`mould_closest_point`]), δ = [`contact_start_tolerance`]. Contact acts on velocities
     /// (PHYSICS.md §4 step 7): it stops a node from going deeper but never pushes it out, so a
     /// node that starts inside stays inside for the whole run, its contact force taking the
     /// interpenetration as the rest state. The message names the face set, the mould, how many
     /// nodes and how deep.
-    pub fn contact_start(&self, model: &Model, k: usize) -> Result<(), SceneError> {
-        let (mesh, c) = (&model.mesh, &model.contacts[k]);
-        let Some(quads) = mesh.face_sets.get(&c.faces) else {
+    pub fn contact_start(
+        &self,
+        mesh: &Mesh,
+        plane: &RigidPlane,
+        key: &str,
+        faces: &str,
+    ) -> Result<(), SceneError> {
+        let Some(quads) = mesh.face_sets.get(faces) else {
             return Ok(());
         };
-        let plane = &model.planes[c.plane];
         let tol = contact_start_tolerance(mesh, plane);
         let (mut count, mut deepest) = (0usize, 0.0f64);
         for node in mesh.face_set_nodes(quads) {
@@ -153,8 +158,8 @@ impl Check<'_> {
             return Ok(());
         }
         Err(self.invalid(
-            format!("contact[{k}].faces"),
-            format!("{:?}", c.faces),
+            format!("{key}.faces"),
+            format!("{faces:?}"),
             format!(
                 "{count} of its nodes start inside mould `{}` by up to {deepest:.4e} m, beyond the tolerance {tol:.4e} m (1e-6 of the body's size): contact acts on velocities and would never push them out; move the face set or the mould so that the face lies on or off the mould",
                 plane.name

@@ -9,6 +9,7 @@
 //! the table of law families) and the rest (`assemble.rs`). Every error ([`SceneError`],
 //! `error.rs`) names the file, the key path, the offending value and what is admissible.
 
+mod adhesion;
 mod assemble;
 mod check;
 mod error;

@@ -169,6 +169,11 @@ pub struct RawContact {
     pub plane: String,
     #[serde(default)]
     pub mu: f64,
+    /// `[contact.law]`: glue that forms on contact (`adhesion.rs`), with its `mu_inf` and
+    /// optional `[contact.delay]`; absent: contact only.
+    pub law: Option<RawLaw>,
+    pub mu_inf: Option<f64>,
+    pub delay: Option<RawDelay>,
 }
 
 #[derive(Deserialize)]

@@ -364,3 +364,61 @@ fn a_pull_is_a_table_or_a_speed() {
         &["displacement[0].ramp_steps", "≥ 1"],
     );
 }
+
+/// FULL's `[[contact]]` entry with `extra` keys after its `mu` (a `[contact.law]` table last).
+fn adhesive(extra: &str) -> String {
+    FULL.replace(
+        "plane = \"wall\"\nmu = 0.3\n",
+        &format!("plane = \"wall\"\nmu = 0.3\n{extra}"),
+    )
+}
+
+const GLUE: &str = "[contact.law]\nfamily = \"bilinear\"\ng_n0 = 1e9\nalpha_e = 1e-4\nu_r = 1e-3\n";
+
+#[test]
+fn a_contact_with_a_law_is_glue_that_forms_on_contact() {
+    let scene = parse_scene(&adhesive(&format!("mu_inf = 0.4\n{GLUE}")), "t.toml", &[]).unwrap();
+    let m = &scene.model;
+    assert!(m.contacts.is_empty());
+    let itf = &m.interfaces[2];
+    assert_eq!((itf.faces.as_str(), itf.plane), ("z-", 1));
+    assert_eq!((itf.mu_inf, itf.forms_on_contact), (0.4, Some(0.3)));
+    assert_eq!((itf.law.alpha_e, itf.law.u_r), (1e-4, 1e-3));
+    assert!(m.interfaces[..2]
+        .iter()
+        .all(|i| i.forms_on_contact.is_none()));
+}
+
+#[test]
+fn glue_keys_of_a_contact_are_checked() {
+    assert_error(
+        &adhesive("mu_inf = 0.4\n"),
+        &[],
+        &["key `contact[0].mu_inf` = 0.4: is the friction of torn glue: it needs the glue's law, a [contact.law] table"],
+    );
+    assert_error(
+        &adhesive("[contact.delay]\ntau_c = 1e-3\na = 1.0\n"),
+        &[],
+        &["key `contact[0].delay`", "it needs the glue's law"],
+    );
+    assert_error(
+        &adhesive(&format!("mu_inf = -0.1\n{GLUE}")),
+        &[],
+        &["key `contact[0].mu_inf` = -0.1: must be ≥ 0"],
+    );
+    assert_error(
+        &adhesive(&GLUE.replace("u_r = 1e-3\n", "")),
+        &[],
+        &["key `contact[0].law.u_r` is missing: the `bilinear` law takes"],
+    );
+    assert_error(
+        &adhesive(&GLUE.replace("alpha_e = 1e-4", "alpha_e = 2e-3")),
+        &[],
+        &["key `contact[0].law.u_r`"],
+    );
+    assert_error(
+        &adhesive(&format!("{GLUE}[contact.delay]\ntau_c = -1.0\na = 1.0\n")),
+        &[],
+        &["key `contact[0].delay.tau_c` = -1"],
+    );
+}

@@ -16,6 +16,7 @@ use crate::mould::step::NodeGeometry;
 use crate::team::SharedSlice;
 use std::ops::Range;
 
+mod adhesion;
 mod joint;
 mod moulds;
 
@@ -51,6 +52,10 @@ pub(super) struct Boundary {
     pub contacts: Vec<u32>,
     /// (traction index, nodal force at amplitude 1 [N]).
     pub tractions: Vec<(u16, [f64; 3])>,
+    /// Interface nodes whose glue forms on contact and has not formed yet (indices into
+    /// `Simulation::interface_nodes`, allocated at setup; [`Simulation::form_glue`] removes
+    /// each as it forms).
+    pub forming: Vec<u32>,
 }
 
 impl Boundary {
@@ -294,6 +299,9 @@ impl BoundaryStep<'_> {
         for (slot, e) in b.interfaces.clone().enumerate() {
             let j = self.boundary.interfaces[e as usize] as usize;
             let itf = itfs.get(j);
+            if !itf.formed {
+                continue; // glue that forms on contact, not formed yet: no force
+            }
             let spec = &self.model.interfaces[itf.interface as usize];
             let n = self.glue(j, spec.plane).0;
             let law = &spec.law;
@@ -439,6 +447,9 @@ impl BoundaryStep<'_> {
         for e in b.interfaces.clone() {
             let j = self.boundary.interfaces[e as usize] as usize;
             let itf = itfs.get(j);
+            if !itf.formed {
+                continue; // no glue yet: α stays 0
+            }
             let spec = &self.model.interfaces[itf.interface as usize];
             let k = spec.plane;
             // On a curved mould the anchor's velocity and its normal at tₙ₊₂ (R(tₙ₊₂)N₀).
@@ -543,6 +554,7 @@ impl Simulation {
         for (k, r) in sc.reactions.iter_mut().enumerate() {
             *r = (0..chunks).fold(0.0, |acc, c| acc + self.parts_reactions[c * n_bc + k]);
         }
+        self.form_glue();
     }
 }
 

@@ -100,6 +100,9 @@ impl StartOffset {
     /// The start offsets of interface `k` of `model` (`None` when its face set is unknown).
     pub fn of(model: &Model, k: usize) -> Option<StartOffset> {
         let (mesh, itf) = (&model.mesh, &model.interfaces[k]);
+        if itf.forms_on_contact.is_some() {
+            return None; // no glue at t = 0: the contact entry's start check applies
+        }
         let plane = &model.planes[itf.plane];
         let scale =
             (mesh.nodes.iter().flatten().chain(&plane.point)).fold(0.0f64, |a, x| a.max(x.abs()));
@@ -139,10 +142,14 @@ impl StartOffset {
 
 /// The glued nodes of every interface, each bonded to its closest mould point y₀ at t₀
 /// ([`mould_closest_point`]), with its tributary reference area W (PHYSICS.md §3, §4 stage 4).
+/// The nodes of glue that forms on contact are allocated here too, not yet formed (g_N = 0;
+/// their anchor is set when they form, [`Simulation::form_glue`]).
 fn glued_nodes(model: &Model) -> Result<Vec<InterfaceNode>, SolverError> {
     let mesh = &model.mesh;
     let mut out = Vec::new();
     for (k, itf) in model.interfaces.iter().enumerate() {
+        let formed = itf.forms_on_contact.is_none();
+        let g0 = if formed { itf.law.g_n0 } else { 0.0 };
         let plane = &model.planes[itf.plane];
         for (node, area) in mesh.nodal_areas(face(mesh, &itf.faces)?) {
             let x = mesh.nodes[node as usize];
@@ -158,12 +165,13 @@ fn glued_nodes(model: &Model) -> Result<Vec<InterfaceNode>, SolverError> {
                 alpha_static: 0.0,
                 jump: [0.0; 3],
                 gap: gap0,
-                stiffness: itf.law.g_n0,
+                stiffness: g0,
                 cohesive_traction: [0.0; 3],
                 contact_impulse: [0.0; 3],
                 contact: ContactStatus::Open,
+                formed,
                 prev_jump: [0.0; 3],
-                prev_stiffness: itf.law.g_n0,
+                prev_stiffness: g0,
             });
         }
     }
@@ -279,13 +287,16 @@ impl Simulation {
         let mass = lumped_masses(&model, &classes)?;
         let interface_nodes = glued_nodes(&model)?;
         let contact_nodes = contact_nodes(&model)?;
-        let boundary = Boundary::gather(
+        let mut boundary = Boundary::gather(
             interface_nodes.iter().map(|i| i.node),
             contact_nodes.iter().map(|c| c.node),
             traction_entries(&model)?,
             &prescribed_components(&model)?,
         );
         super::boundary::check_constraint_count(&boundary.nodes)?;
+        boundary.forming = (0..interface_nodes.len() as u32)
+            .filter(|&j| !interface_nodes[j as usize].formed)
+            .collect();
         let volume: f64 = classes
             .class_of
             .iter()
@@ -393,6 +404,9 @@ impl Simulation {
         for j in 0..self.interface_nodes.len() {
             let n = self.glue_normal(j);
             let itf = &mut self.interface_nodes[j];
+            if !itf.formed {
+                continue; // α = 0 and g_N = 0 until the glue forms
+            }
             let spec = &self.model.interfaces[itf.interface as usize];
             let law = &spec.law;
             itf.alpha = law.initial_damage(spec.initial_damage, itf.jump, n);

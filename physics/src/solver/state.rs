@@ -78,6 +78,12 @@ pub struct InterfaceNode {
     /// Contact impulse per unit area R_c of the last step [Pa·s].
     pub contact_impulse: [f64; 3],
     pub contact: ContactStatus,
+    /// Whether the glue is there: true from t = 0 for an `[[interface]]`; for glue that forms
+    /// on contact (`Interface::forms_on_contact`), false until the node first comes into
+    /// contact, and true from then on (README "Model"). While false the node is a contact node
+    /// (friction μ of its `[[contact]]` entry): no glue force, g_N = 0, α = 0, no damage, and
+    /// its `jump` and `bonded_point` mean nothing.
+    pub formed: bool,
     /// [u]ₙ₋₁ and g_N(αₙ₋₁), for the damage dissipation increment.
     pub(crate) prev_jump: [f64; 3],
     pub(crate) prev_stiffness: f64,

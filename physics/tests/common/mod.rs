@@ -89,6 +89,7 @@ pub fn pull_off(n: usize, end_time: f64) -> Model {
         law: pull_off_law(),
         mu_inf: 0.5,
         initial_damage: 0.0,
+        forms_on_contact: None,
     });
     m.displacements.push(PrescribedDisplacement {
         faces: "z+".into(),

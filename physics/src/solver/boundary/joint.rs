@@ -63,7 +63,11 @@ impl BoundaryStep<'_> {
                 gap: itf.gap,
                 plane: spec.plane,
                 from: (j as u32, true),
-                mu: spec.law.mu(itf.alpha, spec.mu_inf),
+                // Before glue that forms on contact has formed: its contact entry's μ.
+                mu: match (itf.formed, spec.forms_on_contact) {
+                    (false, Some(mu)) => mu,
+                    _ => spec.law.mu(itf.alpha, spec.mu_inf),
+                },
                 area: itf.area,
             }
         });
