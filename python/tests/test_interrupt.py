@@ -4,6 +4,7 @@ outputs: a Rerun recording that `rerun rrd verify` accepts, a ParaView index of 
 from __future__ import annotations
 
 import _thread
+import signal
 import subprocess
 import threading
 import xml.etree.ElementTree as ET
@@ -18,6 +19,16 @@ from conftest import scene
 def long_pull_off() -> decohesion.Scene:
     """The pull-off made to last ~300 000 steps (about a minute): only an interrupt ends it."""
     return decohesion.Scene.load(scene("pull_off"), overrides={"end_time": 100.0})
+
+
+@pytest.fixture(autouse=True)
+def sigint_handled():
+    """Python's own SIGINT handler for the test: a shell starts background jobs with SIGINT
+    ignored, and then `_thread.interrupt_main` does nothing (Python docs), so a CI run launched
+    with `&` would never see the Ctrl-C these tests simulate."""
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    yield
+    signal.signal(signal.SIGINT, previous)
 
 
 def interrupt_after(seconds: float) -> threading.Timer:
