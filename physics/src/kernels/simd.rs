@@ -243,6 +243,7 @@ unsafe fn wide(
 }
 
 /// The rows of node `a` of the elements `c` in `u` (3 f64 per node).
+#[cfg(target_arch = "x86_64")]
 #[inline(always)]
 unsafe fn rows(c: &[&[u32; 8]; 8], a: usize, u: *const f64) -> [*const f64; 8] {
     let mut p = [u; 8];
@@ -253,6 +254,7 @@ unsafe fn rows(c: &[&[u32; 8]; 8], a: usize, u: *const f64) -> [*const f64; 8] {
 }
 
 /// The connectivity rows of the 8 elements `group`.
+#[cfg(target_arch = "x86_64")]
 #[inline(always)]
 unsafe fn connectivity<'a>(elements: &'a [[u32; 8]], group: &[u32]) -> [&'a [u32; 8]; 8] {
     let mut c = [elements.get_unchecked(0); 8];
