@@ -213,10 +213,16 @@ impl RunSummary {
         let c = &self.final_counts;
         row(
             "interface nodes",
-            format!(
-                "{} elastic, {} transition, {} ruptured",
-                c.elastic, c.transition, c.ruptured
-            ),
+            match c.unformed {
+                0 => format!(
+                    "{} elastic, {} transition, {} ruptured",
+                    c.elastic, c.transition, c.ruptured
+                ),
+                n => format!(
+                    "{} elastic, {} transition, {} ruptured, {n} unformed (glue not formed yet)",
+                    c.elastic, c.transition, c.ruptured
+                ),
+            },
         );
         let e = &self.energies;
         row(

@@ -21,7 +21,7 @@
 //! | `displacement` | points | 3 | Uₙ [m]; ParaView's *Warp By Vector* on it shows x = X + U |
 //! | `velocity` | points | 3 | V_{n+½} [m/s], the CD-Lagrange velocity of the step that follows tₙ (PHYSICS.md §4: Uₙ₊₁ = Uₙ + h V_{n+½}) |
 //! | `alpha` | points | 1 | damage α of an interface node [m] (eq. 12); [`NOT_INTERFACE`] elsewhere |
-//! | `state` | points | 1 (Int8) | 0 elastic, 1 transition, 2 ruptured ([`crate::law::InterfaceState`]); [`NOT_INTERFACE`] on nodes off the interfaces |
+//! | `state` | points | 1 (Int8) | 0 elastic, 1 transition, 2 ruptured, 3 unformed (glue that forms on contact, not formed yet; [`crate::law::InterfaceState`]); [`NOT_INTERFACE`] on nodes off the interfaces |
 //! | `J` | cells | 1 | J = det F at the element centre ξ = 0 ([`crate::output::fields`]) [-] |
 //! | `cauchy_stress` | cells | 9 | σ = J⁻¹ F S Fᵀ at the centre, row-major σ_xx σ_xy σ_xz σ_yx … [Pa] |
 //! | `von_mises` | cells | 1 | √(3/2 s:s) of that σ [Pa] |
@@ -367,14 +367,15 @@ impl Series {
         let cells = m.mesh.elements.len();
         let mut alpha = vec![NOT_INTERFACE as f64; nodes];
         let mut state = vec![NOT_INTERFACE; nodes];
-        for (&(n, itf), node) in self.interface_nodes.iter().zip(&f.interface) {
+        for (&(n, _), node) in self.interface_nodes.iter().zip(&f.interface) {
             let (n, a) = (n as usize, node.alpha);
             if a >= alpha[n] {
                 alpha[n] = a;
-                state[n] = match m.interfaces[itf as usize].law.state(a) {
+                state[n] = match node.state {
                     InterfaceState::Elastic => 0,
                     InterfaceState::Transition => 1,
                     InterfaceState::Ruptured => 2,
+                    InterfaceState::Unformed => 3,
                 };
             }
         }

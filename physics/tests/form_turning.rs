@@ -104,6 +104,15 @@ fn run(factor: f64) -> Run {
     sim.run(|s| {
         hs.push(s.h);
         max_residual = max_residual.max(s.ledger.residual().abs());
+        // The state counts: a node not glued yet is `unformed`, not `elastic`; they sum to the
+        // interface nodes.
+        let n = s.state_counts();
+        let unformed = s.interface_nodes.iter().filter(|n| !n.formed).count();
+        assert_eq!(n.unformed, unformed);
+        assert_eq!(
+            n.elastic + n.transition + n.ruptured + n.unformed,
+            s.interface_nodes.len()
+        );
         // The mould's analytic pose at tₙ₊₁: c(t) = c₀ + ∫v, R(t) = R_y(∫ω_y).
         let d = roller.displacement(s.time);
         let theta = omega.integral(s.time)[1];
@@ -178,7 +187,8 @@ fn dist(a: [f64; 3], b: [f64; 3]) -> f64 {
 ///     not of the pad's vibration. Asserted: C ≤ 1/(12 τ_min²) with τ_min = 46 ms, the
 ///     fastest loading time scale of the run. (At the scene's step the residual is 6.7e-9 E:
 ///     the 1e-9 that slower scenes meet is not a bound for this one, whose loading is faster.)
-/// (c) every formed node tears (lifted 1.35 mm above the start) and the damage dissipation is
+/// (c) the state counts keep the nodes not glued yet apart (`unformed`), and sum to the
+///     interface nodes at every step (asserted in [`run`]); every formed node tears (lifted 1.35 mm above the start) and the damage dissipation is
 ///     G_c × the glued area to 1 % (the damage increments' O(h) quadrature, as in
 ///     `indent_adhesive`).
 #[test]

@@ -302,17 +302,19 @@ impl Simulation {
         )
     }
 
-    /// State class of the interface nodes, (m,) int8: 0 elastic, 1 transition, 2 ruptured.
+    /// State class of the interface nodes, (m,) int8: 0 elastic, 1 transition, 2 ruptured, 3
+    /// unformed (glue that forms on contact, not formed yet).
     #[getter]
     fn interface_state<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
         let laws = &self.sim.model.interfaces;
         column(
             py,
             self.sim.interface_nodes.iter().map(|n| {
-                match laws[n.interface as usize].law.state(n.alpha) {
+                match n.state(&laws[n.interface as usize].law) {
                     InterfaceState::Elastic => 0i8,
                     InterfaceState::Transition => 1,
                     InterfaceState::Ruptured => 2,
+                    InterfaceState::Unformed => 3,
                 }
             }),
         )
@@ -375,7 +377,8 @@ impl Simulation {
         to_python(py, &self.sim.energies())
     }
 
-    /// Interface nodes per state now: {"elastic": …, "transition": …, "ruptured": …}.
+    /// Interface nodes per state now: {"elastic": …, "transition": …, "ruptured": …}, and
+    /// "unformed": … where glue that forms on contact has nodes not formed yet.
     #[getter]
     fn state_counts<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
         to_python(py, &self.sim.state_counts())

@@ -203,7 +203,7 @@ impl FrameBuilder {
                 .iter()
                 .map(|n| {
                     let law = &m.interfaces[n.interface as usize].law;
-                    (law.state(n.alpha), n.contact)
+                    (n.state(law), n.contact)
                 })
                 .collect(),
             contact_points: sim

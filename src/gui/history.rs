@@ -290,7 +290,7 @@ pub fn csv(rows: &[HistoryRow]) -> String {
     let mut s = String::from(
         "id,scene,family,g_n0_Pa_per_m,alpha_e_m,u_r_m,mu_inf,cells,time_step_factor,end_time_s,material,integration,\
          status,steps,simulated_time_s,time_first_damage_s,time_full_rupture_s,peak_force_N,\
-         damage_dissipated_J,max_relative_residual,elastic,transition,ruptured,wall_s,recording,paraview,error\n",
+         damage_dissipated_J,max_relative_residual,elastic,transition,ruptured,unformed,wall_s,recording,paraview,error\n",
     );
     let opt = |v: Option<f64>| v.map_or(String::new(), |v| format!("{v:e}"));
     let quote = |v: &str| format!("\"{}\"", v.replace('"', "\"\""));
@@ -298,7 +298,7 @@ pub fn csv(rows: &[HistoryRow]) -> String {
         let st = &r.settings;
         let knots = st.law.knots();
         s.push_str(&format!(
-            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{:e},{},{},{},{:e},{:e},{},{},{},{:.3},{},{},{}\n",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{:e},{},{},{},{:e},{:e},{},{},{},{},{:.3},{},{},{}\n",
             r.id,
             quote(&st.scene),
             st.law.family,
@@ -322,6 +322,7 @@ pub fn csv(rows: &[HistoryRow]) -> String {
             r.counts.elastic,
             r.counts.transition,
             r.counts.ruptured,
+            r.counts.unformed,
             r.wall_seconds,
             quote(r.recording.as_deref().unwrap_or("")),
             quote(r.paraview.as_deref().unwrap_or("")),

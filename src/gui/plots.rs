@@ -138,6 +138,8 @@ impl App {
         let points = &self.curve.points;
         let pick = |f: fn(&StateCounts) -> usize| series(points, |p| [p.t, f(&p.counts) as f64]);
         let residual = series(points, |p| [p.t, p.residual]);
+        // Glue that forms on contact: its nodes not formed yet (none in other scenes).
+        let unformed = points.iter().any(|p| p.counts.unformed > 0);
         let w = (ui.available_width() / 2.0 - 8.0).max(200.0);
         let colour = |c: [u8; 3]| egui::Color32::from_rgb(c[0], c[1], c[2]);
         ui.horizontal(|ui| {
@@ -154,6 +156,11 @@ impl App {
                             .color(colour([245, 166, 35])),
                     );
                     p.line(Line::new("ruptured", pick(|c| c.ruptured)).color(colour([208, 2, 27])));
+                    if unformed {
+                        p.line(
+                            Line::new("unformed", pick(|c| c.unformed)).color(colour([90, 90, 90])),
+                        );
+                    }
                 },
             );
             titled_plot(

@@ -366,6 +366,7 @@ impl View3d {
                 ("elastic", S::Elastic),
                 ("transition", S::Transition),
                 ("ruptured", S::Ruptured),
+                ("unformed", S::Unformed),
             ];
             states.map(|(s, c)| (s, state_rgb(c))).to_vec()
         };

@@ -245,8 +245,12 @@ impl App {
                         job.id, job.end_time
                     )),
             );
+            let unformed = match counts.unformed {
+                0 => String::new(),
+                n => format!(", {n} unformed"),
+            };
             ui.label(format!(
-                "interface nodes: {} elastic, {} transition, {} ruptured; balance residual {residual:.2e}",
+                "interface nodes: {} elastic, {} transition, {} ruptured{unformed}; balance residual {residual:.2e}",
                 counts.elastic, counts.transition, counts.ruptured
             ));
         }

@@ -2,6 +2,7 @@
 //! driver and shared (`Arc`) by every output's writer thread.
 
 use crate::energy::EnergySnapshot;
+use crate::law::InterfaceState;
 use crate::solver::{ContactStatus, Simulation, StageTimes, StateCounts};
 use std::time::Duration;
 use web_time::Instant;
@@ -49,6 +50,9 @@ pub struct Snapshot {
 pub struct InterfaceSnapshot {
     /// α [m].
     pub alpha: f64,
+    /// Its state ([`crate::solver::InterfaceNode::state`]: unformed until glue that forms on
+    /// contact has formed, then elastic / transition / ruptured by α).
+    pub state: InterfaceState,
     /// Normal gap [m].
     pub gap: f64,
     pub contact: ContactStatus,
@@ -75,6 +79,7 @@ impl Snapshot {
                 .iter()
                 .map(|n| InterfaceSnapshot {
                     alpha: n.alpha,
+                    state: n.state(&sim.model.interfaces[n.interface as usize].law),
                     gap: n.gap,
                     contact: n.contact,
                     cohesive_traction: n.cohesive_traction,

@@ -14,12 +14,13 @@ use crate::model::Model;
 use crate::solver::ContactStatus;
 
 /// Colour of an interface node by the state of its law at α (PHYSICS.md §3): elastic,
-/// transition, ruptured.
+/// transition, ruptured; dark grey for glue that forms on contact, not formed yet.
 pub fn state_rgb(s: InterfaceState) -> [u8; 3] {
     match s {
         InterfaceState::Elastic => [46, 160, 67],
         InterfaceState::Transition => [245, 166, 35],
         InterfaceState::Ruptured => [208, 2, 27],
+        InterfaceState::Unformed => [90, 90, 90],
     }
 }
 

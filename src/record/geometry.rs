@@ -169,13 +169,12 @@ impl Geometry {
         let state: Vec<u16> = nodes
             .iter()
             .zip(&s.interface)
-            .map(
-                |(&(_, itf), snap)| match m.interfaces[itf as usize].law.state(snap.alpha) {
-                    InterfaceState::Elastic => 0,
-                    InterfaceState::Transition => 1,
-                    InterfaceState::Ruptured => 2,
-                },
-            )
+            .map(|(_, snap)| match snap.state {
+                InterfaceState::Elastic => 0,
+                InterfaceState::Transition => 1,
+                InterfaceState::Ruptured => 2,
+                InterfaceState::Unformed => 3,
+            })
             .collect();
         let contact: Vec<u16> = s
             .interface

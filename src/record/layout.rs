@@ -253,6 +253,7 @@ fn classes_and_styles(rec: &RecordingStream, st: &Statics, r: f32) -> Result<(),
         (0, "elastic", s(InterfaceState::Elastic)),
         (1, "transition", s(InterfaceState::Transition)),
         (2, "ruptured", s(InterfaceState::Ruptured)),
+        (3, "unformed", s(InterfaceState::Unformed)),
         (10, "open", c(ContactStatus::Open)),
         (11, "stick", c(ContactStatus::Stick)),
         (12, "slip", c(ContactStatus::Slip)),
@@ -422,13 +423,36 @@ fn series_names(
         ("energy".into(), SeriesLines::new().with_names(ENERGY_TERMS)),
         (
             "interface/count".into(),
-            SeriesLines::new()
-                .with_names(["elastic", "transition", "ruptured"])
-                .with_colors([
-                    Rgba32::from_rgb(46, 160, 67),
-                    Rgba32::from_rgb(245, 166, 35),
-                    Rgba32::from_rgb(208, 2, 27),
-                ]),
+            // A fourth line, unformed, only where glue forms on contact (`Logger::step`).
+            if st
+                .model
+                .interfaces
+                .iter()
+                .any(|i| i.forms_on_contact.is_some())
+            {
+                SeriesLines::new()
+                    .with_names(["elastic", "transition", "ruptured", "unformed"])
+                    .with_colors(
+                        [
+                            InterfaceState::Elastic,
+                            InterfaceState::Transition,
+                            InterfaceState::Ruptured,
+                            InterfaceState::Unformed,
+                        ]
+                        .map(|x| {
+                            let c = state_rgb(x);
+                            Rgba32::from_rgb(c[0], c[1], c[2])
+                        }),
+                    )
+            } else {
+                SeriesLines::new()
+                    .with_names(["elastic", "transition", "ruptured"])
+                    .with_colors([
+                        Rgba32::from_rgb(46, 160, 67),
+                        Rgba32::from_rgb(245, 166, 35),
+                        Rgba32::from_rgb(208, 2, 27),
+                    ])
+            },
         ),
         (
             "time_step".into(),
@@ -492,7 +516,8 @@ fn legend(
              on the solid; contact arrows show R_c/h; at each node in contact (stick or slip), \
              an arrow of {NORMAL_FRACTION} × the body extent along the mould's outward normal, \
              coloured by the status.\n\nInterface nodes: green elastic, \
-             orange transition, red ruptured; contact status: grey open, blue stick, \
+             orange transition, red ruptured, dark grey unformed (glue that forms on \
+             contact, not formed yet); contact status: grey open, blue stick, \
              magenta slip.",
             arrow_scale
         )),

@@ -149,10 +149,10 @@ impl Logger {
             );
         }
         let c = s.counts;
-        cols.scalars(
-            "interface/count",
-            &[c.elastic as f64, c.transition as f64, c.ruptured as f64],
-        );
+        let counts = [c.elastic, c.transition, c.ruptured, c.unformed].map(|n| n as f64);
+        // `unformed` only where glue forms on contact (the series' names, `layout`).
+        let forming = (m.interfaces.iter()).any(|i| i.forms_on_contact.is_some());
+        cols.scalars("interface/count", &counts[..if forming { 4 } else { 3 }]);
         if !s.interface.is_empty() {
             if self.alpha_per_node {
                 let alpha: Vec<f64> = s.interface.iter().map(|n| n.alpha).collect();

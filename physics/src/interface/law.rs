@@ -337,6 +337,10 @@ pub enum InterfaceState {
     Transition,
     /// α ≥ u_r: no cohesion left, unilateral contact with friction μ_inf.
     Ruptured,
+    /// Glue that forms on contact (a `[[contact]]` entry with a `[contact.law]`) not formed
+    /// yet: a contact node with Coulomb μ, no glue (g_N = 0, α = 0); not one of fig. 6's
+    /// states, which are the glue's ([`crate::solver::InterfaceNode::state`]).
+    Unformed,
 }
 
 #[cfg(test)]

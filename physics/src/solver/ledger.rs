@@ -328,7 +328,7 @@ impl Simulation {
             }
             itf.prev_stiffness = itf.stiffness;
             itf.prev_jump = itf.jump;
-            out.counts.add(law.state(itf.alpha));
+            out.counts.add(itf.state(law));
             out.evolving += usize::from(damage_evolving(law, itf.alpha, itf.alpha_static));
         }
         out
@@ -337,7 +337,7 @@ impl Simulation {
     /// Times of first damage and of full rupture (paper fig. 6).
     fn damage_times(&mut self, counts: StateCounts) {
         let n = self.interface_nodes.len();
-        if counts.elastic < n && self.stats.time_first_damage.is_none() {
+        if counts.transition + counts.ruptured > 0 && self.stats.time_first_damage.is_none() {
             self.stats.time_first_damage = Some(self.time);
         }
         if counts.ruptured == n && n > 0 && self.stats.time_full_rupture.is_none() {
@@ -386,9 +386,11 @@ impl Simulation {
 /// next to a torn one is about to soften within a few steps (in the 7³ pull-off no node was in
 /// transition at t = 0.097 s, 11 ms before the full rupture: a gate on transition alone let
 /// h grow there and D rose by 3 %).
+/// Unformed nodes (glue that forms on contact, not formed yet) count as not torn, as sound
+/// glue does.
 fn tearing(counts: StateCounts) -> bool {
-    let n = counts.elastic + counts.transition + counts.ruptured;
-    counts.elastic < n && counts.ruptured < n
+    let n = counts.elastic + counts.transition + counts.ruptured + counts.unformed;
+    counts.transition + counts.ruptured > 0 && counts.ruptured < n
 }
 
 /// Whether a glued node's damage is evolving, the state in which the step is held

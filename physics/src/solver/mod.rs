@@ -224,11 +224,7 @@ impl Simulation {
     pub fn state_counts(&self) -> StateCounts {
         let mut c = StateCounts::default();
         for itf in &self.interface_nodes {
-            c.add(
-                self.model.interfaces[itf.interface as usize]
-                    .law
-                    .state(itf.alpha),
-            );
+            c.add(itf.state(&self.model.interfaces[itf.interface as usize].law));
         }
         c
     }
@@ -303,6 +299,7 @@ impl StateCounts {
             InterfaceState::Elastic => self.elastic += 1,
             InterfaceState::Transition => self.transition += 1,
             InterfaceState::Ruptured => self.ruptured += 1,
+            InterfaceState::Unformed => self.unformed += 1,
         }
     }
 }

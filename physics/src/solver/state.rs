@@ -3,6 +3,7 @@
 //! surface's normal n points into the solid, a gap g > 0 is open, impulses and tractions are per
 //! unit reference area (Pa·s, Pa), the damage α and the jump [u] are in metres.
 
+use crate::interface::law::{InterfaceState, StiffnessLaw};
 use serde::Serialize;
 use std::time::Duration;
 
@@ -89,6 +90,20 @@ pub struct InterfaceNode {
     pub(crate) prev_stiffness: f64,
 }
 
+impl InterfaceNode {
+    /// Its state: [`InterfaceState::Unformed`] until glue that forms on contact has formed,
+    /// then fig. 6's classification of α by its law (PHYSICS.md §3: elastic α ≤ α_e,
+    /// transition α_e < α < u_r, ruptured α ≥ u_r).
+    #[inline]
+    pub fn state(&self, law: &StiffnessLaw) -> InterfaceState {
+        if self.formed {
+            law.state(self.alpha)
+        } else {
+            InterfaceState::Unformed
+        }
+    }
+}
+
 /// A node of a contact face set (no glue) against a plane.
 #[derive(Debug, Clone)]
 pub struct ContactNode {
@@ -140,6 +155,14 @@ pub struct StateCounts {
     pub elastic: usize,
     pub transition: usize,
     pub ruptured: usize,
+    /// Nodes of glue that forms on contact not formed yet ([`InterfaceState::Unformed`]);
+    /// left out of the JSON when 0, so that scenes without such glue write what they wrote.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub unformed: usize,
+}
+
+fn is_zero(n: &usize) -> bool {
+    *n == 0
 }
 
 /// Running statistics of a simulation, kept as it steps.
