@@ -12,7 +12,7 @@
 //! motion of the body with the mould gives no jump), and a mould's work is force · velocity at
 //! the contact points, moments included (Σ P·(v + ω × (p − c)) = F·v + M_c·ω).
 
-use super::motion::{mat_mul_t, mat_vec, Mat3, Pose};
+use super::motion::{mat_mul_t, mat_vec, Mat3, Pose, RigidMotion};
 use super::surface::NO_FEATURE;
 use super::Shape;
 use crate::energy::Work;
@@ -118,7 +118,11 @@ impl MouldStep {
                 self.cur[k] = self.next[k];
             }
             // The current pose must be at t (it is, by construction; a start is at t₀).
-            self.next[k] = m.motion().advance(&self.cur[k], t + h_next);
+            // The histories borrowed, not copied (`m.motion()` clones them: an allocation
+            // per step, which `tests/allocation.rs` found).
+            let (v, w) = (m.velocity.as_ref(), m.angular_velocity.as_ref());
+            let pivot = m.pivot();
+            self.next[k] = RigidMotion::advance_histories(v, w, pivot, &self.cur[k], t + h_next);
             self.d_next[k] = mat_mul_t(&self.next[k].rotation, &self.cur[k].rotation);
             self.d_prev[k] = mat_mul_t(&self.prev[k].rotation, &self.cur[k].rotation);
         }
