@@ -13,7 +13,11 @@
 //! the contact points, moments included (Σ P·(v + ω × (p − c)) = F·v + M_c·ω).
 
 use super::motion::{mat_mul_t, mat_vec, Mat3, Pose, RigidMotion};
-use super::surface::{NearLists, NO_FEATURE};
+use super::surface::{NearLists, NEAR_CAPACITY, NO_FEATURE};
+
+/// A triangulated mould with at most this many triangles is queried with parry's full query
+/// (its BVH is a few leaves; the lists cost more there: `tread_demould`, README *Performance*).
+pub const SMALL_SURFACE: usize = 2 * NEAR_CAPACITY;
 use super::Shape;
 use crate::energy::Work;
 use crate::model::Mould;
@@ -186,7 +190,9 @@ impl MouldStep {
     ) -> super::Projection {
         let x0 = pose.unplace(m.pivot(), x);
         let pr = match &m.shape {
-            Shape::Surface(s) if !cold => s.project_near(x0, feature, near.0, near.1),
+            Shape::Surface(s) if !cold && s.mesh.num_triangles() > SMALL_SURFACE => {
+                s.project_near(x0, feature, near.0, near.1)
+            }
             _ => m.project0(x0),
         };
         super::Projection {
