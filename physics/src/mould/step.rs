@@ -177,9 +177,10 @@ impl MouldStep {
     }
 
     /// Closest point and outward normal of mould `m` at x in the pose `pose` (PHYSICS.md §8,
-    /// *Contact node*); on a triangulated mould from the node's list `near` of nearby
-    /// triangles and its last triangle `feature` ([`super::SurfaceMesh::project_near`]: the
-    /// cold query's result at about one triangle projection), unless `cold`.
+    /// *Contact node*); on a triangulated mould of more than [`SMALL_SURFACE`] triangles from
+    /// the node's list `near` of nearby triangles and its last triangle `feature`
+    /// ([`super::SurfaceMesh::project_near`]: the cold query's result at about one triangle
+    /// projection), unless `cold`.
     pub fn project(
         m: &Mould,
         pose: &Pose,
