@@ -11,17 +11,20 @@
 //! # defaults 300 5 10: AMPLITUDE in tenths of a millimetre (the ribs' height)
 //! ```
 //!
-//! Prints, per contact-node-step: the closest-point query alone, cold (the full BVH query) and
-//! warm (from the node's last triangle), timed on the nodes' positions at the last step with
-//! the cache of the step before; the whole step with the cache on and off (medians of REPEATS
-//! runs of STEPS steps); and the queries' share of the step. Wall-clock: on a shared machine
+//! Prints, per contact-node-step: the closest-point query alone, cold (the full BVH query),
+//! bounded (the BVH asked only for points closer than the node's last triangle,
+//! `project_cached`) and warm (from the node's list of nearby triangles, `project_near`, what
+//! the step uses), timed on the nodes' positions at the last step with the caches of the step
+//! before; what the lists did over the last warm run (triangle projections, rebuilds and ties
+//! per query, list lengths); the whole step with the lists on and off (medians of REPEATS runs
+//! of STEPS steps); and the queries' share of the step. Wall-clock: on a shared machine
 //! say so ("loaded") next to the figures.
 
 #[allow(dead_code)]
 #[path = "../../examples/shared/sine_ribs.rs"]
 mod sine_ribs;
 
-use decohesion_physics::mould::surface::NO_FEATURE;
+use decohesion_physics::mould::surface::{NearLists, NO_FEATURE};
 use decohesion_physics::mould::{Shape, SurfaceMesh};
 use decohesion_physics::scene::load_scene;
 use decohesion_physics::solver::Simulation;
@@ -85,11 +88,24 @@ fn positions(sim: &Simulation) -> Vec<[f64; 3]> {
         .collect()
 }
 
-/// Nanoseconds per query over `x`: cold, and warm from the cache `primed`.
-fn time_queries(s: &SurfaceMesh, x: &[[f64; 3]], primed: &[u32], repeats: usize) -> (f64, f64) {
-    let (mut cold, mut warm) = (Vec::new(), Vec::new());
+/// Nanoseconds per query over `x`: cold, bounded from the last triangle `primed`, and from
+/// the lists `near` (with `primed`).
+fn time_queries(
+    s: &SurfaceMesh,
+    x: &[[f64; 3]],
+    primed: &[u32],
+    near: &NearLists,
+    repeats: usize,
+) -> (f64, f64, f64) {
+    let (mut cold, mut warm, mut listed) = (Vec::new(), Vec::new(), Vec::new());
     let mut sink = 0.0;
     for _ in 0..repeats {
+        let (mut f, mut lists) = (primed.to_vec(), near.clone());
+        let t0 = Instant::now();
+        for (j, (&y, f)) in x.iter().zip(&mut f).enumerate() {
+            sink += s.project_near(y, f, &mut lists, j).point[2];
+        }
+        listed.push(t0.elapsed().as_secs_f64());
         let t0 = Instant::now();
         for &y in x {
             sink += s.project(y).point[2];
@@ -104,7 +120,7 @@ fn time_queries(s: &SurfaceMesh, x: &[[f64; 3]], primed: &[u32], repeats: usize)
     }
     assert!(sink.is_finite());
     let per = 1e9 / x.len() as f64;
-    (median(cold) * per, median(warm) * per)
+    (median(cold) * per, median(warm) * per, median(listed) * per)
 }
 
 fn main() {
@@ -145,10 +161,14 @@ fn main() {
     sim.step().unwrap();
     let now = positions(&sim);
     let mut primed = vec![NO_FEATURE; nodes];
-    for (y, f) in before.iter().zip(&mut primed) {
-        s.project_cached(*y, f);
+    let mut near = NearLists::new(nodes);
+    for (j, (y, f)) in before.iter().zip(&mut primed).enumerate() {
+        s.project_near(*y, f, &mut near, j);
     }
-    let (q_cold, q_warm) = time_queries(&s, &now, &primed, repeats.max(5));
+    near.stats = Default::default();
+    let (q_cold, q_bounded, q_warm) = time_queries(&s, &now, &primed, &near, repeats.max(5));
+    let st = sim.mould_near_stats()[1];
+    let per_query = |n: u64| n as f64 / st.queries.max(1) as f64;
     let (ws, cs) = (median(warm_step), median(cold_step));
     println!(
         "ribs {:.1} mm high: {} triangles, {nodes} contact nodes ({in_contact} touching after {steps} steps), {} hex8",
@@ -156,7 +176,18 @@ fn main() {
         s.mesh.num_triangles(),
         sim.model.mesh.elements.len()
     );
-    println!("query alone: cold {q_cold:.0} ns, warm {q_warm:.0} ns per contact-node-step");
+    println!(
+        "query alone: cold {q_cold:.0} ns, bounded from the last triangle {q_bounded:.0} ns, from the lists {q_warm:.0} ns per contact-node-step"
+    );
+    println!(
+        "lists over the last warm run ({} queries): {:.3} triangle projections, {:.4} rebuilds, {:.4} ties per query; {:.1} triangles per list, {:.1} candidates per rebuild",
+        st.queries,
+        per_query(st.projections),
+        per_query(st.rebuilds),
+        per_query(st.ties),
+        st.listed as f64 / st.rebuilds.max(1) as f64,
+        st.candidates as f64 / st.rebuilds.max(1) as f64
+    );
     println!(
         "whole step: cold {:.2} ms, warm {:.2} ms ({:.0} and {:.0} ns per contact-node-step)",
         cs * 1e3,

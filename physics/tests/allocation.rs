@@ -2,10 +2,17 @@
 //! step"): a counting global allocator sees zero allocations over 200 steps of the pull-off on
 //! an explicit two-thread team (14³, interface, prescribed face, both quadratures), h_crit
 //! estimates off (an estimate builds its Lanczos vectors). The team is asked for explicitly, so
-//! a one-core machine tests it too.
+//! a one-core machine tests it too. Then the same over 200 steps of a sheet on a sliding
+//! triangulated mould (issue 13): the closest points come from the nodes' lists of nearby
+//! triangles, used and rebuilt without allocating (only a tie, which takes parry's full
+//! query, would allocate: the scene has none, which the test checks too).
 
 mod common;
 use common::scene_file;
+
+#[allow(dead_code)]
+#[path = "../../examples/shared/sine_ribs.rs"]
+mod sine_ribs;
 
 use decohesion_physics::scene::load_scene;
 use decohesion_physics::solver::Simulation;
@@ -58,4 +65,68 @@ fn steps_allocate_nothing() {
             "{integration}: {during} allocations in 200 steps"
         );
     }
+    triangulated_mould_steps_allocate_nothing();
+}
+
+/// A 10 × 10 × 1 mm sheet (10 × 10 × 1 hex8) on a flat triangulated mould (2 × 20² triangles,
+/// 1.5 mm squares) that rises into it at 0.05 m/s and slides under it at 3 m/s (more than a
+/// list's margin δ ≈ 0.5 mm over the 200 steps: lists are rebuilt); the sheet's nodes (every
+/// 1 mm, offset by 0.2 and 0.45 mm) start off the triangles' edges and diagonals, and a node
+/// that slides exactly onto an edge at a step's end would be a tie: none does.
+fn triangulated_mould_steps_allocate_nothing() {
+    const SCENE: &str = r#"
+name = "sliding_plane"
+end_time = 1.0
+[material]
+model = "neo_hookean"
+young = 5.0e6
+poisson = 0.45
+density = 1100.0
+[[mould]]
+name = "flat"
+shape = "surface"
+file = "flat.stl"
+velocity = [[0.0, 0.0, 0.0, 0.0], [1.0e-4, 3.0, 0.0, 0.05], [1.0, 3.0, 0.0, 0.05]]
+[mesh]
+origin = [2.0e-4, 4.5e-4, 0.0]
+size = [0.01, 0.01, 0.001]
+cells = [10, 10, 1]
+[[contact]]
+faces = "z-"
+mould = "flat"
+mu = 0.3
+"#;
+    let dir = std::env::temp_dir().join(format!("allocation_test_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let (v, t) = sine_ribs::sine_ribs(20, -0.01, 0.03, 0.0, 0.01);
+    std::fs::write(dir.join("flat.stl"), sine_ribs::to_stl(&v, &t)).unwrap();
+    std::fs::write(dir.join("sliding.toml"), SCENE).unwrap();
+    let scene = load_scene(&dir.join("sliding.toml"), &[]).unwrap();
+    std::fs::remove_dir_all(&dir).ok();
+    let mut sim = Simulation::new(scene.model).unwrap();
+    for _ in 0..3 {
+        sim.step().unwrap();
+    }
+    let start = sim.mould_near_stats()[1];
+    let before = ALLOCATIONS.load(Ordering::SeqCst);
+    let mut touching = 0;
+    for _ in 0..200 {
+        sim.step().unwrap();
+        touching += (sim.contact_nodes.iter()).filter(|c| c.gap <= 0.0).count();
+    }
+    let during = ALLOCATIONS.load(Ordering::SeqCst) - before;
+    let end = sim.mould_near_stats()[1];
+    let nodes = sim.contact_nodes.len() as u64;
+    assert_eq!(
+        during, 0,
+        "triangulated mould: {during} allocations in 200 steps"
+    );
+    // The lists were used and rebuilt in those steps, with no tie, and the mould touched.
+    assert_eq!(end.ties, start.ties, "{end:?}");
+    assert!(
+        end.rebuilds >= start.rebuilds + nodes,
+        "{start:?} → {end:?}"
+    );
+    assert_eq!(end.queries - start.queries, 200 * nodes, "{end:?}");
+    assert!(touching > 0, "no node touched the mould");
 }

@@ -116,7 +116,20 @@ impl RigidMotion {
     /// The pose at `t` from the pose `from` at an earlier (or equal) time: the rotation of the
     /// step composed exactly, R(t) = exp([Ω(t) − Ω(t_from)]×) R(t_from) (module docs).
     pub fn advance(&self, from: &Pose, t: f64) -> Pose {
-        let rotation = match &self.angular_velocity {
+        let (v, w) = (self.velocity.as_ref(), self.angular_velocity.as_ref());
+        RigidMotion::advance_histories(v, w, self.pivot, from, t)
+    }
+
+    /// [`RigidMotion::advance`] from the histories themselves (borrowed: the time step does
+    /// not copy them).
+    pub fn advance_histories(
+        velocity: Option<&PiecewiseLinear<3>>,
+        angular_velocity: Option<&PiecewiseLinear<3>>,
+        pivot: [f64; 3],
+        from: &Pose,
+        t: f64,
+    ) -> Pose {
+        let rotation = match angular_velocity {
             None => IDENTITY,
             Some(w) => {
                 let (a, b) = (w.integral(from.time), w.integral(t));
@@ -124,11 +137,11 @@ impl RigidMotion {
                 mat_mul(&rodrigues(phi), &from.rotation)
             }
         };
-        let d = self.translation(t);
+        let d = velocity.map_or([0.0; 3], |v| v.integral(t));
         Pose {
             time: t,
             rotation,
-            centre: std::array::from_fn(|c| self.pivot[c] + d[c]),
+            centre: std::array::from_fn(|c| pivot[c] + d[c]),
         }
     }
 }

@@ -12,8 +12,12 @@
 //! motion of the body with the mould gives no jump), and a mould's work is force · velocity at
 //! the contact points, moments included (Σ P·(v + ω × (p − c)) = F·v + M_c·ω).
 
-use super::motion::{mat_mul_t, mat_vec, Mat3, Pose};
-use super::surface::NO_FEATURE;
+use super::motion::{mat_mul_t, mat_vec, Mat3, Pose, RigidMotion};
+use super::surface::{NearLists, NEAR_CAPACITY, NO_FEATURE};
+
+/// A triangulated mould with at most this many triangles is queried with parry's full query
+/// (its BVH is a few leaves; the lists cost more there: `tread_demould`, README *Performance*).
+pub const SMALL_SURFACE: usize = 2 * NEAR_CAPACITY;
 use super::Shape;
 use crate::energy::Work;
 use crate::model::Mould;
@@ -77,6 +81,10 @@ pub struct MouldStep {
     /// Work array of the per-mould ledger passes (one (before, after) pair per mould), kept
     /// between steps so that the time step does not allocate.
     pub halves: Vec<(f64, f64)>,
+    /// Per interface node and per contact node on a triangulated mould: its list of nearby
+    /// triangles ([`super::SurfaceMesh::project_near`]; empty when no mould is triangulated).
+    pub near_interface: NearLists,
+    pub near_contact: NearLists,
     /// Query triangulated moulds cold (the full BVH query at every step, the cache unused):
     /// only for measuring what the cache saves (`physics/examples/mould_cache.rs`); off in runs.
     pub cold: bool,
@@ -118,7 +126,11 @@ impl MouldStep {
                 self.cur[k] = self.next[k];
             }
             // The current pose must be at t (it is, by construction; a start is at t₀).
-            self.next[k] = m.motion().advance(&self.cur[k], t + h_next);
+            // The histories borrowed, not copied (`m.motion()` clones them: an allocation
+            // per step, which `tests/allocation.rs` found).
+            let (v, w) = (m.velocity.as_ref(), m.angular_velocity.as_ref());
+            let pivot = m.pivot();
+            self.next[k] = RigidMotion::advance_histories(v, w, pivot, &self.cur[k], t + h_next);
             self.d_next[k] = mat_mul_t(&self.next[k].rotation, &self.cur[k].rotation);
             self.d_prev[k] = mat_mul_t(&self.prev[k].rotation, &self.cur[k].rotation);
         }
@@ -164,20 +176,24 @@ impl MouldStep {
         }
     }
 
-    /// Closest point and outward normal of mould `m` at x in the pose `pose`; on a
-    /// triangulated mould warm-started from and updating the node's cached triangle `feature`
-    /// ([`super::SurfaceMesh::project_cached`]: the cold query's result, about one triangle
-    /// projection and a pruned traversal instead of a full one), unless `cold`.
+    /// Closest point and outward normal of mould `m` at x in the pose `pose` (PHYSICS.md §8,
+    /// *Contact node*); on a triangulated mould of more than [`SMALL_SURFACE`] triangles from
+    /// the node's list `near` of nearby triangles and its last triangle `feature`
+    /// ([`super::SurfaceMesh::project_near`]: the cold query's result at about one triangle
+    /// projection), unless `cold`.
     pub fn project(
         m: &Mould,
         pose: &Pose,
         x: [f64; 3],
         feature: &mut u32,
+        near: (&mut NearLists, usize),
         cold: bool,
     ) -> super::Projection {
         let x0 = pose.unplace(m.pivot(), x);
         let pr = match &m.shape {
-            Shape::Surface(s) if !cold => s.project_cached(x0, feature),
+            Shape::Surface(s) if !cold && s.mesh.num_triangles() > SMALL_SURFACE => {
+                s.project_near(x0, feature, near.0, near.1)
+            }
             _ => m.project0(x0),
         };
         super::Projection {

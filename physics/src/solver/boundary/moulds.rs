@@ -5,6 +5,8 @@
 use super::super::Simulation;
 use crate::mesh::{dot, sub};
 use crate::mould::step::{MouldStep, NodeGeometry};
+use crate::mould::surface::NearLists;
+use crate::mould::Shape;
 
 impl Simulation {
     /// At t₀: the per-node geometry of glued and contact nodes on curved moulds (empty when
@@ -29,6 +31,11 @@ impl Simulation {
             })
             .collect();
         ms.contact = vec![NodeGeometry::default(); self.contact_nodes.len()];
+        // The lists of nearby triangles, allocated once, when some mould is triangulated.
+        if planes.iter().any(|m| matches!(m.shape, Shape::Surface(_))) {
+            ms.near_interface = NearLists::new(ms.interface.len());
+            ms.near_contact = NearLists::new(ms.contact.len());
+        }
     }
 
     /// Stage 2 on curved moulds at tₙ₊₁ (module docs of [`crate::mould`]): for a glued node, the
@@ -57,7 +64,8 @@ impl Simulation {
             geo.anchor = pose.place(m.pivot(), itf.bonded_point);
             geo.glue_normal = crate::mould::motion::mat_vec(&pose.rotation, geo.normal0);
             itf.jump = sub(x, geo.anchor);
-            let pr = MouldStep::project(m, &pose, x, &mut geo.feature, ms.cold);
+            let near = (&mut ms.near_interface, j);
+            let pr = MouldStep::project(m, &pose, x, &mut geo.feature, near, ms.cold);
             (geo.point, geo.normal) = (pr.point, pr.normal);
             itf.gap = snap(dot(pr.normal, sub(x, pr.point)), tol[k]);
             ms.interface[j] = geo;
@@ -69,18 +77,24 @@ impl Simulation {
             }
             let x = place(cn.node as usize);
             let (pose, cold) = (ms.pose_at(k, t), ms.cold);
-            let geo = &mut ms.contact[j];
-            let pr = MouldStep::project(&planes[k], &pose, x, &mut geo.feature, cold);
+            let (geo, near) = (&mut ms.contact[j], (&mut ms.near_contact, j));
+            let pr = MouldStep::project(&planes[k], &pose, x, &mut geo.feature, near, cold);
             (geo.point, geo.normal) = (pr.point, pr.normal);
             cn.gap = snap(dot(pr.normal, sub(x, pr.point)), tol[k]);
         }
     }
 
-    /// Query triangulated moulds cold (the full BVH query at every step) instead of
-    /// warm-started from each node's cached triangle: the same results (see
-    /// [`crate::mould::SurfaceMesh::project_cached`]), slower; for measuring the cache only.
+    /// Query triangulated moulds cold (the full BVH query at every step) instead of from each
+    /// node's list of nearby triangles: the same results (see
+    /// [`crate::mould::SurfaceMesh::project_near`]), slower; for measuring the lists only.
     pub fn set_mould_queries_cold(&mut self, cold: bool) {
         self.scratch.moulds.cold = cold;
+    }
+
+    /// What the lists of nearby triangles did since the start (interface nodes, contact nodes).
+    pub fn mould_near_stats(&self) -> [crate::mould::surface::NearStats; 2] {
+        let ms = &self.scratch.moulds;
+        [ms.near_interface.stats, ms.near_contact.stats]
     }
 
     /// The glue normal of interface node `j` at tₙ₊₁: its plane's normal, or on a curved mould
