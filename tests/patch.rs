@@ -64,6 +64,7 @@ fn forces(
         true,
         Some(&team),
         &mut Vec::new(),
+        f64::INFINITY,
     );
     assert!((asm.min_j - f_def.determinant()).abs() < 1e-13 * f_def.abs().max().powi(3));
     // γ·(affine field) = 0: the hourglass energy is round-off, ½k(ε|u|)² per element.

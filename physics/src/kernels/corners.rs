@@ -8,7 +8,8 @@
 //! the displacements the kernel has gathered and per-shape constants: 12 edges and 8 triple
 //! products per element, on the same 8 lanes as the kernel.
 
-use crate::material::{F64x8, Real};
+use super::corner_bound::corner_lower_bound;
+use crate::material::{F64x8, OnePointScratch, Real};
 use crate::mesh::{CentreData, CORNER_EDGES, ORIENTED_EDGES};
 
 /// det[c₀, c₁, c₂] = c₀·(c₁ × c₂).
@@ -107,6 +108,8 @@ pub fn min_corner_jacobian(cd: &CentreData, u: &[[f64; 3]; 8]) -> f64 {
 pub struct LaneCorners {
     edges: [[[f64; 8]; 3]; 12],
     inv_det: [[f64; 8]; 8],
+    /// C of the corner bound ([`CentreData::corner_bound`]).
+    bound: [f64; 8],
 }
 
 impl Default for LaneCorners {
@@ -114,6 +117,7 @@ impl Default for LaneCorners {
         LaneCorners {
             edges: [[[0.0; 8]; 3]; 12],
             inv_det: [[0.0; 8]; 8],
+            bound: [f64::INFINITY; 8],
         }
     }
 }
@@ -130,6 +134,21 @@ impl LaneCorners {
         for a in 0..8 {
             self.inv_det[a][l] = cd.corner_inv_det[a];
         }
+        self.bound[l] = cd.corner_bound;
+    }
+
+    /// Per lane, the lower bound J (1 − C|q|/s)³, s = 2J/‖F‖²_F, of every corner Jacobian
+    /// (PHYSICS.md §2; [`super::corner_bound::corner_lower_bound`], derived there): `det` the
+    /// centre's J = det F that the one-point kernel returned, `work` its F − I = H and
+    /// hourglass amplitudes qᵅ. −∞ where the bound does not apply.
+    #[inline(always)]
+    pub fn lower_bound(&self, det: &[f64; 8], work: &OnePointScratch) -> [f64; 8] {
+        let (f_norm2, q_norm2) = work.centre_norms();
+        let mut b = [0.0; 8];
+        for l in 0..8 {
+            b[l] = corner_lower_bound(self.bound[l], det[l], f_norm2[l], q_norm2[l]);
+        }
+        b
     }
 
     /// The smallest corner Jacobian of each lane's element, `u[a][j][lane]` the displacements.

@@ -58,19 +58,46 @@ pub struct Assembly {
     /// Hourglass energy Ψ_hg(U) [J] (reduced integration; 0 unless asked for).
     pub hourglass: f64,
     /// Smallest J = det F seen, and its element: at the Gauss points (full integration), at
-    /// the centre and the 8 corners (one point, [`corners`]).
+    /// the centre and the 8 corners (one point, [`corners`]). With one point it is exact when
+    /// below the `exact_below` of [`assemble_internal_forces`]; above, it may be a lower bound
+    /// of the exact one that is itself ≥ `exact_below` ([`corner_bound`]).
     pub min_j: f64,
     pub min_element: usize,
+    /// One point: lane groups of 8 elements, and those whose exact corner check the bound
+    /// skipped.
+    pub corner_groups: u64,
+    pub corner_skipped: u64,
 }
 
 /// Per-block results of the element loop: strain energy, hourglass energy, smallest J and its
-/// element.
-pub type ElementSums = (f64, f64, f64, usize);
+/// element, lane groups whose exact corner check was skipped.
+pub type ElementSums = (f64, f64, f64, usize, u32);
+
+/// What a one-point chunk returns besides its forces: the strain and hourglass energies, the
+/// smallest J reported and its element, and how many lane groups skipped the exact corner
+/// check ([`corner_bound`]).
+#[derive(Debug, Clone, Copy)]
+pub struct ReducedSums {
+    pub strain: f64,
+    pub hourglass: f64,
+    pub min_j: f64,
+    pub min_element: usize,
+    pub skipped: u32,
+}
 
 /// Internal forces of a whole mesh: F_int(U) = Σ_e fₑ(U) (PHYSICS.md §2 and §4 stage 3).
 /// `f` must be zeroed. Energies are computed only if `energy`. `blocks` come from
 /// [`Mesh::element_blocks`]; `parts` is a buffer for the per-block results (reused, so the
 /// step allocates nothing).
+///
+/// The smallest J ([`Assembly::min_j`]): with one point, a group of 8 elements skips the exact
+/// corner check when the bound J_a ≥ J (1 − C|q|/s)³ ([`corner_bound`]) of each of its
+/// elements is ≥ `exact_below`, and reports the bounds. So the smallest J and its element are
+/// exactly those of the full check whenever that J is below `exact_below` (the element that
+/// has it has a bound below it, so its group was checked, and every skipped element reports
+/// a value ≥ `exact_below`); otherwise the reported J lies in [`exact_below`, exact J].
+/// `f64::INFINITY` checks every corner; `f64::NEG_INFINITY` none (J unused). The forces and
+/// energies do not depend on it.
 #[allow(clippy::too_many_arguments)]
 pub fn assemble_internal_forces(
     mesh: &Mesh,
@@ -83,6 +110,7 @@ pub fn assemble_internal_forces(
     energy: bool,
     team: Option<&Team>,
     parts: &mut Vec<ElementSums>,
+    exact_below: f64,
 ) -> Assembly {
     assert_eq!(u.len(), f.len());
     let ptr = SendPtr(f.as_mut_ptr());
@@ -91,9 +119,11 @@ pub fn assemble_internal_forces(
         hourglass: 0.0,
         min_j: f64::INFINITY,
         min_element: 0,
+        corner_groups: 0,
+        corner_skipped: 0,
     };
     for colour in blocks {
-        let run = |chunk: &Vec<u32>| -> (f64, f64, f64, usize) {
+        let run = |chunk: &Vec<u32>| -> ElementSums {
             // SAFETY: blocks of one colour share no node, so the nodal rows written by
             // different blocks of this colour are disjoint; inside a block the elements run
             // one after another; `f` outlives the loop.
@@ -101,10 +131,21 @@ pub fn assemble_internal_forces(
                 match rule {
                     ElementRule::Full => {
                         let (e, j, el) = chunk_forces(mesh, classes, mat, u, ptr, chunk, energy);
-                        (e, 0.0, j, el)
+                        (e, 0.0, j, el, 0)
                     }
                     ElementRule::Reduced { kappa } => {
-                        chunk_forces_reduced(mesh, classes, mat, kappa, u, ptr, chunk, energy)
+                        let r = chunk_forces_reduced(
+                            mesh,
+                            classes,
+                            mat,
+                            kappa,
+                            u,
+                            ptr,
+                            chunk,
+                            energy,
+                            exact_below,
+                        );
+                        (r.strain, r.hourglass, r.min_j, r.min_element, r.skipped)
                     }
                 }
             }
@@ -116,7 +157,11 @@ pub fn assemble_internal_forces(
                 parts.extend(colour.iter().map(run));
             }
         }
-        for &(e, hg, j, el) in parts.iter() {
+        if let ElementRule::Reduced { .. } = rule {
+            out.corner_groups += colour.iter().map(|c| c.len() as u64 / 8).sum::<u64>();
+        }
+        for &(e, hg, j, el, skipped) in parts.iter() {
+            out.corner_skipped += skipped as u64;
             out.strain += e;
             out.hourglass += hg;
             // `!(j >= min_j)` keeps a NaN (it means non-finite displacements).
@@ -144,8 +189,9 @@ simd_dispatch! {
             u: &[[f64; 3]],
             f: SendPtr,
             chunk: &[u32],
-            energy: bool
-        ) -> (f64, f64, f64, usize)
+            energy: bool,
+            exact_below: f64
+        ) -> ReducedSums
 }
 
 #[inline(always)]
@@ -159,8 +205,10 @@ unsafe fn chunk_forces_reduced_impl<const FMA: bool, const ISA: u8>(
     f: SendPtr,
     chunk: &[u32],
     energy: bool,
-) -> (f64, f64, f64, usize) {
+    exact_below: f64,
+) -> ReducedSums {
     let (mut e_sum, mut hg_sum) = (0.0, 0.0);
+    let mut skipped = 0u32;
     let mut min_j = f64::INFINITY;
     let mut min_e = 0usize;
     let groups = chunk.chunks_exact(8);
@@ -200,16 +248,25 @@ unsafe fn chunk_forces_reduced_impl<const FMA: bool, const ISA: u8>(
             ),
         };
         // The corners' J too (hourglassing turns corners, not the centre); a NaN centre stays.
-        let corner_j = corner_lanes.min_jacobian::<FMA>(&ul);
+        // Skipped where every lane's bound J (1 − C|q|/s)³ ≤ J_a is ≥ `exact_below`: then each
+        // lane reports its bound, which is ≥ `exact_below` and ≤ its exact J.
+        let bound = corner_lanes.lower_bound(&det, work);
+        let j = if exact_below == f64::NEG_INFINITY || all_at_least(&bound, exact_below) {
+            skipped += 1;
+            bound
+        } else {
+            let mut j = corner_lanes.min_jacobian::<FMA>(&ul);
+            for l in 0..8 {
+                if !(j[l] < det[l]) {
+                    j[l] = det[l];
+                }
+            }
+            j
+        };
         for (l, &e) in group.iter().enumerate() {
             e_sum += en[l];
             hg_sum += hg[l];
-            let j = if corner_j[l] < det[l] {
-                corner_j[l]
-            } else {
-                det[l]
-            };
-            keep_min_j(j, e, &mut min_j, &mut min_e);
+            keep_min_j(j[l], e, &mut min_j, &mut min_e);
             scatter_lane(f, mesh.elements.get_unchecked(e as usize), &fl, l);
         }
     }
@@ -232,7 +289,23 @@ unsafe fn chunk_forces_reduced_impl<const FMA: bool, const ISA: u8>(
         keep_min_j(if jc < j { jc } else { j }, e, &mut min_j, &mut min_e);
         scatter(f, conn, &fe);
     }
-    (e_sum, hg_sum, min_j, min_e)
+    ReducedSums {
+        strain: e_sum,
+        hourglass: hg_sum,
+        min_j,
+        min_element: min_e,
+        skipped,
+    }
+}
+
+/// Whether every lane of `v` is ≥ `t` (false for a NaN lane).
+#[inline(always)]
+fn all_at_least(v: &[f64; 8], t: f64) -> bool {
+    let mut all = true;
+    for &x in v {
+        all &= x >= t;
+    }
+    all
 }
 
 simd_dispatch! {

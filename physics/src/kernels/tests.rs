@@ -294,8 +294,22 @@ fn one_point_chunk_every_build_matches_portable_and_scalar_kernel() {
                 let mut builds: Vec<_> = chunk_forces_reduced_builds()
                     .into_iter()
                     .map(|(name, build)| {
-                        let out = run_chunk(n, |p| unsafe {
-                            build(&mesh, &classes, &mat, kappa, &u, p, chunk, true)
+                        let out = run_chunk(n, |p| {
+                            let r = unsafe {
+                                build(
+                                    &mesh,
+                                    &classes,
+                                    &mat,
+                                    kappa,
+                                    &u,
+                                    p,
+                                    chunk,
+                                    true,
+                                    f64::INFINITY,
+                                )
+                            };
+                            assert_eq!(r.skipped, 0, "exact_below = ∞ checks every corner");
+                            (r.strain, r.hourglass, r.min_j, r.min_element)
                         });
                         (name, out)
                     })
@@ -388,4 +402,92 @@ fn free_velocity_every_build_is_bit_identical() {
             "{name} differs from the portable build"
         );
     }
+}
+
+/// The corner check skipped by the bound ([`corner_bound`]): on every block of the distorted box
+/// and both fields, for thresholds `exact_below` around the field's J (0.8…1.2, and the chunk's
+/// exact minimum itself), every build gives the same force and energy bits as with every corner
+/// checked (`exact_below` = ∞); the smallest J and its element are those of the full check when
+/// that J is below the threshold, else the reported J lies in [threshold, exact J]. The bound
+/// must fire on some groups (else this tests nothing) and not on others (at 0.9, the step
+/// control's threshold).
+#[test]
+fn one_point_skipped_corner_check_changes_nothing_below_the_threshold() {
+    let mesh = distorted_box();
+    let classes = mesh.element_classes().unwrap();
+    let n = mesh.nodes.len();
+    let kappa = 0.05;
+    let chunks: Vec<Vec<u32>> = mesh.element_blocks(64).into_iter().flatten().collect();
+    let (mut skipped, mut groups) = (0u64, 0u64);
+    let mat = Material::new(MaterialModel::NeoHookean, 5e6, 0.45, 1100.0);
+    // The two fields of the other tests (strong hourglassing: the bound stays below 0.9) and
+    // `bent` at 2 % (J within 0.5 % of 1, small hourglass amplitudes: the bound skips).
+    let [bent_u, inverted_u] = fields(&mesh);
+    let gentle: Vec<[f64; 3]> = bent_u.1.iter().map(|r| r.map(|v| 0.02 * v)).collect();
+    for (field, u) in [bent_u, inverted_u, ("gentle", gentle)] {
+        for chunk in &chunks {
+            for (name, build) in chunk_forces_reduced_builds() {
+                let run = |t: f64| {
+                    let mut f = vec![[0.0; 3]; n];
+                    let r = unsafe {
+                        build(
+                            &mesh,
+                            &classes,
+                            &mat,
+                            kappa,
+                            &u,
+                            SendPtr(f.as_mut_ptr()),
+                            chunk,
+                            true,
+                            t,
+                        )
+                    };
+                    (f, r)
+                };
+                let (f_all, all) = run(f64::INFINITY);
+                for t in [0.8, 0.9, 1.0, 1.1, all.min_j, f64::NEG_INFINITY] {
+                    let (f, r) = run(t);
+                    let what = format!("{field} {name} exact_below {t}");
+                    let bits = |f: &[[f64; 3]]| -> Vec<u64> {
+                        f.iter().flatten().map(|v| v.to_bits()).collect()
+                    };
+                    assert!(bits(&f) == bits(&f_all), "{what}: forces differ");
+                    assert!(
+                        r.strain.to_bits() == all.strain.to_bits()
+                            && r.hourglass.to_bits() == all.hourglass.to_bits(),
+                        "{what}: energies differ"
+                    );
+                    if all.min_j < t {
+                        assert!(
+                            r.min_j.to_bits() == all.min_j.to_bits()
+                                && r.min_element == all.min_element,
+                            "{what}: min J {} at {} instead of {} at {}",
+                            r.min_j,
+                            r.min_element,
+                            all.min_j,
+                            all.min_element
+                        );
+                    } else {
+                        assert!(
+                            r.min_j >= t && r.min_j <= all.min_j,
+                            "{what}: min J {} outside [{t}, {}]",
+                            r.min_j,
+                            all.min_j
+                        );
+                    }
+                    if t == 0.9 {
+                        skipped += r.skipped as u64;
+                        groups += chunk.len() as u64 / 8;
+                    }
+                    if t == f64::NEG_INFINITY {
+                        assert_eq!(r.skipped as usize, chunk.len() / 8, "{what}");
+                    }
+                }
+            }
+        }
+    }
+    assert!(
+        skipped > 0 && skipped < groups,
+        "the bound skipped {skipped} of {groups} groups at J = 0.9"
+    );
 }

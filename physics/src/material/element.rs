@@ -211,6 +211,32 @@ pub struct OnePointScratch {
     q: [[F64x8; 3]; 4],
 }
 
+impl OnePointScratch {
+    /// Per lane, ‖F‖²_F = Σᵢⱼ(δᵢⱼ + Hᵢⱼ)² and |q|² = Σᵅ|qᵅ|² of the last kernel call: what the
+    /// corner bound needs besides J (`kernels::corner_bound`).
+    #[inline(always)]
+    pub fn centre_norms(&self) -> ([f64; 8], [f64; 8]) {
+        let mut f2 = F64x8::splat(0.0);
+        for i in 0..3 {
+            for j in 0..3 {
+                let fij = if i == j {
+                    self.h[i][j] + F64x8::splat(1.0)
+                } else {
+                    self.h[i][j]
+                };
+                f2 = f2 + fij * fij;
+            }
+        }
+        let mut q2 = F64x8::splat(0.0);
+        for al in 0..4 {
+            for i in 0..3 {
+                q2 = q2 + self.q[al][i] * self.q[al][i];
+            }
+        }
+        (f2.0, q2.0)
+    }
+}
+
 impl Default for OnePointScratch {
     fn default() -> Self {
         let z = F64x8::splat(0.0);

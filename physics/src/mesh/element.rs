@@ -155,6 +155,10 @@ pub struct CentreData {
     /// check, J_a = det[e_ξ, e_η, e_ζ](x)/det[E_ξ, E_η, E_ζ](X) (`kernels::corners`).
     pub edges: [[f64; 3]; 12],
     pub corner_inv_det: [f64; 8],
+    /// C of the corner bound J_a ≥ J (1 − C|q|/s)³ (PHYSICS.md §2,
+    /// [`crate::kernels::corner_bound::corner_bound_constant`]): with it the one-point kernel
+    /// skips the exact corner check where it cannot change what the check reports.
+    pub corner_bound: f64,
 }
 
 /// The edges of the hexahedron as (a, b), b being a with one natural coordinate raised from −1
@@ -224,14 +228,17 @@ impl CentreData {
                 f64::NAN
             }
         });
-        CentreData {
+        let mut cd = CentreData {
             b,
             gamma,
             volume,
             bb,
             edges,
             corner_inv_det,
-        }
+            corner_bound: f64::INFINITY,
+        };
+        cd.corner_bound = crate::kernels::corner_bound::corner_bound_constant(&cd);
+        cd
     }
 }
 

@@ -33,8 +33,8 @@ mod stiffness;
 
 pub use setup::{mould_closest_point, start_offset_tolerance, StartOffset};
 pub use state::{
-    ContactNode, ContactStatus, InterfaceNode, PeakReaction, RunStats, SolverError, StableStep,
-    StageTimes, StateCounts,
+    ContactNode, ContactStatus, CornerChecks, InterfaceNode, PeakReaction, RunStats, SolverError,
+    StableStep, StageTimes, StateCounts,
 };
 
 use crate::energy::{EnergySnapshot, Ledger};
@@ -97,7 +97,10 @@ pub struct Simulation {
     pub h_crit: f64,
     pub ledger: Ledger,
     pub stats: RunStats,
-    /// Smallest Jacobian seen at the last force evaluation.
+    /// Smallest Jacobian seen at the last force evaluation: exact when below 0.9 (the step
+    /// control's compression threshold) and at the steps that estimate h_crit; otherwise, with
+    /// one-point integration, possibly a lower bound of it that is itself ≥ 0.9
+    /// ([`crate::kernels::assemble_internal_forces`]).
     pub min_jacobian: f64,
     /// Ritz vector of the last stable-step estimate (warm start of the next one).
     ritz_vector: Vec<f64>,
@@ -276,6 +279,7 @@ impl ElementLoop<'_> {
         f: &mut [[f64; 3]],
         energy: bool,
         parts: &mut Vec<ElementSums>,
+        exact_below: f64,
     ) -> Assembly {
         assemble_internal_forces(
             &self.model.mesh,
@@ -288,6 +292,7 @@ impl ElementLoop<'_> {
             energy,
             self.team,
             parts,
+            exact_below,
         )
     }
 }

@@ -18,7 +18,9 @@ const JACOBIAN_RETRIGGER_MAX: f64 = 0.16;
 const OMEGA_MOVED: f64 = 0.05;
 const OMEGA_STILL: f64 = 0.02;
 /// Smallest Jacobian below which compression re-estimates h_crit between scheduled estimates.
-const JACOBIAN_COMPRESSED: f64 = 0.9;
+/// Below it the element loop reports the smallest J exactly; above it, at a step that makes no
+/// estimate, it may report a lower bound that is ≥ this value (`Simulation::internal_forces`).
+pub(super) const JACOBIAN_COMPRESSED: f64 = 0.9;
 /// Change of the glue's total spring stiffness Σ W g_N(α) since the last estimate, as a
 /// fraction of its value at t = 0, that re-estimates h_crit (damage and rupture soften the
 /// glue, which may set the step).
@@ -100,8 +102,7 @@ impl Simulation {
     /// keeps estimate noise from moving h. A change of step is exact in the ledger
     /// ([`Simulation::ledger`], the step-change work of PHYSICS.md §8).
     pub(super) fn next_time_step(&mut self) -> f64 {
-        let every = self.model.scheme.h_crit_update_interval as u64;
-        if every == 0 {
+        if self.model.scheme.h_crit_update_interval == 0 {
             return self.h;
         }
         let c = &self.step_control;
@@ -109,15 +110,7 @@ impl Simulation {
         let compressed = self.min_jacobian < JACOBIAN_COMPRESSED;
         let strained =
             compressed && (self.min_jacobian - self.jacobian_at_estimate).abs() > trigger;
-        // Softening only ever lowers ω_max: it is worth an estimate only while the glue may
-        // hold h below what the bulk alone allows (h_crit_bulk, measured at t₀ when a glued
-        // node's spring is near the system's ω_max).
-        let may_grow = self.h_crit_bulk.is_some_and(|hb| {
-            capped_step(self.model.scheme.time_step_factor, hb) > (1.0 + STEP_BAND) * self.h
-        });
-        let softened = may_grow
-            && (c.springs_now - c.springs_at_estimate).abs() > SPRING_RETRIGGER * c.springs_initial;
-        if self.step_count.is_multiple_of(every) || strained || softened {
+        if self.estimate_without_strain() || strained {
             let before = (2.0 / self.h_crit).powi(2);
             let est = self.update_stable_step();
             if strained {
@@ -157,6 +150,28 @@ impl Simulation {
                 self.h
             }
         }
+    }
+
+    /// Whether [`Self::next_time_step`] of this step re-estimates h_crit whatever the smallest
+    /// Jacobian: at the scheduled steps, and when the glue's springs softened while h may
+    /// grow. Known before stage 3 (it reads only what stages 1–2 leave unchanged: the step
+    /// count, h, the springs summed by the last stage 9), so stage 3 can report the smallest
+    /// J exactly at these steps, where it becomes [`Simulation::jacobian_at_estimate`].
+    pub(super) fn estimate_without_strain(&self) -> bool {
+        let every = self.model.scheme.h_crit_update_interval as u64;
+        if every == 0 {
+            return false;
+        }
+        let c = &self.step_control;
+        // Softening only ever lowers ω_max: it is worth an estimate only while the glue may
+        // hold h below what the bulk alone allows (h_crit_bulk, measured at t₀ when a glued
+        // node's spring is near the system's ω_max).
+        let may_grow = self.h_crit_bulk.is_some_and(|hb| {
+            capped_step(self.model.scheme.time_step_factor, hb) > (1.0 + STEP_BAND) * self.h
+        });
+        let softened = may_grow
+            && (c.springs_now - c.springs_at_estimate).abs() > SPRING_RETRIGGER * c.springs_initial;
+        self.step_count.is_multiple_of(every) || softened
     }
 
     /// The stable step now by a warm-started Lanczos estimate: from the previous Ritz vector,

@@ -2,6 +2,7 @@
 //! ledger's stage 9 in `ledger.rs`), and the per-step buffers they fill.
 
 use super::boundary::BoundarySums;
+use super::stable_step::JACOBIAN_COMPRESSED;
 use super::state::SolverError;
 use super::{ElementLoop, Simulation, NODE_GRAIN};
 use crate::kernels::{free_velocity_chunk, NodeSums};
@@ -149,7 +150,25 @@ impl Simulation {
             blocks: &self.blocks,
             team: self.team.as_ref(),
         };
-        let asm = elements.assemble(&self.u, &mut self.f_int, energy, &mut self.parts_elements);
+        // The consumers of the smallest J: the inversion check (J ≤ 0) and the step control
+        // (`next_time_step`: J < JACOBIAN_COMPRESSED, and J itself at an estimate). So J is
+        // exact below JACOBIAN_COMPRESSED, and everywhere at a step that estimates h_crit
+        // whatever J (and at t₀): else the one-point kernel may skip the corner check where
+        // its bound shows J ≥ JACOBIAN_COMPRESSED ([`crate::kernels::corner_bound`]).
+        let exact_below = if self.step_count == 0 || self.estimate_without_strain() {
+            f64::INFINITY
+        } else {
+            JACOBIAN_COMPRESSED
+        };
+        let asm = elements.assemble(
+            &self.u,
+            &mut self.f_int,
+            energy,
+            &mut self.parts_elements,
+            exact_below,
+        );
+        self.stats.corner_checks.groups += asm.corner_groups;
+        self.stats.corner_checks.skipped += asm.corner_skipped;
         let (min_j, min_e) = (asm.min_j, asm.min_element);
         self.min_jacobian = min_j;
         self.step_control.compressed_element = min_e;

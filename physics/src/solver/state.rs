@@ -187,6 +187,18 @@ pub struct RunStats {
     pub step_changes: u64,
     /// Stage 7's joint solves at nodes with several active constraints, over the run.
     pub joint_contact: crate::interface::contact::JointStats,
+    /// One-point integration: lane groups of the steps' element loops, and those whose exact
+    /// corner check the bound skipped (stage 3 only, not the stable-step estimates).
+    pub corner_checks: CornerChecks,
+}
+
+/// Lane groups of 8 elements through the one-point kernel, and those that skipped the exact
+/// corner check because the bound showed it could not change what the step uses
+/// (`kernels::corner_bound`).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct CornerChecks {
+    pub groups: u64,
+    pub skipped: u64,
 }
 
 /// Result of a stable-step estimate (PHYSICS.md §6).

@@ -81,7 +81,14 @@ impl<'a> StiffnessOperator<'a> {
         if !forces_current {
             cache.f0.clear();
             cache.f0.resize(nodes, [0.0; 3]);
-            elements.assemble(&sim.u, &mut cache.f0, false, &mut cache.parts);
+            // (The smallest J is not used here: no corner check.)
+            elements.assemble(
+                &sim.u,
+                &mut cache.f0,
+                false,
+                &mut cache.parts,
+                f64::NEG_INFINITY,
+            );
         }
         for &k in &cache.spring_dofs {
             cache.has_spring[k] = false;
@@ -195,7 +202,7 @@ impl<'a> StiffnessOperator<'a> {
             fp.range(a, b).fill(0.0);
         });
         self.elements
-            .assemble(&c.up, &mut c.fp, false, &mut c.parts);
+            .assemble(&c.up, &mut c.fp, false, &mut c.parts, f64::NEG_INFINITY);
         let fp = c.fp.as_flattened();
         // K x of the bulk, M^{-½} applied at once except where a glued node's spring
         // W g_N(α) x is added first.
