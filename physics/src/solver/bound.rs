@@ -44,10 +44,12 @@ pub(super) struct BoundCache {
 /// A = ∂P/∂F of the model ([`crate::material`]); C = FᵀF, ĉ ≥ λ_max(C) and ŝ ≥ λ_max(C⁻¹) by
 /// Gershgorin's row sums (exact for a diagonal C):
 ///
-/// - SVK, P = F S, S = λ tr E I + 2μE: G:A:G = S:(GᵀG) + Y:ℂ:Y with Y = sym(FᵀG), so
-///   a = max(3λ + 2μ, 2μ) ĉ + λ tr E + μ(ĉ − 1) (λ_max(S) ≤ λ tr E + μ(ĉ − 1), |Y|² ≤ ĉ|G|²).
+/// - SVK, P = F S, S = λ tr E I + 2μE: G:A:G = S:(GᵀG) + λ(tr Y)² + 2μ|Y|² with
+///   Y = sym(FᵀG), tr Y = F:G, so (tr Y)² ≤ tr C |G|² (Cauchy–Schwarz), |Y|² ≤ ĉ|G|² and
+///   λ_max(S) ≤ λ tr E + μ(ĉ − 1): a = max(λ, 0) tr C + 2μĉ + λ tr E + μ(ĉ − 1).
 /// - neo-Hookean, P = μF + (λ ln J − μ)F⁻ᵀ: G:A:G = μ|G|² + λ(tr B)² + (μ − λ ln J) tr(B²) with
-///   B = F⁻¹G, |B|² ≤ ŝ|G|², (tr B)² ≤ 3|B|², |tr B²| ≤ |B|²: a = μ + (3 max(λ, 0) + |μ − λ ln J|) ŝ.
+///   B = F⁻¹G, tr B = F⁻ᵀ:G, so (tr B)² ≤ |F⁻ᵀ|²|G|² = tr C⁻¹ |G|², |tr B²| ≤ |B|² ≤ ŝ|G|²:
+///   a = μ + max(λ, 0) tr C⁻¹ + |μ − λ ln J| ŝ, C⁻¹ = adj C/J².
 ///
 /// Both give 3λ + 2μ at F = I (a pure dilatation G = I attains it). Clipped at 0; a
 /// non-positive J gives +∞ (an inverted element: no bound).
@@ -62,8 +64,9 @@ pub fn modulus_bound(mat: &Material, f: &[[f64; 3]; 3]) -> f64 {
     let a = match mat.model {
         MaterialModel::Svk => {
             let c_hat = gershgorin(&c);
-            let tr_e = 0.5 * (c[0][0] + c[1][1] + c[2][2] - 3.0);
-            (3.0 * lambda + 2.0 * mu).max(2.0 * mu) * c_hat + lambda * tr_e + mu * (c_hat - 1.0)
+            let tr_c = c[0][0] + c[1][1] + c[2][2];
+            let tr_e = 0.5 * (tr_c - 3.0);
+            lambda.max(0.0) * tr_c + 2.0 * mu * c_hat + lambda * tr_e + mu * (c_hat - 1.0)
         }
         MaterialModel::NeoHookean => {
             let j = f[0][0] * (f[1][1] * f[2][2] - f[1][2] * f[2][1])
@@ -91,7 +94,8 @@ pub fn modulus_bound(mat: &Material, f: &[[f64; 3]; 3]) -> f64 {
                 ],
             ];
             let s_hat = gershgorin(&adj) / (j * j);
-            mu + (3.0 * lambda.max(0.0) + (mu - lambda * j.ln()).abs()) * s_hat
+            let tr_c_inv = (adj[0][0] + adj[1][1] + adj[2][2]) / (j * j);
+            mu + lambda.max(0.0) * tr_c_inv + (mu - lambda * j.ln()).abs() * s_hat
         }
     };
     a.max(0.0)
@@ -141,11 +145,12 @@ fn full_modulus(mat: &Material, grad: &[[[f64; 8]; 3]; 8], ue: &[[f64; 3]; 8]) -
     let mut a: Lanes = [0.0; 8];
     match mat.model {
         MaterialModel::Svk => {
-            let c_mod = (3.0 * lambda + 2.0 * mu).max(2.0 * mu);
             for q in 0..8 {
                 let c_hat = gersh(&c, q);
-                let tr_e = 0.5 * (c[0][0][q] + c[1][1][q] + c[2][2][q] - 3.0);
-                a[q] = c_mod * c_hat + lambda * tr_e + mu * (c_hat - 1.0);
+                let tr_c = c[0][0][q] + c[1][1][q] + c[2][2][q];
+                let tr_e = 0.5 * (tr_c - 3.0);
+                a[q] =
+                    lambda.max(0.0) * tr_c + 2.0 * mu * c_hat + lambda * tr_e + mu * (c_hat - 1.0);
             }
         }
         MaterialModel::NeoHookean => {
@@ -170,7 +175,8 @@ fn full_modulus(mat: &Material, grad: &[[[f64; 8]; 3]; 8], ue: &[[f64; 3]; 8]) -
             let ln_j: Lanes = j.map(f64::ln);
             for q in 0..8 {
                 let s_hat = gersh(&adj, q) / (j[q] * j[q]);
-                a[q] = mu + (3.0 * lambda.max(0.0) + (mu - lambda * ln_j[q]).abs()) * s_hat;
+                let tr_c_inv = (adj[0][0][q] + adj[1][1][q] + adj[2][2][q]) / (j[q] * j[q]);
+                a[q] = mu + lambda.max(0.0) * tr_c_inv + (mu - lambda * ln_j[q]).abs() * s_hat;
             }
         }
     }
