@@ -21,6 +21,7 @@
 //! are one fused pass over the boundary nodes (a node's stages need only that node), which calls
 //! the stage functions in order.
 
+mod bound;
 mod boundary;
 mod diagnostics;
 mod lanczos;

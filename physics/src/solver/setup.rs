@@ -3,7 +3,7 @@
 //! the leapfrog at t₀ (§4: V_{−½}, then the first impulses give V_{½}).
 
 use super::boundary::{Boundary, NONE};
-use super::stable_step::capped_step;
+use super::stable_step::{capped_step, StepControl};
 use super::stages::StepScratch;
 use super::state::{
     ContactNode, ContactStatus, InterfaceNode, PeakReaction, RunStats, SolverError,
@@ -360,7 +360,10 @@ impl Simulation {
             ritz_vector: Vec::new(),
             h_crit_bulk: None,
             jacobian_at_estimate: 1.0,
-            step_control: Default::default(),
+            step_control: StepControl {
+                try_certify: true,
+                ..Default::default()
+            },
             kinetic_half: 0.0,
             energy_budget: 0.0,
             last_external_work: 0.0,
