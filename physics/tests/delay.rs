@@ -128,6 +128,14 @@ fn damage_rate_never_exceeds_its_bound() {
 
 proptest! {
     /// The closed-form step: 0 ≤ α' − α ≤ min(α_s − α, h u_r/τ_c) for any a, h/τ_c, lag.
+    ///
+    /// The rate bound holds up to the round-off of forming α' = α_s − (u_r/a) y with
+    /// y = a(α_s − α)/u_r + ln(…): x = α_s − α, y₀ = a x/u_r, y, u_r y/a and the last difference
+    /// are each rounded once or twice, every term ≤ α_s, so |error| ≤ 3.5 ε α_s; the test allows
+    /// 8 ε α_s. When the rate saturates (y₀ ≫ 1, a step of 2e-8 m at α_s = 4e-3 m) this
+    /// round-off is all there is between α' − α and the bound: the saved case in
+    /// `delay.proptest-regressions` exceeded h u_r/τ_c by 1.1e-18 m = 1.3 ulp(α_s), which the
+    /// former absolute 1e-18 did not allow.
     #[test]
     fn one_step_stays_between_alpha_and_its_target(
         log_a in -1.0f64..3.0, log_h in -6.0f64..6.0, lag in 0.0f64..1.0, alpha in 0.0f64..1.0
@@ -139,7 +147,7 @@ proptest! {
         let alpha_s = alpha + lag * (u_r - alpha);
         let next = d.advance(alpha, alpha_s, u_r, h);
         prop_assert!(next >= alpha && next <= alpha_s, "{alpha} → {next}, target {alpha_s}");
-        prop_assert!(next - alpha <= h * u_r / tau_c * (1.0 + 1e-12) + 1e-18);
+        prop_assert!(next - alpha <= h * u_r / tau_c * (1.0 + 1e-12) + 8.0 * f64::EPSILON * alpha_s);
     }
 }
 
