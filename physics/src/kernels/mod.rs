@@ -63,6 +63,12 @@ pub struct Assembly {
     /// of the exact one that is itself ≥ `exact_below` ([`corner_bound`]).
     pub min_j: f64,
     pub min_element: usize,
+    /// Smallest J where the stress is evaluated, and its element: the Gauss points (full
+    /// integration, = `min_j`), the centre (one point). It sets the material's tangent, so the
+    /// step control reads it as the compression indicator; one point's hourglass stiffness is
+    /// constant, and a corner's J (hourglassing) changes no stiffness. Always exact.
+    pub min_stress_j: f64,
+    pub min_stress_element: usize,
     /// One point: lane groups of 8 elements, and those whose exact corner check the bound
     /// skipped.
     pub corner_groups: u64,
@@ -70,8 +76,9 @@ pub struct Assembly {
 }
 
 /// Per-block results of the element loop: strain energy, hourglass energy, smallest J and its
-/// element, lane groups whose exact corner check was skipped.
-pub type ElementSums = (f64, f64, f64, usize, u32);
+/// element, lane groups whose exact corner check was skipped, smallest J where the stress is
+/// evaluated and its element ([`Assembly::min_stress_j`]).
+pub type ElementSums = (f64, f64, f64, usize, u32, f64, usize);
 
 /// What a one-point chunk returns besides its forces: the strain and hourglass energies, the
 /// smallest J reported and its element, and how many lane groups skipped the exact corner
@@ -83,6 +90,9 @@ pub struct ReducedSums {
     pub min_j: f64,
     pub min_element: usize,
     pub skipped: u32,
+    /// The smallest centre J and its element ([`Assembly::min_stress_j`]).
+    pub min_centre_j: f64,
+    pub min_centre_element: usize,
 }
 
 /// Internal forces of a whole mesh: F_int(U) = Σ_e fₑ(U) (PHYSICS.md §2 and §4 stage 3).
@@ -119,6 +129,8 @@ pub fn assemble_internal_forces(
         hourglass: 0.0,
         min_j: f64::INFINITY,
         min_element: 0,
+        min_stress_j: f64::INFINITY,
+        min_stress_element: 0,
         corner_groups: 0,
         corner_skipped: 0,
     };
@@ -131,7 +143,7 @@ pub fn assemble_internal_forces(
                 match rule {
                     ElementRule::Full => {
                         let (e, j, el) = chunk_forces(mesh, classes, mat, u, ptr, chunk, energy);
-                        (e, 0.0, j, el, 0)
+                        (e, 0.0, j, el, 0, j, el)
                     }
                     ElementRule::Reduced { kappa } => {
                         let r = chunk_forces_reduced(
@@ -145,7 +157,15 @@ pub fn assemble_internal_forces(
                             energy,
                             exact_below,
                         );
-                        (r.strain, r.hourglass, r.min_j, r.min_element, r.skipped)
+                        (
+                            r.strain,
+                            r.hourglass,
+                            r.min_j,
+                            r.min_element,
+                            r.skipped,
+                            r.min_centre_j,
+                            r.min_centre_element,
+                        )
                     }
                 }
             }
@@ -160,7 +180,7 @@ pub fn assemble_internal_forces(
         if let ElementRule::Reduced { .. } = rule {
             out.corner_groups += colour.iter().map(|c| c.len() as u64 / 8).sum::<u64>();
         }
-        for &(e, hg, j, el, skipped) in parts.iter() {
+        for &(e, hg, j, el, skipped, js, els) in parts.iter() {
             out.corner_skipped += skipped as u64;
             out.strain += e;
             out.hourglass += hg;
@@ -168,6 +188,10 @@ pub fn assemble_internal_forces(
             if !(j >= out.min_j) {
                 out.min_j = j;
                 out.min_element = el;
+            }
+            if !(js >= out.min_stress_j) {
+                out.min_stress_j = js;
+                out.min_stress_element = els;
             }
         }
     }
@@ -211,6 +235,7 @@ unsafe fn chunk_forces_reduced_impl<const FMA: bool, const ISA: u8>(
     let mut skipped = 0u32;
     let mut min_j = f64::INFINITY;
     let mut min_e = 0usize;
+    let (mut min_jc, mut min_ec) = (f64::INFINITY, 0usize);
     let groups = chunk.chunks_exact(8);
     let rest = groups.remainder();
     let mut lanes = LaneElements::default();
@@ -267,6 +292,7 @@ unsafe fn chunk_forces_reduced_impl<const FMA: bool, const ISA: u8>(
             e_sum += en[l];
             hg_sum += hg[l];
             keep_min_j(j[l], e, &mut min_j, &mut min_e);
+            keep_min_j(det[l], e, &mut min_jc, &mut min_ec);
             scatter_lane(f, mesh.elements.get_unchecked(e as usize), &fl, l);
         }
     }
@@ -287,6 +313,7 @@ unsafe fn chunk_forces_reduced_impl<const FMA: bool, const ISA: u8>(
         hg_sum += hg;
         let jc = corners::min_corner_jacobian(cd, &ue);
         keep_min_j(if jc < j { jc } else { j }, e, &mut min_j, &mut min_e);
+        keep_min_j(j, e, &mut min_jc, &mut min_ec);
         scatter(f, conn, &fe);
     }
     ReducedSums {
@@ -295,6 +322,8 @@ unsafe fn chunk_forces_reduced_impl<const FMA: bool, const ISA: u8>(
         min_j,
         min_element: min_e,
         skipped,
+        min_centre_j: min_jc,
+        min_centre_element: min_ec,
     }
 }
 

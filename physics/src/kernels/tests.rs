@@ -291,6 +291,15 @@ fn one_point_chunk_every_build_matches_portable_and_scalar_kernel() {
         let mat = Material::new(model, 5e6, 0.45, 1100.0);
         for (field, u) in fields(&mesh) {
             for chunk in &chunks {
+                // The centre's J alone (what the step control reads, Assembly::min_stress_j).
+                let centre_j = |e: usize| {
+                    let cd = &classes.centre[classes.class_of[e] as usize];
+                    jacobian(&u, &mesh.elements[e], |a, j| cd.b[a][j])
+                };
+                let centre_min = chunk
+                    .iter()
+                    .map(|&e| centre_j(e as usize))
+                    .fold(f64::INFINITY, f64::min);
                 let mut builds: Vec<_> = chunk_forces_reduced_builds()
                     .into_iter()
                     .map(|(name, build)| {
@@ -309,6 +318,15 @@ fn one_point_chunk_every_build_matches_portable_and_scalar_kernel() {
                                 )
                             };
                             assert_eq!(r.skipped, 0, "exact_below = ∞ checks every corner");
+                            // Round-off of two evaluations of one determinant of |F| ~ 1.
+                            let tol = 1e-12 * centre_min.abs().max(1.0);
+                            assert!(
+                                (r.min_centre_j - centre_min).abs() <= tol
+                                    && (centre_j(r.min_centre_element) - centre_min).abs() <= tol,
+                                "{name}: centre J {} (element {}) against {centre_min}",
+                                r.min_centre_j,
+                                r.min_centre_element
+                            );
                             (r.strain, r.hourglass, r.min_j, r.min_element)
                         });
                         (name, out)

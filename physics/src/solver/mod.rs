@@ -103,12 +103,18 @@ pub struct Simulation {
     /// one-point integration, possibly a lower bound of it that is itself ≥ 0.9
     /// ([`crate::kernels::assemble_internal_forces`]).
     pub min_jacobian: f64,
+    /// Smallest J where the stress is evaluated at the last force evaluation (the Gauss points,
+    /// or one point's centre: [`crate::kernels::Assembly::min_stress_j`]), always exact: the
+    /// step control's compression indicator. With one point the corners' J (in
+    /// `min_jacobian`) may be far lower under hourglassing while the stiffness, set by the
+    /// centre's F and the constant hourglass stiffness, has not moved.
+    pub stress_jacobian: f64,
     /// Ritz vector of the last stable-step estimate (warm start of the next one).
     ritz_vector: Vec<f64>,
     /// h_crit of the bulk alone (interface springs left out) at t = 0 [s], measured when a glued
     /// node's spring comes near the system's ω_max, i.e. when an interface may set the step.
     pub h_crit_bulk: Option<f64>,
-    /// Smallest Jacobian when h_crit was last estimated.
+    /// [`Simulation::stress_jacobian`] when h_crit was last estimated.
     jacobian_at_estimate: f64,
     /// The variable step's state: the previous interval, the growth goal, the glue's stiffness.
     step_control: StepControl,

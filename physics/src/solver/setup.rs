@@ -357,6 +357,7 @@ impl Simulation {
                 ..Default::default()
             },
             min_jacobian: 1.0,
+            stress_jacobian: 1.0,
             ritz_vector: Vec::new(),
             h_crit_bulk: None,
             jacobian_at_estimate: 1.0,

@@ -18,8 +18,9 @@ const JACOBIAN_RETRIGGER: f64 = 0.02;
 const JACOBIAN_RETRIGGER_MAX: f64 = 0.16;
 const OMEGA_MOVED: f64 = 0.05;
 const OMEGA_STILL: f64 = 0.02;
-/// Smallest Jacobian below which compression re-estimates h_crit between scheduled estimates.
-/// Below it the element loop reports the smallest J exactly; above it, at a step that makes no
+/// Smallest J where the stress is evaluated ([`Simulation::stress_jacobian`]: the Gauss points,
+/// one point's centre) below which compression re-estimates h_crit between scheduled
+/// estimates. Below it the element loop also reports the smallest J of the corners exactly; above it, at a step that makes no
 /// estimate, it may report a lower bound that is ≥ this value (`Simulation::internal_forces`).
 pub(super) const JACOBIAN_COMPRESSED: f64 = 0.9;
 /// Change of the glue's total spring stiffness Σ W g_N(α) since the last estimate, as a
@@ -71,7 +72,7 @@ pub(super) struct StepControl {
     pub damage_evolving: usize,
     /// The Jacobian change that triggers an estimate now (0: [`JACOBIAN_RETRIGGER`]).
     pub jacobian_trigger: f64,
-    /// The element of the smallest Jacobian at the last force evaluation.
+    /// The element of [`Simulation::stress_jacobian`] at the last force evaluation.
     pub compressed_element: usize,
     /// The stable-step operator's constants and buffers, kept between estimates.
     pub estimates: EstimateCache,
@@ -88,7 +89,9 @@ impl Simulation {
     ///
     /// *When*: the glue's total spring stiffness Σ W g_N(α) moved by [`SPRING_RETRIGGER`] of its
     /// initial value since the last estimate (damage, rupture); under strong compression
-    /// (smallest Jacobian below [`JACOBIAN_COMPRESSED`]) the smallest Jacobian moved by the
+    /// ([`Simulation::stress_jacobian`], the smallest J where the stress is evaluated, below
+    /// [`JACOBIAN_COMPRESSED`]; with one point the centre's, as the corners' J changes no
+    /// stiffness) that J moved by the
     /// adaptive threshold ([`JACOBIAN_RETRIGGER`]) since the last estimate (a violent impact stiffens a neo-Hookean body within a few steps,
     /// and contact is how such compression starts: contact itself adds no stiffness, its
     /// impulses are velocity-level); and at the latest every `h_crit_update_interval` steps,
@@ -114,9 +117,9 @@ impl Simulation {
         }
         let c = &self.step_control;
         let trigger = c.jacobian_trigger.max(JACOBIAN_RETRIGGER);
-        let compressed = self.min_jacobian < JACOBIAN_COMPRESSED;
+        let compressed = self.stress_jacobian < JACOBIAN_COMPRESSED;
         let strained =
-            compressed && (self.min_jacobian - self.jacobian_at_estimate).abs() > trigger;
+            compressed && (self.stress_jacobian - self.jacobian_at_estimate).abs() > trigger;
         if self.estimate_without_strain() || strained {
             let before = (2.0 / self.h_crit).powi(2);
             let est = self.update_stable_step();
@@ -130,7 +133,7 @@ impl Simulation {
                     trigger
                 };
             }
-            self.jacobian_at_estimate = self.min_jacobian;
+            self.jacobian_at_estimate = self.stress_jacobian;
             self.step_control.springs_at_estimate = self.step_control.springs_now;
             self.stats.h_crit_estimates += 1;
             self.stats.h_crit_estimate_iterations += est.iterations as u64;
@@ -220,7 +223,7 @@ impl Simulation {
     /// Between estimates the triggers of [`Simulation::next_time_step`] follow the
     /// stiffening, as before.
     pub fn update_stable_step(&mut self) -> StableStep {
-        let compressed = self.min_jacobian < JACOBIAN_COMPRESSED;
+        let compressed = self.stress_jacobian < JACOBIAN_COMPRESSED;
         let element = self.step_control.compressed_element;
         let cheap = !compressed || self.step_control.try_certify;
         let mut iterations = 0;

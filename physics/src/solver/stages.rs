@@ -171,7 +171,8 @@ impl Simulation {
         self.stats.corner_checks.skipped += asm.corner_skipped;
         let (min_j, min_e) = (asm.min_j, asm.min_element);
         self.min_jacobian = min_j;
-        self.step_control.compressed_element = min_e;
+        self.stress_jacobian = asm.min_stress_j;
+        self.step_control.compressed_element = asm.min_stress_element;
         if energy {
             self.ledger.strain = asm.strain;
             self.ledger.hourglass = asm.hourglass;
