@@ -186,7 +186,8 @@ fn pull_off_with_one_point_integration() {
     // never did): the largest residual is then O(h²) at that step, 1.1e-3 (full integration's
     // 7³ pull-off: 8.4e-4 at the same grown step). So the bound is the order, not a level:
     // halving the factor must cut the residual by ≥ 3 (order ≥ 1.58; a first-order leak gives
-    // 2), measured 4.4 and 3.3, and the level stays below 2e-3.
+    // 2), measured 4.4 and 3.3. The level: the former bound 1e-3 held at the glued step
+    // h₀ = 3.21e-4 s; O(h²) at the grown h = 4.76e-4 s scales it by (h/h₀)² = 2.2, so < 2e-3.
     let residual = |factor: f64| {
         let f = format!("scheme.time_step_factor={factor}");
         let (sim, _, _) = run(&["scheme.integration=\"reduced\"", &f]);

@@ -75,24 +75,19 @@ pub struct Assembly {
     pub corner_skipped: u64,
 }
 
-/// Per-block results of the element loop: strain energy, hourglass energy, smallest J and its
-/// element, lane groups whose exact corner check was skipped, smallest J where the stress is
+/// What a chunk of the element loop returns besides its forces: the strain and hourglass
+/// energies, the smallest J reported and its element, how many lane groups skipped the exact
+/// corner check ([`corner_bound`]; one point), and the smallest J where the stress is
 /// evaluated and its element ([`Assembly::min_stress_j`]).
-pub type ElementSums = (f64, f64, f64, usize, u32, f64, usize);
-
-/// What a one-point chunk returns besides its forces: the strain and hourglass energies, the
-/// smallest J reported and its element, and how many lane groups skipped the exact corner
-/// check ([`corner_bound`]).
 #[derive(Debug, Clone, Copy)]
-pub struct ReducedSums {
+pub struct ElementSums {
     pub strain: f64,
     pub hourglass: f64,
     pub min_j: f64,
     pub min_element: usize,
     pub skipped: u32,
-    /// The smallest centre J and its element ([`Assembly::min_stress_j`]).
-    pub min_centre_j: f64,
-    pub min_centre_element: usize,
+    pub min_stress_j: f64,
+    pub min_stress_element: usize,
 }
 
 /// Internal forces of a whole mesh: F_int(U) = Σ_e fₑ(U) (PHYSICS.md §2 and §4 stage 3).
@@ -143,30 +138,27 @@ pub fn assemble_internal_forces(
                 match rule {
                     ElementRule::Full => {
                         let (e, j, el) = chunk_forces(mesh, classes, mat, u, ptr, chunk, energy);
-                        (e, 0.0, j, el, 0, j, el)
+                        ElementSums {
+                            strain: e,
+                            hourglass: 0.0,
+                            min_j: j,
+                            min_element: el,
+                            skipped: 0,
+                            min_stress_j: j,
+                            min_stress_element: el,
+                        }
                     }
-                    ElementRule::Reduced { kappa } => {
-                        let r = chunk_forces_reduced(
-                            mesh,
-                            classes,
-                            mat,
-                            kappa,
-                            u,
-                            ptr,
-                            chunk,
-                            energy,
-                            exact_below,
-                        );
-                        (
-                            r.strain,
-                            r.hourglass,
-                            r.min_j,
-                            r.min_element,
-                            r.skipped,
-                            r.min_centre_j,
-                            r.min_centre_element,
-                        )
-                    }
+                    ElementRule::Reduced { kappa } => chunk_forces_reduced(
+                        mesh,
+                        classes,
+                        mat,
+                        kappa,
+                        u,
+                        ptr,
+                        chunk,
+                        energy,
+                        exact_below,
+                    ),
                 }
             }
         };
@@ -180,18 +172,18 @@ pub fn assemble_internal_forces(
         if let ElementRule::Reduced { .. } = rule {
             out.corner_groups += colour.iter().map(|c| c.len() as u64 / 8).sum::<u64>();
         }
-        for &(e, hg, j, el, skipped, js, els) in parts.iter() {
-            out.corner_skipped += skipped as u64;
-            out.strain += e;
-            out.hourglass += hg;
+        for p in parts.iter() {
+            out.corner_skipped += p.skipped as u64;
+            out.strain += p.strain;
+            out.hourglass += p.hourglass;
             // `!(j >= min_j)` keeps a NaN (it means non-finite displacements).
-            if !(j >= out.min_j) {
-                out.min_j = j;
-                out.min_element = el;
+            if !(p.min_j >= out.min_j) {
+                out.min_j = p.min_j;
+                out.min_element = p.min_element;
             }
-            if !(js >= out.min_stress_j) {
-                out.min_stress_j = js;
-                out.min_stress_element = els;
+            if !(p.min_stress_j >= out.min_stress_j) {
+                out.min_stress_j = p.min_stress_j;
+                out.min_stress_element = p.min_stress_element;
             }
         }
     }
@@ -215,7 +207,7 @@ simd_dispatch! {
             chunk: &[u32],
             energy: bool,
             exact_below: f64
-        ) -> ReducedSums
+        ) -> ElementSums
 }
 
 #[inline(always)]
@@ -230,7 +222,7 @@ unsafe fn chunk_forces_reduced_impl<const FMA: bool, const ISA: u8>(
     chunk: &[u32],
     energy: bool,
     exact_below: f64,
-) -> ReducedSums {
+) -> ElementSums {
     let (mut e_sum, mut hg_sum) = (0.0, 0.0);
     let mut skipped = 0u32;
     let mut min_j = f64::INFINITY;
@@ -316,14 +308,14 @@ unsafe fn chunk_forces_reduced_impl<const FMA: bool, const ISA: u8>(
         keep_min_j(j, e, &mut min_jc, &mut min_ec);
         scatter(f, conn, &fe);
     }
-    ReducedSums {
+    ElementSums {
         strain: e_sum,
         hourglass: hg_sum,
         min_j,
         min_element: min_e,
         skipped,
-        min_centre_j: min_jc,
-        min_centre_element: min_ec,
+        min_stress_j: min_jc,
+        min_stress_element: min_ec,
     }
 }
 

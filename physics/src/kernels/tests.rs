@@ -321,11 +321,11 @@ fn one_point_chunk_every_build_matches_portable_and_scalar_kernel() {
                             // Round-off of two evaluations of one determinant of |F| ~ 1.
                             let tol = 1e-12 * centre_min.abs().max(1.0);
                             assert!(
-                                (r.min_centre_j - centre_min).abs() <= tol
-                                    && (centre_j(r.min_centre_element) - centre_min).abs() <= tol,
+                                (r.min_stress_j - centre_min).abs() <= tol
+                                    && (centre_j(r.min_stress_element) - centre_min).abs() <= tol,
                                 "{name}: centre J {} (element {}) against {centre_min}",
-                                r.min_centre_j,
-                                r.min_centre_element
+                                r.min_stress_j,
+                                r.min_stress_element
                             );
                             (r.strain, r.hourglass, r.min_j, r.min_element)
                         });

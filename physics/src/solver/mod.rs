@@ -98,9 +98,9 @@ pub struct Simulation {
     pub h_crit: f64,
     pub ledger: Ledger,
     pub stats: RunStats,
-    /// Smallest Jacobian seen at the last force evaluation: exact when below 0.9 (the step
-    /// control's compression threshold) and at the steps that estimate h_crit; otherwise, with
-    /// one-point integration, possibly a lower bound of it that is itself ≥ 0.9
+    /// Smallest Jacobian seen at the last force evaluation (one point: the centre and the
+    /// corners): exact when below 0.9 and at t₀; otherwise, with one-point integration,
+    /// possibly a lower bound of it that is itself ≥ 0.9
     /// ([`crate::kernels::assemble_internal_forces`]).
     pub min_jacobian: f64,
     /// Smallest J where the stress is evaluated at the last force evaluation (the Gauss points,

@@ -20,8 +20,9 @@ const OMEGA_MOVED: f64 = 0.05;
 const OMEGA_STILL: f64 = 0.02;
 /// Smallest J where the stress is evaluated ([`Simulation::stress_jacobian`]: the Gauss points,
 /// one point's centre) below which compression re-estimates h_crit between scheduled
-/// estimates. Below it the element loop also reports the smallest J of the corners exactly; above it, at a step that makes no
-/// estimate, it may report a lower bound that is ≥ this value (`Simulation::internal_forces`).
+/// estimates. Below it the element loop also reports the corners' smallest J exactly
+/// (`Simulation::min_jacobian`); above it, after t₀, it may report a lower bound that is ≥
+/// this value (`Simulation::internal_forces`).
 pub(super) const JACOBIAN_COMPRESSED: f64 = 0.9;
 /// Change of the glue's total spring stiffness Σ W g_N(α) since the last estimate, as a
 /// fraction of its value at t = 0, that re-estimates h_crit (damage and rupture soften the
@@ -91,8 +92,8 @@ impl Simulation {
     /// initial value since the last estimate (damage, rupture); under strong compression
     /// ([`Simulation::stress_jacobian`], the smallest J where the stress is evaluated, below
     /// [`JACOBIAN_COMPRESSED`]; with one point the centre's, as the corners' J changes no
-    /// stiffness) that J moved by the
-    /// adaptive threshold ([`JACOBIAN_RETRIGGER`]) since the last estimate (a violent impact stiffens a neo-Hookean body within a few steps,
+    /// stiffness) that J moved by the adaptive threshold ([`JACOBIAN_RETRIGGER`]) since the
+    /// last estimate (a violent impact stiffens a neo-Hookean body within a few steps,
     /// and contact is how such compression starts: contact itself adds no stiffness, its
     /// impulses are velocity-level); and at the latest every `h_crit_update_interval` steps,
     /// for stiffening the indicators miss (SVK in tension). Each estimate is warm-started from
@@ -162,11 +163,8 @@ impl Simulation {
         }
     }
 
-    /// Whether [`Self::next_time_step`] of this step re-estimates h_crit whatever the smallest
-    /// Jacobian: at the scheduled steps, and when the glue's springs softened while h may
-    /// grow. Known before stage 3 (it reads only what stages 1–2 leave unchanged: the step
-    /// count, h, the springs summed by the last stage 9), so stage 3 can report the smallest
-    /// J exactly at these steps, where it becomes [`Simulation::jacobian_at_estimate`].
+    /// Whether [`Self::next_time_step`] of this step re-estimates h_crit whatever the Jacobian:
+    /// at the scheduled steps, and when the glue's springs softened while h may grow.
     pub(super) fn estimate_without_strain(&self) -> bool {
         let every = self.model.scheme.h_crit_update_interval as u64;
         if every == 0 {

@@ -150,12 +150,12 @@ impl Simulation {
             blocks: &self.blocks,
             team: self.team.as_ref(),
         };
-        // The consumers of the smallest J: the inversion check (J ≤ 0) and the step control
-        // (`next_time_step`: J < JACOBIAN_COMPRESSED, and J itself at an estimate). So J is
-        // exact below JACOBIAN_COMPRESSED, and everywhere at a step that estimates h_crit
-        // whatever J (and at t₀): else the one-point kernel may skip the corner check where
-        // its bound shows J ≥ JACOBIAN_COMPRESSED ([`crate::kernels::corner_bound`]).
-        let exact_below = if self.step_count == 0 || self.estimate_without_strain() {
+        // The smallest J of the corners has one consumer in the step, the inversion check
+        // (J ≤ 0); `min_jacobian` also reports it, exact below JACOBIAN_COMPRESSED. So the
+        // one-point kernel may skip the corner check where its bound shows J ≥
+        // JACOBIAN_COMPRESSED ([`crate::kernels::corner_bound`]); exact everywhere at t₀. The
+        // step control reads the stress points' J (`stress_jacobian`), always exact.
+        let exact_below = if self.step_count == 0 {
             f64::INFINITY
         } else {
             JACOBIAN_COMPRESSED
