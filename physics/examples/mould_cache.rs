@@ -28,6 +28,7 @@ use decohesion_physics::mould::surface::{NearLists, NO_FEATURE};
 use decohesion_physics::mould::{Shape, SurfaceMesh};
 use decohesion_physics::scene::load_scene;
 use decohesion_physics::solver::Simulation;
+use decohesion_physics::timing::median;
 use std::time::Instant;
 
 const SCENE: &str = r#"
@@ -52,11 +53,6 @@ faces = "z-"
 mould = "ribs"
 mu = 0.3
 "#;
-
-fn median(mut x: Vec<f64>) -> f64 {
-    x.sort_by(f64::total_cmp);
-    x[x.len() / 2]
-}
 
 /// A simulation of the scene in `dir`, cold or warm.
 fn simulation(dir: &std::path::Path, cold: bool) -> Simulation {
@@ -120,7 +116,11 @@ fn time_queries(
     }
     assert!(sink.is_finite());
     let per = 1e9 / x.len() as f64;
-    (median(cold) * per, median(warm) * per, median(listed) * per)
+    (
+        median(&mut cold) * per,
+        median(&mut warm) * per,
+        median(&mut listed) * per,
+    )
 }
 
 fn main() {
@@ -169,7 +169,7 @@ fn main() {
     let (q_cold, q_bounded, q_warm) = time_queries(&s, &now, &primed, &near, repeats.max(5));
     let st = sim.mould_near_stats()[1];
     let per_query = |n: u64| n as f64 / st.queries.max(1) as f64;
-    let (ws, cs) = (median(warm_step), median(cold_step));
+    let (ws, cs) = (median(&mut warm_step), median(&mut cold_step));
     println!(
         "ribs {:.1} mm high: {} triangles, {nodes} contact nodes ({in_contact} touching after {steps} steps), {} hex8",
         amplitude * 1e3,
@@ -202,8 +202,8 @@ fn main() {
     );
     println!(
         "stages 1–2 (positions, poses, closest points) by the stage clock: cold {:.0} %, warm {:.0} %",
-        100.0 * median(cold_share),
-        100.0 * median(warm_share)
+        100.0 * median(&mut cold_share),
+        100.0 * median(&mut warm_share)
     );
     std::fs::remove_dir_all(&dir).ok();
 }

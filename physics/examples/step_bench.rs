@@ -19,18 +19,9 @@
 
 use decohesion_physics::scene::load_scene;
 use decohesion_physics::solver::{Simulation, StageTimes};
+use decohesion_physics::timing::median;
 use std::path::Path;
 use std::time::Instant;
-
-fn median(v: &mut [f64]) -> f64 {
-    v.sort_by(f64::total_cmp);
-    let n = v.len();
-    if n % 2 == 1 {
-        v[n / 2]
-    } else {
-        0.5 * (v[n / 2 - 1] + v[n / 2])
-    }
-}
 
 /// The stage times as (name, seconds) pairs.
 fn stages(s: &StageTimes) -> [(&'static str, f64); 6] {

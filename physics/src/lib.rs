@@ -31,3 +31,5 @@ pub mod scene;
 pub mod solver;
 /// The persistent thread team of the step's parallel loops.
 pub mod team;
+/// The median the benchmarks report.
+pub mod timing;

@@ -11,19 +11,9 @@ use anyhow::{anyhow, bail, Result};
 use decohesion_physics::kernels::flops;
 use decohesion_physics::kernels::simd::{Isa, ISA_VARIABLE};
 use decohesion_physics::model::Integration;
+use decohesion_physics::timing::median;
 use std::path::Path;
 use std::time::Instant;
-
-/// The median of `v` (sorted in place).
-fn median(v: &mut [f64]) -> f64 {
-    v.sort_by(f64::total_cmp);
-    let n = v.len();
-    if n % 2 == 1 {
-        v[n / 2]
-    } else {
-        0.5 * (v[n / 2 - 1] + v[n / 2])
-    }
-}
 
 /// Measures and prints the cost of a step on cubes of `sizes`³ elements.
 pub fn bench(
