@@ -1,28 +1,28 @@
 //! The full-integration (2×2×2 Gauss) kernel on 8 elements at once, one element per SIMD lane
-//! (PHYSICS.md §2): for each Gauss point q in turn, H_q = Σₐ uₐ ⊗ ∇ₓNₐ(ξ_q), P_q = P(I + H_q)
-//! and J_q on the 8 elements; then fₐ = Σ_q P_q (w_q det J₀ ∇ₓNₐ(ξ_q)), Ψ = Σ_q w_q det J₀ ψ_q,
-//! and min_q J_q per element.
+//! (PHYSICS.md §2): the parent derivatives of the displacement at the 8 Gauss points by sum
+//! factorisation (`material::tensor`), then for each Gauss point q in turn
+//! H_q = Σₐ uₐ ⊗ ∇ₓNₐ(ξ_q), P_q = P(I + H_q) and J_q on the 8 elements; the forces
+//! fₐ = Σ_q P_q (w_q det J₀ ∇ₓNₐ(ξ_q)) by the transpose, Ψ = Σ_q w_q det J₀ ψ_q, and min_q J_q
+//! per element.
 //!
 //! Each lane carries out the operations of the scalar kernel
 //! ([`crate::material::element_forces`], whose lanes are the Gauss points of one element) in
-//! the same order: H accumulated node after node, the same pointwise stress
-//! ([`first_piola_lanes`]), each row product (r₀g₀ + r₁g₁) + r₂g₂, the Gauss points summed
-//! pairwise ((q₀ + q₁) + (q₂ + q₃)) + ((q₄ + q₅) + (q₆ + q₇)), the energy point after point and
-//! min J by the same tree. So every element gets the scalar kernel's bits, and the golden runs
-//! do not move.
+//! the same order: the same sum factorisation (one function for both), the same pointwise
+//! stress ([`crate::material::first_piola_lanes_into`]), each row product (r₀g₀ + r₁g₁) + r₂g₂,
+//! the energy point after point and min J by the same tree. So every element gets the scalar
+//! kernel's bits.
 
-use super::simd::ISA_AVX2;
 use crate::material::{
-    displacement_gradient, first_piola_lanes_into, row_dot, F64x8, Law, Material, Real,
+    first_piola_lanes_into, parent_forces, parent_gradient, row_dot, F64x8, Law, Material, Real,
 };
 use crate::mesh::GaussData;
 
 /// The reference data of the 8 elements of a lane group at the Gauss points.
 pub(crate) trait GaussLanes {
-    /// ∂Nₐ/∂Xⱼ at Gauss point q, per lane [1/m].
-    fn grad(&self, a: usize, j: usize, q: usize) -> F64x8;
-    /// w_q det J₀ ∂Nₐ/∂Xⱼ at Gauss point q, per lane [m²].
-    fn wgrad(&self, a: usize, j: usize, q: usize) -> F64x8;
+    /// ⅛ ∂ξ_d/∂Xⱼ at Gauss point q, per lane [1/m] ([`GaussData::jinv`]).
+    fn jinv(&self, d: usize, j: usize, q: usize) -> F64x8;
+    /// ⅛ w_q det J₀ ∂ξ_d/∂Xⱼ at Gauss point q, per lane [m²] ([`GaussData::wjinv`]).
+    fn wjinv(&self, d: usize, j: usize, q: usize) -> F64x8;
     /// w_q det J₀, per lane [m³].
     fn wdet(&self, q: usize) -> F64x8;
 }
@@ -32,12 +32,12 @@ pub(crate) struct OneClass<'a>(pub &'a GaussData);
 
 impl GaussLanes for OneClass<'_> {
     #[inline(always)]
-    fn grad(&self, a: usize, j: usize, q: usize) -> F64x8 {
-        F64x8::splat(self.0.grad[a][j][q])
+    fn jinv(&self, d: usize, j: usize, q: usize) -> F64x8 {
+        F64x8::splat(self.0.jinv[d][j][q])
     }
     #[inline(always)]
-    fn wgrad(&self, a: usize, j: usize, q: usize) -> F64x8 {
-        F64x8::splat(self.0.wgrad[a][j][q])
+    fn wjinv(&self, d: usize, j: usize, q: usize) -> F64x8 {
+        F64x8::splat(self.0.wjinv[d][j][q])
     }
     #[inline(always)]
     fn wdet(&self, q: usize) -> F64x8 {
@@ -45,11 +45,11 @@ impl GaussLanes for OneClass<'_> {
     }
 }
 
-/// Eight elements of several classes: each lane's data staged (`[q][a][j]`, lanes innermost).
+/// Eight elements of several classes: each lane's data staged (`[q][d][j]`, lanes innermost).
 #[derive(Clone)]
 pub(crate) struct LaneGauss {
-    grad: [[[F64x8; 3]; 8]; 8],
-    wgrad: [[[F64x8; 3]; 8]; 8],
+    jinv: [[[F64x8; 3]; 3]; 8],
+    wjinv: [[[F64x8; 3]; 3]; 8],
     wdet: [F64x8; 8],
 }
 
@@ -57,8 +57,8 @@ impl Default for LaneGauss {
     fn default() -> Self {
         let z = F64x8::splat(0.0);
         LaneGauss {
-            grad: [[[z; 3]; 8]; 8],
-            wgrad: [[[z; 3]; 8]; 8],
+            jinv: [[[z; 3]; 3]; 8],
+            wjinv: [[[z; 3]; 3]; 8],
             wdet: [z; 8],
         }
     }
@@ -69,10 +69,10 @@ impl LaneGauss {
     #[inline(always)]
     pub(crate) fn set(&mut self, l: usize, gd: &GaussData) {
         for q in 0..8 {
-            for a in 0..8 {
+            for d in 0..3 {
                 for j in 0..3 {
-                    self.grad[q][a][j].0[l] = gd.grad[a][j][q];
-                    self.wgrad[q][a][j].0[l] = gd.wgrad[a][j][q];
+                    self.jinv[q][d][j].0[l] = gd.jinv[d][j][q];
+                    self.wjinv[q][d][j].0[l] = gd.wjinv[d][j][q];
                 }
             }
             self.wdet[q].0[l] = gd.wdet[q];
@@ -82,12 +82,12 @@ impl LaneGauss {
 
 impl GaussLanes for LaneGauss {
     #[inline(always)]
-    fn grad(&self, a: usize, j: usize, q: usize) -> F64x8 {
-        self.grad[q][a][j]
+    fn jinv(&self, d: usize, j: usize, q: usize) -> F64x8 {
+        self.jinv[q][d][j]
     }
     #[inline(always)]
-    fn wgrad(&self, a: usize, j: usize, q: usize) -> F64x8 {
-        self.wgrad[q][a][j]
+    fn wjinv(&self, d: usize, j: usize, q: usize) -> F64x8 {
+        self.wjinv[q][d][j]
     }
     #[inline(always)]
     fn wdet(&self, q: usize) -> F64x8 {
@@ -105,46 +105,15 @@ fn min8(x: F64x8, y: F64x8) -> F64x8 {
     F64x8(r)
 }
 
-/// H = Σₐ uₐ ⊗ gₐ of 8 elements at one point into `h`, `u[a][i][l]` and `g(a, j)` per lane,
-/// as [`displacement_gradient`] on [`F64x8`] (each Hᵢⱼ accumulated node after node, fused
-/// when `FMA`: the same bits) but 4 lanes at a time: the nine sums of 4 lanes fill nine of
-/// AVX2's 16 registers, where the nine sums of 8 lanes (18 registers) spilled to the stack
-/// and each fused multiply–add waited on a store and a reload.
-#[inline(always)]
-pub(crate) fn gradient_by_halves<const FMA: bool>(
-    u: &[[[f64; 8]; 3]; 8],
-    g: impl Fn(usize, usize) -> F64x8,
-    h: &mut [[F64x8; 3]; 3],
-) {
-    for half in [0, 4] {
-        let mut acc = [[[0.0f64; 4]; 3]; 3];
-        for a in 0..8 {
-            for (i, acc_i) in acc.iter_mut().enumerate() {
-                for (j, acc_ij) in acc_i.iter_mut().enumerate() {
-                    let gj = g(a, j);
-                    for (l, s) in acc_ij.iter_mut().enumerate() {
-                        *s = u[a][i][half + l].fmadd::<FMA>(gj.0[half + l], *s);
-                    }
-                }
-            }
-        }
-        for i in 0..3 {
-            for j in 0..3 {
-                for l in 0..4 {
-                    h[i][j].0[half + l] = acc[i][j][l];
-                }
-            }
-        }
-    }
-}
-
-/// The per-point work arrays of [`full_lanes`] (P and J at the 8 Gauss points, H at one),
-/// kept by the caller across lane groups: every entry is written before it is read, and a
-/// fresh zeroed array per group cost the AVX2 build a 4.6 kB `memset` call per group (its
-/// ymm stores exceed the compiler's inline limit, AVX-512's zmm stores do not).
+/// The per-point work arrays of [`full_lanes`] (the parent derivatives, then Q, at the 8
+/// Gauss points; P and H at one), kept by the caller across lane groups: every entry is
+/// written before it is read, and a fresh zeroed array per group cost the AVX2 build a
+/// `memset` call per group (its ymm stores exceed the compiler's inline limit, AVX-512's zmm
+/// stores do not).
 #[derive(Clone)]
 pub(crate) struct FullScratch {
-    p: [[[F64x8; 3]; 3]; 8],
+    dq: [[[F64x8; 3]; 3]; 8],
+    p: [[F64x8; 3]; 3],
     h: [[F64x8; 3]; 3],
 }
 
@@ -152,7 +121,8 @@ impl Default for FullScratch {
     fn default() -> Self {
         let z = F64x8::splat(0.0);
         FullScratch {
-            p: [[[z; 3]; 3]; 8],
+            dq: [[[z; 3]; 3]; 8],
+            p: [[z; 3]; 3],
             h: [[z; 3]; 3],
         }
     }
@@ -160,17 +130,12 @@ impl Default for FullScratch {
 
 /// Internal nodal forces of 8 elements, fₐ = Σ_q w_q det J₀ P(F_q) ∇ₓNₐ(ξ_q) (PHYSICS.md §2),
 /// element l in lane l: `u[a][i][l]` the displacement of its node a, `f[a][i][l]` its force.
-/// Returns per lane (strain energy Σ_q w_q det J₀ ψ_q if `ENERGY`, else 0; min_q J_q), each
-/// lane bit-identical to [`crate::material::element_forces`] on that element. The AVX2 build
-/// (`ISA`) computes H 4 lanes at a time ([`gradient_by_halves`], for its 16 registers).
+/// By sum factorisation (`material::tensor`): the parent derivatives D_q = 8 ∂u/∂ξ (T1), then
+/// per point H_q = D_q·(⅛ J₀⁻¹), P_q and Q_q = P_q·(⅛ w_q det J₀ J₀⁻ᵀ), then the forces by the
+/// transpose (T2). Returns per lane (strain energy Σ_q w_q det J₀ ψ_q if `ENERGY`, else 0;
+/// min_q J_q), each lane bit-identical to [`crate::material::element_forces`] on that element.
 #[inline(always)]
-pub(crate) fn full_lanes<
-    L: Law,
-    const ENERGY: bool,
-    const FMA: bool,
-    const ISA: u8,
-    G: GaussLanes,
->(
+pub(crate) fn full_lanes<L: Law, const ENERGY: bool, const FMA: bool, G: GaussLanes>(
     mat: &Material,
     g: &G,
     u: &[[[f64; 8]; 3]; 8],
@@ -178,31 +143,33 @@ pub(crate) fn full_lanes<
     work: &mut FullScratch,
 ) -> (F64x8, F64x8) {
     let zero = F64x8::splat(0.0);
-    let FullScratch { p, h } = work;
+    let FullScratch { dq, p, h } = work;
     let mut det = [zero; 8];
     let mut energy = zero;
+    parent_gradient::<F64x8, FMA>(|a, i| F64x8(u[a][i]), dq);
     for q in 0..8 {
-        if ISA == ISA_AVX2 {
-            gradient_by_halves::<FMA>(u, |a, j| g.grad(a, j, q), h);
-        } else {
-            *h = displacement_gradient::<F64x8, FMA>(|a, i| F64x8(u[a][i]), |a, j| g.grad(a, j, q));
+        for (i, h_i) in h.iter_mut().enumerate() {
+            for (j, h_ij) in h_i.iter_mut().enumerate() {
+                let jinv = [g.jinv(0, j, q), g.jinv(1, j, q), g.jinv(2, j, q)];
+                *h_ij = row_dot::<_, FMA>(&dq[q][i], jinv);
+            }
         }
-        let (psi, jq) = first_piola_lanes_into::<L, ENERGY, FMA>(mat, h, &mut p[q]);
+        let (psi, jq) = first_piola_lanes_into::<L, ENERGY, FMA>(mat, h, p);
         det[q] = jq;
         if ENERGY {
             energy = energy + psi * g.wdet(q);
         }
-    }
-    for a in 0..8 {
-        for i in 0..3 {
-            let mut acc = [zero; 8];
-            for q in 0..8 {
-                let w = [g.wgrad(a, 0, q), g.wgrad(a, 1, q), g.wgrad(a, 2, q)];
-                acc[q] = row_dot::<_, FMA>(&p[q][i], w);
+        for (i, dq_i) in dq[q].iter_mut().enumerate() {
+            for (k, dq_ik) in dq_i.iter_mut().enumerate() {
+                let w = [g.wjinv(k, 0, q), g.wjinv(k, 1, q), g.wjinv(k, 2, q)];
+                *dq_ik = row_dot::<_, FMA>(&p[i], w);
             }
-            f[a][i] = (((acc[0] + acc[1]) + (acc[2] + acc[3]))
-                + ((acc[4] + acc[5]) + (acc[6] + acc[7])))
-                .0;
+        }
+    }
+    let forces = parent_forces::<F64x8, FMA>(|q, i, k| dq[q][i][k]);
+    for (f_a, forces_a) in f.iter_mut().zip(&forces) {
+        for (f_ai, v) in f_a.iter_mut().zip(forces_a) {
+            *f_ai = v.0;
         }
     }
     let d = det;

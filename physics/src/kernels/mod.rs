@@ -430,9 +430,9 @@ fn full_group<const FMA: bool, const ISA: u8, G: full::GaussLanes>(
     energy: bool,
 ) -> (F64x8, F64x8) {
     with_law!(mat.model, L => if energy {
-        full::full_lanes::<L, true, FMA, ISA, G>(mat, g, ul, fl, work)
+        full::full_lanes::<L, true, FMA, G>(mat, g, ul, fl, work)
     } else {
-        full::full_lanes::<L, false, FMA, ISA, G>(mat, g, ul, fl, work)
+        full::full_lanes::<L, false, FMA, G>(mat, g, ul, fl, work)
     })
 }
 

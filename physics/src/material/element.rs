@@ -11,6 +11,7 @@ use super::kinematics::{
     Deformation, Grouped, Sequential,
 };
 use super::real::{F64x8, Mat3, Real};
+use super::tensor::{parent_forces, parent_gradient};
 use super::{first_piola, with_law, Law, Material};
 use crate::mesh::{CentreData, GaussData};
 
@@ -84,7 +85,9 @@ pub fn element_forces<const ENERGY: bool, const FMA: bool>(
     with_law!(mat.model, L => full::<L, ENERGY, FMA>(mat, gd, u, f))
 }
 
-/// [`element_forces`] for the law `L`.
+/// [`element_forces`] for the law `L`: the parent derivatives by sum factorisation
+/// ([`parent_gradient`], (T1) of `material::tensor`), H_q = D_q·(⅛ J₀⁻¹) and P at the 8 points
+/// in lanes, Q_q = P_q·(w_q det J₀ ⅛ J₀⁻ᵀ), the forces by the transpose ([`parent_forces`], (T2)).
 #[inline(always)]
 fn full<L: Law, const ENERGY: bool, const FMA: bool>(
     mat: &Material,
@@ -92,20 +95,25 @@ fn full<L: Law, const ENERGY: bool, const FMA: bool>(
     u: &[[f64; 3]; 8],
     f: &mut [[f64; 3]; 8],
 ) -> (f64, f64) {
-    let h = displacement_gradient::<F64x8, FMA>(
-        |a, i| F64x8::splat(u[a][i]),
-        |a, j| F64x8(gd.grad[a][j]),
-    );
+    let mut dq = [[[0.0f64; 3]; 3]; 8];
+    parent_gradient::<f64, FMA>(|a, i| u[a][i], &mut dq);
+    let d: Mat3<F64x8> = std::array::from_fn(|i| {
+        std::array::from_fn(|k| F64x8(std::array::from_fn(|q| dq[q][i][k])))
+    });
+    let jinv = |j: usize| {
+        [
+            F64x8(gd.jinv[0][j]),
+            F64x8(gd.jinv[1][j]),
+            F64x8(gd.jinv[2][j]),
+        ]
+    };
+    let h: Mat3<F64x8> =
+        std::array::from_fn(|i| std::array::from_fn(|j| row_dot::<_, FMA>(&d[i], jinv(j))));
     let (p, psi, det) = first_piola_lanes::<L, ENERGY, FMA>(mat, &h);
-    // f_a = Σ_q Σ_j P_ij w det J₀ ∂N_a/∂X_j, the Gauss points summed pairwise.
-    for a in 0..8 {
-        let g = lanes3(&gd.wgrad[a]);
-        for i in 0..3 {
-            let acc = row_dot::<_, FMA>(&p[i], g).0;
-            f[a][i] =
-                ((acc[0] + acc[1]) + (acc[2] + acc[3])) + ((acc[4] + acc[5]) + (acc[6] + acc[7]));
-        }
-    }
+    let q: Mat3<F64x8> = std::array::from_fn(|i| {
+        std::array::from_fn(|k| row_dot::<_, FMA>(&p[i], lanes3(&gd.wjinv[k])))
+    });
+    *f = parent_forces::<f64, FMA>(|pt, i, k| q[i][k].0[pt]);
     let mut energy = 0.0;
     if ENERGY {
         for q in 0..8 {

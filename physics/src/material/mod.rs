@@ -15,6 +15,7 @@
 pub mod element;
 mod kinematics;
 pub mod real;
+mod tensor;
 
 pub(crate) use element::first_piola_lanes_into;
 pub use element::{
@@ -23,6 +24,7 @@ pub use element::{
 };
 pub(crate) use kinematics::{displacement_gradient, hourglass_energy, hourglass_modes, row_dot};
 pub use real::{F64x8, Mat3, Real};
+pub(crate) use tensor::{parent_forces, parent_gradient};
 
 use kinematics::{cofactor, green_lagrange, id};
 pub use kinematics::{Deformation, FTimesS, Grouped, Sequential};

@@ -60,6 +60,11 @@ pub struct GaussData {
     pub wgrad: [[[f64; 8]; 3]; 8],
     /// Integration weight times reference Jacobian, w_q det J₀(ξ_q) [m³].
     pub wdet: [f64; 8],
+    /// ⅛ ∂ξ_d/∂Xⱼ at each Gauss point, `jinv[d][j][q]` [1/m]: what the sum-factorised kernels
+    /// turn the parent derivatives 8 ∂u/∂ξ into H with (`material::tensor`, (T1)).
+    pub jinv: [[[f64; 8]; 3]; 3],
+    /// The same times w_q det J₀(ξ_q), `wjinv[d][j][q]` [m²] (`material::tensor`, (T2)).
+    pub wjinv: [[[f64; 8]; 3]; 3],
 }
 
 /// Error in the reference geometry of an element (inverted or degenerate hexahedron).
@@ -77,6 +82,8 @@ impl GaussData {
             grad: [[[0.0; 8]; 3]; 8],
             wgrad: [[[0.0; 8]; 3]; 8],
             wdet: [0.0; 8],
+            jinv: [[[0.0; 8]; 3]; 3],
+            wjinv: [[[0.0; 8]; 3]; 3],
         };
         for (q, xi) in gauss_points().iter().enumerate() {
             let dn = shape_derivatives(*xi);
@@ -102,6 +109,13 @@ impl GaussData {
                 }
             }
             gd.wdet[q] = det;
+            for d in 0..3 {
+                for jdir in 0..3 {
+                    // ⅛ is a power of two: exact.
+                    gd.jinv[d][jdir][q] = 0.125 * jinv[(d, jdir)];
+                    gd.wjinv[d][jdir][q] = 0.125 * (jinv[(d, jdir)] * det);
+                }
+            }
         }
         Ok(gd)
     }

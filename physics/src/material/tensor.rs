@@ -1,0 +1,268 @@
+//! Sum factorisation of the trilinear hexahedron at its 2×2×2 Gauss points (PHYSICS.md §2):
+//! the parent-frame displacement gradient at the 8 points, and its transpose, which turns the
+//! 8 points' stresses into the 8 nodal forces. Both kernels of full integration (the scalar
+//! one, whose lanes are the Gauss points, and the lane one, whose lanes are elements) go
+//! through these two functions, so they share every operation.
+//!
+//! With the node signs sₐ = (sₐ^ξ, sₐ^η, sₐ^ζ) ∈ {±1}³ ([`crate::mesh::HEX_CORNERS`]),
+//! ∂Nₐ/∂ξ_d = ⅛ sₐ^d (1 + sₐ^{t₁} t₁)(1 + sₐ^{t₂} t₂), t₁ < t₂ the two other directions. So
+//!
+//! ```text
+//! 8 ∂u/∂ξ_d (t₁, t₂) = Σ_{s₁,s₂ = ±1} (1 + s₁t₁)(1 + s₂t₂) E_d(s₁, s₂)          (T1)
+//! ```
+//!
+//! with E_d(s₁, s₂) = u(+, s₁, s₂) − u(−, s₁, s₂) the difference along the edge of direction d
+//! at (s₁, s₂): 8 ∂u/∂ξ_d does not depend on ξ_d, and at the 4 points (t₁, t₂) ∈ {±g}²
+//! (g = 1/√3) it is a bilinear interpolation, taken one direction at a time as
+//! (a + b) + t (b − a) (the mean and the slope, one multiply–add per point). Then
+//! H_q = Σ_d 8 ∂u/∂ξ_d (ξ_q) ⊗ (⅛ ∂ξ_d/∂X) (PHYSICS.md §2, H = Σₐ uₐ ⊗ ∇ₓNₐ). The forces
+//! fₐ = Σ_q w_q det J₀ P_q ∇ₓNₐ(ξ_q) become, with Q_q = w_q det J₀ P_q (⅛ ∂ξ/∂X)ᵀ,
+//!
+//! ```text
+//! fₐ = Σ_d sₐ^d Σ_{t₁,t₂} (1 + sₐ^{t₁} t₁)(1 + sₐ^{t₂} t₂) (Q_{(−,t₁,t₂)} + Q_{(+,t₁,t₂)})_d   (T2)
+//! ```
+//!
+//! the transpose of (T1), taken in the reverse order. Per element and component: 36
+//! differences and 9 × 24 flops for the 72 parent derivatives, where Σₐ uₐ ⊗ ∇ₓNₐ point by point
+//! took 8 × 144; the forces likewise (README, Performance, the flop counts).
+
+use super::real::Real;
+
+/// The Gauss coordinate g = 1/√3 (`mesh::gauss_points`; equal bits, tested).
+pub(crate) const GAUSS: f64 = 0.577_350_269_189_625_8;
+
+/// The node of [`crate::mesh::HEX_CORNERS`] whose signs are `b` (0 for −1, 1 for +1).
+const fn node(b: [usize; 3]) -> usize {
+    let face = match (b[0], b[1]) {
+        (0, 0) => 0,
+        (1, 0) => 1,
+        (1, 1) => 2,
+        _ => 3,
+    };
+    face + 4 * b[2]
+}
+
+/// The signs of node (or Gauss point) `a` (0 for −1, 1 for +1), the inverse of [`node`].
+const fn bits(a: usize) -> [usize; 3] {
+    let face = a % 4;
+    let (b0, b1) = match face {
+        0 => (0, 0),
+        1 => (1, 0),
+        2 => (1, 1),
+        _ => (0, 1),
+    };
+    [b0, b1, a / 4]
+}
+
+/// The two directions other than d, increasing.
+const OTHERS: [[usize; 2]; 3] = [[1, 2], [0, 2], [0, 1]];
+
+/// `EDGES[d][s₁ + 2 s₂]` = (the node at −1, the node at +1) along direction d at the other two
+/// signs (s₁, s₂) (0 for −1, 1 for +1).
+const EDGES: [[(usize, usize); 4]; 3] = {
+    let mut e = [[(0, 0); 4]; 3];
+    let mut d = 0;
+    while d < 3 {
+        let mut k = 0;
+        while k < 4 {
+            let mut b = [0; 3];
+            b[OTHERS[d][0]] = k % 2;
+            b[OTHERS[d][1]] = k / 2;
+            b[d] = 0;
+            let minus = node(b);
+            b[d] = 1;
+            e[d][k] = (minus, node(b));
+            k += 1;
+        }
+        d += 1;
+    }
+    e
+};
+
+/// `AT[d][q]` = the index p = b₁ + 2 b₂ of the other two coordinates of Gauss point q for
+/// direction d (b = 0 at −g, 1 at +g): where (T1)'s 4 values go, and the edge (T2) feeds.
+const AT: [[usize; 8]; 3] = {
+    let mut at = [[0; 8]; 3];
+    let mut d = 0;
+    while d < 3 {
+        let mut q = 0;
+        while q < 8 {
+            let b = bits(q);
+            at[d][q] = b[OTHERS[d][0]] + 2 * b[OTHERS[d][1]];
+            q += 1;
+        }
+        d += 1;
+    }
+    at
+};
+
+/// Whether node a's sign along d is +1.
+const PLUS: [[bool; 3]; 8] = {
+    let mut p = [[false; 3]; 8];
+    let mut a = 0;
+    while a < 8 {
+        let b = bits(a);
+        p[a] = [b[0] == 1, b[1] == 1, b[2] == 1];
+        a += 1;
+    }
+    p
+};
+
+/// Σ_{s₁,s₂} (1 + s₁t₁)(1 + s₂t₂) e[s₁ + 2 s₂] at the 4 points (t₁, t₂) ∈ {±g}², index
+/// b₁ + 2 b₂ (T1): along t₁ then t₂, each as (a + b) + t (b − a) (fused when `FMA`). 24 flops.
+#[inline(always)]
+fn interpolate<T: Real, const FMA: bool>(e: [T; 4]) -> [T; 4] {
+    let (mg, pg) = (T::splat(-GAUSS), T::splat(GAUSS));
+    let along = |a: T, b: T| {
+        let (m, s) = (a + b, b - a);
+        [s.fmadd::<FMA>(mg, m), s.fmadd::<FMA>(pg, m)]
+    };
+    let v0 = along(e[0], e[1]);
+    let v1 = along(e[2], e[3]);
+    let w0 = along(v0[0], v1[0]);
+    let w1 = along(v0[1], v1[1]);
+    [w0[0], w1[0], w0[1], w1[1]]
+}
+
+/// The transpose of [`interpolate`]: Σ_{t₁,t₂} (1 + s₁t₁)(1 + s₂t₂) r[b₁ + 2 b₂] for the 4
+/// sign pairs (s₁, s₂), index s₁ + 2 s₂, along t₂ then t₁ (T2). 24 flops.
+#[inline(always)]
+fn spread<T: Real, const FMA: bool>(r: [T; 4]) -> [T; 4] {
+    let (mg, pg) = (T::splat(-GAUSS), T::splat(GAUSS));
+    let along = |a: T, b: T| {
+        let (m, s) = (a + b, b - a);
+        [s.fmadd::<FMA>(mg, m), s.fmadd::<FMA>(pg, m)]
+    };
+    // v[b₁] = the sums over t₂ for s₂ = −1, +1.
+    let v0 = along(r[0], r[2]);
+    let v1 = along(r[1], r[3]);
+    let g0 = along(v0[0], v1[0]);
+    let g1 = along(v0[1], v1[1]);
+    [g0[0], g0[1], g1[0], g1[1]]
+}
+
+/// 8 ∂uᵢ/∂ξ_d at the 8 Gauss points (T1) into `out[q][i][d]`, `u(a, i)` the displacement of
+/// node a: 36 edge differences, then [`interpolate`] per direction and component. 252 flops.
+#[inline(always)]
+pub(crate) fn parent_gradient<T: Real, const FMA: bool>(
+    u: impl Fn(usize, usize) -> T,
+    out: &mut [[[T; 3]; 3]; 8],
+) {
+    for d in 0..3 {
+        for i in 0..3 {
+            let edge = |k: usize| u(EDGES[d][k].1, i) - u(EDGES[d][k].0, i);
+            let e = [edge(0), edge(1), edge(2), edge(3)];
+            let w = interpolate::<T, FMA>(e);
+            for (q, out_q) in out.iter_mut().enumerate() {
+                out_q[i][d] = w[AT[d][q]];
+            }
+        }
+    }
+}
+
+/// The nodal forces fₐᵢ = Σ_d sₐ^d Σ_q 8 ∂Nₐ/∂ξ_d (ξ_q) / sₐ^d · Q_q,id of (T2), `q(q, i, d)`
+/// the point's Q: the two points along d summed (−g first), [`spread`], then per node
+/// (sₐ^ξ G_ξ ± G_η) ± G_ζ. 300 flops.
+#[inline(always)]
+pub(crate) fn parent_forces<T: Real, const FMA: bool>(
+    q: impl Fn(usize, usize, usize) -> T,
+) -> [[T; 3]; 8] {
+    let mut f = [[T::splat(0.0); 3]; 8];
+    for i in 0..3 {
+        let mut g = [[T::splat(0.0); 4]; 3];
+        for (d, g_d) in g.iter_mut().enumerate() {
+            let mut r = [T::splat(0.0); 4];
+            for (k, r_k) in r.iter_mut().enumerate() {
+                // The points at −g and +g along d, at the other coordinates k.
+                let (minus, plus) = EDGES[d][k];
+                *r_k = q(minus, i, d) + q(plus, i, d);
+            }
+            *g_d = spread::<T, FMA>(r);
+        }
+        for (a, f_a) in f.iter_mut().enumerate() {
+            let b = bits(a);
+            let at = |d: usize| g[d][b[OTHERS[d][0]] + 2 * b[OTHERS[d][1]]];
+            // No negation: a sign change would give NaNs of both signs (an inverted
+            // element), and which one a sum of two returns depends on the operand order the
+            // compiler picks, so the AVX2 and AVX-512 builds would differ in their bits.
+            // Start from the first + sign: two sums or differences per node, three for the
+            // node of signs (−, −, −).
+            let pm = |s: T, d: usize| if PLUS[a][d] { s + at(d) } else { s - at(d) };
+            f_a[i] = match PLUS[a] {
+                [true, _, _] => pm(pm(at(0), 1), 2),
+                [false, true, _] => pm(at(1) - at(0), 2),
+                [false, false, true] => (at(2) - at(0)) - at(1),
+                [false, false, false] => ((T::splat(0.0) - at(0)) - at(1)) - at(2),
+            };
+        }
+    }
+    f
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::{gauss_points, shape_derivatives, HEX_CORNERS};
+
+    #[test]
+    fn gauss_coordinate_is_the_mesh_one() {
+        assert_eq!(GAUSS.to_bits(), (1.0 / 3f64.sqrt()).to_bits());
+        assert_eq!(gauss_points()[6][0].to_bits(), GAUSS.to_bits());
+    }
+
+    #[test]
+    fn tables_follow_the_node_order() {
+        for a in 0..8 {
+            assert_eq!(node(bits(a)), a);
+            for d in 0..3 {
+                assert_eq!(PLUS[a][d], HEX_CORNERS[a][d] > 0.0);
+            }
+        }
+        for d in 0..3 {
+            for (minus, plus) in EDGES[d] {
+                for c in 0..3 {
+                    let (m, p) = (HEX_CORNERS[minus][c], HEX_CORNERS[plus][c]);
+                    if c == d {
+                        assert_eq!((m, p), (-1.0, 1.0));
+                    } else {
+                        assert_eq!(m, p);
+                    }
+                }
+            }
+        }
+    }
+
+    /// (T1) and (T2) against Σₐ uₐ 8 ∂Nₐ/∂ξ_d (ξ_q) and Σ_q Σ_d 8 ∂Nₐ/∂ξ_d (ξ_q) Q_q,d with the
+    /// shape derivatives themselves, on arbitrary data: equal to round-off (a few ulp of the
+    /// sums' magnitude, ≤ 1e-14 relative here).
+    #[test]
+    fn sum_factorisation_equals_the_shape_derivatives() {
+        let u: [[f64; 3]; 8] =
+            std::array::from_fn(|a| std::array::from_fn(|i| ((7 * a + 3 * i) % 11) as f64 - 4.3));
+        let mut out = [[[0.0; 3]; 3]; 8];
+        parent_gradient::<f64, true>(|a, i| u[a][i], &mut out);
+        let xq = gauss_points();
+        for q in 0..8 {
+            let dn = shape_derivatives(xq[q]);
+            for i in 0..3 {
+                for d in 0..3 {
+                    let direct: f64 = (0..8).map(|a| 8.0 * u[a][i] * dn[a][d]).sum();
+                    assert!((out[q][i][d] - direct).abs() < 1e-13, "{q} {i} {d}");
+                }
+            }
+        }
+        let qv = |q: usize, i: usize, d: usize| ((5 * q + 3 * i + d) % 13) as f64 * 0.37 - 2.0;
+        let f = parent_forces::<f64, true>(qv);
+        for (a, f_a) in f.iter().enumerate() {
+            for (i, f_ai) in f_a.iter().enumerate() {
+                let direct: f64 = (0..8)
+                    .map(|q| {
+                        let dn = shape_derivatives(xq[q]);
+                        (0..3).map(|d| 8.0 * dn[a][d] * qv(q, i, d)).sum::<f64>()
+                    })
+                    .sum();
+                assert!((f_ai - direct).abs() < 1e-13, "{a} {i}");
+            }
+        }
+    }
+}
