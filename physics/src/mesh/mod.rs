@@ -16,6 +16,17 @@ pub use element::{
 };
 pub use order::Slabs;
 
+/// Local faces of a hexahedron, each outward (counter-clockwise seen from outside; the node
+/// order of [`HEX_CORNERS`]).
+const HEX_FACES: [[usize; 4]; 6] = [
+    [0, 3, 2, 1],
+    [4, 5, 6, 7],
+    [0, 1, 5, 4],
+    [1, 2, 6, 5],
+    [2, 3, 7, 6],
+    [3, 0, 4, 7],
+];
+
 /// A hexahedral mesh in its reference configuration. Lengths in metres.
 #[derive(Debug, Clone)]
 pub struct Mesh {
@@ -206,15 +217,6 @@ impl Mesh {
     /// quad ordered counter-clockwise seen from outside (outward normal), and the element it
     /// belongs to. Used to draw the surface; not needed by the time loop.
     pub fn boundary_faces(&self) -> Vec<([u32; 4], u32)> {
-        /// Local faces of a hexahedron, outward (see the module docs for the node order).
-        const FACES: [[usize; 4]; 6] = [
-            [0, 3, 2, 1],
-            [4, 5, 6, 7],
-            [0, 1, 5, 4],
-            [1, 2, 6, 5],
-            [2, 3, 7, 6],
-            [3, 0, 4, 7],
-        ];
         // The elements around each node (compressed rows): 4 bytes per node and 32 per
         // element. A face is interior when another element holds its 4 nodes; the candidates
         // are the few elements around one of them. (A hash map of every face, as before, took
@@ -241,7 +243,7 @@ impl Mesh {
         drop(fill);
         let mut out = Vec::new();
         for (e, conn) in self.elements.iter().enumerate() {
-            for f in FACES {
+            for f in HEX_FACES {
                 let quad = f.map(|a| conn[a]);
                 let a0 = quad[0] as usize;
                 let shared = around[start[a0] as usize..start[a0 + 1] as usize]
@@ -389,15 +391,8 @@ mod tests {
         let mut count: std::collections::HashMap<[u32; 4], (usize, [u32; 4], u32)> =
             std::collections::HashMap::new();
         for (e, conn) in m.elements.iter().enumerate() {
-            for f in [
-                [0, 3, 2, 1],
-                [4, 5, 6, 7],
-                [0, 1, 5, 4],
-                [1, 2, 6, 5],
-                [2, 3, 7, 6],
-                [3, 0, 4, 7],
-            ] {
-                let quad = f.map(|a: usize| conn[a]);
+            for f in HEX_FACES {
+                let quad = f.map(|a| conn[a]);
                 let mut key = quad;
                 key.sort_unstable();
                 count
