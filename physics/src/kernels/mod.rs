@@ -383,7 +383,7 @@ unsafe fn chunk_forces_impl<const FMA: bool, const ISA: u8>(
             .all(|&e| *classes.class_of.get_unchecked(e as usize) == class);
         let (en, det) = if one_class {
             let g = full::OneClass(classes.data.get_unchecked(class as usize));
-            full_group::<FMA, ISA, _>(mat, &g, &ul, &mut fl, &mut work, energy)
+            full_group::<FMA, _>(mat, &g, &ul, &mut fl, &mut work, energy)
         } else {
             for (l, &e) in group.iter().enumerate() {
                 let c = *classes.class_of.get_unchecked(e as usize);
@@ -392,7 +392,7 @@ unsafe fn chunk_forces_impl<const FMA: bool, const ISA: u8>(
                     lanes.set(l, classes.data.get_unchecked(c as usize));
                 }
             }
-            full_group::<FMA, ISA, _>(mat, &lanes, &ul, &mut fl, &mut work, energy)
+            full_group::<FMA, _>(mat, &lanes, &ul, &mut fl, &mut work, energy)
         };
         for (l, &e) in group.iter().enumerate() {
             e_sum += en.0[l];
@@ -421,7 +421,7 @@ unsafe fn chunk_forces_impl<const FMA: bool, const ISA: u8>(
 
 /// [`full::full_lanes`] for the material's law, with or without the energy.
 #[inline(always)]
-fn full_group<const FMA: bool, const ISA: u8, G: full::GaussLanes>(
+fn full_group<const FMA: bool, G: full::GaussLanes>(
     mat: &Material,
     g: &G,
     ul: &[[[f64; 8]; 3]; 8],

@@ -1,6 +1,7 @@
 //! The 8-node trilinear hexahedron in the reference configuration (PHYSICS.md §2): shape
 //! functions, the 2×2×2 Gauss points, and what the total Lagrangian formulation computes once
-//! per element shape — gradients ∇ₓNₐ and weights w·det J₀ at the Gauss points ([`GaussData`]),
+//! per element shape — gradients ∇ₓNₐ (the stable-step bound's), ⅛J₀⁻¹ (the full kernel's) and
+//! weights w·det J₀ at the Gauss points ([`GaussData`]),
 //! the one-point data with hourglass vectors ([`CentreData`]), lumped volumes — grouped by shape
 //! into [`ElementClasses`].
 
