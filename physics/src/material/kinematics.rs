@@ -93,15 +93,18 @@ pub(crate) fn cofactor<T: Real>(f: &Mat3<T>) -> Mat3<T> {
 }
 
 /// Green–Lagrange strain E = ½(FᵀF − I) = ½(H + Hᵀ + HᵀH), formed from H so that small strains
-/// keep their full relative precision (E is symmetric to the last bit: both orders of the sums
-/// commute).
+/// keep their full relative precision. The 6 entries i ≤ j are formed (8 flops each: 3 ×, 2 +
+/// for the column product, 2 + and 1 × for ½(H + Hᵀ + …)) and mirrored: E is symmetric to the
+/// last bit, as it was when all 9 were formed (both orders of each sum commute), so the count
+/// of `kernels::flops` is what runs.
 #[inline(always)]
 pub(crate) fn green_lagrange<T: Real>(h: &Mat3<T>) -> Mat3<T> {
     let mut e = *h;
     for i in 0..3 {
-        for j in 0..3 {
+        for j in i..3 {
             let c = h[0][i] * h[0][j] + h[1][i] * h[1][j] + h[2][i] * h[2][j];
             e[i][j] = T::splat(0.5) * ((h[i][j] + h[j][i]) + c);
+            e[j][i] = e[i][j];
         }
     }
     e

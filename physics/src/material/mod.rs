@@ -175,12 +175,10 @@ pub fn saint_venant_kirchhoff<T: Real, const ENERGY: bool>(
     let tr = e[0][0] + e[1][1] + e[2][2];
     let mut s = *e;
     for i in 0..3 {
-        for j in 0..3 {
-            s[i][j] = if i == j {
-                lam * tr + two_mu * e[i][i]
-            } else {
-                two_mu * e[i][j]
-            };
+        s[i][i] = lam * tr + two_mu * e[i][i];
+        for j in i + 1..3 {
+            s[i][j] = two_mu * e[i][j];
+            s[j][i] = s[i][j];
         }
     }
     let mut psi = T::splat(0.0);
