@@ -30,7 +30,7 @@ fn main() {
                 .wrapping_add(1_442_695_040_888_963_407);
             p.swap(i, (state >> 33) as usize % (i + 1));
         }
-        let mut shuffled = scene.model.clone();
+        let mut shuffled = (*scene.model).clone();
         shuffled.mesh = scene.model.mesh.renumbered(&p);
         let mut resorted = shuffled.clone();
         resorted.mesh = resorted.mesh.with_nodes_in_slabs();

@@ -283,7 +283,8 @@ fn f64_array(out: &mut String, bytes: &mut Vec<u8>, attributes: &str, values: &[
 
 /// The writer thread's side: the static mesh data and the index.
 struct Series {
-    model: Model,
+    /// The simulation's model, shared, not copied.
+    model: Arc<Model>,
     dir: PathBuf,
     stem: String,
     pvd: Pvd,

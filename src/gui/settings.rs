@@ -109,7 +109,7 @@ pub fn list_scenes(_dir: &Path) -> Vec<SceneEntry> {
 /// Scene `path` in the picker, with its description or why it does not load.
 fn scene_entry(path: String) -> SceneEntry {
     let description = match open_scene(&path) {
-        Ok(s) => s.model.description,
+        Ok(s) => s.model.description.clone(),
         Err(e) => format!("(does not load: {e})"),
     };
     SceneEntry { path, description }

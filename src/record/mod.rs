@@ -331,7 +331,8 @@ impl Output for Recorder {
 
 /// What the logger thread needs to know of the run, owned.
 struct Statics {
-    model: Model,
+    /// The simulation's model, shared, not copied (58 MB at 10⁶ elements).
+    model: Arc<Model>,
     file: String,
     text: String,
     resolved: String,

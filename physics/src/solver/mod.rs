@@ -47,6 +47,7 @@ use crate::team::Team;
 use boundary::{Boundary, BoundarySums};
 use stable_step::StepControl;
 use stages::StepScratch;
+use std::sync::Arc;
 // std's `Instant` on native; the browser's clock on wasm32, where std's panics.
 use web_time::Instant;
 
@@ -63,7 +64,7 @@ pub const PARALLEL_MIN_ELEMENTS: usize = 2048;
 /// A simulation in progress. Build it with [`Simulation::new`], advance it with
 /// [`Simulation::step`] or [`Simulation::run`].
 pub struct Simulation {
-    pub model: Model,
+    pub model: Arc<Model>,
     classes: ElementClasses,
     /// Colours → node-disjoint blocks → elements ([`crate::mesh::Mesh::element_blocks`]).
     blocks: Vec<Vec<Vec<u32>>>,

@@ -16,6 +16,7 @@ use crate::model::{Model, RigidPlane};
 use crate::mould::step::MouldStep;
 use crate::team::Team;
 use std::collections::BTreeMap;
+use std::sync::Arc;
 
 /// The face set `name` of `mesh`.
 fn face<'a>(mesh: &'a Mesh, name: &str) -> Result<&'a Vec<[u32; 4]>, SolverError> {
@@ -238,7 +239,8 @@ impl Simulation {
     ///
     /// The initial velocity field is the rigid motion V₀(X) = v₀ + ω₀ × (X − X_c) of the scene's
     /// `initial_velocity` v₀ and `initial_angular_velocity` ω₀ about the centre of mass X_c.
-    pub fn new(model: Model) -> Result<Simulation, SolverError> {
+    pub fn new(model: impl Into<Arc<Model>>) -> Result<Simulation, SolverError> {
+        let model: Arc<Model> = model.into();
         let v0 = model.initial_velocity;
         let w = model.initial_angular_velocity;
         let mesh = &model.mesh;
@@ -267,10 +269,11 @@ impl Simulation {
     /// As [`Simulation::new`], from given initial displacements U₀ and velocities V₀ per node
     /// (prescribed components of U₀ are overwritten by their histories at t = 0).
     pub fn with_initial_state(
-        model: Model,
+        model: impl Into<Arc<Model>>,
         u0: Vec<[f64; 3]>,
         v0: Vec<[f64; 3]>,
     ) -> Result<Simulation, SolverError> {
+        let model: Arc<Model> = model.into();
         let n_nodes = model.mesh.nodes.len();
         if u0.len() != n_nodes || v0.len() != n_nodes {
             return Err(SolverError::Setup(format!(
