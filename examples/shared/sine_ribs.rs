@@ -61,3 +61,48 @@ pub fn to_stl(vertices: &[[f64; 3]], triangles: &[[u32; 3]]) -> String {
 fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
     [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
 }
+
+/// A neo-Hookean sheet (E = 5 MPa, ν = 0.45, ρ = 1100 kg/m³: the rubber of the teaching
+/// scenes) meshed as a box of `cells` hex8 from `origin` over `size` [m], whose z− face
+/// touches (μ = 0.3) the triangulated mould `file` (beside the scene), moved by the mould
+/// `velocity` history (a TOML array of [t, vx, vy, vz] rows) if given, under gravity if
+/// `gravity`: the scene text of the cache's measurement, its test and the allocation test.
+pub struct Sheet<'a> {
+    pub name: &'a str,
+    pub file: &'a str,
+    pub velocity: Option<&'a str>,
+    pub gravity: bool,
+    pub origin: [f64; 3],
+    pub size: [f64; 3],
+    pub cells: [usize; 3],
+}
+
+impl Sheet<'_> {
+    /// The scene file's text.
+    pub fn toml(&self) -> String {
+        let v = |x: [f64; 3]| format!("[{:?}, {:?}, {:?}]", x[0], x[1], x[2]);
+        let mut s = format!("name = {:?}\nend_time = 1.0\n", self.name);
+        if self.gravity {
+            s += "gravity = [0.0, 0.0, -9.81]\n";
+        }
+        s += "[material]\nmodel = \"neo_hookean\"\nyoung = 5.0e6\npoisson = 0.45\ndensity = 1100.0\n";
+        s += &format!(
+            "[[mould]]\nname = \"mould\"\nshape = \"surface\"\nfile = {:?}\n",
+            self.file
+        );
+        if let Some(vel) = self.velocity {
+            s += &format!("velocity = {vel}\n");
+        }
+        let c = self.cells;
+        s += &format!(
+            "[mesh]\norigin = {}\nsize = {}\ncells = [{}, {}, {}]\n",
+            v(self.origin),
+            v(self.size),
+            c[0],
+            c[1],
+            c[2]
+        );
+        s += "[[contact]]\nfaces = \"z-\"\nmould = \"mould\"\nmu = 0.3\n";
+        s
+    }
+}

@@ -31,29 +31,6 @@ use decohesion_physics::solver::Simulation;
 use decohesion_physics::timing::median;
 use std::time::Instant;
 
-const SCENE: &str = r#"
-name = "mould_cache"
-end_time = 1.0
-gravity = [0.0, 0.0, -9.81]
-[material]
-model = "neo_hookean"
-young = 5.0e6
-poisson = 0.45
-density = 1100.0
-[[mould]]
-name = "ribs"
-shape = "surface"
-file = "ribs.stl"
-[mesh]
-origin = [0.0, 0.0, ORIGIN_Z]
-size = [0.1, 0.1, 0.001]
-cells = [100, 100, 1]
-[[contact]]
-faces = "z-"
-mould = "ribs"
-mu = 0.3
-"#;
-
 /// A simulation of the scene in `dir`, cold or warm.
 fn simulation(dir: &std::path::Path, cold: bool) -> Simulation {
     let scene = load_scene(&dir.join("mould_cache.toml"), &[]).expect("the bench scene");
@@ -134,7 +111,16 @@ fn main() {
     std::fs::create_dir_all(&dir).unwrap();
     let (v, t) = sine_ribs::sine_ribs(71, -0.005, 0.11, amplitude, 0.01);
     std::fs::write(dir.join("ribs.stl"), sine_ribs::to_stl(&v, &t)).unwrap();
-    let scene = SCENE.replace("ORIGIN_Z", &format!("{amplitude:e}"));
+    let scene = sine_ribs::Sheet {
+        name: "mould_cache",
+        file: "ribs.stl",
+        velocity: None,
+        gravity: true,
+        origin: [0.0, 0.0, amplitude],
+        size: [0.1, 0.1, 0.001],
+        cells: [100, 100, 1],
+    }
+    .toml();
     std::fs::write(dir.join("mould_cache.toml"), scene).unwrap();
 
     let (mut warm_step, mut cold_step) = (Vec::new(), Vec::new());

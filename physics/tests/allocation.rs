@@ -74,33 +74,21 @@ fn steps_allocate_nothing() {
 /// 1 mm, offset by 0.2 and 0.45 mm) start off the triangles' edges and diagonals, and a node
 /// that slides exactly onto an edge at a step's end would be a tie: none does.
 fn triangulated_mould_steps_allocate_nothing() {
-    const SCENE: &str = r#"
-name = "sliding_plane"
-end_time = 1.0
-[material]
-model = "neo_hookean"
-young = 5.0e6
-poisson = 0.45
-density = 1100.0
-[[mould]]
-name = "flat"
-shape = "surface"
-file = "flat.stl"
-velocity = [[0.0, 0.0, 0.0, 0.0], [1.0e-4, 3.0, 0.0, 0.05], [1.0, 3.0, 0.0, 0.05]]
-[mesh]
-origin = [2.0e-4, 4.5e-4, 0.0]
-size = [0.01, 0.01, 0.001]
-cells = [10, 10, 1]
-[[contact]]
-faces = "z-"
-mould = "flat"
-mu = 0.3
-"#;
+    let scene = sine_ribs::Sheet {
+        name: "sliding_plane",
+        file: "flat.stl",
+        velocity: Some("[[0.0, 0.0, 0.0, 0.0], [1.0e-4, 3.0, 0.0, 0.05], [1.0, 3.0, 0.0, 0.05]]"),
+        gravity: false,
+        origin: [2.0e-4, 4.5e-4, 0.0],
+        size: [0.01, 0.01, 0.001],
+        cells: [10, 10, 1],
+    }
+    .toml();
     let dir = std::env::temp_dir().join(format!("allocation_test_{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let (v, t) = sine_ribs::sine_ribs(20, -0.01, 0.03, 0.0, 0.01);
     std::fs::write(dir.join("flat.stl"), sine_ribs::to_stl(&v, &t)).unwrap();
-    std::fs::write(dir.join("sliding.toml"), SCENE).unwrap();
+    std::fs::write(dir.join("sliding.toml"), scene).unwrap();
     let scene = load_scene(&dir.join("sliding.toml"), &[]).unwrap();
     std::fs::remove_dir_all(&dir).ok();
     let mut sim = Simulation::new(scene.model).unwrap();

@@ -184,28 +184,18 @@ fn warm_query_is_the_cold_query_on_the_ribbed_mould() {
 /// 1.5 mm: a third of the nodes sit above a column of vertices, where two faces of a valley
 /// are at the same distance to round-off (ties). This run is what showed that the bounded
 /// query (`project_cached`) can pick the other face of such a tie, one ulp away.
-const SLIDING: &str = r#"
-name = "sliding_ribs"
-end_time = 1.0
-[material]
-model = "neo_hookean"
-young = 5.0e6
-poisson = 0.45
-density = 1100.0
-[[mould]]
-name = "ribs"
-shape = "surface"
-file = "ribs.stl"
-velocity = [[0.0, 0.0, 0.0, 0.0], [2.0e-4, 1.0, 0.0, 0.2], [1.0, 1.0, 0.0, 0.2]]
-[mesh]
-origin = [0.0, 0.0, 1.0e-3]
-size = [0.02, 0.02, 0.001]
-cells = [20, 20, 1]
-[[contact]]
-faces = "z-"
-mould = "ribs"
-mu = 0.3
-"#;
+fn sliding() -> String {
+    sine_ribs::Sheet {
+        name: "sliding_ribs",
+        file: "ribs.stl",
+        velocity: Some("[[0.0, 0.0, 0.0, 0.0], [2.0e-4, 1.0, 0.0, 0.2], [1.0, 1.0, 0.0, 0.2]]"),
+        gravity: false,
+        origin: [0.0, 0.0, 1.0e-3],
+        size: [0.02, 0.02, 0.001],
+        cells: [20, 20, 1],
+    }
+    .toml()
+}
 
 #[test]
 fn a_run_from_the_lists_is_the_cold_run_bit_for_bit() {
@@ -215,7 +205,7 @@ fn a_run_from_the_lists_is_the_cold_run_bit_for_bit() {
     std::fs::create_dir_all(&dir).unwrap();
     let (v, t) = sine_ribs::sine_ribs(20, -0.005, 0.03, 1e-3, 0.01);
     std::fs::write(dir.join("ribs.stl"), sine_ribs::to_stl(&v, &t)).unwrap();
-    std::fs::write(dir.join("sliding.toml"), SLIDING).unwrap();
+    std::fs::write(dir.join("sliding.toml"), sliding()).unwrap();
     let sim = |cold: bool| {
         let scene = load_scene(&dir.join("sliding.toml"), &[]).unwrap();
         let mut sim = Simulation::new(scene.model).unwrap();
