@@ -1,8 +1,9 @@
-//! A finely triangulated ribbed mould surface, z = A sin(2π x / λ) over a square, for the
-//! measurement of the closest-point cache (`physics/examples/mould_cache.rs`) and its test
-//! (`physics/tests/mould_cache.rs`), which include this file with `#[path]`. The mould is below
-//! the surface: each triangle (a, b, c) is ordered so that (b − a) × (c − a) points up (+z),
-//! out of the mould, as the mould loader requires.
+//! A finely triangulated ribbed mould surface, z = A sin(2π x / λ) over a square, and the scene
+//! of a sheet lying on such a mould ([`Sheet`]), for the measurement of the closest-point cache
+//! (`physics/examples/mould_cache.rs`), its test (`physics/tests/mould_cache.rs`) and the
+//! allocation test (`physics/tests/allocation.rs`), which include this file with `#[path]`. The
+//! mould is below the surface: each triangle (a, b, c) is ordered so that (b − a) × (c − a)
+//! points up (+z), out of the mould, as the mould loader requires.
 
 /// Vertices and triangles of the surface over [x0, x0 + length]² with `n` × `n` squares, each
 /// split in two along its diagonal (2n² triangles).
@@ -62,8 +63,8 @@ fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
     [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
 }
 
-/// A neo-Hookean sheet (E = 5 MPa, ν = 0.45, ρ = 1100 kg/m³: the rubber of the teaching
-/// scenes) meshed as a box of `cells` hex8 from `origin` over `size` [m], whose z− face
+/// A neo-Hookean sheet (E = 5 MPa, ν = 0.45, ρ = 1100 kg/m³: the rubber of the pull-off and
+/// demould scenes) meshed as a box of `cells` hex8 from `origin` over `size` [m], whose z− face
 /// touches (μ = 0.3) the triangulated mould `file` (beside the scene), moved by the mould
 /// `velocity` history (a TOML array of [t, vx, vy, vz] rows) if given, under gravity if
 /// `gravity`: the scene text of the cache's measurement, its test and the allocation test.

@@ -201,8 +201,7 @@ mod tests {
     /// multiply–adds = 144 (one point); F = I + H 3; J 14 (3 minors of 2 × and 1 −, then 3 ×
     /// and 2 ±); SVK: E 6 × 8 (the entries i ≤ j: 3 ×, 2 + for the column product, 2 + and
     /// 1 × for ½(H + Hᵀ + …)), tr E 2, S 3 × 3 + 3, ψ 12 + 4, P = S + H·S 9 × (5 + 1) = 149.
-    /// Full:
-    /// gradient 36 edge differences + 9 interpolations of 4 × (1 + 1 + 2 × 2) = 24, then
+    /// Full: gradient 36 edge differences + 9 interpolations of 4 × (1 + 1 + 2 × 2) = 24, then
     /// H = D·J 8 × 9 row products of 5; 8 points' stress; forces 72 row products of 5 for Q,
     /// the transpose 9 × (4 pair sums + 24) + 8 nodes × 3 × 2 (+ 3 for the node of signs
     /// (−, −, −), 0 − G_ξ), energy 8 × 2. One point: 1 point, hourglass modes

@@ -163,7 +163,8 @@ pub(crate) use with_law;
 
 /// Saint-Venant–Kirchhoff (PHYSICS.md §2): second Piola–Kirchhoff stress
 /// S = λ tr(E) I + 2μE and energy density ψ = ½λ(tr E)² + μ E:E, from the Green–Lagrange strain
-/// E (symmetric), with E:E = E₀₀² + E₁₁² + E₂₂² + 2(E₀₁² + E₀₂² + E₁₂²). ψ only if `ENERGY`
+/// E (symmetric: only its entries i ≤ j are read, and S is formed on them and mirrored), with
+/// E:E = E₀₀² + E₁₁² + E₂₂² + 2(E₀₁² + E₀₂² + E₁₂²). ψ only if `ENERGY`
 /// (else 0). The one definition of the model: every kernel calls it.
 #[inline(always)]
 pub fn saint_venant_kirchhoff<T: Real, const ENERGY: bool>(
