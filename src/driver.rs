@@ -53,6 +53,8 @@ pub struct Driver {
     clock: FrameClock,
     /// Solver-thread time spent on the outputs: snapshots, sends.
     spent: Duration,
+    /// Some output shows velocities: the snapshots copy V ([`Output::velocities`]).
+    velocities: bool,
     /// When the run started (set-up included), for the summary's wall time.
     started: Instant,
 }
@@ -88,6 +90,7 @@ impl Driver {
         started: Instant,
     ) -> Result<Driver, OutputError> {
         let mut driver = Driver {
+            velocities: outputs.iter().any(|o| o.velocities()),
             outputs,
             clock: FrameClock::new(cadence, sim.model.end_time),
             spent: Duration::ZERO,
@@ -100,7 +103,7 @@ impl Driver {
     /// The snapshot of `sim` if its step was not taken yet and there is an output to take it.
     fn snapshot(&mut self, sim: &Simulation) -> Option<Arc<Snapshot>> {
         (self.clock.take(sim.step_count, sim.time) && !self.outputs.is_empty())
-            .then(|| Arc::new(Snapshot::capture(sim, self.spent)))
+            .then(|| Arc::new(Snapshot::capture(sim, self.spent, self.velocities)))
     }
 
     /// Hands the state of `sim` to every output as one frame (once per step at most): every
@@ -227,21 +230,31 @@ mod tests {
     struct Seen {
         frames: Vec<u64>,
         finished: Vec<(Option<u64>, u64, bool)>,
+        /// (nodes in U, nodes in V) of each frame.
+        sizes: Vec<(usize, usize)>,
     }
 
     /// An output that notes what it is given, and fails at step `fail_at`.
     struct Probe {
         seen: Arc<Mutex<Seen>>,
         fail_at: Option<u64>,
+        velocities: bool,
     }
 
     impl Output for Probe {
         fn frame(&mut self, s: &Arc<Snapshot>) -> Result<(), OutputError> {
-            self.seen.lock().unwrap().frames.push(s.step);
+            let mut seen = self.seen.lock().unwrap();
+            seen.frames.push(s.step);
+            seen.sizes.push((s.u.len(), s.v.len()));
+            drop(seen);
             if self.fail_at == Some(s.step) {
                 return Err(VtkError::Thread("disk full".into()).into());
             }
             Ok(())
+        }
+
+        fn velocities(&self) -> bool {
+            self.velocities
         }
 
         fn finish(
@@ -273,8 +286,14 @@ mod tests {
         }
     }
 
-    /// The 2³ pull-off cube to `end_time`, and two probes (the first failing at `fail_at`).
-    fn run(end_time: f64, stop_at: u64, fail_at: Option<u64>) -> (Finished, [Seen; 2], u64) {
+    /// The 2³ pull-off cube to `end_time`, and two probes (the first failing at `fail_at`; the
+    /// second showing velocities when `velocities`).
+    fn run_with(
+        end_time: f64,
+        stop_at: u64,
+        fail_at: Option<u64>,
+        velocities: bool,
+    ) -> (Finished, [Seen; 2], u64) {
         let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/pull_off.toml");
         let set = ["mesh.cells=[2,2,2]".into(), format!("end_time={end_time}")];
         let scene = crate::scene::load_scene(&path, &set).unwrap();
@@ -284,10 +303,12 @@ mod tests {
             Box::new(Probe {
                 seen: seen[0].clone(),
                 fail_at,
+                velocities: false,
             }),
             Box::new(Probe {
                 seen: seen[1].clone(),
                 fail_at: None,
+                velocities,
             }),
         ];
         let driver =
@@ -301,6 +322,33 @@ mod tests {
         let done = driver.run(&mut sim, &cancel, &mut counter);
         let seen = seen.map(|s| std::mem::take(&mut *s.lock().unwrap()));
         (done, seen, counter.steps)
+    }
+
+    /// [`run_with`] with outputs that draw no velocities.
+    fn run(end_time: f64, stop_at: u64, fail_at: Option<u64>) -> (Finished, [Seen; 2], u64) {
+        run_with(end_time, stop_at, fail_at, false)
+    }
+
+    /// The snapshots copy V only when some output shows it (the ParaView files), and then
+    /// every output gets the same frame with U and V of every node.
+    #[test]
+    fn snapshots_copy_velocities_only_for_an_output_that_shows_them() {
+        for velocities in [false, true] {
+            let (done, seen, _) = run_with(0.01, u64::MAX, None, velocities);
+            assert!(done.outcome.is_ok());
+            let nodes = 27; // the 2³ cube
+            for s in &seen {
+                assert!(!s.sizes.is_empty());
+                for &(u, v) in &s.sizes {
+                    assert_eq!(u, nodes);
+                    assert_eq!(
+                        v,
+                        if velocities { nodes } else { 0 },
+                        "velocities: {velocities}"
+                    );
+                }
+            }
+        }
     }
 
     /// A completed run: step 0, every 4th step and the last step, once each, to every output;
@@ -378,6 +426,7 @@ mod tests {
         let probe = Probe {
             seen: seen.clone(),
             fail_at: None,
+            velocities: false,
         };
         let driver = Driver::with_outputs(
             vec![Box::new(probe)],

@@ -18,7 +18,8 @@ pub struct Snapshot {
     pub h_crit: f64,
     /// Uₙ of every node [m].
     pub u: Vec<[f64; 3]>,
-    /// V_{n+½} of every node [m/s] (PHYSICS.md §4: Uₙ₊₁ = Uₙ + h V_{n+½}).
+    /// V_{n+½} of every node [m/s] (PHYSICS.md §4: Uₙ₊₁ = Uₙ + h V_{n+½}); empty when no
+    /// output of the run shows velocities ([`crate::output::Output::velocities`]).
     pub v: Vec<[f64; 3]>,
     /// One entry per interface node, in `Simulation::interface_nodes` order.
     pub interface: Vec<InterfaceSnapshot>,
@@ -64,8 +65,8 @@ pub struct InterfaceSnapshot {
 
 impl Snapshot {
     /// Copies what a frame shows (O(nodes) memcpys); `output_time` is the solver-thread time
-    /// spent on the outputs so far.
-    pub fn capture(sim: &Simulation, output_time: Duration) -> Snapshot {
+    /// spent on the outputs so far; `velocities`: copy V too (else `v` is empty).
+    pub fn capture(sim: &Simulation, output_time: Duration, velocities: bool) -> Snapshot {
         let started = Instant::now();
         let mut s = Snapshot {
             step: sim.step_count,
@@ -73,7 +74,11 @@ impl Snapshot {
             h: sim.h,
             h_crit: sim.h_crit,
             u: sim.u.clone(),
-            v: sim.v.clone(),
+            v: if velocities {
+                sim.v.clone()
+            } else {
+                Vec::new()
+            },
             interface: sim
                 .interface_nodes
                 .iter()
@@ -107,9 +112,11 @@ impl Snapshot {
         s
     }
 
-    /// Memory of a snapshot of `sim` [bytes], roughly: for the sizes of the writer queues.
-    pub fn bytes(sim: &Simulation) -> usize {
-        48 * sim.u.len() + 96 * (sim.interface_nodes.len() + sim.contact_nodes.len()) + 512
+    /// Memory of a snapshot of `sim` [bytes], roughly, with or without the velocities: for
+    /// the sizes of the writer queues.
+    pub fn bytes(sim: &Simulation, velocities: bool) -> usize {
+        let per_node = if velocities { 48 } else { 24 };
+        per_node * sim.u.len() + 96 * (sim.interface_nodes.len() + sim.contact_nodes.len()) + 512
     }
 }
 
