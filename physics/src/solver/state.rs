@@ -181,8 +181,8 @@ pub struct RunStats {
     /// glue's softening), and their Lanczos iterations in all (about one force evaluation each).
     pub h_crit_estimates: u64,
     pub h_crit_estimate_iterations: u64,
-    /// Estimates under strong compression that the element bound certified (the step below
-    /// 2/ω_b, `solver/bound.rs`) instead of converging them.
+    /// Estimates that the element bound certified (the step below 2/ω_b, `solver/bound.rs`)
+    /// instead of converging them.
     pub h_crit_certified: u64,
     /// Smallest and largest step taken [s], and the number of steps whose successor differs.
     pub h_min: f64,
