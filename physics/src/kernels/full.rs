@@ -129,7 +129,7 @@ impl Default for FullScratch {
 }
 
 /// Internal nodal forces of 8 elements, fₐ = Σ_q w_q det J₀ P(F_q) ∇ₓNₐ(ξ_q) (PHYSICS.md §2),
-/// element l in lane l: `u[a][i][l]` the displacement of its node a, `f[a][i][l]` its force.
+/// element l in lane l: `u[a][i][l]` the displacement of its node a, `f[a][i].0[l]` its force.
 /// By sum factorisation (`material::tensor`): the parent derivatives D_q = 8 ∂u/∂ξ (T1), then
 /// per point H_q = D_q·(⅛ J₀⁻¹), P_q and Q_q = P_q·(⅛ w_q det J₀ J₀⁻ᵀ), then the forces by the
 /// transpose (T2). Returns per lane (strain energy Σ_q w_q det J₀ ψ_q if `ENERGY`, else 0;
@@ -139,7 +139,7 @@ pub(crate) fn full_lanes<L: Law, const ENERGY: bool, const FMA: bool, G: GaussLa
     mat: &Material,
     g: &G,
     u: &[[[f64; 8]; 3]; 8],
-    f: &mut [[[f64; 8]; 3]; 8],
+    f: &mut [[F64x8; 3]; 8],
     work: &mut FullScratch,
 ) -> (F64x8, F64x8) {
     let zero = F64x8::splat(0.0);
@@ -166,12 +166,7 @@ pub(crate) fn full_lanes<L: Law, const ENERGY: bool, const FMA: bool, G: GaussLa
             }
         }
     }
-    let forces = parent_forces::<F64x8, FMA>(|q, i, k| dq[q][i][k]);
-    for (f_a, forces_a) in f.iter_mut().zip(&forces) {
-        for (f_ai, v) in f_a.iter_mut().zip(forces_a) {
-            *f_ai = v.0;
-        }
-    }
+    parent_forces::<F64x8, FMA>(|q, i, k| dq[q][i][k], f);
     let d = det;
     let min_j = min8(
         min8(min8(d[0], d[1]), min8(d[2], d[3])),

@@ -370,7 +370,7 @@ unsafe fn chunk_forces_impl<const FMA: bool, const ISA: u8>(
     };
     let (grouped, rest) = chunk.split_at(lanes_end);
     let mut ul = [[[0.0; 8]; 3]; 8];
-    let mut fl = [[[0.0; 8]; 3]; 8];
+    let mut fl = [[F64x8([0.0; 8]); 3]; 8];
     // Lanes of several classes: each lane's data, rewritten when its class changes.
     let mut lanes = full::LaneGauss::default();
     let mut staged = [u32::MAX; 8];
@@ -394,10 +394,13 @@ unsafe fn chunk_forces_impl<const FMA: bool, const ISA: u8>(
             }
             full_group::<FMA, _>(mat, &lanes, &ul, &mut fl, &mut work, energy)
         };
+        // SAFETY: `[[F64x8; 3]; 8]` is `[[[f64; 8]; 3]; 8]` more aligned (F64x8 is
+        // `repr(C)` over `[f64; 8]`).
+        let fv = &*(&fl as *const [[F64x8; 3]; 8] as *const [[[f64; 8]; 3]; 8]);
         for (l, &e) in group.iter().enumerate() {
             e_sum += en.0[l];
             keep_min_j(det.0[l], e, &mut min_j, &mut min_e);
-            scatter_lane(f, mesh.elements.get_unchecked(e as usize), &fl, l);
+            scatter_lane(f, mesh.elements.get_unchecked(e as usize), fv, l);
         }
     }
     let mut fe = [[0.0; 3]; 8];
@@ -425,7 +428,7 @@ fn full_group<const FMA: bool, G: full::GaussLanes>(
     mat: &Material,
     g: &G,
     ul: &[[[f64; 8]; 3]; 8],
-    fl: &mut [[[f64; 8]; 3]; 8],
+    fl: &mut [[F64x8; 3]; 8],
     work: &mut full::FullScratch,
     energy: bool,
 ) -> (F64x8, F64x8) {

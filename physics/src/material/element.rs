@@ -113,7 +113,7 @@ fn full<L: Law, const ENERGY: bool, const FMA: bool>(
     let q: Mat3<F64x8> = std::array::from_fn(|i| {
         std::array::from_fn(|k| row_dot::<_, FMA>(&p[i], lanes3(&gd.wjinv[k])))
     });
-    *f = parent_forces::<f64, FMA>(|pt, i, k| q[i][k].0[pt]);
+    parent_forces::<f64, FMA>(|pt, i, k| q[i][k].0[pt], f);
     let mut energy = 0.0;
     if ENERGY {
         for q in 0..8 {

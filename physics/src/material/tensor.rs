@@ -162,25 +162,36 @@ pub(crate) fn parent_gradient<T: Real, const FMA: bool>(
     }
 }
 
-/// The nodal forces fₐᵢ = Σ_d sₐ^d Σ_q 8 ∂Nₐ/∂ξ_d (ξ_q) / sₐ^d · Q_q,id of (T2), `q(q, i, d)`
-/// the point's Q: the two points along d summed (−g first), [`spread`], then per node
-/// (sₐ^ξ G_ξ ± G_η) ± G_ζ. 300 flops.
+/// The sums of Q_q,id over the two points along d (−g first) at the 4 positions k of the other
+/// coordinates, `q(q, i, d)` the point's Q (the first step of (T2)).
+#[inline(always)]
+fn pair_sums<T: Real>(q: &impl Fn(usize, usize, usize) -> T, i: usize, d: usize) -> [T; 4] {
+    // Written out: a closure here was not inlined (48 calls per lane group).
+    let e = &EDGES[d];
+    [
+        q(e[0].0, i, d) + q(e[0].1, i, d),
+        q(e[1].0, i, d) + q(e[1].1, i, d),
+        q(e[2].0, i, d) + q(e[2].1, i, d),
+        q(e[3].0, i, d) + q(e[3].1, i, d),
+    ]
+}
+
+/// The nodal forces fₐᵢ = Σ_d sₐ^d Σ_q 8 ∂Nₐ/∂ξ_d (ξ_q) / sₐ^d · Q_q,id of (T2) into `f`,
+/// `q(q, i, d)` the point's Q: the two points along d summed (−g first, [`pair_sums`]),
+/// [`spread`], then per node (sₐ^ξ G_ξ ± G_η) ± G_ζ. 300 flops. Writes every entry of `f` once
+/// and builds no zeroed temporary: the lane kernel's 1.5 kB arrays cost a `memset` and a
+/// `memcpy` call per lane group when they were.
 #[inline(always)]
 pub(crate) fn parent_forces<T: Real, const FMA: bool>(
     q: impl Fn(usize, usize, usize) -> T,
-) -> [[T; 3]; 8] {
-    let mut f = [[T::splat(0.0); 3]; 8];
+    f: &mut [[T; 3]; 8],
+) {
     for i in 0..3 {
-        let mut g = [[T::splat(0.0); 4]; 3];
-        for (d, g_d) in g.iter_mut().enumerate() {
-            let mut r = [T::splat(0.0); 4];
-            for (k, r_k) in r.iter_mut().enumerate() {
-                // The points at −g and +g along d, at the other coordinates k.
-                let (minus, plus) = EDGES[d][k];
-                *r_k = q(minus, i, d) + q(plus, i, d);
-            }
-            *g_d = spread::<T, FMA>(r);
-        }
+        let g = [
+            spread::<T, FMA>(pair_sums(&q, i, 0)),
+            spread::<T, FMA>(pair_sums(&q, i, 1)),
+            spread::<T, FMA>(pair_sums(&q, i, 2)),
+        ];
         for (a, f_a) in f.iter_mut().enumerate() {
             let b = bits(a);
             let at = |d: usize| g[d][b[OTHERS[d][0]] + 2 * b[OTHERS[d][1]]];
@@ -198,7 +209,6 @@ pub(crate) fn parent_forces<T: Real, const FMA: bool>(
             };
         }
     }
-    f
 }
 
 #[cfg(test)]
@@ -254,7 +264,8 @@ mod tests {
             }
         }
         let qv = |q: usize, i: usize, d: usize| ((5 * q + 3 * i + d) % 13) as f64 * 0.37 - 2.0;
-        let f = parent_forces::<f64, true>(qv);
+        let mut f = [[0.0; 3]; 8];
+        parent_forces::<f64, true>(qv, &mut f);
         for (a, f_a) in f.iter().enumerate() {
             for (i, f_ai) in f_a.iter().enumerate() {
                 let direct: f64 = (0..8)
