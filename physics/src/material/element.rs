@@ -32,20 +32,9 @@ fn lanes3(x: &[[f64; 8]; 3]) -> [F64x8; 3] {
 /// lanes with the whole pointwise update inside, which the compiler vectorises across the
 /// lanes. (The same update written on [`F64x8`] tensors left the vectoriser to regroup ~100
 /// separate lane-wise operations, which it did only partly: the full kernel ran ~20 % slower.)
-/// Returns (P, ψ, J) per lane.
-#[inline(always)]
-pub(crate) fn first_piola_lanes<L: Law, const ENERGY: bool, const FMA: bool>(
-    mat: &Material,
-    h: &Mat3<F64x8>,
-) -> (Mat3<F64x8>, F64x8, F64x8) {
-    let mut p = [[F64x8::splat(0.0); 3]; 3];
-    let (psi, det) = first_piola_lanes_into::<L, ENERGY, FMA>(mat, h, &mut p);
-    (p, psi, det)
-}
-
-/// [`first_piola_lanes`] writing P into `p` (every component): a kernel that keeps P in its
-/// own array avoids a zeroed temporary and a copy, which the AVX2 build does not keep in
-/// registers (two 576-byte `memset`/`memcpy` calls per point there). Returns (ψ, J) per lane.
+/// P is written into `p` (every component): a kernel that keeps P in its own array avoids a
+/// zeroed temporary and a copy, which the AVX2 build does not keep in registers (two 576-byte
+/// `memset`/`memcpy` calls per point there). Returns (ψ, J) per lane.
 #[inline(always)]
 pub(crate) fn first_piola_lanes_into<L: Law, const ENERGY: bool, const FMA: bool>(
     mat: &Material,
@@ -95,24 +84,38 @@ fn full<L: Law, const ENERGY: bool, const FMA: bool>(
     u: &[[f64; 3]; 8],
     f: &mut [[f64; 3]; 8],
 ) -> (f64, f64) {
+    // Plain loops, not `std::array::from_fn`: its closures were not inlined here (36 calls per
+    // element in the builds' chunk remainders, and every element of the portable build).
     let mut dq = [[[0.0f64; 3]; 3]; 8];
     parent_gradient::<f64, FMA>(|a, i| u[a][i], &mut dq);
-    let d: Mat3<F64x8> = std::array::from_fn(|i| {
-        std::array::from_fn(|k| F64x8(std::array::from_fn(|q| dq[q][i][k])))
-    });
-    let jinv = |j: usize| {
-        [
-            F64x8(gd.jinv[0][j]),
-            F64x8(gd.jinv[1][j]),
-            F64x8(gd.jinv[2][j]),
-        ]
-    };
-    let h: Mat3<F64x8> =
-        std::array::from_fn(|i| std::array::from_fn(|j| row_dot::<_, FMA>(&d[i], jinv(j))));
-    let (p, psi, det) = first_piola_lanes::<L, ENERGY, FMA>(mat, &h);
-    let q: Mat3<F64x8> = std::array::from_fn(|i| {
-        std::array::from_fn(|k| row_dot::<_, FMA>(&p[i], lanes3(&gd.wjinv[k])))
-    });
+    let zero = F64x8([0.0; 8]);
+    let mut d: Mat3<F64x8> = [[zero; 3]; 3];
+    for (q, dq_q) in dq.iter().enumerate() {
+        for i in 0..3 {
+            for k in 0..3 {
+                d[i][k].0[q] = dq_q[i][k];
+            }
+        }
+    }
+    let mut h: Mat3<F64x8> = [[zero; 3]; 3];
+    for i in 0..3 {
+        for j in 0..3 {
+            let jinv = [
+                F64x8(gd.jinv[0][j]),
+                F64x8(gd.jinv[1][j]),
+                F64x8(gd.jinv[2][j]),
+            ];
+            h[i][j] = row_dot::<_, FMA>(&d[i], jinv);
+        }
+    }
+    let mut p: Mat3<F64x8> = [[zero; 3]; 3];
+    let (psi, det) = first_piola_lanes_into::<L, ENERGY, FMA>(mat, &h, &mut p);
+    let mut q: Mat3<F64x8> = [[zero; 3]; 3];
+    for i in 0..3 {
+        for k in 0..3 {
+            q[i][k] = row_dot::<_, FMA>(&p[i], lanes3(&gd.wjinv[k]));
+        }
+    }
     parent_forces::<f64, FMA>(|pt, i, k| q[i][k].0[pt], f);
     let mut energy = 0.0;
     if ENERGY {
