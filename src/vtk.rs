@@ -137,7 +137,7 @@ impl VtkWriter {
         let pvd_path = dir.join(format!("{stem}.pvd"));
         let pvd = Pvd::create(&pvd_path).map_err(dir_err)?;
         let mut series = Series::new(sim, dir.to_path_buf(), stem, pvd);
-        let queue = (QUEUE_BYTES / Snapshot::bytes(sim, true)).clamp(2, 1024);
+        let queue = (QUEUE_BYTES / Snapshot::bytes(sim)).clamp(2, 1024);
         let thread_error = |what: &str| VtkError::Thread(what.to_string());
         let body = move |rx: Receiver<Arc<Snapshot>>| {
             let mut busy = Duration::ZERO;

@@ -112,11 +112,11 @@ impl Snapshot {
         s
     }
 
-    /// Memory of a snapshot of `sim` [bytes], roughly, with or without the velocities: for
-    /// the sizes of the writer queues.
-    pub fn bytes(sim: &Simulation, velocities: bool) -> usize {
-        let per_node = if velocities { 48 } else { 24 };
-        per_node * sim.u.len() + 96 * (sim.interface_nodes.len() + sim.contact_nodes.len()) + 512
+    /// Memory of a snapshot of `sim` [bytes], roughly, counting V (its largest size, whatever
+    /// the outputs of the run): for the sizes of the writer queues, which the frames of one run
+    /// share.
+    pub fn bytes(sim: &Simulation) -> usize {
+        48 * sim.u.len() + 96 * (sim.interface_nodes.len() + sim.contact_nodes.len()) + 512
     }
 }
 

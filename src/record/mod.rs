@@ -202,12 +202,12 @@ pub struct Recorder {
     frames: u64,
 }
 
-/// Frames that may wait for the logger thread: [`QUEUE_BYTES`] worth of snapshots without
-/// velocities (the recording's own), at least one. (At least 4 held 4 × 49 MB of frames on a
-/// 10⁶-element body, whose snapshot alone exceeded the budget; the logger takes 0.3 % of such
-/// a run, so one waiting frame keeps up.)
+/// Frames that may wait for the logger thread: [`QUEUE_BYTES`] worth of snapshots, at least
+/// one. (At least 4 held 4 × 49 MB of frames on a 10⁶-element body, whose snapshot alone
+/// exceeds the budget; the logger takes 0.3 % of such a run, so one waiting frame keeps up.)
+/// Counted with V, as the frames carry it when the run also writes ParaView files.
 fn queue_frames(sim: &Simulation) -> usize {
-    (QUEUE_BYTES / Snapshot::bytes(sim, false)).clamp(1, 4096)
+    (QUEUE_BYTES / Snapshot::bytes(sim)).clamp(1, 4096)
 }
 
 impl Recorder {

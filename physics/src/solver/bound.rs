@@ -117,10 +117,11 @@ fn gershgorin(c: &[[f64; 3]; 3]) -> f64 {
 /// [`gershgorin`] of point q of a lane matrix `m[r][s][q]`.
 #[inline(always)]
 fn gershgorin_lane(m: &[[[f64; 8]; 3]; 3], q: usize) -> f64 {
-    let r0 = m[0][0][q].abs() + m[0][1][q].abs() + m[0][2][q].abs();
-    let r1 = m[1][0][q].abs() + m[1][1][q].abs() + m[1][2][q].abs();
-    let r2 = m[2][0][q].abs() + m[2][1][q].abs() + m[2][2][q].abs();
-    r0.max(r1).max(r2)
+    gershgorin(&[
+        [m[0][0][q], m[0][1][q], m[0][2][q]],
+        [m[1][0][q], m[1][1][q], m[1][2][q]],
+        [m[2][0][q], m[2][1][q], m[2][2][q]],
+    ])
 }
 
 /// max_q a(F_q) over the 8 Gauss points of an element, F_q = I + Σₐ uₐ ⊗ ∇ₓNₐ(ξ_q)
