@@ -244,7 +244,7 @@ fn print_limits(configs: &[Config], isa: Isa, forced: bool) {
     for c in configs {
         let model = c.sim.model.material.model;
         let count = match c.sim.model.scheme.integration {
-            Integration::Full => flops::full(model),
+            Integration::Full => flops::full(model, c.sim.axis_aligned()),
             Integration::Reduced => flops::one_point(model),
         };
         let elements = c.sim.model.mesh.elements.len() as f64;

@@ -121,7 +121,17 @@ fn point(model: MaterialModel) -> (u64, u64, u64) {
 /// One element-step of the full (2×2×2) kernel ([`super::full::full_lanes`]): the parent
 /// derivatives by sum factorisation and H = D·(⅛ J₀⁻¹) at the 8 points; the stress at the 8
 /// points; Q = P·(⅛ w det J₀ J₀⁻ᵀ) at the 8 points, the transpose to the nodes, and the energy.
-pub fn full(model: MaterialModel) -> KernelFlops {
+/// On an axis-aligned box (`axis_aligned`, J₀ diagonal: [`crate::mesh::GaussData::axis_aligned`])
+/// each entry of H and Q is one product instead of a row product of three.
+pub fn full(model: MaterialModel, axis_aligned: bool) -> KernelFlops {
+    // One entry of H or Q: a row product (two multiply–adds and a product), or one product.
+    let entry = |r: &[Counted; 3], g: [Counted; 3]| {
+        if axis_aligned {
+            let _ = r[0] * g[0];
+        } else {
+            let _ = row_dot::<_, true>(r, g);
+        }
+    };
     let (_, stress, logs) = point(model);
     let (gradient, _) = count(|| {
         let mut d = [[[c(0.0); 3]; 3]; 8];
@@ -129,7 +139,7 @@ pub fn full(model: MaterialModel) -> KernelFlops {
         for d_q in &d {
             for d_qi in d_q {
                 for _ in 0..3 {
-                    let _ = row_dot::<_, true>(d_qi, [c(1.0); 3]);
+                    entry(d_qi, [c(1.0); 3]);
                 }
             }
         }
@@ -138,7 +148,7 @@ pub fn full(model: MaterialModel) -> KernelFlops {
         let p = [c(1.0); 3];
         // Q_q,id = P_q,i · (⅛ w det J₀ ∂ξ_d/∂X) at 8 points × 3 × 3.
         for _ in 0..72 {
-            let _ = row_dot::<_, true>(&p, [c(1.0); 3]);
+            entry(&p, [c(1.0); 3]);
         }
         let mut f = [[c(0.0); 3]; 8];
         parent_forces::<Counted, true>(|_, _, _| c(1.0), &mut f);
@@ -205,12 +215,13 @@ mod tests {
     /// Full: gradient 36 edge differences + 9 interpolations of 4 × (1 + 1 + 2 × 2) = 24, then
     /// H = D·J 8 × 9 row products of 5; 8 points' stress; forces 72 row products of 5 for Q,
     /// the transpose 9 × (4 pair sums + 24) + 8 nodes × 3 × 2 (+ 3 for the node of signs
-    /// (−, −, −), 0 − G_ξ), energy 8 × 2. One point: 1 point, hourglass modes
+    /// (−, −, −), 0 − G_ξ), energy 8 × 2 (an axis-aligned box: one product instead of each row
+    /// product of 5). One point: 1 point, hourglass modes
     /// 4 × 24 multiply–adds and Ψ_hg 4 × 6 + 2, forces 24 × (5 + 8 + 1 + 2) and V ψ 1, corners
     /// 12 edges × 3 × 2 and 8 × (triple product 17 + 1 ×).
     #[test]
     fn counts_match_a_count_by_hand() {
-        let full_svk = full(MaterialModel::Svk);
+        let full_svk = full(MaterialModel::Svk, false);
         assert_eq!(
             full_svk,
             KernelFlops {
@@ -223,6 +234,17 @@ mod tests {
             }
         );
         assert_eq!(full_svk.total(), 2483);
+        // An axis-aligned box: the 8 × 9 entries of H and the 72 of Q one product each.
+        let box_svk = full(MaterialModel::Svk, true);
+        assert_eq!(
+            (box_svk.gradient, box_svk.stress, box_svk.forces),
+            (
+                36 + 9 * 24 + 8 * 9,
+                8 * 149,
+                72 + 9 * (4 + 24) + 8 * 3 * 2 + 3 + 16
+            )
+        );
+        assert_eq!(box_svk.total(), 1907);
         let one = one_point(MaterialModel::Svk);
         assert_eq!(
             one,
@@ -236,7 +258,7 @@ mod tests {
             }
         );
         // Neo-Hookean: one ln per point, the same H and forces.
-        let nh = full(MaterialModel::NeoHookean);
+        let nh = full(MaterialModel::NeoHookean, false);
         assert_eq!(
             (nh.gradient, nh.forces, nh.logs),
             (full_svk.gradient, full_svk.forces, 8)

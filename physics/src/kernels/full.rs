@@ -135,7 +135,13 @@ impl Default for FullScratch {
 /// transpose (T2). Returns per lane (strain energy Σ_q w_q det J₀ ψ_q if `ENERGY`, else 0;
 /// min_q J_q), each lane bit-identical to [`crate::material::element_forces`] on that element.
 #[inline(always)]
-pub(crate) fn full_lanes<L: Law, const ENERGY: bool, const FMA: bool, G: GaussLanes>(
+pub(crate) fn full_lanes<
+    L: Law,
+    const ENERGY: bool,
+    const FMA: bool,
+    const DIAG: bool,
+    G: GaussLanes,
+>(
     mat: &Material,
     g: &G,
     u: &[[[f64; 8]; 3]; 8],
@@ -150,8 +156,12 @@ pub(crate) fn full_lanes<L: Law, const ENERGY: bool, const FMA: bool, G: GaussLa
     for q in 0..8 {
         for (i, h_i) in h.iter_mut().enumerate() {
             for (j, h_ij) in h_i.iter_mut().enumerate() {
-                let jinv = [g.jinv(0, j, q), g.jinv(1, j, q), g.jinv(2, j, q)];
-                *h_ij = row_dot::<_, FMA>(&dq[q][i], jinv);
+                *h_ij = if DIAG {
+                    dq[q][i][j] * g.jinv(j, j, q)
+                } else {
+                    let jinv = [g.jinv(0, j, q), g.jinv(1, j, q), g.jinv(2, j, q)];
+                    row_dot::<_, FMA>(&dq[q][i], jinv)
+                };
             }
         }
         let (psi, jq) = first_piola_lanes_into::<L, ENERGY, FMA>(mat, h, p);
@@ -161,8 +171,12 @@ pub(crate) fn full_lanes<L: Law, const ENERGY: bool, const FMA: bool, G: GaussLa
         }
         for (i, dq_i) in dq[q].iter_mut().enumerate() {
             for (k, dq_ik) in dq_i.iter_mut().enumerate() {
-                let w = [g.wjinv(k, 0, q), g.wjinv(k, 1, q), g.wjinv(k, 2, q)];
-                *dq_ik = row_dot::<_, FMA>(&p[i], w);
+                *dq_ik = if DIAG {
+                    p[i][k] * g.wjinv(k, k, q)
+                } else {
+                    let w = [g.wjinv(k, 0, q), g.wjinv(k, 1, q), g.wjinv(k, 2, q)];
+                    row_dot::<_, FMA>(&p[i], w)
+                };
             }
         }
     }

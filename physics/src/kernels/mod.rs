@@ -382,8 +382,13 @@ unsafe fn chunk_forces_impl<const FMA: bool, const ISA: u8>(
             .iter()
             .all(|&e| *classes.class_of.get_unchecked(e as usize) == class);
         let (en, det) = if one_class {
-            let g = full::OneClass(classes.data.get_unchecked(class as usize));
-            full_group::<FMA, _>(mat, &g, &ul, &mut fl, &mut work, energy)
+            let gd = classes.data.get_unchecked(class as usize);
+            let g = full::OneClass(gd);
+            if gd.axis_aligned {
+                full_group::<FMA, true, _>(mat, &g, &ul, &mut fl, &mut work, energy)
+            } else {
+                full_group::<FMA, false, _>(mat, &g, &ul, &mut fl, &mut work, energy)
+            }
         } else {
             for (l, &e) in group.iter().enumerate() {
                 let c = *classes.class_of.get_unchecked(e as usize);
@@ -392,7 +397,7 @@ unsafe fn chunk_forces_impl<const FMA: bool, const ISA: u8>(
                     lanes.set(l, classes.data.get_unchecked(c as usize));
                 }
             }
-            full_group::<FMA, _>(mat, &lanes, &ul, &mut fl, &mut work, energy)
+            full_group::<FMA, false, _>(mat, &lanes, &ul, &mut fl, &mut work, energy)
         };
         // SAFETY: `[[F64x8; 3]; 8]` is `[[[f64; 8]; 3]; 8]` more aligned (F64x8 is
         // `repr(C)` over `[f64; 8]`).
@@ -422,9 +427,10 @@ unsafe fn chunk_forces_impl<const FMA: bool, const ISA: u8>(
     (e_sum, min_j, min_e)
 }
 
-/// [`full::full_lanes`] for the material's law, with or without the energy.
+/// [`full::full_lanes`] for the material's law, with or without the energy; `DIAG` when every
+/// lane's J₀ is diagonal ([`GaussData::axis_aligned`]).
 #[inline(always)]
-fn full_group<const FMA: bool, G: full::GaussLanes>(
+fn full_group<const FMA: bool, const DIAG: bool, G: full::GaussLanes>(
     mat: &Material,
     g: &G,
     ul: &[[[f64; 8]; 3]; 8],
@@ -433,9 +439,9 @@ fn full_group<const FMA: bool, G: full::GaussLanes>(
     energy: bool,
 ) -> (F64x8, F64x8) {
     with_law!(mat.model, L => if energy {
-        full::full_lanes::<L, true, FMA, G>(mat, g, ul, fl, work)
+        full::full_lanes::<L, true, FMA, DIAG, G>(mat, g, ul, fl, work)
     } else {
-        full::full_lanes::<L, false, FMA, G>(mat, g, ul, fl, work)
+        full::full_lanes::<L, false, FMA, DIAG, G>(mat, g, ul, fl, work)
     })
 }
 

@@ -97,15 +97,22 @@ fn full<L: Law, const ENERGY: bool, const FMA: bool>(
             }
         }
     }
+    // An axis-aligned box (J₀ diagonal): the row products reduce to their one non-zero term,
+    // which they would return bit for bit ([`GaussData::axis_aligned`]).
+    let diag = gd.axis_aligned;
     let mut h: Mat3<F64x8> = [[zero; 3]; 3];
     for i in 0..3 {
         for j in 0..3 {
-            let jinv = [
-                F64x8(gd.jinv[0][j]),
-                F64x8(gd.jinv[1][j]),
-                F64x8(gd.jinv[2][j]),
-            ];
-            h[i][j] = row_dot::<_, FMA>(&d[i], jinv);
+            h[i][j] = if diag {
+                d[i][j] * F64x8(gd.jinv[j][j])
+            } else {
+                let jinv = [
+                    F64x8(gd.jinv[0][j]),
+                    F64x8(gd.jinv[1][j]),
+                    F64x8(gd.jinv[2][j]),
+                ];
+                row_dot::<_, FMA>(&d[i], jinv)
+            };
         }
     }
     let mut p: Mat3<F64x8> = [[zero; 3]; 3];
@@ -113,7 +120,11 @@ fn full<L: Law, const ENERGY: bool, const FMA: bool>(
     let mut q: Mat3<F64x8> = [[zero; 3]; 3];
     for i in 0..3 {
         for k in 0..3 {
-            q[i][k] = row_dot::<_, FMA>(&p[i], lanes3(&gd.wjinv[k]));
+            q[i][k] = if diag {
+                p[i][k] * F64x8(gd.wjinv[k][k])
+            } else {
+                row_dot::<_, FMA>(&p[i], lanes3(&gd.wjinv[k]))
+            };
         }
     }
     parent_forces::<f64, FMA>(|pt, i, k| q[i][k].0[pt], f);

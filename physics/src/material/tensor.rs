@@ -193,21 +193,50 @@ pub(crate) fn parent_forces<T: Real, const FMA: bool>(
             spread::<T, FMA>(pair_sums(&q, i, 2)),
         ];
         for (a, f_a) in f.iter_mut().enumerate() {
-            let b = bits(a);
-            let at = |d: usize| g[d][b[OTHERS[d][0]] + 2 * b[OTHERS[d][1]]];
-            // No negation: a sign change would give NaNs of both signs (an inverted
-            // element), and which one a sum of two returns depends on the operand order the
-            // compiler picks, so the AVX2 and AVX-512 builds would differ in their bits.
-            // Start from the first + sign: two sums or differences per node, three for the
-            // node of signs (−, −, −).
-            let pm = |s: T, d: usize| if PLUS[a][d] { s + at(d) } else { s - at(d) };
-            f_a[i] = match PLUS[a] {
-                [true, _, _] => pm(pm(at(0), 1), 2),
-                [false, true, _] => pm(at(1) - at(0), 2),
-                [false, false, true] => (at(2) - at(0)) - at(1),
-                [false, false, false] => ((T::splat(0.0) - at(0)) - at(1)) - at(2),
-            };
+            f_a[i] = node_force(a, &g);
         }
+    }
+}
+
+/// Node a's share of (T2) from the spread sums `g[d]` of a component: (sₐ^ξ G_ξ ± G_η) ± G_ζ.
+/// A function, not closures inside [`parent_forces`]: those were not inlined once the lane
+/// kernel had two variants (8 calls per lane group).
+#[inline(always)]
+fn node_force<T: Real>(a: usize, g: &[[T; 4]; 3]) -> T {
+    let b = bits(a);
+    let at = [
+        g[0][b[OTHERS[0][0]] + 2 * b[OTHERS[0][1]]],
+        g[1][b[OTHERS[1][0]] + 2 * b[OTHERS[1][1]]],
+        g[2][b[OTHERS[2][0]] + 2 * b[OTHERS[2][1]]],
+    ];
+    // No negation: a sign change would give NaNs of both signs (an inverted element), and
+    // which one a sum of two returns depends on the operand order the compiler picks, so the
+    // AVX2 and AVX-512 builds would differ in their bits. Start from the first + sign: two
+    // sums or differences per node, three for the node of signs (−, −, −).
+    let plus = PLUS[a];
+    match plus {
+        [true, _, _] => {
+            let s = if plus[1] {
+                at[0] + at[1]
+            } else {
+                at[0] - at[1]
+            };
+            if plus[2] {
+                s + at[2]
+            } else {
+                s - at[2]
+            }
+        }
+        [false, true, _] => {
+            let s = at[1] - at[0];
+            if plus[2] {
+                s + at[2]
+            } else {
+                s - at[2]
+            }
+        }
+        [false, false, true] => (at[2] - at[0]) - at[1],
+        [false, false, false] => ((T::splat(0.0) - at[0]) - at[1]) - at[2],
     }
 }
 

@@ -231,6 +231,13 @@ impl Simulation {
         self.classes.data.len()
     }
 
+    /// Whether every element shape is an axis-aligned box (J₀ diagonal,
+    /// [`crate::mesh::GaussData::axis_aligned`]): the full-integration kernel then forms H and
+    /// Q with one product per entry ([`crate::kernels::flops::full`]).
+    pub fn axis_aligned(&self) -> bool {
+        self.classes.data.iter().all(|gd| gd.axis_aligned)
+    }
+
     /// Interface state counts now (paper fig. 6, right).
     pub fn state_counts(&self) -> StateCounts {
         let mut c = StateCounts::default();
