@@ -134,6 +134,10 @@ impl Default for FullScratch {
 /// per point H_q = D_q·(⅛ J₀⁻¹), P_q and Q_q = P_q·(⅛ w_q det J₀ J₀⁻ᵀ), then the forces by the
 /// transpose (T2). Returns per lane (strain energy Σ_q w_q det J₀ ψ_q if `ENERGY`, else 0;
 /// min_q J_q), each lane bit-identical to [`crate::material::element_forces`] on that element.
+/// `DIAG`: every lane's J₀ is diagonal ([`GaussData::axis_aligned`]), so each entry of H and Q
+/// is one product, the row product's one non-zero term (the same value for finite
+/// displacements; an infinite one gives ∞ where the row product's ∞·0 gives NaN, and the
+/// ledger stops either run as non-finite).
 #[inline(always)]
 pub(crate) fn full_lanes<
     L: Law,

@@ -272,8 +272,8 @@ fn full_chunk_builds(
 /// An axis-aligned box (one class, J₀ diagonal): every build's lane and scalar kernels, which
 /// then form H and Q with one product per entry ([`GaussData::axis_aligned`]), give the values
 /// of the general row products (the class data with the flag cleared), scattered in chunk
-/// order: the terms left out are exact zeros. Compared as values, not bits (a sum whose terms
-/// are all zero may differ in the sign of its zero; none of the results is zero here).
+/// order: the terms left out are exact zeros. Compared as values, not bits (a product whose
+/// row-product partner sums are zeros of other signs may differ in the sign of its zero).
 #[test]
 fn axis_aligned_kernels_give_the_row_products_values() {
     let mesh = Mesh::boxed([10.0, -3.0, 0.5], [1.0, 0.8, 0.6], [8, 8, 6]);
