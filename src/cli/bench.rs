@@ -237,6 +237,18 @@ fn print_limits(configs: &[Config], isa: Isa, forced: bool) {
     println!("peak: {}", p.describe());
     let triad = triad_gbs();
     println!("memory: {triad:.1} GB/s (triad a = b + s·c on 3 × 64 MiB, one thread, best of 5)");
+    if let Some(c) = configs
+        .iter()
+        .find(|c| c.sim.model.scheme.integration == Integration::Full)
+    {
+        let model = c.sim.model.material.model;
+        println!(
+            "flops per element-step counted from the code; full: {} on axis-aligned boxes (J₀ diagonal: H and Q one product per entry), {} on other shapes; this mesh: {}",
+            flops::full(model, true).total(),
+            flops::full(model, false).total(),
+            if c.sim.axis_aligned() { "axis-aligned" } else { "not axis-aligned" }
+        );
+    }
     println!(
         "{:>8} {:>4} {:>12} {:>13} {:>8} {:>8} {:>11} {:>8}",
         "rule", "n", "flops/elem", "kernel ns/el", "GFLOP/s", "of peak", "bytes/elem", "GB/s"
