@@ -12,8 +12,8 @@
 
 use super::corners::corner_jacobians;
 use crate::material::{
-    displacement_gradient, first_piola, parent_forces, parent_gradient, row_dot, with_law,
-    Deformation, Grouped, Law, Material, MaterialModel, Real,
+    displacement_gradient, first_piola, parent_forces, parent_gradient, row_dot, row_dot_on,
+    with_law, Deformation, Grouped, Law, Material, MaterialModel, Real,
 };
 use std::cell::Cell;
 use std::ops::{Add, Div, Mul, Sub};
@@ -124,14 +124,6 @@ fn point(model: MaterialModel) -> (u64, u64, u64) {
 /// On an axis-aligned box (`axis_aligned`, J₀ diagonal: [`crate::mesh::GaussData::axis_aligned`])
 /// each entry of H and Q is one product instead of a row product of three.
 pub fn full(model: MaterialModel, axis_aligned: bool) -> KernelFlops {
-    // One entry of H or Q: a row product (two multiply–adds and a product), or one product.
-    let entry = |r: &[Counted; 3], g: [Counted; 3]| {
-        if axis_aligned {
-            let _ = r[0] * g[0];
-        } else {
-            let _ = row_dot::<_, true>(r, g);
-        }
-    };
     let (_, stress, logs) = point(model);
     let (gradient, _) = count(|| {
         let mut d = [[[c(0.0); 3]; 3]; 8];
@@ -139,7 +131,7 @@ pub fn full(model: MaterialModel, axis_aligned: bool) -> KernelFlops {
         for d_q in &d {
             for d_qi in d_q {
                 for _ in 0..3 {
-                    entry(d_qi, [c(1.0); 3]);
+                    let _ = row_dot_on::<_, true>(d_qi, [c(1.0); 3], 0, axis_aligned);
                 }
             }
         }
@@ -148,7 +140,7 @@ pub fn full(model: MaterialModel, axis_aligned: bool) -> KernelFlops {
         let p = [c(1.0); 3];
         // Q_q,id = P_q,i · (⅛ w det J₀ ∂ξ_d/∂X) at 8 points × 3 × 3.
         for _ in 0..72 {
-            entry(&p, [c(1.0); 3]);
+            let _ = row_dot_on::<_, true>(&p, [c(1.0); 3], 0, axis_aligned);
         }
         let mut f = [[c(0.0); 3]; 8];
         parent_forces::<Counted, true>(|_, _, _| c(1.0), &mut f);

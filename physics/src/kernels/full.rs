@@ -13,7 +13,7 @@
 //! kernel's bits.
 
 use crate::material::{
-    first_piola_lanes_into, parent_forces, parent_gradient, row_dot, F64x8, Law, Material, Real,
+    first_piola_lanes_into, parent_forces, parent_gradient, row_dot_on, F64x8, Law, Material, Real,
 };
 use crate::mesh::GaussData;
 
@@ -160,12 +160,8 @@ pub(crate) fn full_lanes<
     for q in 0..8 {
         for (i, h_i) in h.iter_mut().enumerate() {
             for (j, h_ij) in h_i.iter_mut().enumerate() {
-                *h_ij = if DIAG {
-                    dq[q][i][j] * g.jinv(j, j, q)
-                } else {
-                    let jinv = [g.jinv(0, j, q), g.jinv(1, j, q), g.jinv(2, j, q)];
-                    row_dot::<_, FMA>(&dq[q][i], jinv)
-                };
+                let jinv = [g.jinv(0, j, q), g.jinv(1, j, q), g.jinv(2, j, q)];
+                *h_ij = row_dot_on::<_, FMA>(&dq[q][i], jinv, j, DIAG);
             }
         }
         let (psi, jq) = first_piola_lanes_into::<L, ENERGY, FMA>(mat, h, p);
@@ -175,12 +171,8 @@ pub(crate) fn full_lanes<
         }
         for (i, dq_i) in dq[q].iter_mut().enumerate() {
             for (k, dq_ik) in dq_i.iter_mut().enumerate() {
-                *dq_ik = if DIAG {
-                    p[i][k] * g.wjinv(k, k, q)
-                } else {
-                    let w = [g.wjinv(k, 0, q), g.wjinv(k, 1, q), g.wjinv(k, 2, q)];
-                    row_dot::<_, FMA>(&p[i], w)
-                };
+                let w = [g.wjinv(k, 0, q), g.wjinv(k, 1, q), g.wjinv(k, 2, q)];
+                *dq_ik = row_dot_on::<_, FMA>(&p[i], w, k, DIAG);
             }
         }
     }

@@ -8,7 +8,7 @@
 
 use super::kinematics::{
     displacement_gradient, hourglass_energy, hourglass_modes, lane_sums_by_halves, row_dot,
-    Deformation, Grouped, Sequential,
+    row_dot_on, Deformation, Grouped, Sequential,
 };
 use super::real::{F64x8, Mat3, Real};
 use super::tensor::{parent_forces, parent_gradient};
@@ -97,22 +97,17 @@ fn full<L: Law, const ENERGY: bool, const FMA: bool>(
             }
         }
     }
-    // An axis-aligned box (J₀ diagonal): the row products reduce to their one non-zero term,
-    // which they would return bit for bit ([`GaussData::axis_aligned`]).
+    // An axis-aligned box (J₀ diagonal): one product per entry ([`row_dot_on`]).
     let diag = gd.axis_aligned;
     let mut h: Mat3<F64x8> = [[zero; 3]; 3];
     for i in 0..3 {
         for j in 0..3 {
-            h[i][j] = if diag {
-                d[i][j] * F64x8(gd.jinv[j][j])
-            } else {
-                let jinv = [
-                    F64x8(gd.jinv[0][j]),
-                    F64x8(gd.jinv[1][j]),
-                    F64x8(gd.jinv[2][j]),
-                ];
-                row_dot::<_, FMA>(&d[i], jinv)
-            };
+            let jinv = [
+                F64x8(gd.jinv[0][j]),
+                F64x8(gd.jinv[1][j]),
+                F64x8(gd.jinv[2][j]),
+            ];
+            h[i][j] = row_dot_on::<_, FMA>(&d[i], jinv, j, diag);
         }
     }
     let mut p: Mat3<F64x8> = [[zero; 3]; 3];
@@ -120,11 +115,7 @@ fn full<L: Law, const ENERGY: bool, const FMA: bool>(
     let mut q: Mat3<F64x8> = [[zero; 3]; 3];
     for i in 0..3 {
         for k in 0..3 {
-            q[i][k] = if diag {
-                p[i][k] * F64x8(gd.wjinv[k][k])
-            } else {
-                row_dot::<_, FMA>(&p[i], lanes3(&gd.wjinv[k]))
-            };
+            q[i][k] = row_dot_on::<_, FMA>(&p[i], lanes3(&gd.wjinv[k]), k, diag);
         }
     }
     parent_forces::<f64, FMA>(|pt, i, k| q[i][k].0[pt], f);

@@ -22,7 +22,9 @@ pub use element::{
     element_forces, element_forces_reduced, element_forces_reduced_lanes,
     element_forces_reduced_lanes_in, hourglass_stiffness, LaneElements, OnePointScratch,
 };
-pub(crate) use kinematics::{displacement_gradient, hourglass_energy, hourglass_modes, row_dot};
+pub(crate) use kinematics::{
+    displacement_gradient, hourglass_energy, hourglass_modes, row_dot, row_dot_on,
+};
 pub use real::{F64x8, Mat3, Real};
 pub(crate) use tensor::{parent_forces, parent_gradient};
 
