@@ -12,8 +12,8 @@
 
 use super::corners::corner_jacobians;
 use crate::material::{
-    displacement_gradient, first_piola, parent_forces, parent_gradient, row_dot, row_dot_on,
-    with_law, Deformation, Grouped, Law, Material, MaterialModel, Real,
+    displacement_gradient, first_piola, modes_to_nodes, node_modes, parent_forces, parent_gradient,
+    row_dot, row_dot_on, with_law, Deformation, Grouped, Law, Material, MaterialModel, Real,
 };
 use std::cell::Cell;
 use std::ops::{Add, Div, Mul, Sub};
@@ -162,8 +162,14 @@ pub fn full(model: MaterialModel, axis_aligned: bool) -> KernelFlops {
 
 /// One element-step of the one-point kernel with hourglass control
 /// ([`crate::material::element_forces_reduced_lanes`]) and its corner check
-/// ([`super::corners`]).
-pub fn one_point(model: MaterialModel) -> KernelFlops {
+/// ([`super::corners`]). On an axis-aligned box (`axis_aligned`,
+/// [`crate::mesh::CentreData::axis_aligned`]) the kernel goes through the modes of the trilinear
+/// field ([`crate::material::element_forces_box_lanes_in`]): per component (T3), 3 products for
+/// H and, for the forces, 7 products and the transpose of (T3).
+pub fn one_point(model: MaterialModel, axis_aligned: bool) -> KernelFlops {
+    if axis_aligned {
+        return one_point_box(model);
+    }
     let (gradient, stress, logs) = point(model);
     let (hourglass, _) = count(|| {
         let q = crate::material::hourglass_modes::<Counted, true>(|_, _| c(1.0), |_, _| c(1e-3));
@@ -182,6 +188,47 @@ pub fn one_point(model: MaterialModel) -> KernelFlops {
         }
         // V ψ.
         let _ = vol * c(1.0);
+    });
+    let (corners, _) = count(|| {
+        let _ = corner_jacobians::<Counted, true>(|_, _| c(1.0), |_| c(1.0), |_, _| c(1e-3));
+    });
+    KernelFlops {
+        gradient,
+        stress,
+        forces,
+        hourglass,
+        corners,
+        logs,
+    }
+}
+
+/// [`one_point`] on an axis-aligned box.
+fn one_point_box(model: MaterialModel) -> KernelFlops {
+    let (_, stress, logs) = point(model);
+    let (gradient, _) = count(|| {
+        for _ in 0..3 {
+            let m = node_modes([c(1e-3); 8]);
+            // H_id = β_d m_{d}.
+            for m_d in &m[1..4] {
+                let _ = c(1.0) * *m_d;
+            }
+        }
+    });
+    let (hourglass, _) = count(|| {
+        // The amplitudes qᵅ are modes of (T3): only Ψ_hg = ½ k Σᵅ |qᵅ|².
+        let _ = crate::material::hourglass_energy(c(1.0), &[[c(1e-3); 3]; 4]);
+    });
+    let (forces, _) = count(|| {
+        for _ in 0..3 {
+            // m_{d} = V β_d P_id, m_{hᵅ} = k qᵅᵢ, then the nodal field.
+            let mut m = [c(0.0); 8];
+            for m_k in &mut m[1..] {
+                *m_k = c(1.0) * c(1.0);
+            }
+            let _ = modes_to_nodes(m);
+        }
+        // V ψ.
+        let _ = c(1.0) * c(1.0);
     });
     let (corners, _) = count(|| {
         let _ = corner_jacobians::<Counted, true>(|_, _| c(1.0), |_| c(1.0), |_, _| c(1e-3));
@@ -237,7 +284,22 @@ mod tests {
             )
         );
         assert_eq!(box_svk.total(), 1907);
-        let one = one_point(MaterialModel::Svk);
+        // The box's one point: (T3) 24 sums per component and H 9 ×; Ψ_hg 4 × 6 + 2; forces
+        // per component 7 × and the transpose of (T3) 24, V ψ 1; the same stress and corners.
+        let box_one = one_point(MaterialModel::Svk, true);
+        assert_eq!(
+            box_one,
+            KernelFlops {
+                gradient: 3 * 24 + 9,
+                stress: 149,
+                forces: 3 * (7 + 24) + 1,
+                hourglass: 4 * 6 + 2,
+                corners: 12 * 3 * 2 + 8 * 18,
+                logs: 0,
+            }
+        );
+        assert_eq!(box_one.total(), 566);
+        let one = one_point(MaterialModel::Svk, false);
         assert_eq!(
             one,
             KernelFlops {

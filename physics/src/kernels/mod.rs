@@ -13,8 +13,9 @@ pub mod simd;
 pub(crate) use nodes::{free_velocity_chunk, internal_and_gravity_impulses, NodeSums};
 
 use crate::material::{
-    element_forces, element_forces_reduced, element_forces_reduced_lanes_in, hourglass_stiffness,
-    with_law, F64x8, LaneElements, Material, OnePointScratch,
+    element_forces, element_forces_box_lanes_in, element_forces_reduced,
+    element_forces_reduced_lanes_in, hourglass_stiffness, with_law, F64x8, LaneElements, Material,
+    OnePointScratch,
 };
 use crate::mesh::{CentreData, ElementClasses, GaussData, Mesh};
 use crate::model::Integration;
@@ -193,8 +194,9 @@ pub fn assemble_internal_forces(
 simd_dispatch! {
     /// One chunk of a colour with one-point integration: groups of 8 elements go through the
     /// lane kernel ([`element_forces_reduced_lanes_in`]; H and the hourglass modes 4 lanes at a
-    /// time on AVX2), the remainder through the scalar one
-    /// ([`element_forces_reduced`]).
+    /// time on AVX2; a group of 8 axis-aligned boxes through the modes of the trilinear field,
+    /// [`element_forces_box_lanes_in`]), the remainder through the scalar one
+    /// ([`element_forces_reduced`], which takes the modes on a box too).
     fn chunk_forces_reduced / chunk_forces_reduced_avx2 / chunk_forces_reduced_avx512
         / chunk_forces_reduced_builds
         => chunk_forces_reduced_impl(
@@ -237,6 +239,8 @@ unsafe fn chunk_forces_reduced_impl<const FMA: bool, const ISA: u8>(
     // Class whose data sits in each lane: most meshes have few classes (a structured box has
     // one), so the lane data is rarely rewritten.
     let mut staged = [u32::MAX; 8];
+    // Bit l: lane l holds an axis-aligned box (`CentreData::axis_aligned`).
+    let mut boxes = 0u8;
     let work = &mut OnePointScratch::default();
     for group in groups {
         for (l, &e) in group.iter().enumerate() {
@@ -248,19 +252,32 @@ unsafe fn chunk_forces_reduced_impl<const FMA: bool, const ISA: u8>(
             let cd: &CentreData = classes.centre.get_unchecked(class as usize);
             lanes.set(l, cd, hourglass_stiffness(mat, cd, kappa));
             corner_lanes.set(l, cd);
+            boxes = (boxes & !(1 << l)) | ((cd.axis_aligned as u8) << l);
         }
         gather_group::<ISA>(mesh, u, group, &mut ul);
-        let [en, hg, det] = match (energy, ISA == ISA_AVX2) {
-            (true, true) => {
+        let [en, hg, det] = match (energy, ISA == ISA_AVX2, boxes == u8::MAX) {
+            (true, true, true) => {
+                element_forces_box_lanes_in::<true, FMA, 4>(mat, &lanes, &ul, &mut fl, work)
+            }
+            (true, false, true) => {
+                element_forces_box_lanes_in::<true, FMA, 8>(mat, &lanes, &ul, &mut fl, work)
+            }
+            (false, true, true) => {
+                element_forces_box_lanes_in::<false, FMA, 4>(mat, &lanes, &ul, &mut fl, work)
+            }
+            (false, false, true) => {
+                element_forces_box_lanes_in::<false, FMA, 8>(mat, &lanes, &ul, &mut fl, work)
+            }
+            (true, true, false) => {
                 element_forces_reduced_lanes_in::<true, FMA, true>(mat, &lanes, &ul, &mut fl, work)
             }
-            (true, false) => {
+            (true, false, false) => {
                 element_forces_reduced_lanes_in::<true, FMA, false>(mat, &lanes, &ul, &mut fl, work)
             }
-            (false, true) => {
+            (false, true, false) => {
                 element_forces_reduced_lanes_in::<false, FMA, true>(mat, &lanes, &ul, &mut fl, work)
             }
-            (false, false) => element_forces_reduced_lanes_in::<false, FMA, false>(
+            (false, false, false) => element_forces_reduced_lanes_in::<false, FMA, false>(
                 mat, &lanes, &ul, &mut fl, work,
             ),
         };

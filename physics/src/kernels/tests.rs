@@ -110,6 +110,35 @@ fn run_chunk(n_nodes: usize, run: impl FnOnce(SendPtr) -> Sums) -> (Vec<[f64; 3]
     (f, out)
 }
 
+/// The scalar one-point kernel element by element in chunk order, scattered into `p`, with the
+/// one-point data `centre(e)` of element e: (strain energy, hourglass energy).
+fn scalar_one_point_chunk<'a>(
+    mesh: &Mesh,
+    mat: &Material,
+    centre: impl Fn(u32) -> &'a CentreData,
+    kappa: f64,
+    u: &[[f64; 3]],
+    chunk: &[u32],
+    p: SendPtr,
+) -> (f64, f64) {
+    let (mut strain, mut hg) = (0.0, 0.0);
+    for &e in chunk {
+        let conn = mesh.elements[e as usize];
+        let cd = centre(e);
+        let k = hourglass_stiffness(mat, cd, kappa);
+        let mut fe = [[0.0; 3]; 8];
+        let out = element_forces_reduced::<true>(mat, cd, k, &conn.map(|a| u[a as usize]), &mut fe);
+        (strain, hg) = (strain + out.0, hg + out.1);
+        for a in 0..8 {
+            let row = unsafe { &mut *p.0.add(conn[a] as usize) };
+            for c in 0..3 {
+                row[c] += fe[a][c];
+            }
+        }
+    }
+    (strain, hg)
+}
+
 /// `a` and `b` agree to `tol` (or are both NaN: the forces and energy of an inverted
 /// neo-Hookean element, ln J < 0's NaN, spread the same way in every build).
 fn close(a: f64, b: f64, tol: f64) -> bool {
@@ -322,6 +351,74 @@ fn axis_aligned_kernels_give_the_row_products_values() {
     }
 }
 
+/// One point on an axis-aligned box (one class, `CentreData::axis_aligned`): every build's lane
+/// kernel and the scalar kernel, which go through the modes of the trilinear field
+/// (`material::tensor`, (T3)), give the forces and energies of the general kernel (the class
+/// data with the flag cleared, bₐ and γᵅ as stored) under a large non-affine displacement, which
+/// excites all four hourglass modes. They sum in another order: to 1e-12 of the largest nodal
+/// force and of each energy (round-off of sums of ~10 terms; a wrong mode, sign or node is an
+/// O(1) error).
+#[test]
+fn box_one_point_kernels_give_the_general_kernels_values() {
+    let mesh = Mesh::boxed([10.0, -3.0, 0.5], [1.0, 0.8, 0.6], [8, 8, 6]);
+    let classes = mesh.element_classes().unwrap();
+    assert!(classes.centre.len() == 1 && classes.centre[0].axis_aligned);
+    let mut general = classes.centre[0].clone();
+    general.axis_aligned = false;
+    let chunk: Vec<u32> = (0..21).collect();
+    let n = mesh.nodes.len();
+    let kappa = 0.05;
+    for model in [MaterialModel::Svk, MaterialModel::NeoHookean] {
+        let mat = Material::new(model, 5e6, 0.45, 1100.0);
+        let u = bent(&mesh);
+        let reference = run_chunk(n, |p| {
+            let (strain, hg) =
+                scalar_one_point_chunk(&mesh, &mat, |_| &general, kappa, &u, &chunk, p);
+            (strain, hg, 0.0, 0)
+        });
+        let (ref_f, (ref_strain, ref_hg, ..)) = &reference;
+        assert!(
+            *ref_hg > 1e-6 * ref_strain,
+            "{model:?}: hourglass modes not excited"
+        );
+        let scale = ref_f.iter().flatten().fold(0.0f64, |m, v| m.max(v.abs()));
+        let mut runs: Vec<Build> = chunk_forces_reduced_builds()
+            .into_iter()
+            .map(|(name, build)| {
+                let out = run_chunk(n, |p| {
+                    let r =
+                        unsafe { build(&mesh, &classes, &mat, kappa, &u, p, &chunk, true, 0.0) };
+                    (r.strain, r.hourglass, r.min_j, r.min_element)
+                });
+                (name, out)
+            })
+            .collect();
+        runs.push((
+            "scalar kernel",
+            run_chunk(n, |p| {
+                let box_data = |_| &classes.centre[0];
+                let (strain, hg) =
+                    scalar_one_point_chunk(&mesh, &mat, box_data, kappa, &u, &chunk, p);
+                (strain, hg, 0.0, 0)
+            }),
+        ));
+        for (name, (f, (strain, hg, ..))) in &runs {
+            let worst = f
+                .iter()
+                .flatten()
+                .zip(ref_f.iter().flatten())
+                .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+            assert!(
+                worst <= 1e-12 * scale
+                    && (strain - ref_strain).abs() <= 1e-12 * ref_strain
+                    && (hg - ref_hg).abs() <= 1e-12 * ref_hg,
+                "{model:?} {name}: force off by {worst:e} of {scale:e}, energies {strain} {hg} \
+                 against {ref_strain} {ref_hg}"
+            );
+        }
+    }
+}
+
 /// One point: groups of 8 elements go through the lane kernel, the rest through the scalar
 /// one. On every block of the box, and on two chunks where the inverted element falls in a
 /// lane group and in the remainder: every build gives the forces and energies of the scalar
@@ -398,27 +495,9 @@ fn one_point_chunk_every_build_matches_portable_and_scalar_kernel() {
                 check_builds(&what, &builds, expect_min);
                 // The scalar kernel element by element, in chunk order, as a further "build".
                 let scalar = run_chunk(n, |p| {
-                    let (mut strain, mut hg) = (0.0, 0.0);
-                    for &e in chunk {
-                        let conn = mesh.elements[e as usize];
-                        let cd = &classes.centre[classes.class_of[e as usize] as usize];
-                        let k = hourglass_stiffness(&mat, cd, kappa);
-                        let mut fe = [[0.0; 3]; 8];
-                        let out = element_forces_reduced::<true>(
-                            &mat,
-                            cd,
-                            k,
-                            &conn.map(|a| u[a as usize]),
-                            &mut fe,
-                        );
-                        (strain, hg) = (strain + out.0, hg + out.1);
-                        for a in 0..8 {
-                            let row = unsafe { &mut *p.0.add(conn[a] as usize) };
-                            for c in 0..3 {
-                                row[c] += fe[a][c];
-                            }
-                        }
-                    }
+                    let centre = |e: u32| &classes.centre[classes.class_of[e as usize] as usize];
+                    let (strain, hg) =
+                        scalar_one_point_chunk(&mesh, &mat, centre, kappa, &u, chunk, p);
                     (strain, hg, expect_min.0, expect_min.1)
                 });
                 builds.push(("scalar kernel", scalar));

@@ -53,7 +53,13 @@ impl F64x8 {
     }
 }
 
-/// `impl $op for F64x8`, lane by lane.
+/// W f64 lanes without [`F64x8`]'s alignment: a slice of an [`F64x8`]'s lanes (the one-point
+/// box kernel runs 4 at a time on AVX2, whose 16 registers hold 4 × 8 modal amplitudes of 4
+/// lanes but not of 8).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Lanes<const W: usize>(pub [f64; W]);
+
+/// `impl $op for F64x8` and for [`Lanes`], lane by lane.
 macro_rules! lanewise {
     ($($trait:ident :: $method:ident),*) => {$(
         impl $trait for F64x8 {
@@ -65,6 +71,17 @@ macro_rules! lanewise {
                     r[l] = $trait::$method(r[l], o.0[l]);
                 }
                 F64x8(r)
+            }
+        }
+        impl<const W: usize> $trait for Lanes<W> {
+            type Output = Lanes<W>;
+            #[inline(always)]
+            fn $method(self, o: Lanes<W>) -> Lanes<W> {
+                let mut r = self.0;
+                for l in 0..W {
+                    r[l] = $trait::$method(r[l], o.0[l]);
+                }
+                Lanes(r)
             }
         }
     )*};

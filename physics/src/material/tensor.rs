@@ -25,8 +25,17 @@
 //! the transpose of (T1), taken in the reverse order. Per element and component: 36
 //! differences and 9 × 24 flops for the 72 parent derivatives, where Σₐ uₐ ⊗ ∇ₓNₐ point by point
 //! took 8 × 144; the forces likewise (README, Performance, the flop counts).
+//!
+//! One point on an axis-aligned box: the trilinear field is Σ_M m_M Π_{d ∈ M} ξ_d / 8 over the
+//! subsets M of {ξ, η, ζ}, with the modal amplitudes m_M = Σₐ (Π_{d ∈ M} sₐ^d) uₐ (T3)
+//! ([`node_modes`]). There FB's uniform gradients are bₐ = sₐ ⊙ β and the hourglass vectors
+//! γᵅ = hᵅ = the sign products of ξη, ηζ, ζξ, ξηζ (`mesh::CentreData::axis_aligned`), so
+//! H = Σₐ uₐ ⊗ bₐ has the columns β_d m_{d}, qᵅ = m_{hᵅ}, and the forces
+//! fₐ = V P bₐ + k Σᵅ γₐᵅ qᵅ are the transpose of (T3) applied to the amplitudes V β_d P_{·d} and
+//! k qᵅ ([`modes_to_nodes`]).
 
 use super::real::Real;
+use std::ops::{Add, Sub};
 
 /// The Gauss coordinate g = 1/√3 (`mesh::gauss_points`; equal bits, tested).
 pub(crate) const GAUSS: f64 = 0.577_350_269_189_625_8;
@@ -240,6 +249,66 @@ fn node_force<T: Real>(a: usize, g: &[[T; 4]; 3]) -> T {
     }
 }
 
+/// The node at each modal position p = b_ξ + 2 b_η + 4 b_ζ (b = 0 for the sign −1, 1 for +1):
+/// the order [`node_modes`] reads and [`modes_to_nodes`] writes.
+pub(crate) const NODE_AT: [usize; 8] = {
+    let mut n = [0; 8];
+    let mut p = 0;
+    while p < 8 {
+        n[p] = node([p & 1, (p >> 1) & 1, p >> 2]);
+        p += 1;
+    }
+    n
+};
+
+/// The modal position of the hourglass base vectors hᵅ of [`crate::mesh::hourglass_vectors`]
+/// (ξη, ηζ, ζξ, ξηζ), and that of the linear mode along d is 2^d.
+pub(crate) const HOURGLASS_AT: [usize; 4] = [0b011, 0b110, 0b101, 0b111];
+
+/// The 8 modal amplitudes of a nodal field of the trilinear hexahedron,
+///
+/// ```text
+/// m_M = Σₐ (Π_{d ∈ M} sₐ^d) xₐ      for each subset M of {ξ, η, ζ}, at position Σ_{d ∈ M} 2^d   (T3)
+/// ```
+///
+/// with `x[p]` the value at node [`NODE_AT`]`[p]`: an unnormalised fast Walsh–Hadamard
+/// transform, one stage per direction of 4 sums and 4 differences (24 flops). On an
+/// axis-aligned box ∇ₓNₐ = sₐ ⊙ β and γᵅ = hᵅ ([`crate::mesh::CentreData::axis_aligned`]), so
+/// H = Σₐ uₐ ⊗ bₐ has the columns β_d m_{d} and the hourglass amplitudes qᵅ = m_{hᵅ}
+/// ([`HOURGLASS_AT`]): 24 sums instead of 8 × 3 multiply–adds for a column of H and 8 for
+/// each qᵅ.
+#[inline(always)]
+pub(crate) fn node_modes<T: Copy + Add<Output = T> + Sub<Output = T>>(mut x: [T; 8]) -> [T; 8] {
+    for s in [1, 2, 4] {
+        for p in 0..8 {
+            if p & s == 0 {
+                let (lo, hi) = (x[p], x[p | s]);
+                x[p] = lo + hi;
+                x[p | s] = hi - lo;
+            }
+        }
+    }
+    x
+}
+
+/// The transpose of (T3): the nodal values xₐ = Σ_M (Π_{d ∈ M} sₐ^d) m_M of the modal
+/// amplitudes `m` (position as in [`node_modes`]; the result's position p is node
+/// [`NODE_AT`]`[p]`), 24 flops. The box kernel's forces fₐ = V P bₐ + k Σᵅ γₐᵅ qᵅ are this
+/// field with m_{d} = V β_d P_{·d}, m_{hᵅ} = k qᵅ and m_∅ = 0.
+#[inline(always)]
+pub(crate) fn modes_to_nodes<T: Copy + Add<Output = T> + Sub<Output = T>>(mut m: [T; 8]) -> [T; 8] {
+    for s in [1, 2, 4] {
+        for p in 0..8 {
+            if p & s == 0 {
+                let (lo, hi) = (m[p], m[p | s]);
+                m[p] = lo - hi;
+                m[p | s] = lo + hi;
+            }
+        }
+    }
+    m
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -305,6 +374,47 @@ mod tests {
                     .sum();
                 assert!((f_ai - direct).abs() < 1e-13, "{a} {i}");
             }
+        }
+    }
+
+    /// (T3) and its transpose against the sign products of [`HEX_CORNERS`] term by term, the
+    /// linear modes at 2^d, and the hourglass modes at [`HOURGLASS_AT`] against
+    /// `mesh::hourglass_vectors` (integer data: every sum exact, so the equality is exact).
+    #[test]
+    fn modes_are_the_sign_products_and_their_transpose() {
+        let x: [f64; 8] = std::array::from_fn(|a| ((5 * a + 3) % 11) as f64 - 4.0);
+        let sign = |a: usize, mask: usize| -> f64 {
+            (0..3)
+                .filter(|d| mask >> d & 1 == 1)
+                .map(|d| HEX_CORNERS[a][d])
+                .product()
+        };
+        let m = node_modes(std::array::from_fn(|p| x[NODE_AT[p]]));
+        for (mask, m_mask) in m.iter().enumerate() {
+            let direct: f64 = (0..8).map(|a| sign(a, mask) * x[a]).sum();
+            assert_eq!(*m_mask, direct, "mode {mask:03b}");
+        }
+        let h = crate::mesh::hourglass_vectors();
+        for (al, &at) in HOURGLASS_AT.iter().enumerate() {
+            assert_eq!(
+                h[al],
+                std::array::from_fn(|a| sign(a, at)),
+                "hourglass {al}"
+            );
+        }
+        for d in 0..3 {
+            assert_eq!(
+                std::array::from_fn::<f64, 8, _>(|a| sign(a, 1 << d)),
+                std::array::from_fn(|a| HEX_CORNERS[a][d])
+            );
+        }
+        let back = modes_to_nodes(m);
+        for (p, v) in back.iter().enumerate() {
+            let a = NODE_AT[p];
+            let direct: f64 = (0..8).map(|mask| sign(a, mask) * m[mask]).sum();
+            assert_eq!(*v, direct, "node {a}");
+            // The transform squared is 8 times the identity.
+            assert_eq!(*v, 8.0 * x[a], "node {a}");
         }
     }
 }

@@ -188,6 +188,13 @@ pub struct CentreData {
     pub volume: f64,
     /// Σₐ bₐ·bₐ [1/m²], for the hourglass stiffness.
     pub bb: f64,
+    /// An axis-aligned box ([`GaussData::axis_aligned`]): then bₐ = sₐ ⊙ β (sₐ the node's signs,
+    /// [`HEX_CORNERS`]) and γᵅ = hᵅ hold exactly, and the one-point kernels take the modal
+    /// path (`material::tensor`, (T3)).
+    pub axis_aligned: bool,
+    /// β_d = |b_{a,d}| on an axis-aligned box, 1/(8 ∂X_d/∂ξ_d) [1/m] (the mean of the eight
+    /// |b_{a,d}|); 0 on other shapes.
+    pub beta: [f64; 3],
     /// The 12 edges X_b − X_a of [`ORIENTED_EDGES`] [m], and 1/det[E_ξ, E_η, E_ζ] of each corner's
     /// three edges ([`CORNER_EDGES`]) [1/m³]: the corner Jacobians of the one-point rule's
     /// check, J_a = det[e_ξ, e_η, e_ζ](x)/det[E_ξ, E_η, E_ζ](X) (`kernels::corners`).
@@ -240,13 +247,37 @@ impl CentreData {
                 b[a][j] = gd.wgrad[a][j].iter().sum::<f64>() / volume;
             }
         }
+        // On an axis-aligned box bₐ = sₐ ⊙ β in exact arithmetic; the eight sums above agree
+        // with it to rounding, and the box takes β_d, the mean of the eight |b_{a,d}|.
+        let mut axis_aligned = gd.axis_aligned;
+        let mut beta = [0.0; 3];
+        if axis_aligned {
+            for (d, beta_d) in beta.iter_mut().enumerate() {
+                *beta_d = (0..8).map(|a| HEX_CORNERS[a][d] * b[a][d]).sum::<f64>() / 8.0;
+            }
+            for (a, b_a) in b.iter_mut().enumerate() {
+                *b_a = std::array::from_fn(|d| HEX_CORNERS[a][d] * beta[d]);
+            }
+        }
         let h = hourglass_vectors();
         let mut gamma = [[0.0; 8]; 4];
         for al in 0..4 {
             let mut hx = [0.0; 3];
+            let mut magnitude = [0.0f64; 3];
             for c in 0..8 {
                 for j in 0..3 {
                     hx[j] += h[al][c] * x[c][j];
+                    magnitude[j] += x[c][j].abs();
+                }
+            }
+            // Σ_c h_cᵅ X_c is zero for every affine X (hᵅ is orthogonal to the affine fields);
+            // zero within the rounding error of its 8 terms (as J₀'s entries in
+            // [`GaussData::new`]), it is zero: on a box γᵅ = hᵅ exactly, not hᵅ ± 1e-17.
+            for j in 0..3 {
+                if hx[j].abs() <= 8.0 * f64::EPSILON * magnitude[j] {
+                    hx[j] = 0.0;
+                } else {
+                    axis_aligned = false;
                 }
             }
             for a in 0..8 {
@@ -271,6 +302,8 @@ impl CentreData {
             gamma,
             volume,
             bb,
+            axis_aligned,
+            beta: if axis_aligned { beta } else { [0.0; 3] },
             edges,
             corner_inv_det,
             corner_bound: f64::INFINITY,
@@ -380,6 +413,21 @@ mod tests {
         for (i, j, k) in [(0, 0, 0), (3, 5, 2), (17, 1, 9)] {
             let gd = GaussData::new(&boxed(i, j, k)).unwrap();
             assert!(gd.axis_aligned, "cell ({i}, {j}, {k})");
+            // One point: bₐ = sₐ ⊙ β with β_d = 1/(4 L_d), within rounding of the Gauss sums
+            // it replaces, and γᵅ = hᵅ exactly. (Rounding here: X ~ 1000 against cells of
+            // 0.04–0.2 leaves J₀ ≈ 1e-12 relative, as for ⅛J₀⁻¹ above.)
+            let cd = CentreData::new(&boxed(i, j, k), &gd);
+            assert!(cd.axis_aligned, "cell ({i}, {j}, {k})");
+            assert_eq!(cd.gamma, hourglass_vectors());
+            for a in 0..8 {
+                for r in 0..3 {
+                    let beta = 0.25 / d[r];
+                    assert!((cd.beta[r] - beta).abs() <= 1e-9 * beta);
+                    assert_eq!(cd.b[a][r], HEX_CORNERS[a][r] * cd.beta[r]);
+                    let summed = gd.wgrad[a][r].iter().sum::<f64>() / gd.volume();
+                    assert!((summed - cd.b[a][r]).abs() <= 1e-9 * beta);
+                }
+            }
             for q in 0..8 {
                 for r in 0..3 {
                     for c in 0..3 {
@@ -403,6 +451,10 @@ mod tests {
         for (what, x) in [("sheared", sheared), ("rotated", rotated)] {
             let gd = GaussData::new(&x).unwrap();
             assert!(!gd.axis_aligned, "{what}");
+            let cd = CentreData::new(&x, &gd);
+            assert!(!cd.axis_aligned && cd.beta == [0.0; 3], "{what}");
+            // γᵅ = hᵅ exactly on any parallelepiped (X affine in ξ), not on the sheared cell.
+            assert_eq!(cd.gamma == hourglass_vectors(), what == "rotated", "{what}");
         }
     }
 }

@@ -232,10 +232,13 @@ impl Simulation {
     }
 
     /// Whether every element shape is an axis-aligned box (J₀ diagonal,
-    /// [`crate::mesh::GaussData::axis_aligned`]): the full-integration kernel then forms H and
-    /// Q with one product per entry ([`crate::kernels::flops::full`]).
+    /// [`crate::mesh::GaussData::axis_aligned`], [`crate::mesh::CentreData::axis_aligned`]):
+    /// the full-integration kernel then forms H and Q with one product per entry
+    /// ([`crate::kernels::flops::full`]), the one-point kernel goes through the modes of the
+    /// trilinear field ([`crate::kernels::flops::one_point`]).
     pub fn axis_aligned(&self) -> bool {
         self.classes.data.iter().all(|gd| gd.axis_aligned)
+            && self.classes.centre.iter().all(|cd| cd.axis_aligned)
     }
 
     /// Interface state counts now (paper fig. 6, right).
