@@ -186,4 +186,33 @@ mod tests {
             );
         }
     }
+
+    /// The whole-vector bound of the AVX builds is the per-lane bound bit for bit, on lanes
+    /// that take every branch: J ≤ 0, 1 − C|q|/s ≤ 0, C = ∞, q = 0, NaN.
+    #[cfg(target_arch = "x86_64")]
+    #[test]
+    fn vector_bound_is_the_lane_bound_bit_for_bit() {
+        use crate::kernels::simd::{corner_bound_avx2, corner_bound_avx512};
+        let c = [0.7, 1.3, f64::INFINITY, 0.2, 2.0, 0.01, 0.5, f64::NAN];
+        let j = [1.02, 0.93, 1.0, -0.1, 0.999, 1.7, 0.0, 1.0];
+        let f2 = [3.1, 2.8, 3.0, 3.3, 3.0, 5.9, 3.0, 3.0];
+        let q2 = [1e-4, 2.5, 1e-6, 1e-4, 0.0, 0.3, 1e-4, 1e-4];
+        let lane: Vec<u64> = (0..8)
+            .map(|l| corner_lower_bound(c[l], j[l], f2[l], q2[l]).to_bits())
+            .collect();
+        assert!(lane.iter().filter(|&&b| f64::from_bits(b) > 0.0).count() >= 3);
+        assert!(
+            lane.iter()
+                .filter(|&&b| f64::from_bits(b) == f64::NEG_INFINITY)
+                .count()
+                >= 3
+        );
+        let bits = |b: [f64; 8]| b.map(f64::to_bits).to_vec();
+        if std::is_x86_feature_detected!("avx2") {
+            assert_eq!(bits(unsafe { corner_bound_avx2(&c, &j, &f2, &q2) }), lane);
+        }
+        if std::is_x86_feature_detected!("avx512f") {
+            assert_eq!(bits(unsafe { corner_bound_avx512(&c, &j, &f2, &q2) }), lane);
+        }
+    }
 }

@@ -142,8 +142,21 @@ impl LaneCorners {
     /// centre's J = det F that the one-point kernel returned, `work` its F − I = H and
     /// hourglass amplitudes qᵅ. −∞ where the bound does not apply.
     #[inline(always)]
-    pub fn lower_bound(&self, det: &[f64; 8], work: &OnePointScratch) -> [f64; 8] {
+    /// `ISA`: whole vectors of the AVX builds ([`super::simd::corner_bound_avx512`], the same
+    /// bits as lane by lane).
+    pub fn lower_bound<const ISA: u8>(&self, det: &[f64; 8], work: &OnePointScratch) -> [f64; 8] {
         let (f_norm2, q_norm2) = work.centre_norms();
+        #[cfg(target_arch = "x86_64")]
+        {
+            use super::simd::{corner_bound_avx2, corner_bound_avx512, ISA_AVX2, ISA_AVX512};
+            // SAFETY: the AVX builds run only on CPUs that have the features (`simd_dispatch!`).
+            if ISA == ISA_AVX512 {
+                return unsafe { corner_bound_avx512(&self.bound, det, &f_norm2, &q_norm2) };
+            }
+            if ISA == ISA_AVX2 {
+                return unsafe { corner_bound_avx2(&self.bound, det, &f_norm2, &q_norm2) };
+            }
+        }
         let mut b = [0.0; 8];
         for l in 0..8 {
             b[l] = corner_lower_bound(self.bound[l], det[l], f_norm2[l], q_norm2[l]);

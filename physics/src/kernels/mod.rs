@@ -284,7 +284,7 @@ unsafe fn chunk_forces_reduced_impl<const FMA: bool, const ISA: u8>(
         // The corners' J too (hourglassing turns corners, not the centre); a NaN centre stays.
         // Skipped where every lane's bound J (1 − C|q|/s)³ ≤ J_a is ≥ `exact_below`: then each
         // lane reports its bound, which is ≥ `exact_below` and ≤ its exact J.
-        let bound = corner_lanes.lower_bound(&det, work);
+        let bound = corner_lanes.lower_bound::<ISA>(&det, work);
         let j = if exact_below == f64::NEG_INFINITY || all_at_least(&bound, exact_below) {
             skipped += 1;
             bound

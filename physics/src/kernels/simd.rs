@@ -301,3 +301,81 @@ pub(crate) unsafe fn load_lanes_avx2(
         }
     }
 }
+
+/// The corner bound J (1 − C|q|/s)³, s = 2J/‖F‖²_F, of 8 lanes in whole vectors
+/// ([`super::corner_bound::corner_lower_bound`], the same IEEE operations lane by lane, so the
+/// same bits; −∞ unless J > 0 and 1 − C|q|/s > 0). The per-lane form was compiled to a mix of
+/// scalar, 128- and 256-bit divisions and square roots.
+///
+/// # Safety
+/// The CPU must have AVX-512F.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f")]
+#[inline]
+pub(crate) unsafe fn corner_bound_avx512(
+    c: &[f64; 8],
+    j: &[f64; 8],
+    f_norm2: &[f64; 8],
+    q_norm2: &[f64; 8],
+) -> [f64; 8] {
+    use std::arch::x86_64::*;
+    let jv = _mm512_loadu_pd(j.as_ptr());
+    let s = _mm512_div_pd(
+        _mm512_mul_pd(_mm512_set1_pd(2.0), jv),
+        _mm512_loadu_pd(f_norm2.as_ptr()),
+    );
+    let cq = _mm512_mul_pd(
+        _mm512_loadu_pd(c.as_ptr()),
+        _mm512_sqrt_pd(_mm512_loadu_pd(q_norm2.as_ptr())),
+    );
+    let r = _mm512_sub_pd(_mm512_set1_pd(1.0), _mm512_div_pd(cq, s));
+    let v = _mm512_mul_pd(_mm512_mul_pd(_mm512_mul_pd(jv, r), r), r);
+    let zero = _mm512_setzero_pd();
+    let ok = _mm512_cmp_pd_mask::<_CMP_GT_OQ>(jv, zero) & _mm512_cmp_pd_mask::<_CMP_GT_OQ>(r, zero);
+    let mut b = [0.0; 8];
+    _mm512_storeu_pd(
+        b.as_mut_ptr(),
+        _mm512_mask_blend_pd(ok, _mm512_set1_pd(f64::NEG_INFINITY), v),
+    );
+    b
+}
+
+/// [`corner_bound_avx512`] with 256-bit vectors (4 lanes each).
+///
+/// # Safety
+/// The CPU must have AVX.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+#[inline]
+pub(crate) unsafe fn corner_bound_avx2(
+    c: &[f64; 8],
+    j: &[f64; 8],
+    f_norm2: &[f64; 8],
+    q_norm2: &[f64; 8],
+) -> [f64; 8] {
+    use std::arch::x86_64::*;
+    let mut b = [0.0; 8];
+    for h in [0, 4] {
+        let jv = _mm256_loadu_pd(j.as_ptr().add(h));
+        let s = _mm256_div_pd(
+            _mm256_mul_pd(_mm256_set1_pd(2.0), jv),
+            _mm256_loadu_pd(f_norm2.as_ptr().add(h)),
+        );
+        let cq = _mm256_mul_pd(
+            _mm256_loadu_pd(c.as_ptr().add(h)),
+            _mm256_sqrt_pd(_mm256_loadu_pd(q_norm2.as_ptr().add(h))),
+        );
+        let r = _mm256_sub_pd(_mm256_set1_pd(1.0), _mm256_div_pd(cq, s));
+        let v = _mm256_mul_pd(_mm256_mul_pd(_mm256_mul_pd(jv, r), r), r);
+        let zero = _mm256_setzero_pd();
+        let ok = _mm256_and_pd(
+            _mm256_cmp_pd::<_CMP_GT_OQ>(jv, zero),
+            _mm256_cmp_pd::<_CMP_GT_OQ>(r, zero),
+        );
+        _mm256_storeu_pd(
+            b.as_mut_ptr().add(h),
+            _mm256_blendv_pd(_mm256_set1_pd(f64::NEG_INFINITY), v, ok),
+        );
+    }
+    b
+}
