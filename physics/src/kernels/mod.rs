@@ -13,9 +13,8 @@ pub mod simd;
 pub(crate) use nodes::{free_velocity_chunk, internal_and_gravity_impulses, NodeSums};
 
 use crate::material::{
-    element_forces, element_forces_box_lanes_in, element_forces_reduced,
-    element_forces_reduced_lanes_in, hourglass_stiffness, with_law, F64x8, LaneElements, Material,
-    OnePointScratch,
+    element_forces, element_forces_reduced, element_forces_reduced_lanes_in as reduced,
+    hourglass_stiffness, with_law, F64x8, LaneElements, Material, OnePointScratch,
 };
 use crate::mesh::{CentreData, ElementClasses, GaussData, Mesh};
 use crate::model::Integration;
@@ -193,9 +192,9 @@ pub fn assemble_internal_forces(
 
 simd_dispatch! {
     /// One chunk of a colour with one-point integration: groups of 8 elements go through the
-    /// lane kernel ([`element_forces_reduced_lanes_in`]; H and the hourglass modes 4 lanes at a
-    /// time on AVX2; a group of 8 axis-aligned boxes through the modes of the trilinear field,
-    /// [`element_forces_box_lanes_in`]), the remainder through the scalar one
+    /// lane kernel ([`crate::material::element_forces_reduced_lanes_in`]; H and the hourglass
+    /// modes 4 lanes at a time on AVX2; a group of 8 axis-aligned boxes through the modes of
+    /// the trilinear field, its `BOXES`), the remainder through the scalar one
     /// ([`element_forces_reduced`], which takes the modes on a box too).
     fn chunk_forces_reduced / chunk_forces_reduced_avx2 / chunk_forces_reduced_avx512
         / chunk_forces_reduced_builds
@@ -256,30 +255,28 @@ unsafe fn chunk_forces_reduced_impl<const FMA: bool, const ISA: u8>(
         }
         gather_group::<ISA>(mesh, u, group, &mut ul);
         let [en, hg, det] = match (energy, ISA == ISA_AVX2, boxes == u8::MAX) {
-            (true, true, true) => {
-                element_forces_box_lanes_in::<true, FMA, 4>(mat, &lanes, &ul, &mut fl, work)
-            }
+            (true, true, true) => reduced::<true, FMA, true, true>(mat, &lanes, &ul, &mut fl, work),
             (true, false, true) => {
-                element_forces_box_lanes_in::<true, FMA, 8>(mat, &lanes, &ul, &mut fl, work)
+                reduced::<true, FMA, false, true>(mat, &lanes, &ul, &mut fl, work)
             }
             (false, true, true) => {
-                element_forces_box_lanes_in::<false, FMA, 4>(mat, &lanes, &ul, &mut fl, work)
+                reduced::<false, FMA, true, true>(mat, &lanes, &ul, &mut fl, work)
             }
             (false, false, true) => {
-                element_forces_box_lanes_in::<false, FMA, 8>(mat, &lanes, &ul, &mut fl, work)
+                reduced::<false, FMA, false, true>(mat, &lanes, &ul, &mut fl, work)
             }
             (true, true, false) => {
-                element_forces_reduced_lanes_in::<true, FMA, true>(mat, &lanes, &ul, &mut fl, work)
+                reduced::<true, FMA, true, false>(mat, &lanes, &ul, &mut fl, work)
             }
             (true, false, false) => {
-                element_forces_reduced_lanes_in::<true, FMA, false>(mat, &lanes, &ul, &mut fl, work)
+                reduced::<true, FMA, false, false>(mat, &lanes, &ul, &mut fl, work)
             }
             (false, true, false) => {
-                element_forces_reduced_lanes_in::<false, FMA, true>(mat, &lanes, &ul, &mut fl, work)
+                reduced::<false, FMA, true, false>(mat, &lanes, &ul, &mut fl, work)
             }
-            (false, false, false) => element_forces_reduced_lanes_in::<false, FMA, false>(
-                mat, &lanes, &ul, &mut fl, work,
-            ),
+            (false, false, false) => {
+                reduced::<false, FMA, false, false>(mat, &lanes, &ul, &mut fl, work)
+            }
         };
         // The corners' J too (hourglassing turns corners, not the centre); a NaN centre stays.
         // Skipped where every lane's bound J (1 − C|q|/s)³ ≤ J_a is ≥ `exact_below`: then each

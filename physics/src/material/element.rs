@@ -2,8 +2,8 @@
 //! with full 2×2×2 integration ([`element_forces`], the 8 Gauss points as the lanes of an
 //! [`F64x8`]) or one point with Flanagan–Belytschko hourglass control, on one element
 //! ([`element_forces_reduced`], `f64`) or on 8 elements at once ([`element_forces_reduced_lanes`],
-//! one per lane; [`element_forces_box_lanes_in`] on axis-aligned boxes, through the modes of the
-//! trilinear field). The stress comes from [`first_piola`], the kinematics from
+//! one per lane; on axis-aligned boxes through the modes of the trilinear field,
+//! [`element_forces_reduced_lanes_in`]). The stress comes from [`first_piola`], the kinematics from
 //! [`super::kinematics`]; what stays here is each kernel's data layout and its sums. The lane
 //! kernels are compiled once per [`Law`], so that their bodies are straight-line code.
 
@@ -275,7 +275,7 @@ pub fn element_forces_reduced_lanes<const ENERGY: bool, const FMA: bool>(
     f: &mut [[[f64; 8]; 3]; 8],
 ) -> [[f64; 8]; 3] {
     let mut work = OnePointScratch::default();
-    element_forces_reduced_lanes_in::<ENERGY, FMA, false>(mat, el, u, f, &mut work)
+    element_forces_reduced_lanes_in::<ENERGY, FMA, false, false>(mat, el, u, f, &mut work)
 }
 
 /// The per-group work arrays of the one-point lane kernel (H, P, the hourglass modes q),
@@ -328,16 +328,27 @@ impl Default for OnePointScratch {
 
 /// [`element_forces_reduced_lanes`] with the caller's work arrays; `HALVES` forms H and the
 /// hourglass modes 4 lanes at a time ([`lane_sums_by_halves`], for AVX2's 16 registers; the
-/// same bits).
+/// same bits). `BOXES`: every lane holds an axis-aligned box ([`CentreData::axis_aligned`]),
+/// which goes through the modes of the trilinear field ([`box_lanes`]; with `HALVES` 4 lanes
+/// at a time there too).
 #[inline(always)]
-pub fn element_forces_reduced_lanes_in<const ENERGY: bool, const FMA: bool, const HALVES: bool>(
+pub fn element_forces_reduced_lanes_in<
+    const ENERGY: bool,
+    const FMA: bool,
+    const HALVES: bool,
+    const BOXES: bool,
+>(
     mat: &Material,
     el: &LaneElements,
     u: &[[[f64; 8]; 3]; 8],
     f: &mut [[[f64; 8]; 3]; 8],
     work: &mut OnePointScratch,
 ) -> [[f64; 8]; 3] {
-    with_law!(mat.model, L => one_point_lanes::<L, ENERGY, FMA, HALVES>(mat, el, u, f, work))
+    with_law!(mat.model, L => match (BOXES, HALVES) {
+        (true, true) => box_lanes::<L, ENERGY, FMA, 4>(mat, el, u, f, work),
+        (true, false) => box_lanes::<L, ENERGY, FMA, 8>(mat, el, u, f, work),
+        (false, _) => one_point_lanes::<L, ENERGY, FMA, HALVES>(mat, el, u, f, work),
+    })
 }
 
 /// [`element_forces_reduced_lanes_in`] for the law `L`.
@@ -381,21 +392,10 @@ fn one_point_lanes<L: Law, const ENERGY: bool, const FMA: bool, const HALVES: bo
     }
 }
 
-/// [`element_forces_reduced_lanes_in`] on 8 axis-aligned boxes (`box_one_point` lane by lane,
-/// with P = S + (H₀S + H₁S + H₂S) fused when `FMA`), W lanes at a time through the modal
-/// transforms (W = 4 for AVX2's 16 registers, 8 otherwise). Returns per lane (V ψ, Ψ_hg, J).
-#[inline(always)]
-pub fn element_forces_box_lanes_in<const ENERGY: bool, const FMA: bool, const W: usize>(
-    mat: &Material,
-    el: &LaneElements,
-    u: &[[[f64; 8]; 3]; 8],
-    f: &mut [[[f64; 8]; 3]; 8],
-    work: &mut OnePointScratch,
-) -> [[f64; 8]; 3] {
-    with_law!(mat.model, L => box_lanes::<L, ENERGY, FMA, W>(mat, el, u, f, work))
-}
-
-/// [`element_forces_box_lanes_in`] for the law `L`.
+/// [`element_forces_reduced_lanes_in`] on 8 axis-aligned boxes for the law `L`
+/// (`box_one_point` lane by lane, with P = S + (H₀S + H₁S + H₂S) fused when `FMA`), W lanes at
+/// a time through the modal transforms (W = 4 for AVX2's 16 registers, 8 otherwise). Returns
+/// per lane (V ψ, Ψ_hg, J).
 #[inline(always)]
 fn box_lanes<L: Law, const ENERGY: bool, const FMA: bool, const W: usize>(
     mat: &Material,

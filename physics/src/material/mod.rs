@@ -19,9 +19,8 @@ mod tensor;
 
 pub(crate) use element::first_piola_lanes_into;
 pub use element::{
-    element_forces, element_forces_box_lanes_in, element_forces_reduced,
-    element_forces_reduced_lanes, element_forces_reduced_lanes_in, hourglass_stiffness,
-    LaneElements, OnePointScratch,
+    element_forces, element_forces_reduced, element_forces_reduced_lanes,
+    element_forces_reduced_lanes_in, hourglass_stiffness, LaneElements, OnePointScratch,
 };
 pub(crate) use kinematics::{
     displacement_gradient, hourglass_energy, hourglass_modes, row_dot, row_dot_on,
