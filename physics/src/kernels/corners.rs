@@ -140,10 +140,9 @@ impl LaneCorners {
     /// Per lane, the lower bound J (1 − C|q|/s)³, s = 2J/‖F‖²_F, of every corner Jacobian
     /// (PHYSICS.md §2; [`super::corner_bound::corner_lower_bound`], derived there): `det` the
     /// centre's J = det F that the one-point kernel returned, `work` its F − I = H and
-    /// hourglass amplitudes qᵅ. −∞ where the bound does not apply.
+    /// hourglass amplitudes qᵅ. −∞ where the bound does not apply. `ISA`: whole vectors in
+    /// the AVX builds ([`super::simd::corner_bound_avx512`], the same bits as lane by lane).
     #[inline(always)]
-    /// `ISA`: whole vectors of the AVX builds ([`super::simd::corner_bound_avx512`], the same
-    /// bits as lane by lane).
     pub fn lower_bound<const ISA: u8>(&self, det: &[f64; 8], work: &OnePointScratch) -> [f64; 8] {
         let (f_norm2, q_norm2) = work.centre_norms();
         #[cfg(target_arch = "x86_64")]
