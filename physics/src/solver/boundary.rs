@@ -197,9 +197,9 @@ impl BoundarySums {
 /// (per interface entry) and contact (per constraint), each with its mould and the entry it
 /// came from (interface node, or contact node when `from_interface` is false), whose geometry
 /// gives the mould's velocity and normal where it acts ([`BoundaryStep::glue`],
-/// [`BoundaryStep::surface`]). One per chunk, [`NodeImpulses::clear`]ed per node: every slot
-/// below the counts is written before it is read, and zeroing the 656 bytes per node took 14 %
-/// of the boundary pass (`perf annotate`, one-point 28³ pull-off).
+/// [`BoundaryStep::surface`]), in the order they acted. One per chunk, [`NodeImpulses::clear`]ed
+/// per node: the slots below the counts are the ones written, and zeroing the 656 bytes per
+/// node took 14 % of the boundary pass (`perf annotate`, one-point 28³ pull-off).
 #[derive(Default)]
 struct NodeImpulses {
     cohesion: [[f64; 3]; MAX_CONSTRAINTS],
@@ -306,17 +306,11 @@ impl BoundaryStep<'_> {
         impulses: &mut NodeImpulses,
     ) {
         let im = self.inv_mass[b.node as usize];
-        for (slot, e) in b.interfaces.clone().enumerate() {
+        for e in b.interfaces.clone() {
             let j = self.boundary.interfaces[e as usize] as usize;
             let itf = itfs.get(j);
             if !itf.formed {
-                // Glue that forms on contact, not formed yet: no force. Its slot keeps what a
-                // fresh NodeImpulses holds (the ledger reads slots below `cohesions`).
-                if slot < MAX_CONSTRAINTS {
-                    impulses.cohesion[slot] = [0.0; 3];
-                    impulses.cohesion_from[slot] = (0, 0);
-                }
-                continue;
+                continue; // glue that forms on contact, not formed yet: no force
             }
             let spec = &self.model.interfaces[itf.interface as usize];
             let n = self.glue(j, spec.plane).0;
@@ -324,6 +318,7 @@ impl BoundaryStep<'_> {
             itf.stiffness = law.g_n(itf.alpha);
             itf.cohesive_traction = law.cohesive_traction(itf.stiffness, itf.jump, n);
             let p = itf.cohesive_traction.map(|c| -self.h_bar * itf.area * c);
+            let slot = impulses.cohesions;
             if slot < MAX_CONSTRAINTS {
                 impulses.cohesion[slot] = p;
                 impulses.cohesion_from[slot] = (spec.plane, j as u32);
@@ -586,6 +581,7 @@ impl Simulation {
         for (k, b) in self.boundary.nodes.iter().enumerate() {
             let v = &mut self.v[b.node as usize];
             cx.tractions(b, cx.scratch.v_old[k], v, &mut sums);
+            impulses.clear();
             // SAFETY: one thread, one node at a time.
             unsafe { cx.cohesion(b, itfs, v, &mut impulses) };
         }
