@@ -13,8 +13,8 @@ pub mod simd;
 pub(crate) use nodes::{free_velocity_chunk, internal_and_gravity_impulses, NodeSums};
 
 use crate::material::{
-    element_forces, element_forces_reduced, element_forces_reduced_lanes_in as reduced,
-    hourglass_stiffness, with_law, F64x8, LaneElements, Material, OnePointScratch,
+    element_forces, element_forces_reduced, element_forces_reduced_lanes_in, hourglass_stiffness,
+    with_law, F64x8, LaneElements, Material, OnePointScratch,
 };
 use crate::mesh::{CentreData, ElementClasses, GaussData, Mesh};
 use crate::model::Integration;
@@ -192,8 +192,8 @@ pub fn assemble_internal_forces(
 
 simd_dispatch! {
     /// One chunk of a colour with one-point integration: groups of 8 elements go through the
-    /// lane kernel ([`crate::material::element_forces_reduced_lanes_in`]; H and the hourglass
-    /// modes 4 lanes at a time on AVX2; a group of 8 axis-aligned boxes through the modes of
+    /// lane kernel ([`element_forces_reduced_lanes_in`]; H and the hourglass modes 4 lanes at a
+    /// time on AVX2; a group of 8 axis-aligned boxes through the modes of
     /// the trilinear field, its `BOXES`), the remainder through the scalar one
     /// ([`element_forces_reduced`], which takes the modes on a box too).
     fn chunk_forces_reduced / chunk_forces_reduced_avx2 / chunk_forces_reduced_avx512
@@ -254,28 +254,18 @@ unsafe fn chunk_forces_reduced_impl<const FMA: bool, const ISA: u8>(
             boxes = (boxes & !(1 << l)) | ((cd.axis_aligned as u8) << l);
         }
         gather_group::<ISA>(mesh, u, group, &mut ul);
-        let [en, hg, det] = match (energy, ISA == ISA_AVX2, boxes == u8::MAX) {
-            (true, true, true) => reduced::<true, FMA, true, true>(mat, &lanes, &ul, &mut fl, work),
-            (true, false, true) => {
-                reduced::<true, FMA, false, true>(mat, &lanes, &ul, &mut fl, work)
+        let [en, hg, det] = match (ISA == ISA_AVX2, boxes == u8::MAX) {
+            (true, true) => {
+                reduced_group::<FMA, true, true>(mat, &lanes, &ul, &mut fl, work, energy)
             }
-            (false, true, true) => {
-                reduced::<false, FMA, true, true>(mat, &lanes, &ul, &mut fl, work)
+            (false, true) => {
+                reduced_group::<FMA, false, true>(mat, &lanes, &ul, &mut fl, work, energy)
             }
-            (false, false, true) => {
-                reduced::<false, FMA, false, true>(mat, &lanes, &ul, &mut fl, work)
+            (true, false) => {
+                reduced_group::<FMA, true, false>(mat, &lanes, &ul, &mut fl, work, energy)
             }
-            (true, true, false) => {
-                reduced::<true, FMA, true, false>(mat, &lanes, &ul, &mut fl, work)
-            }
-            (true, false, false) => {
-                reduced::<true, FMA, false, false>(mat, &lanes, &ul, &mut fl, work)
-            }
-            (false, true, false) => {
-                reduced::<false, FMA, true, false>(mat, &lanes, &ul, &mut fl, work)
-            }
-            (false, false, false) => {
-                reduced::<false, FMA, false, false>(mat, &lanes, &ul, &mut fl, work)
+            (false, false) => {
+                reduced_group::<FMA, false, false>(mat, &lanes, &ul, &mut fl, work, energy)
             }
         };
         // The corners' J too (hourglassing turns corners, not the centre); a NaN centre stays.
@@ -439,6 +429,23 @@ unsafe fn chunk_forces_impl<const FMA: bool, const ISA: u8>(
         scatter(f, conn, &fe);
     }
     (e_sum, min_j, min_e)
+}
+
+/// [`element_forces_reduced_lanes_in`] with or without the energy (`HALVES`, `BOXES` as there).
+#[inline(always)]
+fn reduced_group<const FMA: bool, const HALVES: bool, const BOXES: bool>(
+    mat: &Material,
+    lanes: &LaneElements,
+    ul: &[[[f64; 8]; 3]; 8],
+    fl: &mut [[[f64; 8]; 3]; 8],
+    work: &mut OnePointScratch,
+    energy: bool,
+) -> [[f64; 8]; 3] {
+    if energy {
+        element_forces_reduced_lanes_in::<true, FMA, HALVES, BOXES>(mat, lanes, ul, fl, work)
+    } else {
+        element_forces_reduced_lanes_in::<false, FMA, HALVES, BOXES>(mat, lanes, ul, fl, work)
+    }
 }
 
 /// [`full::full_lanes`] for the material's law, with or without the energy; `DIAG` when every
