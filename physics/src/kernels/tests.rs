@@ -110,6 +110,36 @@ fn run_chunk(n_nodes: usize, run: impl FnOnce(SendPtr) -> Sums) -> (Vec<[f64; 3]
     (f, out)
 }
 
+/// The scalar full-integration kernel (fused when `fma`) element by element in chunk order,
+/// with the Gauss data `gauss(e)` of element e: the forces and the strain energy.
+fn scalar_full_chunk<'a>(
+    mesh: &Mesh,
+    mat: &Material,
+    gauss: impl Fn(u32) -> &'a GaussData,
+    fma: bool,
+    u: &[[f64; 3]],
+    chunk: &[u32],
+) -> (Vec<[f64; 3]>, f64) {
+    let mut f = vec![[0.0; 3]; mesh.nodes.len()];
+    let mut strain = 0.0;
+    for &e in chunk {
+        let conn = mesh.elements[e as usize];
+        let (gd, ue) = (gauss(e), conn.map(|a| u[a as usize]));
+        let mut fe = [[0.0; 3]; 8];
+        strain += if fma {
+            element_forces::<true, true>(mat, gd, &ue, &mut fe).0
+        } else {
+            element_forces::<true, false>(mat, gd, &ue, &mut fe).0
+        };
+        for a in 0..8 {
+            for c in 0..3 {
+                f[conn[a] as usize][c] += fe[a][c];
+            }
+        }
+    }
+    (f, strain)
+}
+
 /// The scalar one-point kernel element by element in chunk order, scattered into `p`, with the
 /// one-point data `centre(e)` of element e: (strain energy, hourglass energy).
 fn scalar_one_point_chunk<'a>(
@@ -267,25 +297,9 @@ fn full_chunk_builds(
     // correctly rounded fused operation on every CPU, so the test's own build of the scalar
     // kernel gives the vector builds' bits).
     for (name, (f, sums)) in &builds {
-        let fma = *name != "portable";
-        let mut reference = vec![[0.0; 3]; n];
-        let mut strain = 0.0;
-        for &e in chunk {
-            let conn = mesh.elements[e as usize];
-            let gd = &classes.data[classes.class_of[e as usize] as usize];
-            let ue = conn.map(|a| u[a as usize]);
-            let mut fe = [[0.0; 3]; 8];
-            strain += if fma {
-                element_forces::<true, true>(mat, gd, &ue, &mut fe).0
-            } else {
-                element_forces::<true, false>(mat, gd, &ue, &mut fe).0
-            };
-            for a in 0..8 {
-                for c in 0..3 {
-                    reference[conn[a] as usize][c] += fe[a][c];
-                }
-            }
-        }
+        let gauss = |e: u32| &classes.data[classes.class_of[e as usize] as usize];
+        let (reference, strain) =
+            scalar_full_chunk(mesh, mat, gauss, *name != "portable", u, chunk);
         let same = |a: f64, b: f64| a.to_bits() == b.to_bits();
         assert!(
             f.iter()
@@ -320,23 +334,8 @@ fn axis_aligned_kernels_give_the_row_products_values() {
                 let (e, j, el) = unsafe { build(&mesh, &classes, &mat, &u, p, &chunk, true) };
                 (e, 0.0, j, el)
             });
-            let mut reference = vec![[0.0; 3]; n];
-            let mut strain = 0.0;
-            for &e in &chunk {
-                let conn = mesh.elements[e as usize];
-                let ue = conn.map(|a| u[a as usize]);
-                let mut fe = [[0.0; 3]; 8];
-                strain += if name == "portable" {
-                    element_forces::<true, false>(&mat, &general, &ue, &mut fe).0
-                } else {
-                    element_forces::<true, true>(&mat, &general, &ue, &mut fe).0
-                };
-                for a in 0..8 {
-                    for c in 0..3 {
-                        reference[conn[a] as usize][c] += fe[a][c];
-                    }
-                }
-            }
+            let (reference, strain) =
+                scalar_full_chunk(&mesh, &mat, |_| &general, name != "portable", &u, &chunk);
             let touched = reference.iter().flatten().filter(|v| **v != 0.0).count();
             assert!(touched > 100, "{model:?} {name}: {touched} force entries");
             assert!(
