@@ -73,6 +73,18 @@ pub struct GaussData {
     pub axis_aligned: bool,
 }
 
+/// `sum`, a computed sum of 8 terms whose absolute values add up to `magnitude`, or 0 when it is
+/// within the rounding error of such a sum, |fl(Σₐ tₐ) − Σₐ tₐ| ≤ γ₈ Σₐ |tₐ| (γ₈ = 8u/(1 − 8u)
+/// < 8ε, u = ε/2): a sum that is zero in exact arithmetic (an off-diagonal entry of a box's J₀,
+/// Σ_c h_cᵅ X_c of a parallelepiped) then comes out as zero, not as its cancellation error.
+fn zero_within_rounding(sum: f64, magnitude: f64) -> f64 {
+    if sum.abs() <= 8.0 * f64::EPSILON * magnitude {
+        0.0
+    } else {
+        sum
+    }
+}
+
 /// Error in the reference geometry of an element (inverted or degenerate hexahedron).
 #[derive(Debug, Clone, thiserror::Error)]
 #[error("element {element} is degenerate or inverted in the reference configuration (det J₀ = {det_j0:e} at a Gauss point); check the node order")]
@@ -104,16 +116,12 @@ impl GaussData {
                     }
                 }
             }
-            // An entry that is zero within the rounding error of its own sum of 8 products,
-            // |fl(Σₐ tₐ) − Σₐ tₐ| ≤ γ₈ Σₐ |tₐ| (γ₈ = 8u/(1 − 8u) < 8ε, u = ε/2), is zero: the
-            // off-diagonal entries of an axis-aligned box come out as ±1e-16 |X| of
+            // The off-diagonal entries of an axis-aligned box come out as ±1e-16 |X| of
             // cancellation otherwise (measured: 7 to 14 of the 72 at n = 7…100 in a unit cube),
             // which would hide that J₀ is diagonal.
             for r in 0..3 {
                 for c in 0..3 {
-                    if j[(r, c)].abs() <= 8.0 * f64::EPSILON * magnitude[(r, c)] {
-                        j[(r, c)] = 0.0;
-                    }
+                    j[(r, c)] = zero_within_rounding(j[(r, c)], magnitude[(r, c)]);
                 }
             }
             let det = j.determinant();
@@ -270,15 +278,11 @@ impl CentreData {
                     magnitude[j] += x[c][j].abs();
                 }
             }
-            // Σ_c h_cᵅ X_c is zero for every affine X (hᵅ is orthogonal to the affine fields);
-            // zero within the rounding error of its 8 terms (as J₀'s entries in
-            // [`GaussData::new`]), it is zero: on a box γᵅ = hᵅ exactly, not hᵅ ± 1e-17.
+            // Σ_c h_cᵅ X_c is zero for every affine X (hᵅ is orthogonal to the affine fields):
+            // on a box γᵅ = hᵅ exactly, not hᵅ ± 1e-17.
             for j in 0..3 {
-                if hx[j].abs() <= 8.0 * f64::EPSILON * magnitude[j] {
-                    hx[j] = 0.0;
-                } else {
-                    axis_aligned = false;
-                }
+                hx[j] = zero_within_rounding(hx[j], magnitude[j]);
+                axis_aligned &= hx[j] == 0.0;
             }
             for a in 0..8 {
                 gamma[al][a] = h[al][a] - (hx[0] * b[a][0] + hx[1] * b[a][1] + hx[2] * b[a][2]);
