@@ -9,7 +9,7 @@
 
 use super::kinematics::{
     displacement_gradient, hourglass_energy, hourglass_modes, lane_sums_by_halves, row_dot,
-    row_dot_on, Deformation, Grouped, Sequential,
+    row_dot_on, Deformation,
 };
 use super::real::{F64x8, Lanes, Mat3, Real};
 use super::tensor::{
@@ -31,7 +31,7 @@ fn lanes3(x: &[[f64; 8]; 3]) -> [F64x8; 3] {
 }
 
 /// J = det F, P and ψ of [`first_piola`] (ψ only if `ENERGY`) at the 8 points held in the lanes
-/// of H, evaluated point after point on `f64` with P = S + H·S ([`Grouped`]): a loop over the
+/// of H, evaluated point after point on `f64` (fused when `FMA`): a loop over the
 /// lanes with the whole pointwise update inside, which the compiler vectorises across the
 /// lanes. (The same update written on [`F64x8`] tensors left the vectoriser to regroup ~100
 /// separate lane-wise operations, which it did only partly: the full kernel ran ~20 % slower.)
@@ -46,10 +46,10 @@ pub(crate) fn first_piola_lanes_into<L: Law, const ENERGY: bool, const FMA: bool
 ) -> (F64x8, F64x8) {
     let (mut psi, mut det) = (F64x8::splat(0.0), F64x8::splat(0.0));
     for l in 0..8 {
-        let d = Deformation::of(std::array::from_fn(|i| {
+        let d = Deformation::of::<FMA>(std::array::from_fn(|i| {
             std::array::from_fn(|j| h[i][j].0[l])
         }));
-        let (pl, psil) = first_piola::<L, f64, ENERGY, Grouped<FMA>>(mat, &d);
+        let (pl, psil) = first_piola::<L, f64, ENERGY, FMA>(mat, &d);
         for i in 0..3 {
             for j in 0..3 {
                 p[i][j].0[l] = pl[i][j];
@@ -135,8 +135,8 @@ fn full<L: Law, const ENERGY: bool, const FMA: bool>(
 /// control (PHYSICS.md §2, the faster option):
 /// F = I + Σₐ uₐ ⊗ bₐ, fₐ = V P(F) bₐ + k Σᵅ γₐᵅ qᵅ with qᵅ = Σₐ γₐᵅ uₐ,
 /// hourglass energy Ψ_hg = ½ k Σᵅ |qᵅ|². Returns (strain energy V ψ(F), Ψ_hg, J) — the
-/// energies only if `ENERGY`. No fused operation; P = F·S is summed as ((S + H₀S) + H₁S) + H₂S
-/// ([`Sequential`]) and the hourglass force term by term.
+/// energies only if `ENERGY`. No fused operation (the stress is [`first_piola`] with
+/// `FMA = false`) and the hourglass force term by term.
 #[inline(always)]
 pub fn element_forces_reduced<const ENERGY: bool>(
     mat: &Material,
@@ -148,12 +148,12 @@ pub fn element_forces_reduced<const ENERGY: bool>(
     if cd.axis_aligned {
         return box_one_point::<ENERGY>(mat, cd, k_hg, u, f);
     }
-    let d = Deformation::of(displacement_gradient::<f64, false>(
+    let d = Deformation::of::<false>(displacement_gradient::<f64, false>(
         |a, i| u[a][i],
         |a, j| cd.b[a][j],
     ));
     // (Scalar: a branch on the model costs nothing here.)
-    let (p, psi) = with_law!(mat.model, L => first_piola::<L, f64, ENERGY, Sequential>(mat, &d));
+    let (p, psi) = with_law!(mat.model, L => first_piola::<L, f64, ENERGY, false>(mat, &d));
     let q = hourglass_modes::<f64, false>(|al, a| cd.gamma[al][a], |a, i| u[a][i]);
     let v = cd.volume;
     for a in 0..8 {
@@ -201,8 +201,8 @@ fn box_one_point<const ENERGY: bool>(
             q[al][i] = m[HOURGLASS_AT[al]];
         }
     }
-    let d = Deformation::of(h);
-    let (p, psi) = with_law!(mat.model, L => first_piola::<L, f64, ENERGY, Sequential>(mat, &d));
+    let d = Deformation::of::<false>(h);
+    let (p, psi) = with_law!(mat.model, L => first_piola::<L, f64, ENERGY, false>(mat, &d));
     let v = cd.volume;
     for i in 0..3 {
         let mut m = [0.0; 8];
@@ -265,7 +265,7 @@ impl LaneElements {
 
 /// The one-point kernel of [`element_forces_reduced`] on 8 elements at once, one per SIMD lane
 /// (`u[a][i][lane]`, `f[a][i][lane]`): same equations, SVK and neo-Hookean, with
-/// P = S + (H₀S + H₁S + H₂S) and fₐ = V P bₐ + k Σᵅ γₐᵅ qᵅ (fused when `FMA`). Returns per lane
+/// P = ((S + H₀S) + H₁S) + H₂S and fₐ = V P bₐ + k Σᵅ γₐᵅ qᵅ (fused when `FMA`). Returns per lane
 /// (V ψ, Ψ_hg, J); the energies only if `ENERGY`.
 #[inline(always)]
 pub fn element_forces_reduced_lanes<const ENERGY: bool, const FMA: bool>(
@@ -393,7 +393,7 @@ fn one_point_lanes<L: Law, const ENERGY: bool, const FMA: bool, const HALVES: bo
 }
 
 /// [`element_forces_reduced_lanes_in`] on 8 axis-aligned boxes for the law `L`
-/// (`box_one_point` lane by lane, with P = S + (H₀S + H₁S + H₂S) fused when `FMA`), W lanes at
+/// (`box_one_point` lane by lane, fused when `FMA`), W lanes at
 /// a time through the modal transforms (W = 4 for AVX2's 16 registers, 8 otherwise). Returns
 /// per lane (V ψ, Ψ_hg, J).
 #[inline(always)]

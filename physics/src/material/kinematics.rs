@@ -1,8 +1,9 @@
 //! The kinematics shared by the element kernels, over any [`Real`] (PHYSICS.md §2, total
-//! Lagrangian): H = ∂U/∂X = Σₐ uₐ ⊗ gₐ, F = I + H, J = det F, cof F, E = ½(H + Hᵀ + HᵀH),
+//! Lagrangian): H = ∂U/∂X = Σₐ uₐ ⊗ gₐ, F = I + H, J = det F, cof F, 2E = H + Hᵀ + HᵀH,
 //! P = S + H·S, the row products P·g, and the hourglass modes qᵅ = Σₐ γₐᵅ uₐ. Each is the one
-//! operation order every kernel that uses it shares, except P = F·S, whose two orders are
-//! [`Grouped`] and [`Sequential`].
+//! operation order every kernel that uses it shares; `FMA` says whether its multiply–adds are
+//! fused (the builds for CPUs that have FMA) or not (the portable build, the scalar one-point
+//! kernel).
 
 use super::real::{F64x8, Mat3, Real};
 
@@ -33,11 +34,11 @@ pub struct Deformation<T> {
 }
 
 impl<T: Real> Deformation<T> {
-    /// F = I + H and J = det F from H.
+    /// F = I + H and J = det F from H ([`determinant`], fused when `FMA`).
     #[inline(always)]
-    pub fn of(h: Mat3<T>) -> Self {
+    pub fn of<const FMA: bool>(h: Mat3<T>) -> Self {
         let f = deformation_gradient(&h);
-        let j = determinant(&f);
+        let j = determinant::<T, FMA>(&f);
         Deformation { h, f, j }
     }
 }
@@ -62,12 +63,23 @@ pub(crate) fn deformation_gradient<T: Real>(h: &Mat3<T>) -> Mat3<T> {
     f
 }
 
-/// J = det F, expanded along the first row.
+/// J = det F as the difference of its two triple sums (Sarrus),
+/// J = ((F₀₀F₁₁)F₂₂ + (F₀₁F₁₂)F₂₀ + (F₀₂F₁₀)F₂₁) − ((F₀₀F₁₂)F₂₁ + (F₀₁F₁₀)F₂₂ + (F₀₂F₁₁)F₂₀),
+/// each sum accumulated left to right by multiply–adds (fused when `FMA`): 17 flops in 11
+/// instructions, where the cofactor expansion takes 14 flops in 14 instructions unfused and
+/// could fuse its minors only through a negation (which the kernels avoid: NaNs of both signs
+/// would make the builds' bits depend on the compiler's operand order, see `tensor`).
 #[inline(always)]
-pub(crate) fn determinant<T: Real>(f: &Mat3<T>) -> T {
-    f[0][0] * (f[1][1] * f[2][2] - f[1][2] * f[2][1])
-        - f[0][1] * (f[1][0] * f[2][2] - f[1][2] * f[2][0])
-        + f[0][2] * (f[1][0] * f[2][1] - f[1][1] * f[2][0])
+pub(crate) fn determinant<T: Real, const FMA: bool>(f: &Mat3<T>) -> T {
+    let plus = (f[0][2] * f[1][0]).fmadd::<FMA>(
+        f[2][1],
+        (f[0][1] * f[1][2]).fmadd::<FMA>(f[2][0], f[0][0] * f[1][1] * f[2][2]),
+    );
+    let minus = (f[0][2] * f[1][1]).fmadd::<FMA>(
+        f[2][0],
+        (f[0][1] * f[1][0]).fmadd::<FMA>(f[2][2], f[0][0] * f[1][2] * f[2][1]),
+    );
+    plus - minus
 }
 
 /// Cofactor matrix cof F = J F⁻ᵀ.
@@ -92,63 +104,42 @@ pub(crate) fn cofactor<T: Real>(f: &Mat3<T>) -> Mat3<T> {
     ]
 }
 
-/// Green–Lagrange strain E = ½(FᵀF − I) = ½(H + Hᵀ + HᵀH), formed from H so that small strains
-/// keep their full relative precision. The 6 entries i ≤ j are formed (8 flops each: 3 ×, 2 +
-/// for the column product, 2 + and 1 × for ½(H + Hᵀ + …)) and mirrored: E is symmetric to the
-/// last bit, as it was when all 9 were formed (both orders of each sum commute), so the count
-/// of `kernels::flops` is what runs.
+/// Twice the Green–Lagrange strain, G = 2E = FᵀF − I = H + Hᵀ + HᵀH, formed from H so that
+/// small strains keep their full relative precision:
+/// G_ij = (((H_ij + H_ji) + H_0i H_0j) + H_1i H_1j) + H_2i H_2j, a sum and three multiply–adds
+/// (fused when `FMA`). The 6 entries i ≤ j are formed (7 flops each) and mirrored. The ½ of E
+/// goes into the constants of [`crate::material::saint_venant_kirchhoff`], which takes G.
 #[inline(always)]
-pub(crate) fn green_lagrange<T: Real>(h: &Mat3<T>) -> Mat3<T> {
-    let mut e = *h;
+pub(crate) fn doubled_green_lagrange<T: Real, const FMA: bool>(h: &Mat3<T>) -> Mat3<T> {
+    let mut g = *h;
     for i in 0..3 {
         for j in i..3 {
-            let c = h[0][i] * h[0][j] + h[1][i] * h[1][j] + h[2][i] * h[2][j];
-            e[i][j] = T::splat(0.5) * ((h[i][j] + h[j][i]) + c);
-            e[j][i] = e[i][j];
-        }
-    }
-    e
-}
-
-/// How a kernel forms the first Piola–Kirchhoff stress P = F·S = S + H·S from H and S: the
-/// operation order is the kernel's (a type, not a closure, so that it always inlines into the
-/// per-ISA builds).
-pub trait FTimesS {
-    fn f_times_s<T: Real>(h: &Mat3<T>, s: &Mat3<T>) -> Mat3<T>;
-}
-
-/// P_ij = S_ij + ((H_i0 S_0j + H_i1 S_1j) + H_i2 S_2j), fused when `FMA` (the lane kernels and
-/// the pointwise evaluation).
-pub struct Grouped<const FMA: bool>;
-
-impl<const FMA: bool> FTimesS for Grouped<FMA> {
-    #[inline(always)]
-    fn f_times_s<T: Real>(h: &Mat3<T>, s: &Mat3<T>) -> Mat3<T> {
-        let mut p = *s;
-        for i in 0..3 {
-            for j in 0..3 {
-                p[i][j] = s[i][j] + row_dot::<T, FMA>(&h[i], [s[0][j], s[1][j], s[2][j]]);
+            let mut gij = h[i][j] + h[j][i];
+            for k in 0..3 {
+                gij = h[k][i].fmadd::<FMA>(h[k][j], gij);
             }
+            g[i][j] = gij;
+            g[j][i] = gij;
         }
-        p
     }
+    g
 }
 
-/// P_ij = ((S_ij + H_i0 S_0j) + H_i1 S_1j) + H_i2 S_2j, no fused operation (the scalar
-/// one-point kernel).
-pub struct Sequential;
-
-impl FTimesS for Sequential {
-    #[inline(always)]
-    fn f_times_s<T: Real>(h: &Mat3<T>, s: &Mat3<T>) -> Mat3<T> {
-        let mut p = *s;
-        for i in 0..3 {
-            for j in 0..3 {
-                p[i][j] = s[i][j] + h[i][0] * s[0][j] + h[i][1] * s[1][j] + h[i][2] * s[2][j];
+/// The first Piola–Kirchhoff stress P = F·S = S + H·S from H and S,
+/// P_ij = ((S_ij + H_i0 S_0j) + H_i1 S_1j) + H_i2 S_2j: three multiply–adds (fused when `FMA`).
+#[inline(always)]
+pub(crate) fn f_times_s<T: Real, const FMA: bool>(h: &Mat3<T>, s: &Mat3<T>) -> Mat3<T> {
+    let mut p = *s;
+    for i in 0..3 {
+        for j in 0..3 {
+            let mut pij = s[i][j];
+            for k in 0..3 {
+                pij = h[i][k].fmadd::<FMA>(s[k][j], pij);
             }
+            p[i][j] = pij;
         }
-        p
     }
+    p
 }
 
 /// r·g = (r₀g₀ + r₁g₁) + r₂g₂ (fused when `FMA`): a row of P against a gradient ∇Nₐ.

@@ -28,8 +28,8 @@ pub(crate) use kinematics::{
 pub use real::{F64x8, Lanes, Mat3, Real};
 pub(crate) use tensor::{modes_to_nodes, node_modes, parent_forces, parent_gradient};
 
-use kinematics::{cofactor, green_lagrange, id};
-pub use kinematics::{Deformation, FTimesS, Grouped, Sequential};
+pub use kinematics::Deformation;
+use kinematics::{cofactor, doubled_green_lagrange, f_times_s, id};
 use nalgebra::Matrix3;
 use serde::{Deserialize, Serialize};
 
@@ -84,13 +84,12 @@ impl Material {
     }
 
     /// First Piola–Kirchhoff stress P(F) and energy density ψ(F) at one point, from
-    /// [`first_piola`] with P = S + H·S, H = F − I (post-processing and tests; the time loop uses
+    /// [`first_piola`] unfused, H = F − I (post-processing and tests; the time loop uses
     /// the element kernels, which call the same formulas).
     pub fn piola_energy(&self, f: &Matrix3<f64>) -> (Matrix3<f64>, f64) {
         let h = std::array::from_fn(|i| std::array::from_fn(|j| f[(i, j)] - id(i, j)));
-        let d = Deformation::of(h);
-        let (p, psi) =
-            with_law!(self.model, L => first_piola::<L, f64, true, Grouped<false>>(self, &d));
+        let d = Deformation::of::<false>(h);
+        let (p, psi) = with_law!(self.model, L => first_piola::<L, f64, true, false>(self, &d));
         (Matrix3::from_fn(|i, j| p[i][j]), psi)
     }
 
@@ -128,18 +127,19 @@ impl Law for NeoHookeanLaw {
 
 /// First Piola–Kirchhoff stress P and energy density ψ (ψ only if `ENERGY`, else 0) of the law
 /// `L` at a point deformed by `d` (PHYSICS.md §2): [`saint_venant_kirchhoff`] of
-/// E = ½(H + Hᵀ + HᵀH), then P = F·S formed by `P` (the caller's operation order), or
-/// [`neo_hookean`]. The one place every evaluation of a stress goes through.
+/// 2E = H + Hᵀ + HᵀH, then P = F·S = S + H·S, or [`neo_hookean`]; multiply–adds fused when
+/// `FMA` (`d` is formed with the same `FMA`). The one place every evaluation of a stress goes
+/// through.
 #[inline(always)]
-pub fn first_piola<L: Law, T: Real, const ENERGY: bool, P: FTimesS>(
+pub fn first_piola<L: Law, T: Real, const ENERGY: bool, const FMA: bool>(
     mat: &Material,
     d: &Deformation<T>,
 ) -> (Mat3<T>, T) {
     match L::MODEL {
         MaterialModel::Svk => {
-            let e = green_lagrange(&d.h);
-            let (s, psi) = saint_venant_kirchhoff::<T, ENERGY>(mat.lambda, mat.mu, &e);
-            (P::f_times_s(&d.h, &s), psi)
+            let g = doubled_green_lagrange::<T, FMA>(&d.h);
+            let (s, psi) = saint_venant_kirchhoff::<T, ENERGY, FMA>(mat.lambda, mat.mu, &g);
+            (f_times_s::<T, FMA>(&d.h, &s), psi)
         }
         MaterialModel::NeoHookean => neo_hookean::<T, ENERGY>(mat.lambda, mat.mu, &d.f, d.j),
     }
@@ -164,33 +164,35 @@ macro_rules! with_law {
 pub(crate) use with_law;
 
 /// Saint-Venant–Kirchhoff (PHYSICS.md §2): second Piola–Kirchhoff stress
-/// S = λ tr(E) I + 2μE and energy density ψ = ½λ(tr E)² + μ E:E, from the Green–Lagrange strain
-/// E (symmetric: only its entries i ≤ j are read, and S is formed on them and mirrored), with
-/// E:E = E₀₀² + E₁₁² + E₂₂² + 2(E₀₁² + E₀₂² + E₁₂²). ψ only if `ENERGY`
-/// (else 0). The one definition of the model: every kernel calls it.
+/// S = λ tr(E) I + 2μE and energy density ψ = ½λ(tr E)² + μ E:E, from G = 2E
+/// ([`kinematics::doubled_green_lagrange`]): S = ½λ tr(G) I + μG and
+/// ψ = ⅛λ(tr G)² + ¼μ G:G with G:G = (G₀₀² + G₁₁² + G₂₂²) + 2(G₀₁² + G₀₂² + G₁₂²) (G symmetric:
+/// only its entries i ≤ j are read, and S is formed on them and mirrored). Multiply–adds fused
+/// when `FMA`. ψ only if `ENERGY` (else 0). The one definition of the model: every kernel
+/// calls it.
 #[inline(always)]
-pub fn saint_venant_kirchhoff<T: Real, const ENERGY: bool>(
+pub fn saint_venant_kirchhoff<T: Real, const ENERGY: bool, const FMA: bool>(
     lambda: f64,
     mu: f64,
-    e: &Mat3<T>,
+    g: &Mat3<T>,
 ) -> (Mat3<T>, T) {
-    let (lam, two_mu) = (T::splat(lambda), T::splat(2.0 * mu));
-    let tr = e[0][0] + e[1][1] + e[2][2];
-    let mut s = *e;
+    let m = T::splat(mu);
+    let tr = (g[0][0] + g[1][1]) + g[2][2];
+    let lt = T::splat(0.5 * lambda) * tr;
+    let mut s = *g;
     for i in 0..3 {
-        s[i][i] = lam * tr + two_mu * e[i][i];
+        s[i][i] = m.fmadd::<FMA>(g[i][i], lt);
         for j in i + 1..3 {
-            s[i][j] = two_mu * e[i][j];
+            s[i][j] = m * g[i][j];
             s[j][i] = s[i][j];
         }
     }
     let mut psi = T::splat(0.0);
     if ENERGY {
-        let ee = e[0][0] * e[0][0]
-            + e[1][1] * e[1][1]
-            + e[2][2] * e[2][2]
-            + T::splat(2.0) * (e[0][1] * e[0][1] + e[0][2] * e[0][2] + e[1][2] * e[1][2]);
-        psi = T::splat(0.5 * lambda) * tr * tr + T::splat(mu) * ee;
+        let diag = g[2][2].fmadd::<FMA>(g[2][2], g[1][1].fmadd::<FMA>(g[1][1], g[0][0] * g[0][0]));
+        let off = g[1][2].fmadd::<FMA>(g[1][2], g[0][2].fmadd::<FMA>(g[0][2], g[0][1] * g[0][1]));
+        let gg = off.fmadd::<FMA>(T::splat(2.0), diag);
+        psi = (T::splat(0.125 * lambda) * tr).fmadd::<FMA>(tr, T::splat(0.25 * mu) * gg);
     }
     (s, psi)
 }
@@ -260,13 +262,13 @@ mod tests {
                     std::array::from_fn(|j| 0.1 * (t * (i + 3 * j + 1) as f64).sin())
                 })
             };
-            let lanes = Deformation::of(std::array::from_fn(|i| {
+            let lanes = Deformation::of::<FMA>(std::array::from_fn(|i| {
                 std::array::from_fn(|j| F64x8(std::array::from_fn(|l| h_of(l)[i][j])))
             }));
-            let (p8, psi8) = first_piola::<L, F64x8, true, Grouped<FMA>>(mat, &lanes);
+            let (p8, psi8) = first_piola::<L, F64x8, true, FMA>(mat, &lanes);
             for l in 0..8 {
-                let (p, psi) =
-                    first_piola::<L, f64, true, Grouped<FMA>>(mat, &Deformation::of(h_of(l)));
+                let d = Deformation::of::<FMA>(h_of(l));
+                let (p, psi) = first_piola::<L, f64, true, FMA>(mat, &d);
                 assert_eq!(
                     psi8.0[l].to_bits(),
                     psi.to_bits(),
