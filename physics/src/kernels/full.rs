@@ -13,7 +13,7 @@
 //! kernel's bits.
 
 use crate::material::{
-    first_piola_lanes_into, parent_forces, parent_gradient, row_dot_on, F64x8, Law, Material, Real,
+    first_piola_lanes_into, parent_forces, parent_gradient, row_dot, F64x8, Law, Material, Real,
 };
 use crate::mesh::GaussData;
 
@@ -25,6 +25,11 @@ pub(crate) trait GaussLanes {
     fn wjinv(&self, d: usize, j: usize, q: usize) -> F64x8;
     /// w_q det J₀, per lane [m³].
     fn wdet(&self, q: usize) -> F64x8;
+    /// What multiplies (T2)'s pair sums of direction d, per lane, if anything: on an
+    /// axis-aligned box ⅛ w det J₀ ∂ξ_d/∂X_d, the same at every point, whose points then carry
+    /// P instead of Q (`DIAG`, and the box lanes of several classes, whose `wjinv` are then the
+    /// identity); 1 on the other lanes of several classes.
+    fn pair_scale<const DIAG: bool>(&self) -> Option<[F64x8; 3]>;
 }
 
 /// Eight elements of one class (a structured box has one): the class's data broadcast.
@@ -43,14 +48,32 @@ impl GaussLanes for OneClass<'_> {
     fn wdet(&self, q: usize) -> F64x8 {
         F64x8::splat(self.0.wdet[q])
     }
+    #[inline(always)]
+    fn pair_scale<const DIAG: bool>(&self) -> Option<[F64x8; 3]> {
+        let w = &self.0.wjinv;
+        if DIAG {
+            Some([
+                F64x8::splat(w[0][0][0]),
+                F64x8::splat(w[1][1][0]),
+                F64x8::splat(w[2][2][0]),
+            ])
+        } else {
+            None
+        }
+    }
 }
 
 /// Eight elements of several classes: each lane's data staged (`[q][d][j]`, lanes innermost).
+/// A box lane ([`GaussData::axis_aligned`]) gets the identity for `wjinv` and its diagonal
+/// ⅛ w det J₀ J₀⁻ᵀ in `pair`, applied to (T2)'s pair sums, as the scalar kernel does for a box;
+/// another lane gets its `wjinv` and 1. (H takes the row products on every lane: on a box lane
+/// their other terms are exact zeros, so the bits are the box's single product.)
 #[derive(Clone)]
 pub(crate) struct LaneGauss {
     jinv: [[[F64x8; 3]; 3]; 8],
     wjinv: [[[F64x8; 3]; 3]; 8],
     wdet: [F64x8; 8],
+    pair: [F64x8; 3],
 }
 
 impl Default for LaneGauss {
@@ -60,6 +83,7 @@ impl Default for LaneGauss {
             jinv: [[[z; 3]; 3]; 8],
             wjinv: [[[z; 3]; 3]; 8],
             wdet: [z; 8],
+            pair: [z; 3],
         }
     }
 }
@@ -68,14 +92,22 @@ impl LaneGauss {
     /// Puts the class data `gd` into lane `l`.
     #[inline(always)]
     pub(crate) fn set(&mut self, l: usize, gd: &GaussData) {
+        let boxed = gd.axis_aligned;
         for q in 0..8 {
             for d in 0..3 {
                 for j in 0..3 {
                     self.jinv[q][d][j].0[l] = gd.jinv[d][j][q];
-                    self.wjinv[q][d][j].0[l] = gd.wjinv[d][j][q];
+                    self.wjinv[q][d][j].0[l] = match (boxed, d == j) {
+                        (false, _) => gd.wjinv[d][j][q],
+                        (true, true) => 1.0,
+                        (true, false) => 0.0,
+                    };
                 }
             }
             self.wdet[q].0[l] = gd.wdet[q];
+        }
+        for d in 0..3 {
+            self.pair[d].0[l] = if boxed { gd.wjinv[d][d][0] } else { 1.0 };
         }
     }
 }
@@ -93,6 +125,10 @@ impl GaussLanes for LaneGauss {
     fn wdet(&self, q: usize) -> F64x8 {
         self.wdet[q]
     }
+    #[inline(always)]
+    fn pair_scale<const DIAG: bool>(&self) -> Option<[F64x8; 3]> {
+        Some(self.pair)
+    }
 }
 
 /// Lane-wise `f64::min` (a NaN lane of one operand gives the other's).
@@ -106,13 +142,15 @@ fn min8(x: F64x8, y: F64x8) -> F64x8 {
 }
 
 /// The per-point work arrays of [`full_lanes`] (the parent derivatives, then Q, at the 8
-/// Gauss points; P and H at one), kept by the caller across lane groups: every entry is
+/// Gauss points, and P at the 8 on a box; P and H at one), kept by the caller across lane
+/// groups: every entry is
 /// written before it is read, and a fresh zeroed array per group cost the AVX2 build a
 /// `memset` call per group (its ymm stores exceed the compiler's inline limit, AVX-512's zmm
 /// stores do not).
 #[derive(Clone)]
 pub(crate) struct FullScratch {
     dq: [[[F64x8; 3]; 3]; 8],
+    pq: [[[F64x8; 3]; 3]; 8],
     p: [[F64x8; 3]; 3],
     h: [[F64x8; 3]; 3],
 }
@@ -122,6 +160,7 @@ impl Default for FullScratch {
         let z = F64x8::splat(0.0);
         FullScratch {
             dq: [[[z; 3]; 3]; 8],
+            pq: [[[z; 3]; 3]; 8],
             p: [[z; 3]; 3],
             h: [[z; 3]; 3],
         }
@@ -153,30 +192,50 @@ pub(crate) fn full_lanes<
     work: &mut FullScratch,
 ) -> (F64x8, F64x8) {
     let zero = F64x8::splat(0.0);
-    let FullScratch { dq, p, h } = work;
+    let FullScratch { dq, pq, p, h } = work;
     let mut det = [zero; 8];
     let mut energy = zero;
-    parent_gradient::<F64x8, FMA>(|a, i| F64x8(u[a][i]), dq);
+    // An axis-aligned box's ⅛ J₀⁻¹ and ⅛ w det J₀ J₀⁻ᵀ are one diagonal at every point
+    // (`GaussData::axis_aligned`): (T1) applies the first to its 4 values per direction, which
+    // makes `dq` H, and (T2) the second to its pair sums of P, kept in `pq`. (No copies between
+    // the arrays: each is a `memcpy` call in the AVX2 build.)
+    let h_scale = if DIAG {
+        Some([g.jinv(0, 0, 0), g.jinv(1, 1, 0), g.jinv(2, 2, 0)])
+    } else {
+        None
+    };
+    let q_scale = g.pair_scale::<DIAG>();
+    parent_gradient::<F64x8, FMA>(|a, i| F64x8(u[a][i]), h_scale, dq);
     for q in 0..8 {
-        for (i, h_i) in h.iter_mut().enumerate() {
-            for (j, h_ij) in h_i.iter_mut().enumerate() {
-                let jinv = [g.jinv(0, j, q), g.jinv(1, j, q), g.jinv(2, j, q)];
-                *h_ij = row_dot_on::<_, FMA>(&dq[q][i], jinv, j, DIAG);
+        if !DIAG {
+            for (i, h_i) in h.iter_mut().enumerate() {
+                for (j, h_ij) in h_i.iter_mut().enumerate() {
+                    let jinv = [g.jinv(0, j, q), g.jinv(1, j, q), g.jinv(2, j, q)];
+                    *h_ij = row_dot::<_, FMA>(&dq[q][i], jinv);
+                }
             }
         }
-        let (psi, jq) = first_piola_lanes_into::<L, ENERGY, FMA>(mat, h, p);
+        let (h_q, p_q) = if DIAG {
+            (&dq[q], &mut pq[q])
+        } else {
+            (&*h, &mut *p)
+        };
+        let (psi, jq) = first_piola_lanes_into::<L, ENERGY, FMA>(mat, h_q, p_q);
         det[q] = jq;
         if ENERGY {
             energy = energy + psi * g.wdet(q);
         }
-        for (i, dq_i) in dq[q].iter_mut().enumerate() {
-            for (k, dq_ik) in dq_i.iter_mut().enumerate() {
-                let w = [g.wjinv(k, 0, q), g.wjinv(k, 1, q), g.wjinv(k, 2, q)];
-                *dq_ik = row_dot_on::<_, FMA>(&p[i], w, k, DIAG);
+        if !DIAG {
+            for (i, dq_i) in dq[q].iter_mut().enumerate() {
+                for (k, dq_ik) in dq_i.iter_mut().enumerate() {
+                    let w = [g.wjinv(k, 0, q), g.wjinv(k, 1, q), g.wjinv(k, 2, q)];
+                    *dq_ik = row_dot::<_, FMA>(&p[i], w);
+                }
             }
         }
     }
-    parent_forces::<F64x8, FMA>(|q, i, k| dq[q][i][k], f);
+    let q_of = if DIAG { &*pq } else { &*dq };
+    parent_forces::<F64x8, FMA>(|q, i, k| q_of[q][i][k], q_scale, f);
     let d = det;
     let min_j = min8(
         min8(min8(d[0], d[1]), min8(d[2], d[3])),

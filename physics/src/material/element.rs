@@ -9,7 +9,7 @@
 
 use super::kinematics::{
     displacement_gradient, hourglass_energy, hourglass_modes, lane_sums_by_halves, row_dot,
-    row_dot_on, Deformation,
+    Deformation,
 };
 use super::real::{F64x8, Lanes, Mat3, Real};
 use super::tensor::{
@@ -79,7 +79,8 @@ pub fn element_forces<const ENERGY: bool, const FMA: bool>(
 
 /// [`element_forces`] for the law `L`: the parent derivatives by sum factorisation
 /// ([`parent_gradient`], (T1) of `material::tensor`), H_q = D_q·(⅛ J₀⁻¹) and P at the 8 points
-/// in lanes, Q_q = P_q·(w_q det J₀ ⅛ J₀⁻ᵀ), the forces by the transpose ([`parent_forces`], (T2)).
+/// in lanes, Q_q = P_q·(w_q det J₀ ⅛ J₀⁻ᵀ), the forces by the transpose ([`parent_forces`], (T2);
+/// on an axis-aligned box the diagonal w det J₀ ⅛ J₀⁻ᵀ multiplies (T2)'s pair sums of P).
 #[inline(always)]
 fn full<L: Law, const ENERGY: bool, const FMA: bool>(
     mat: &Material,
@@ -89,39 +90,50 @@ fn full<L: Law, const ENERGY: bool, const FMA: bool>(
 ) -> (f64, f64) {
     // Plain loops, not `std::array::from_fn`: its closures were not inlined here (36 calls per
     // element in the builds' chunk remainders, and every element of the portable build).
+    // An axis-aligned box's ⅛ J₀⁻¹ is one diagonal at every point, applied by (T1) to its 4
+    // values per direction (as the lane kernel does).
+    let diag = gd.axis_aligned;
+    let scale = diag.then_some([gd.jinv[0][0][0], gd.jinv[1][1][0], gd.jinv[2][2][0]]);
     let mut dq = [[[0.0f64; 3]; 3]; 8];
-    parent_gradient::<f64, FMA>(|a, i| u[a][i], &mut dq);
+    parent_gradient::<f64, FMA>(|a, i| u[a][i], scale, &mut dq);
     let zero = F64x8([0.0; 8]);
-    let mut d: Mat3<F64x8> = [[zero; 3]; 3];
+    let mut h: Mat3<F64x8> = [[zero; 3]; 3];
     for (q, dq_q) in dq.iter().enumerate() {
         for i in 0..3 {
             for k in 0..3 {
-                d[i][k].0[q] = dq_q[i][k];
+                h[i][k].0[q] = dq_q[i][k];
             }
         }
     }
-    // An axis-aligned box (J₀ diagonal): one product per entry ([`row_dot_on`]).
-    let diag = gd.axis_aligned;
-    let mut h: Mat3<F64x8> = [[zero; 3]; 3];
-    for i in 0..3 {
-        for j in 0..3 {
-            let jinv = [
-                F64x8(gd.jinv[0][j]),
-                F64x8(gd.jinv[1][j]),
-                F64x8(gd.jinv[2][j]),
-            ];
-            h[i][j] = row_dot_on::<_, FMA>(&d[i], jinv, j, diag);
+    if !diag {
+        let d = h;
+        for i in 0..3 {
+            for j in 0..3 {
+                let jinv = [
+                    F64x8(gd.jinv[0][j]),
+                    F64x8(gd.jinv[1][j]),
+                    F64x8(gd.jinv[2][j]),
+                ];
+                h[i][j] = row_dot::<_, FMA>(&d[i], jinv);
+            }
         }
     }
     let mut p: Mat3<F64x8> = [[zero; 3]; 3];
     let (psi, det) = first_piola_lanes_into::<L, ENERGY, FMA>(mat, &h, &mut p);
-    let mut q: Mat3<F64x8> = [[zero; 3]; 3];
-    for i in 0..3 {
-        for k in 0..3 {
-            q[i][k] = row_dot_on::<_, FMA>(&p[i], lanes3(&gd.wjinv[k]), k, diag);
+    // On a box ⅛ w det J₀ J₀⁻ᵀ is one diagonal at every point, applied to (T2)'s pair sums of P
+    // (as the lane kernel does).
+    if diag {
+        let scale = [gd.wjinv[0][0][0], gd.wjinv[1][1][0], gd.wjinv[2][2][0]];
+        parent_forces::<f64, FMA>(|pt, i, k| p[i][k].0[pt], Some(scale), f);
+    } else {
+        let mut q: Mat3<F64x8> = [[zero; 3]; 3];
+        for i in 0..3 {
+            for k in 0..3 {
+                q[i][k] = row_dot::<_, FMA>(&p[i], lanes3(&gd.wjinv[k]));
+            }
         }
+        parent_forces::<f64, FMA>(|pt, i, k| q[i][k].0[pt], None, f);
     }
-    parent_forces::<f64, FMA>(|pt, i, k| q[i][k].0[pt], f);
     let mut energy = 0.0;
     if ENERGY {
         for q in 0..8 {

@@ -148,24 +148,6 @@ pub(crate) fn row_dot<T: Real, const FMA: bool>(r: &[T; 3], g: [T; 3]) -> T {
     r[2].fmadd::<FMA>(g[2], r[1].fmadd::<FMA>(g[1], r[0] * g[0]))
 }
 
-/// [`row_dot`] where g has at most one non-zero entry, g[c], when `diagonal`: then r[c] g[c],
-/// which the row product returns for finite r (its other terms are multiply–adds of exact
-/// zeros). The sum-factorised kernels' H = D·(⅛J₀⁻¹) and Q = P·(⅛ w det J₀ J₀⁻ᵀ) on an
-/// axis-aligned box ([`crate::mesh::GaussData::axis_aligned`]): one product per entry.
-#[inline(always)]
-pub(crate) fn row_dot_on<T: Real, const FMA: bool>(
-    r: &[T; 3],
-    g: [T; 3],
-    c: usize,
-    diagonal: bool,
-) -> T {
-    if diagonal {
-        r[c] * g[c]
-    } else {
-        row_dot::<T, FMA>(r, g)
-    }
-}
-
 /// Hourglass mode amplitudes qᵅ = Σₐ γₐᵅ uₐ (α = 0..4), `gamma(α, a)` = γₐᵅ
 /// (Flanagan–Belytschko; fused when `FMA`).
 #[inline(always)]

@@ -22,9 +22,7 @@ pub use element::{
     element_forces, element_forces_reduced, element_forces_reduced_lanes,
     element_forces_reduced_lanes_in, hourglass_stiffness, LaneElements, OnePointScratch,
 };
-pub(crate) use kinematics::{
-    displacement_gradient, hourglass_energy, hourglass_modes, row_dot, row_dot_on,
-};
+pub(crate) use kinematics::{displacement_gradient, hourglass_energy, hourglass_modes, row_dot};
 pub use real::{F64x8, Lanes, Mat3, Real};
 pub(crate) use tensor::{modes_to_nodes, node_modes, parent_forces, parent_gradient};
 

@@ -66,10 +66,11 @@ pub struct GaussData {
     pub jinv: [[[f64; 8]; 3]; 3],
     /// The same times w_q det J₀(ξ_q), `wjinv[d][j][q]` [m²] (`material::tensor`, (T2)).
     pub wjinv: [[[f64; 8]; 3]; 3],
-    /// J₀ is diagonal at every Gauss point (an axis-aligned box): ∂ξ_d/∂Xⱼ = 0 for d ≠ j, so
-    /// the kernels form H_q,ij = D_q,ij (⅛ ∂ξⱼ/∂Xⱼ) and Q_q,ik = P_q,ik (⅛ w det J₀ ∂ξ_k/∂X_k)
-    /// with one product each instead of a row product of three (the terms left out are
-    /// exactly zero, so the bits are those of the row product).
+    /// J₀ is diagonal at every Gauss point (an axis-aligned box), and then the same at every
+    /// point (the mean of the eight computed, which differ by rounding): ∂ξ_d/∂Xⱼ = 0 for d ≠ j,
+    /// so the kernels form H_q,ij = D_q,ij (⅛ ∂ξⱼ/∂Xⱼ) with one product instead of a row
+    /// product of three (the terms left out are exactly zero), and apply ⅛ w det J₀ ∂ξ_k/∂X_k
+    /// once to the sums of P_q,ik over the two points along ξ_k (`material::tensor`, (T2)).
     pub axis_aligned: bool,
 }
 
@@ -104,9 +105,10 @@ impl GaussData {
             wjinv: [[[0.0; 8]; 3]; 3],
             axis_aligned: true,
         };
-        for (q, xi) in gauss_points().iter().enumerate() {
+        let points = gauss_points();
+        let mut jacobians = [nalgebra::Matrix3::<f64>::zeros(); 8];
+        for (j, xi) in jacobians.iter_mut().zip(&points) {
             let dn = shape_derivatives(*xi);
-            let mut j = nalgebra::Matrix3::<f64>::zeros();
             let mut magnitude = nalgebra::Matrix3::<f64>::zeros();
             for a in 0..8 {
                 for r in 0..3 {
@@ -122,8 +124,29 @@ impl GaussData {
             for r in 0..3 {
                 for c in 0..3 {
                     j[(r, c)] = zero_within_rounding(j[(r, c)], magnitude[(r, c)]);
+                    if r != c && j[(r, c)] != 0.0 {
+                        gd.axis_aligned = false;
+                    }
                 }
             }
+        }
+        // J₀ diagonal at the 8 points makes X affine in each ξ_d alone (a trilinear X whose
+        // ∂X_r/∂ξ_c, c ≠ r, vanish at the 8 points has no such terms): an axis-aligned box, whose
+        // J₀ is one constant diagonal matrix in exact arithmetic. The 8 computed ones differ from
+        // it by rounding; each point takes their mean, so that the kernels may apply ⅛ J₀⁻¹ and
+        // ⅛ w det J₀ J₀⁻ᵀ to sums over points (`material::tensor`, (T1) and (T2)).
+        if gd.axis_aligned {
+            let mean = nalgebra::Matrix3::from_diagonal(
+                &(jacobians
+                    .iter()
+                    .map(|j| j.diagonal())
+                    .sum::<nalgebra::Vector3<f64>>()
+                    / 8.0),
+            );
+            jacobians = [mean; 8];
+        }
+        for (q, (j, xi)) in jacobians.iter().zip(&points).enumerate() {
+            let dn = shape_derivatives(*xi);
             let det = j.determinant();
             if !(det > 0.0 && det.is_finite()) {
                 return Err(det);
@@ -143,9 +166,6 @@ impl GaussData {
                     // ⅛ is a power of two: exact.
                     gd.jinv[d][jdir][q] = 0.125 * jinv[(d, jdir)];
                     gd.wjinv[d][jdir][q] = 0.125 * (jinv[(d, jdir)] * det);
-                    if d != jdir && jinv[(d, jdir)] != 0.0 {
-                        gd.axis_aligned = false;
-                    }
                 }
             }
         }
