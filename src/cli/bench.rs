@@ -240,7 +240,7 @@ fn print_limits(configs: &[Config], isa: Isa, forced: bool) {
     if let Some(c) = configs.first() {
         let model = c.sim.model.material.model;
         println!(
-            "flops per element-step counted from the code; full: {} on axis-aligned boxes (J₀ diagonal: H and Q one product per entry), {} on other shapes; one point: {} on axis-aligned boxes (through the 8 modes of the trilinear field), {} on other shapes; this mesh: {}",
+            "flops per element-step counted from the code; full: {} on axis-aligned boxes (J₀ one diagonal matrix: ⅛ J₀⁻¹ and ⅛ w det J₀ J₀⁻ᵀ applied to the sums over points), {} on other shapes; one point: {} on axis-aligned boxes (through the 8 modes of the trilinear field), {} on other shapes; this mesh: {}",
             flops::full(model, true).total(),
             flops::full(model, false).total(),
             flops::one_point(model, true).total(),
