@@ -12,8 +12,9 @@
 
 use super::corners::corner_jacobians;
 use crate::material::{
-    displacement_gradient, first_piola, modes_to_nodes, node_modes, parent_forces, parent_gradient,
-    row_dot, with_law, Deformation, Law, Material, MaterialModel, Real,
+    box_factors, box_forces, box_gradient, displacement_gradient, first_piola, modes_to_nodes,
+    node_modes, parent_forces, parent_gradient, row_dot, with_law, Deformation, Law, Material,
+    MaterialModel, Real,
 };
 use std::cell::Cell;
 use std::ops::{Add, Div, Mul, Sub};
@@ -122,15 +123,18 @@ fn point(model: MaterialModel) -> (u64, u64, u64) {
 /// derivatives by sum factorisation and H = D·(⅛ J₀⁻¹) at the 8 points; the stress at the 8
 /// points; Q = P·(⅛ w det J₀ J₀⁻ᵀ) at the 8 points, the transpose to the nodes, and the energy.
 /// On an axis-aligned box (`axis_aligned`: [`crate::mesh::GaussData::axis_aligned`]) ⅛ J₀⁻¹
-/// and ⅛ w det J₀ J₀⁻ᵀ are one diagonal at every point, applied by (T1) to its 4 values per
-/// direction and by (T2) to its pair sums: 36 products each instead of 72 row products.
+/// and ⅛ w det J₀ J₀⁻ᵀ are one diagonal at every point, and H and the forces go through the
+/// modes of the trilinear field ([`crate::material::box_gradient`], `box_forces`), each with
+/// its factors (c, cg, cg²) formed per element.
 pub fn full(model: MaterialModel, axis_aligned: bool) -> KernelFlops {
     let (_, stress, logs) = point(model);
-    let scale = axis_aligned.then_some([c(1.0); 3]);
     let (gradient, _) = count(|| {
         let mut d = [[[c(0.0); 3]; 3]; 8];
-        parent_gradient::<Counted, true>(|_, _| c(1e-3), scale, &mut d);
-        if !axis_aligned {
+        if axis_aligned {
+            let k = box_factors([c(1.0); 3]);
+            box_gradient(|_, _| c(1e-3), &k, &mut d);
+        } else {
+            parent_gradient::<Counted, true>(|_, _| c(1e-3), &mut d);
             for d_q in &d {
                 for d_qi in d_q {
                     for _ in 0..3 {
@@ -141,15 +145,18 @@ pub fn full(model: MaterialModel, axis_aligned: bool) -> KernelFlops {
         }
     });
     let (forces, _) = count(|| {
-        if !axis_aligned {
+        let mut f = [[c(0.0); 3]; 8];
+        if axis_aligned {
+            let k = box_factors([c(1.0); 3]);
+            box_forces(|_, _, _| c(1.0), &k, &mut f);
+        } else {
             // Q_q,id = P_q,i · (⅛ w det J₀ ∂ξ_d/∂X) at 8 points × 3 × 3.
             let p = [c(1.0); 3];
             for _ in 0..72 {
                 let _ = row_dot::<_, true>(&p, [c(1.0); 3]);
             }
+            parent_forces::<Counted, true>(|_, _, _| c(1.0), &mut f);
         }
-        let mut f = [[c(0.0); 3]; 8];
-        parent_forces::<Counted, true>(|_, _, _| c(1.0), scale, &mut f);
         // Ψ = Σ_q ψ_q w_q det J₀.
         let mut e = c(0.0);
         for _ in 0..8 {
@@ -258,9 +265,7 @@ mod tests {
     /// Full: gradient 36 edge differences + 9 interpolations of 4 × (1 + 1 + 2 × 2) = 24, then
     /// H = D·J 8 × 9 row products of 5; 8 points' stress; forces 72 row products of 5 for Q,
     /// the transpose 9 × (4 pair sums + 24) + 8 nodes × 3 × 2 (+ 3 for the node of signs
-    /// (−, −, −), 0 − G_ξ), energy 8 × 2 (an axis-aligned box: 36 products for H, on (T1)'s
-    /// 4 values per direction, and 36 for Q, on (T2)'s pair sums, instead of 72 row products
-    /// of 5 each). One point: 1 point, hourglass modes
+    /// (−, −, −), 0 − G_ξ), energy 8 × 2. One point: 1 point, hourglass modes
     /// 4 × 24 multiply–adds and Ψ_hg 4 × 6 + 2, forces 24 × (5 + 8 + 1 + 2) and V ψ 1, corners
     /// 12 edges × 3 × 2 and 8 × (triple product 17 + 1 ×).
     #[test]
@@ -278,17 +283,15 @@ mod tests {
             }
         );
         assert_eq!(full_svk.total(), 2443);
-        // An axis-aligned box: H and Q 36 products each.
+        // An axis-aligned box, through the modes: the factors (c, cg, cg²) 3 × 2 each; H per
+        // component (T3) 24, per direction 4 × and 8 ±; the forces per component and direction 4
+        // pair sums, 8 ± and 4 ×, then 5 sums of amplitudes and the transpose of (T3) 24.
         let box_svk = full(MaterialModel::Svk, true);
         assert_eq!(
             (box_svk.gradient, box_svk.stress, box_svk.forces),
-            (
-                36 + 9 * 24 + 36,
-                8 * 144,
-                36 + 9 * (4 + 24) + 8 * 3 * 2 + 3 + 16
-            )
+            (6 + 3 * 24 + 9 * 12, 8 * 144, 6 + 3 * (3 * 16 + 5 + 24) + 16)
         );
-        assert_eq!(box_svk.total(), 1795);
+        assert_eq!(box_svk.total(), 1591);
         // The box's one point: (T3) 24 sums per component and H 9 ×; Ψ_hg 4 × 6 + 2; forces
         // per component 7 × and the transpose of (T3) 24, V ψ 1; the same stress and corners.
         let box_one = one_point(MaterialModel::Svk, true);

@@ -13,7 +13,8 @@
 //! kernel's bits.
 
 use crate::material::{
-    first_piola_lanes_into, parent_forces, parent_gradient, row_dot, F64x8, Law, Material, Real,
+    box_factors, box_forces, box_gradient, first_piola_lanes_into, parent_forces, parent_gradient,
+    row_dot, F64x8, Law, Material, Real,
 };
 use crate::mesh::GaussData;
 
@@ -25,11 +26,6 @@ pub(crate) trait GaussLanes {
     fn wjinv(&self, d: usize, j: usize, q: usize) -> F64x8;
     /// w_q det J₀, per lane [m³].
     fn wdet(&self, q: usize) -> F64x8;
-    /// What multiplies (T2)'s pair sums of direction d, per lane, if anything: on an
-    /// axis-aligned box ⅛ w det J₀ ∂ξ_d/∂X_d, the same at every point, whose points then carry
-    /// P instead of Q (`DIAG`, and the box lanes of several classes, whose `wjinv` are then the
-    /// identity); 1 on the other lanes of several classes.
-    fn pair_scale<const DIAG: bool>(&self) -> Option<[F64x8; 3]>;
 }
 
 /// Eight elements of one class (a structured box has one): the class's data broadcast.
@@ -48,32 +44,14 @@ impl GaussLanes for OneClass<'_> {
     fn wdet(&self, q: usize) -> F64x8 {
         F64x8::splat(self.0.wdet[q])
     }
-    #[inline(always)]
-    fn pair_scale<const DIAG: bool>(&self) -> Option<[F64x8; 3]> {
-        let w = &self.0.wjinv;
-        if DIAG {
-            Some([
-                F64x8::splat(w[0][0][0]),
-                F64x8::splat(w[1][1][0]),
-                F64x8::splat(w[2][2][0]),
-            ])
-        } else {
-            None
-        }
-    }
 }
 
 /// Eight elements of several classes: each lane's data staged (`[q][d][j]`, lanes innermost).
-/// A box lane ([`GaussData::axis_aligned`]) gets the identity for `wjinv` and its diagonal
-/// ⅛ w det J₀ J₀⁻ᵀ in `pair`, applied to (T2)'s pair sums, as the scalar kernel does for a box;
-/// another lane gets its `wjinv` and 1. (H takes the row products on every lane: on a box lane
-/// their other terms are exact zeros, so the bits are the box's single product.)
 #[derive(Clone)]
 pub(crate) struct LaneGauss {
     jinv: [[[F64x8; 3]; 3]; 8],
     wjinv: [[[F64x8; 3]; 3]; 8],
     wdet: [F64x8; 8],
-    pair: [F64x8; 3],
 }
 
 impl Default for LaneGauss {
@@ -83,7 +61,6 @@ impl Default for LaneGauss {
             jinv: [[[z; 3]; 3]; 8],
             wjinv: [[[z; 3]; 3]; 8],
             wdet: [z; 8],
-            pair: [z; 3],
         }
     }
 }
@@ -92,22 +69,14 @@ impl LaneGauss {
     /// Puts the class data `gd` into lane `l`.
     #[inline(always)]
     pub(crate) fn set(&mut self, l: usize, gd: &GaussData) {
-        let boxed = gd.axis_aligned;
         for q in 0..8 {
             for d in 0..3 {
                 for j in 0..3 {
                     self.jinv[q][d][j].0[l] = gd.jinv[d][j][q];
-                    self.wjinv[q][d][j].0[l] = match (boxed, d == j) {
-                        (false, _) => gd.wjinv[d][j][q],
-                        (true, true) => 1.0,
-                        (true, false) => 0.0,
-                    };
+                    self.wjinv[q][d][j].0[l] = gd.wjinv[d][j][q];
                 }
             }
             self.wdet[q].0[l] = gd.wdet[q];
-        }
-        for d in 0..3 {
-            self.pair[d].0[l] = if boxed { gd.wjinv[d][d][0] } else { 1.0 };
         }
     }
 }
@@ -124,10 +93,6 @@ impl GaussLanes for LaneGauss {
     #[inline(always)]
     fn wdet(&self, q: usize) -> F64x8 {
         self.wdet[q]
-    }
-    #[inline(always)]
-    fn pair_scale<const DIAG: bool>(&self) -> Option<[F64x8; 3]> {
-        Some(self.pair)
     }
 }
 
@@ -196,16 +161,15 @@ pub(crate) fn full_lanes<
     let mut det = [zero; 8];
     let mut energy = zero;
     // An axis-aligned box's ⅛ J₀⁻¹ and ⅛ w det J₀ J₀⁻ᵀ are one diagonal at every point
-    // (`GaussData::axis_aligned`): (T1) applies the first to its 4 values per direction, which
-    // makes `dq` H, and (T2) the second to its pair sums of P, kept in `pq`. (No copies between
-    // the arrays: each is a `memcpy` call in the AVX2 build.)
-    let h_scale = if DIAG {
-        Some([g.jinv(0, 0, 0), g.jinv(1, 1, 0), g.jinv(2, 2, 0)])
+    // (`GaussData::axis_aligned`): H and the forces go through the modes of the trilinear field
+    // ((T4) of `material::tensor` and its transpose), `dq` holds H and `pq` P. (No copies
+    // between the arrays: each is a `memcpy` call in the AVX2 build.)
+    if DIAG {
+        let k = box_factors([g.jinv(0, 0, 0), g.jinv(1, 1, 0), g.jinv(2, 2, 0)]);
+        box_gradient(|a, i| F64x8(u[a][i]), &k, dq);
     } else {
-        None
-    };
-    let q_scale = g.pair_scale::<DIAG>();
-    parent_gradient::<F64x8, FMA>(|a, i| F64x8(u[a][i]), h_scale, dq);
+        parent_gradient::<F64x8, FMA>(|a, i| F64x8(u[a][i]), dq);
+    }
     for q in 0..8 {
         if !DIAG {
             for (i, h_i) in h.iter_mut().enumerate() {
@@ -234,8 +198,12 @@ pub(crate) fn full_lanes<
             }
         }
     }
-    let q_of = if DIAG { &*pq } else { &*dq };
-    parent_forces::<F64x8, FMA>(|q, i, k| q_of[q][i][k], q_scale, f);
+    if DIAG {
+        let k = box_factors([g.wjinv(0, 0, 0), g.wjinv(1, 1, 0), g.wjinv(2, 2, 0)]);
+        box_forces(|q, i, d| pq[q][i][d], &k, f);
+    } else {
+        parent_forces::<F64x8, FMA>(|q, i, k| dq[q][i][k], f);
+    }
     let d = det;
     let min_j = min8(
         min8(min8(d[0], d[1]), min8(d[2], d[3])),

@@ -394,14 +394,30 @@ unsafe fn chunk_forces_impl<const FMA: bool, const ISA: u8>(
                 full_group::<FMA, false, _>(mat, &g, &ul, &mut fl, &mut work, energy)
             }
         } else {
+            let mut boxes = 0;
             for (l, &e) in group.iter().enumerate() {
                 let c = *classes.class_of.get_unchecked(e as usize);
                 if c != staged[l] {
                     staged[l] = c;
                     lanes.set(l, classes.data.get_unchecked(c as usize));
                 }
+                boxes += classes.data.get_unchecked(c as usize).axis_aligned as usize;
             }
-            full_group::<FMA, false, _>(mat, &lanes, &ul, &mut fl, &mut work, energy)
+            match boxes {
+                0 => full_group::<FMA, false, _>(mat, &lanes, &ul, &mut fl, &mut work, energy),
+                8 => full_group::<FMA, true, _>(mat, &lanes, &ul, &mut fl, &mut work, energy),
+                _ => {
+                    // Boxes and other shapes in one group: the lane kernel takes the box path
+                    // (through the modes) or the general one for all 8 lanes, the scalar kernel
+                    // per element, so each element goes through the scalar kernel here.
+                    for &e in group {
+                        let (en, j) = scalar_element::<FMA>(mesh, classes, mat, u, f, e, energy);
+                        e_sum += en;
+                        keep_min_j(j, e, &mut min_j, &mut min_e);
+                    }
+                    continue;
+                }
+            }
         };
         // SAFETY: `[[F64x8; 3]; 8]` is `[[[f64; 8]; 3]; 8]` more aligned (F64x8 is
         // `repr(C)` over `[f64; 8]`).
@@ -412,23 +428,42 @@ unsafe fn chunk_forces_impl<const FMA: bool, const ISA: u8>(
             scatter_lane(f, mesh.elements.get_unchecked(e as usize), fv, l);
         }
     }
-    let mut fe = [[0.0; 3]; 8];
     for &e in rest {
-        let conn = mesh.elements.get_unchecked(e as usize);
-        let gd: &GaussData = classes
-            .data
-            .get_unchecked(*classes.class_of.get_unchecked(e as usize) as usize);
-        let ue: [[f64; 3]; 8] = std::array::from_fn(|a| *u.get_unchecked(conn[a] as usize));
-        let (en, j) = if energy {
-            element_forces::<true, FMA>(mat, gd, &ue, &mut fe)
-        } else {
-            element_forces::<false, FMA>(mat, gd, &ue, &mut fe)
-        };
+        let (en, j) = scalar_element::<FMA>(mesh, classes, mat, u, f, e, energy);
         e_sum += en;
         keep_min_j(j, e, &mut min_j, &mut min_e);
-        scatter(f, conn, &fe);
     }
     (e_sum, min_j, min_e)
+}
+
+/// Element `e` through the scalar full kernel ([`element_forces`], the Gauss points in lanes),
+/// its forces scattered: (strain energy if `energy`, min J).
+///
+/// # Safety
+/// As [`scatter`]; `e` and its nodes in range.
+#[inline(always)]
+unsafe fn scalar_element<const FMA: bool>(
+    mesh: &Mesh,
+    classes: &ElementClasses,
+    mat: &Material,
+    u: &[[f64; 3]],
+    f: SendPtr,
+    e: u32,
+    energy: bool,
+) -> (f64, f64) {
+    let conn = mesh.elements.get_unchecked(e as usize);
+    let gd: &GaussData = classes
+        .data
+        .get_unchecked(*classes.class_of.get_unchecked(e as usize) as usize);
+    let ue: [[f64; 3]; 8] = std::array::from_fn(|a| *u.get_unchecked(conn[a] as usize));
+    let mut fe = [[0.0; 3]; 8];
+    let out = if energy {
+        element_forces::<true, FMA>(mat, gd, &ue, &mut fe)
+    } else {
+        element_forces::<false, FMA>(mat, gd, &ue, &mut fe)
+    };
+    scatter(f, conn, &fe);
+    out
 }
 
 /// [`element_forces_reduced_lanes_in`] with or without the energy (`HALVES`, `BOXES` as there).

@@ -13,7 +13,8 @@ use super::kinematics::{
 };
 use super::real::{F64x8, Lanes, Mat3, Real};
 use super::tensor::{
-    modes_to_nodes, node_modes, parent_forces, parent_gradient, HOURGLASS_AT, NODE_AT,
+    box_factors, box_forces, box_gradient, modes_to_nodes, node_modes, parent_forces,
+    parent_gradient, HOURGLASS_AT, NODE_AT,
 };
 use super::{first_piola, with_law, Law, Material};
 use crate::mesh::{CentreData, GaussData};
@@ -79,8 +80,9 @@ pub fn element_forces<const ENERGY: bool, const FMA: bool>(
 
 /// [`element_forces`] for the law `L`: the parent derivatives by sum factorisation
 /// ([`parent_gradient`], (T1) of `material::tensor`), H_q = D_q·(⅛ J₀⁻¹) and P at the 8 points
-/// in lanes, Q_q = P_q·(w_q det J₀ ⅛ J₀⁻ᵀ), the forces by the transpose ([`parent_forces`], (T2);
-/// on an axis-aligned box the diagonal w det J₀ ⅛ J₀⁻ᵀ multiplies (T2)'s pair sums of P).
+/// in lanes, Q_q = P_q·(w_q det J₀ ⅛ J₀⁻ᵀ), the forces by the transpose ([`parent_forces`], (T2));
+/// on an axis-aligned box H and the forces through the modes of the trilinear field
+/// ([`box_gradient`], [`box_forces`]: (T4) of `material::tensor` and its transpose).
 #[inline(always)]
 fn full<L: Law, const ENERGY: bool, const FMA: bool>(
     mat: &Material,
@@ -90,12 +92,16 @@ fn full<L: Law, const ENERGY: bool, const FMA: bool>(
 ) -> (f64, f64) {
     // Plain loops, not `std::array::from_fn`: its closures were not inlined here (36 calls per
     // element in the builds' chunk remainders, and every element of the portable build).
-    // An axis-aligned box's ⅛ J₀⁻¹ is one diagonal at every point, applied by (T1) to its 4
-    // values per direction (as the lane kernel does).
+    // An axis-aligned box's ⅛ J₀⁻¹ and ⅛ w det J₀ J₀⁻ᵀ are one diagonal at every point: H and
+    // the forces through the modes of the trilinear field, as the lane kernel does.
     let diag = gd.axis_aligned;
-    let scale = diag.then_some([gd.jinv[0][0][0], gd.jinv[1][1][0], gd.jinv[2][2][0]]);
     let mut dq = [[[0.0f64; 3]; 3]; 8];
-    parent_gradient::<f64, FMA>(|a, i| u[a][i], scale, &mut dq);
+    if diag {
+        let k = box_factors([gd.jinv[0][0][0], gd.jinv[1][1][0], gd.jinv[2][2][0]]);
+        box_gradient(|a, i| u[a][i], &k, &mut dq);
+    } else {
+        parent_gradient::<f64, FMA>(|a, i| u[a][i], &mut dq);
+    }
     let zero = F64x8([0.0; 8]);
     let mut h: Mat3<F64x8> = [[zero; 3]; 3];
     for (q, dq_q) in dq.iter().enumerate() {
@@ -120,11 +126,9 @@ fn full<L: Law, const ENERGY: bool, const FMA: bool>(
     }
     let mut p: Mat3<F64x8> = [[zero; 3]; 3];
     let (psi, det) = first_piola_lanes_into::<L, ENERGY, FMA>(mat, &h, &mut p);
-    // On a box ⅛ w det J₀ J₀⁻ᵀ is one diagonal at every point, applied to (T2)'s pair sums of P
-    // (as the lane kernel does).
     if diag {
-        let scale = [gd.wjinv[0][0][0], gd.wjinv[1][1][0], gd.wjinv[2][2][0]];
-        parent_forces::<f64, FMA>(|pt, i, k| p[i][k].0[pt], Some(scale), f);
+        let k = box_factors([gd.wjinv[0][0][0], gd.wjinv[1][1][0], gd.wjinv[2][2][0]]);
+        box_forces(|pt, i, d| p[i][d].0[pt], &k, f);
     } else {
         let mut q: Mat3<F64x8> = [[zero; 3]; 3];
         for i in 0..3 {
@@ -132,7 +136,7 @@ fn full<L: Law, const ENERGY: bool, const FMA: bool>(
                 q[i][k] = row_dot::<_, FMA>(&p[i], lanes3(&gd.wjinv[k]));
             }
         }
-        parent_forces::<f64, FMA>(|pt, i, k| q[i][k].0[pt], None, f);
+        parent_forces::<f64, FMA>(|pt, i, k| q[i][k].0[pt], f);
     }
     let mut energy = 0.0;
     if ENERGY {

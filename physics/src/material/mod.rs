@@ -24,7 +24,10 @@ pub use element::{
 };
 pub(crate) use kinematics::{displacement_gradient, hourglass_energy, hourglass_modes, row_dot};
 pub use real::{F64x8, Lanes, Mat3, Real};
-pub(crate) use tensor::{modes_to_nodes, node_modes, parent_forces, parent_gradient};
+pub(crate) use tensor::{
+    box_factors, box_forces, box_gradient, modes_to_nodes, node_modes, parent_forces,
+    parent_gradient,
+};
 
 pub use kinematics::Deformation;
 use kinematics::{cofactor, doubled_green_lagrange, f_times_s, id};

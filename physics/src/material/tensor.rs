@@ -154,26 +154,16 @@ fn spread<T: Real, const FMA: bool>(r: [T; 4]) -> [T; 4] {
 
 /// 8 ∂uᵢ/∂ξ_d at the 8 Gauss points (T1) into `out[q][i][d]`, `u(a, i)` the displacement of
 /// node a: 36 edge differences, then [`interpolate`] per direction and component. 252 flops.
-/// With `scale`, each of the 4 values of a direction d is multiplied by `scale[d]` before it
-/// goes to its 2 points (36 products instead of 72 afterwards: H = D·(⅛ J₀⁻¹) on an axis-aligned
-/// box, whose ⅛ J₀⁻¹ is the same diagonal at every point; the same bits as the product at
-/// each point).
 #[inline(always)]
 pub(crate) fn parent_gradient<T: Real, const FMA: bool>(
     u: impl Fn(usize, usize) -> T,
-    scale: Option<[T; 3]>,
     out: &mut [[[T; 3]; 3]; 8],
 ) {
     for d in 0..3 {
         for i in 0..3 {
             let edge = |k: usize| u(EDGES[d][k].1, i) - u(EDGES[d][k].0, i);
             let e = [edge(0), edge(1), edge(2), edge(3)];
-            let mut w = interpolate::<T, FMA>(e);
-            if let Some(c) = scale {
-                for w_k in &mut w {
-                    *w_k = *w_k * c[d];
-                }
-            }
+            let w = interpolate::<T, FMA>(e);
             for (q, out_q) in out.iter_mut().enumerate() {
                 out_q[i][d] = w[AT[d][q]];
             }
@@ -182,49 +172,134 @@ pub(crate) fn parent_gradient<T: Real, const FMA: bool>(
 }
 
 /// The sums of Q_q,id over the two points along d (−g first) at the 4 positions k of the other
-/// coordinates, `q(q, i, d)` the point's Q (the first step of (T2)), each times `scale[d]` if
-/// given.
+/// coordinates, `q(q, i, d)` the point's Q (the first step of (T2)).
 #[inline(always)]
-fn pair_sums<T: Real>(
-    q: &impl Fn(usize, usize, usize) -> T,
-    i: usize,
-    d: usize,
-    scale: Option<[T; 3]>,
-) -> [T; 4] {
+fn pair_sums<T: Real>(q: &impl Fn(usize, usize, usize) -> T, i: usize, d: usize) -> [T; 4] {
     // Written out: a closure here was not inlined (48 calls per lane group).
     let e = &EDGES[d];
-    let mut r = [
+    [
         q(e[0].0, i, d) + q(e[0].1, i, d),
         q(e[1].0, i, d) + q(e[1].1, i, d),
         q(e[2].0, i, d) + q(e[2].1, i, d),
         q(e[3].0, i, d) + q(e[3].1, i, d),
-    ];
-    if let Some(c) = scale {
-        for r_k in &mut r {
-            *r_k = *r_k * c[d];
+    ]
+}
+
+/// The factors of an axis-aligned box's modal (T1) and (T2) for a diagonal factor c_d (⅛ ∂ξ_d/∂X_d
+/// for H, ⅛ w det J₀ ∂ξ_d/∂X_d for the forces): (c_d, c_d g, c_d g²), g = 1/√3, per direction.
+#[inline(always)]
+pub(crate) fn box_factors<T: Real>(c: [T; 3]) -> [[T; 3]; 3] {
+    let g = T::splat(GAUSS);
+    let mut out = [[c[0]; 3]; 3];
+    for d in 0..3 {
+        let cg = c[d] * g;
+        out[d] = [c[d], cg, cg * g];
+    }
+    out
+}
+
+/// H = D·(⅛ J₀⁻¹) at the 8 Gauss points of an axis-aligned box, whose ⅛ J₀⁻¹ is one diagonal
+/// (`mesh::GaussData::axis_aligned`), through the modes of the trilinear field (T3): with
+/// e < f the two directions other than d,
+///
+/// ```text
+/// 8 ∂u/∂ξ_d (ξ_e, ξ_f) = m_{d} + ξ_e m_{de} + ξ_f m_{df} + ξ_e ξ_f m_{def}                 (T4)
+/// ```
+///
+/// so with a₀ = c m_{d}, a₁ = cg m_{de}, a₂ = cg m_{df}, a₃ = cg² m_{def} (`k[d]` from
+/// [`box_factors`] of the diagonal) the 4 values at (±g, ±g) are (a₀ ± a₃) ± (a₁ ± a₂). Into
+/// `out[q][i][d]`, `u(a, i)` the displacement of node a. Per component (T3)'s 24 sums, per
+/// direction 4 products and 8 sums: 180 flops, where [`parent_gradient`] and the products take
+/// 288.
+#[inline(always)]
+pub(crate) fn box_gradient<T: Real>(
+    u: impl Fn(usize, usize) -> T,
+    k: &[[T; 3]; 3],
+    out: &mut [[[T; 3]; 3]; 8],
+) {
+    for i in 0..3 {
+        let mut x = [T::splat(0.0); 8];
+        for (p, x_p) in x.iter_mut().enumerate() {
+            *x_p = u(NODE_AT[p], i);
+        }
+        let m = node_modes(x);
+        for d in 0..3 {
+            let [e, f] = OTHERS[d];
+            let a0 = k[d][0] * m[1 << d];
+            let a1 = k[d][1] * m[(1 << d) | (1 << e)];
+            let a2 = k[d][1] * m[(1 << d) | (1 << f)];
+            let a3 = k[d][2] * m[7];
+            let (ap, am, bp, bm) = (a0 + a3, a0 - a3, a1 + a2, a1 - a2);
+            // At b_e + 2 b_f (b = 1 at +g, as [`AT`]).
+            let w = [ap - bp, am + bm, am - bm, ap + bp];
+            for (q, out_q) in out.iter_mut().enumerate() {
+                out_q[i][d] = w[AT[d][q]];
+            }
         }
     }
-    r
+}
+
+/// The nodal forces of (T2) on an axis-aligned box from P at the 8 points (`p(q, i, d)`),
+/// ⅛ w det J₀ J₀⁻ᵀ being one diagonal: the transpose of (T4). Per direction d the pair sums r
+/// over the points along d ([`pair_sums`]) give the amplitudes of 1, t_e, t_f and t_e t_f,
+/// M₀ = c Σ r, M₁ = cg Σ s_e r, M₂ = cg Σ s_f r, M₃ = cg² Σ s_e s_f r (`k[d]` from
+/// [`box_factors`]); they are the modal amplitudes m_{d} = M₀, m_{de} = M₁(d) + M₁ or M₂ of e,
+/// m_{xyz} = Σ_d M₃(d) of the nodal forces, which the transpose of (T3) ([`modes_to_nodes`])
+/// turns into fₐ. Per component 3 × (4 pair sums, 8 sums, 4 products), 5 sums of amplitudes and
+/// 24: 231 flops, where [`parent_forces`] and the products take 339.
+#[inline(always)]
+pub(crate) fn box_forces<T: Real>(
+    p: impl Fn(usize, usize, usize) -> T,
+    k: &[[T; 3]; 3],
+    f: &mut [[T; 3]; 8],
+) {
+    for i in 0..3 {
+        // amp[d] = (M₀, M₁, M₂, M₃) of direction d.
+        let mut amp = [[T::splat(0.0); 4]; 3];
+        for (d, amp_d) in amp.iter_mut().enumerate() {
+            let r = pair_sums(&p, i, d);
+            // r at b_e + 2 b_f: (−,−), (+,−), (−,+), (+,+).
+            let (p0, p1, n0, n1) = (r[0] + r[3], r[1] + r[2], r[3] - r[0], r[1] - r[2]);
+            *amp_d = [
+                (p0 + p1) * k[d][0],
+                (n0 + n1) * k[d][1],
+                (n0 - n1) * k[d][1],
+                (p0 - p1) * k[d][2],
+            ];
+        }
+        // Mode positions: ξ 1, η 2, ζ 4. OTHERS: ξ → (η, ζ), η → (ξ, ζ), ζ → (ξ, η).
+        let m = [
+            T::splat(0.0),
+            amp[0][0],
+            amp[1][0],
+            amp[0][1] + amp[1][1],
+            amp[2][0],
+            amp[0][2] + amp[2][1],
+            amp[1][2] + amp[2][2],
+            (amp[0][3] + amp[1][3]) + amp[2][3],
+        ];
+        let x = modes_to_nodes(m);
+        for (pos, x_p) in x.iter().enumerate() {
+            f[NODE_AT[pos]][i] = *x_p;
+        }
+    }
 }
 
 /// The nodal forces fₐᵢ = Σ_d sₐ^d Σ_q 8 ∂Nₐ/∂ξ_d (ξ_q) / sₐ^d · Q_q,id of (T2) into `f`,
 /// `q(q, i, d)` the point's Q: the two points along d summed (−g first, [`pair_sums`]),
-/// [`spread`], then per node (sₐ^ξ G_ξ ± G_η) ± G_ζ. 300 flops. With `scale`, `q` gives P and
-/// each pair sum of direction d is multiplied by `scale[d]` (Q_q,id = P_q,id · ⅛ w det J₀ ∂ξ_d/∂X_d
-/// on an axis-aligned box, the same at every point: 36 products instead of 72 before the sums).
-/// Writes every entry of `f` once and builds no zeroed temporary: the lane kernel's 1.5 kB
-/// arrays cost a `memset` and a `memcpy` call per lane group when they were.
+/// [`spread`], then per node (sₐ^ξ G_ξ ± G_η) ± G_ζ. 300 flops. Writes every entry of `f` once
+/// and builds no zeroed temporary: the lane kernel's 1.5 kB arrays cost a `memset` and a
+/// `memcpy` call per lane group when they were.
 #[inline(always)]
 pub(crate) fn parent_forces<T: Real, const FMA: bool>(
     q: impl Fn(usize, usize, usize) -> T,
-    scale: Option<[T; 3]>,
     f: &mut [[T; 3]; 8],
 ) {
     for i in 0..3 {
         let g = [
-            spread::<T, FMA>(pair_sums(&q, i, 0, scale)),
-            spread::<T, FMA>(pair_sums(&q, i, 1, scale)),
-            spread::<T, FMA>(pair_sums(&q, i, 2, scale)),
+            spread::<T, FMA>(pair_sums(&q, i, 0)),
+            spread::<T, FMA>(pair_sums(&q, i, 1)),
+            spread::<T, FMA>(pair_sums(&q, i, 2)),
         ];
         for (a, f_a) in f.iter_mut().enumerate() {
             f_a[i] = node_force(a, &g);
@@ -375,7 +450,7 @@ mod tests {
         let u: [[f64; 3]; 8] =
             std::array::from_fn(|a| std::array::from_fn(|i| ((7 * a + 3 * i) % 11) as f64 - 4.3));
         let mut out = [[[0.0; 3]; 3]; 8];
-        parent_gradient::<f64, true>(|a, i| u[a][i], None, &mut out);
+        parent_gradient::<f64, true>(|a, i| u[a][i], &mut out);
         let xq = gauss_points();
         for q in 0..8 {
             let dn = shape_derivatives(xq[q]);
@@ -388,7 +463,7 @@ mod tests {
         }
         let qv = |q: usize, i: usize, d: usize| ((5 * q + 3 * i + d) % 13) as f64 * 0.37 - 2.0;
         let mut f = [[0.0; 3]; 8];
-        parent_forces::<f64, true>(qv, None, &mut f);
+        parent_forces::<f64, true>(qv, &mut f);
         for (a, f_a) in f.iter().enumerate() {
             for (i, f_ai) in f_a.iter().enumerate() {
                 let direct: f64 = (0..8)
@@ -400,26 +475,27 @@ mod tests {
                 assert!((f_ai - direct).abs() < 1e-13, "{a} {i}");
             }
         }
-        // Scaled per direction (an axis-aligned box's ⅛ J₀⁻¹, ⅛ w det J₀ J₀⁻ᵀ): the gradient is
-        // the product at each point, to the bit; the forces are those of the scaled Q to
-        // round-off (the product now follows the pair sum).
+        // An axis-aligned box through the modes ((T4) and its transpose), with diagonal factors:
+        // the general functions with the factors applied point by point, to round-off.
         let c = [0.37, 1.9, 5.3];
-        let mut scaled = [[[0.0; 3]; 3]; 8];
-        parent_gradient::<f64, true>(|a, i| u[a][i], Some(c), &mut scaled);
+        let k = box_factors(c);
+        let mut boxed = [[[0.0; 3]; 3]; 8];
+        box_gradient(|a, i| u[a][i], &k, &mut boxed);
         for q in 0..8 {
             for i in 0..3 {
                 for d in 0..3 {
-                    assert_eq!(scaled[q][i][d].to_bits(), (out[q][i][d] * c[d]).to_bits());
+                    let want = out[q][i][d] * c[d];
+                    assert!((boxed[q][i][d] - want).abs() < 1e-13, "{q} {i} {d}");
                 }
             }
         }
-        let mut fs = [[0.0; 3]; 8];
-        parent_forces::<f64, true>(qv, Some(c), &mut fs);
+        let mut fb = [[0.0; 3]; 8];
+        box_forces(qv, &k, &mut fb);
         let mut fq = [[0.0; 3]; 8];
-        parent_forces::<f64, true>(|q, i, d| qv(q, i, d) * c[d], None, &mut fq);
+        parent_forces::<f64, true>(|q, i, d| qv(q, i, d) * c[d], &mut fq);
         for a in 0..8 {
             for i in 0..3 {
-                assert!((fs[a][i] - fq[a][i]).abs() < 1e-13, "{a} {i}");
+                assert!((fb[a][i] - fq[a][i]).abs() < 1e-13, "{a} {i}");
             }
         }
     }
