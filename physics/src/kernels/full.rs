@@ -3,7 +3,8 @@
 //! factorisation (`material::tensor`), then for each Gauss point q in turn
 //! H_q = Σₐ uₐ ⊗ ∇ₓNₐ(ξ_q), P_q = P(I + H_q) and J_q on the 8 elements; the forces
 //! fₐ = Σ_q P_q (w_q det J₀ ∇ₓNₐ(ξ_q)) by the transpose, Ψ = Σ_q w_q det J₀ ψ_q, and min_q J_q
-//! per element.
+//! per element. On 8 axis-aligned boxes H and the forces go through the modes of the trilinear
+//! field instead ((T4) of `material::tensor` and its transpose).
 //!
 //! Each lane carries out the operations of the scalar kernel
 //! ([`crate::material::element_forces`], whose lanes are the Gauss points of one element) in
@@ -107,11 +108,10 @@ fn min8(x: F64x8, y: F64x8) -> F64x8 {
 }
 
 /// The per-point work arrays of [`full_lanes`] (the parent derivatives, then Q, at the 8
-/// Gauss points, and P at the 8 on a box; P and H at one), kept by the caller across lane
-/// groups: every entry is
-/// written before it is read, and a fresh zeroed array per group cost the AVX2 build a
-/// `memset` call per group (its ymm stores exceed the compiler's inline limit, AVX-512's zmm
-/// stores do not).
+/// Gauss points, or on boxes H and P at the 8; P and H at one), kept by the caller across lane
+/// groups: every entry is written before it is read, and a fresh zeroed array per group cost
+/// the AVX2 build a `memset` call per group (its ymm stores exceed the compiler's inline limit,
+/// AVX-512's zmm stores do not).
 #[derive(Clone)]
 pub(crate) struct FullScratch {
     dq: [[[F64x8; 3]; 3]; 8],
@@ -138,10 +138,9 @@ impl Default for FullScratch {
 /// per point H_q = D_q·(⅛ J₀⁻¹), P_q and Q_q = P_q·(⅛ w_q det J₀ J₀⁻ᵀ), then the forces by the
 /// transpose (T2). Returns per lane (strain energy Σ_q w_q det J₀ ψ_q if `ENERGY`, else 0;
 /// min_q J_q), each lane bit-identical to [`crate::material::element_forces`] on that element.
-/// `DIAG`: every lane's J₀ is diagonal ([`GaussData::axis_aligned`]), so each entry of H and Q
-/// is one product, the row product's one non-zero term (the same value for finite
-/// displacements; an infinite one gives ∞ where the row product's ∞·0 gives NaN, and the
-/// ledger stops either run as non-finite).
+/// `DIAG`: every lane is an axis-aligned box ([`GaussData::axis_aligned`]: ⅛ J₀⁻¹ one diagonal
+/// at every point), so H and the forces go through the modes of the trilinear field
+/// ([`box_gradient`], [`box_forces`]), as the scalar kernel does for a box.
 #[inline(always)]
 pub(crate) fn full_lanes<
     L: Law,

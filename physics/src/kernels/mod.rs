@@ -337,9 +337,9 @@ simd_dispatch! {
     /// One chunk of a colour with full integration: groups of 8 elements go through the lane
     /// kernel ([`full::full_lanes`], one element per lane; the class data broadcast when the 8
     /// share a class, else staged per lane), the remainder — and every element in the
-    /// portable build — through the scalar one ([`element_forces`], the Gauss points in
-    /// lanes). Both give each element the same bits; the forces are scattered element after
-    /// element in chunk order.
+    /// portable build, and the groups that mix axis-aligned boxes with other shapes — through
+    /// the scalar one ([`element_forces`], the Gauss points in lanes). Both give each element
+    /// the same bits; the forces are scattered element after element in chunk order.
     fn chunk_forces / chunk_forces_avx2 / chunk_forces_avx512 / chunk_forces_builds
         => chunk_forces_impl(
             mesh: &Mesh,

@@ -103,16 +103,19 @@ fn full<L: Law, const ENERGY: bool, const FMA: bool>(
         parent_gradient::<f64, FMA>(|a, i| u[a][i], &mut dq);
     }
     let zero = F64x8([0.0; 8]);
-    let mut h: Mat3<F64x8> = [[zero; 3]; 3];
+    // The parent derivatives (on a box H itself), the 8 points in the lanes.
+    let mut d: Mat3<F64x8> = [[zero; 3]; 3];
     for (q, dq_q) in dq.iter().enumerate() {
         for i in 0..3 {
             for k in 0..3 {
-                h[i][k].0[q] = dq_q[i][k];
+                d[i][k].0[q] = dq_q[i][k];
             }
         }
     }
-    if !diag {
-        let d = h;
+    let h = if diag {
+        d
+    } else {
+        let mut h: Mat3<F64x8> = [[zero; 3]; 3];
         for i in 0..3 {
             for j in 0..3 {
                 let jinv = [
@@ -123,7 +126,8 @@ fn full<L: Law, const ENERGY: bool, const FMA: bool>(
                 h[i][j] = row_dot::<_, FMA>(&d[i], jinv);
             }
         }
-    }
+        h
+    };
     let mut p: Mat3<F64x8> = [[zero; 3]; 3];
     let (psi, det) = first_piola_lanes_into::<L, ENERGY, FMA>(mat, &h, &mut p);
     if diag {

@@ -33,6 +33,18 @@
 //! H = Σₐ uₐ ⊗ bₐ has the columns β_d m_{d}, qᵅ = m_{hᵅ}, and the forces
 //! fₐ = V P bₐ + k Σᵅ γₐᵅ qᵅ are the transpose of (T3) applied to the amplitudes V β_d P_{·d} and
 //! k qᵅ ([`modes_to_nodes`]).
+//!
+//! Full integration on an axis-aligned box: ⅛ J₀⁻¹ is one diagonal matrix (c_d) at every point
+//! (`mesh::GaussData::axis_aligned`), and with e < f the two directions other than d
+//!
+//! ```text
+//! 8 ∂u/∂ξ_d (ξ_e, ξ_f) = m_{d} + ξ_e m_{de} + ξ_f m_{df} + ξ_e ξ_f m_{def}                 (T4)
+//! ```
+//!
+//! so H at the 4 points (±g, ±g) of direction d comes from 4 modes of (T3) ([`box_gradient`]),
+//! and the forces from the transpose: the amplitudes of 1, ξ_e, ξ_f, ξ_e ξ_f in the pair sums of
+//! P, summed over the directions into the modes of the nodal field, then the transpose of (T3)
+//! ([`box_forces`]).
 
 use super::real::Real;
 use std::ops::{Add, Sub};
