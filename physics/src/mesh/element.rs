@@ -68,9 +68,8 @@ pub struct GaussData {
     pub wjinv: [[[f64; 8]; 3]; 3],
     /// J₀ is diagonal at every Gauss point (an axis-aligned box), and then the same at every
     /// point (the mean of the eight computed, which differ by rounding): ∂ξ_d/∂Xⱼ = 0 for d ≠ j,
-    /// so the kernels form H_q,ij = D_q,ij (⅛ ∂ξⱼ/∂Xⱼ) with one product instead of a row
-    /// product of three (the terms left out are exactly zero), and apply ⅛ w det J₀ ∂ξ_k/∂X_k
-    /// once to the sums of P_q,ik over the two points along ξ_k (`material::tensor`, (T2)).
+    /// so the full kernels form H and the forces through the modes of the trilinear field with
+    /// the factors ⅛ ∂ξ_d/∂X_d and ⅛ w det J₀ ∂ξ_d/∂X_d (`material::tensor`, (T4)).
     pub axis_aligned: bool,
 }
 
@@ -134,7 +133,7 @@ impl GaussData {
         // ∂X_r/∂ξ_c, c ≠ r, vanish at the 8 points has no such terms): an axis-aligned box, whose
         // J₀ is one constant diagonal matrix in exact arithmetic. The 8 computed ones differ from
         // it by rounding; each point takes their mean, so that the kernels may apply ⅛ J₀⁻¹ and
-        // ⅛ w det J₀ J₀⁻ᵀ to sums over points (`material::tensor`, (T1) and (T2)).
+        // ⅛ w det J₀ J₀⁻ᵀ to sums over points (`material::tensor`, (T4)).
         if gd.axis_aligned {
             let mean = nalgebra::Matrix3::from_diagonal(
                 &(jacobians
