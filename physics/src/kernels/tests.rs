@@ -120,23 +120,22 @@ fn scalar_full_chunk<'a>(
     u: &[[f64; 3]],
     chunk: &[u32],
 ) -> (Vec<[f64; 3]>, f64) {
-    let mut f = vec![[0.0; 3]; mesh.nodes.len()];
-    let mut strain = 0.0;
-    for &e in chunk {
-        let conn = mesh.elements[e as usize];
-        let (gd, ue) = (gauss(e), conn.map(|a| u[a as usize]));
-        let mut fe = [[0.0; 3]; 8];
-        strain += if fma {
-            element_forces::<true, true>(mat, gd, &ue, &mut fe).0
-        } else {
-            element_forces::<true, false>(mat, gd, &ue, &mut fe).0
-        };
-        for a in 0..8 {
-            for c in 0..3 {
-                f[conn[a] as usize][c] += fe[a][c];
-            }
+    let (f, (strain, ..)) = run_chunk(mesh.nodes.len(), |p| {
+        let mut strain = 0.0;
+        for &e in chunk {
+            let conn = mesh.elements[e as usize];
+            let (gd, ue) = (gauss(e), conn.map(|a| u[a as usize]));
+            let mut fe = [[0.0; 3]; 8];
+            strain += if fma {
+                element_forces::<true, true>(mat, gd, &ue, &mut fe).0
+            } else {
+                element_forces::<true, false>(mat, gd, &ue, &mut fe).0
+            };
+            // SAFETY: one thread; `p` is the array of `run_chunk`, one row per node.
+            unsafe { scatter(p, &conn, &fe) };
         }
-    }
+        (strain, 0.0, 0.0, 0)
+    });
     (f, strain)
 }
 
@@ -159,12 +158,8 @@ fn scalar_one_point_chunk<'a>(
         let mut fe = [[0.0; 3]; 8];
         let out = element_forces_reduced::<true>(mat, cd, k, &conn.map(|a| u[a as usize]), &mut fe);
         (strain, hg) = (strain + out.0, hg + out.1);
-        for a in 0..8 {
-            let row = unsafe { &mut *p.0.add(conn[a] as usize) };
-            for c in 0..3 {
-                row[c] += fe[a][c];
-            }
-        }
+        // SAFETY: one thread; `p` is the caller's array, one row per node.
+        unsafe { scatter(p, &conn, &fe) };
     }
     (strain, hg)
 }
