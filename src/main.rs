@@ -311,7 +311,7 @@ fn main() {
         } => bench(&scene, &sizes, repeats, work, &integration),
     };
     if let Err(e) = result {
-        eprintln!("error: {e:#}");
+        eprintln!("error: {}", decohesion::cli::error_message(&e));
         std::process::exit(1);
     }
 }
