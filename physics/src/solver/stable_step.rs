@@ -311,9 +311,10 @@ impl Simulation {
         let n = start.len();
         stop.max_iter = stop.max_iter.min(n);
         work.basis_limit = stop.max_iter.min(BASIS_BUDGET / n.max(1));
+        let team = self.team.as_ref();
         let mut apply = |q: &[f64], y: &mut [f64]| op.apply(q, y);
-        let out = lanczos(&mut apply, &start, &stop, None, &mut work);
-        work.ritz_vector(&mut apply, &start, &out, &mut ritz);
+        let out = lanczos(&mut apply, &start, &stop, None, team, &mut work);
+        work.ritz_vector(&mut apply, &start, &out, team, &mut ritz);
         (cache.start, cache.work) = (start, work);
         self.step_control.estimates = cache;
         self.ritz_vector = ritz;

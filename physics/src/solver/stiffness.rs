@@ -2,14 +2,10 @@
 //! current state, and the buffers every estimate reuses (`solver/stable_step.rs`).
 
 use super::boundary::NONE;
-use super::lanczos::LanczosWork;
-use super::{ElementLoop, Simulation, NODE_GRAIN};
+use super::lanczos::{dof_chunks, dof_sum, LanczosWork};
+use super::{ElementLoop, Simulation};
 use crate::kernels::ElementSums;
-use crate::team::{SharedSlice, Team};
-
-/// Degrees of freedom per chunk of the operator's streaming passes: the nodes of a chunk of
-/// the step's node loops.
-const DOF_GRAIN: usize = 3 * NODE_GRAIN;
+use crate::team::SharedSlice;
 
 /// What the stable-step estimates keep from one estimate to the next, so that an estimate
 /// allocates no mesh-sized vector once the first has sized them, and costs per Lanczos iteration
@@ -17,23 +13,27 @@ const DOF_GRAIN: usize = 3 * NODE_GRAIN;
 /// streaming passes over the degrees of freedom.
 #[derive(Debug, Default, Clone)]
 pub(super) struct EstimateCache {
-    /// Prescribed degrees of freedom (node·3 + component) and M^{-½} (they never change),
-    /// and ε's length scale, 1e-6 of the smallest reference edge (empty until the first).
+    /// Prescribed degrees of freedom (node·3 + component) and M^{-½}, 0 on them (they never
+    /// change), and ε's length scale, 1e-6 of the smallest reference edge (empty until the
+    /// first).
     mask: Vec<bool>,
     sqrt_inv_m: Vec<f64>,
     eps_len: f64,
+    /// The pseudo-random part of the start vector (zero on prescribed components) and its
+    /// norm, fixed with the mask.
+    random: Vec<f64>,
+    random_norm: f64,
     /// U + εx and F_int(U + εx), F_int(U) when the step's own is not current.
     up: Vec<[f64; 3]>,
     fp: Vec<[f64; 3]>,
     f0: Vec<[f64; 3]>,
-    /// (node, W g_N(α)) of the glued nodes of this estimate, their free degrees of freedom
-    /// (once each) and a flag per degree of freedom, true on them.
+    /// (degree of freedom, W g_N(α)) of the glued nodes' free components in this estimate,
+    /// by degree of freedom, the springs of a node on several interfaces summed.
     springs: Vec<(usize, f64)>,
-    spring_dofs: Vec<usize>,
-    has_spring: Vec<bool>,
     /// Per-chunk results of the parallel passes.
     parts: Vec<ElementSums>,
     maxima: Vec<f64>,
+    sums: Vec<f64>,
     units: Vec<()>,
     /// The Lanczos start vector and the Lanczos run's vectors.
     pub start: Vec<f64>,
@@ -72,11 +72,22 @@ impl<'a> StiffnessOperator<'a> {
         let nodes = sim.u.len();
         if cache.mask.len() != 3 * nodes {
             cache.mask = prescribed_mask(sim);
-            cache.sqrt_inv_m = (0..3 * nodes).map(|k| sim.inv_mass[k / 3].sqrt()).collect();
+            cache.sqrt_inv_m = (0..3 * nodes)
+                .map(|k| {
+                    if cache.mask[k] {
+                        0.0
+                    } else {
+                        sim.inv_mass[k / 3].sqrt()
+                    }
+                })
+                .collect();
             cache.eps_len = 1e-6 * sim.model.mesh.min_edge();
             cache.up = vec![[0.0; 3]; nodes];
             cache.fp = vec![[0.0; 3]; nodes];
-            cache.has_spring = vec![false; 3 * nodes];
+            cache.random = (cache.mask.iter().enumerate())
+                .map(|(k, &m)| if m { 0.0 } else { splitmix(k as u64) })
+                .collect();
+            cache.random_norm = cache.random.iter().map(|x| x * x).sum::<f64>().sqrt();
         }
         if !forces_current {
             cache.f0.clear();
@@ -90,28 +101,23 @@ impl<'a> StiffnessOperator<'a> {
                 f64::NEG_INFINITY,
             );
         }
-        for &k in &cache.spring_dofs {
-            cache.has_spring[k] = false;
-        }
         cache.springs.clear();
-        cache.spring_dofs.clear();
-        if springs {
-            cache.springs.extend(sim.interface_nodes.iter().map(|itf| {
-                let law = &sim.model.interfaces[itf.interface as usize].law;
-                (
-                    itf.node as usize,
-                    itf.area * law.spring_stiffness(itf.alpha),
-                )
-            }));
+        for itf in sim.interface_nodes.iter().filter(|_| springs) {
+            let law = &sim.model.interfaces[itf.interface as usize].law;
+            let ks = itf.area * law.spring_stiffness(itf.alpha);
+            let i = itf.node as usize;
+            let free = (3 * i..3 * i + 3).filter(|&k| !cache.mask[k]);
+            cache.springs.extend(free.map(|k| (k, ks)));
         }
-        for &(i, _) in &cache.springs {
-            for k in 3 * i..3 * i + 3 {
-                if !cache.mask[k] && !cache.has_spring[k] {
-                    cache.has_spring[k] = true;
-                    cache.spring_dofs.push(k);
-                }
+        // By degree of freedom (a stable sort: a node's interfaces stay in order), merged.
+        cache.springs.sort_by_key(|&(k, _)| k);
+        cache.springs.dedup_by(|next, kept| {
+            let same = next.0 == kept.0;
+            if same {
+                kept.1 += next.1;
             }
-        }
+            same
+        });
         StiffnessOperator {
             sim,
             elements,
@@ -123,20 +129,31 @@ impl<'a> StiffnessOperator<'a> {
     /// Sets `cache.start` to the Lanczos start: the previous Ritz vector `warm` (warm start)
     /// plus a deterministic pseudo-random vector so that every mode is represented.
     pub fn start_vector(&mut self, warm: Option<&[f64]>) {
+        let team = self.sim.team.as_ref();
         let c = &mut *self.cache;
         let n = c.mask.len();
-        c.start.clear();
-        c.start
-            .extend((0..n).map(|k| if c.mask[k] { 0.0 } else { splitmix(k as u64) }));
-        if let Some(w) = warm.filter(|w| w.len() == n) {
-            let nw = w.iter().map(|x| x * x).sum::<f64>().sqrt();
-            let ns = c.start.iter().map(|x| x * x).sum::<f64>().sqrt();
-            if nw > 0.0 {
-                for k in 0..n {
-                    c.start[k] = w[k] / nw + 1e-3 * c.start[k] / ns;
+        c.start.resize(n, 0.0);
+        let nw = match warm.filter(|w| w.len() == n) {
+            Some(w) => dof_sum(team, n, &mut c.sums, |a, b| {
+                w[a..b].iter().map(|x| x * x).sum()
+            })
+            .sqrt(),
+            None => 0.0,
+        };
+        let (r, ns) = (&c.random[..], c.random_norm);
+        let start = SharedSlice::new(&mut c.start);
+        // SAFETY: range a..b of `start` is touched by this item only.
+        dof_chunks(team, n, &mut c.units, |a, b| unsafe {
+            let start = start.range(a, b);
+            match warm.filter(|_| nw > 0.0) {
+                Some(w) => {
+                    for (k, sk) in (a..b).zip(start.iter_mut()) {
+                        *sk = w[k] / nw + 1e-3 * r[k] / ns;
+                    }
                 }
+                None => start.copy_from_slice(&r[a..b]),
             }
-        }
+        });
     }
 
     /// Adds to the start (of norm about 1) a unit pseudo-random vector on the free components
@@ -166,30 +183,33 @@ impl<'a> StiffnessOperator<'a> {
         }
     }
 
-    /// y = M^{-½} K M^{-½} q. The streaming passes run on the step's team, each participant on
-    /// its own contiguous share of the degrees of freedom, the share it has in the step's node
-    /// loops: U + εx and the zeroed F are written where the element loop's threads read and
-    /// add to them (written by one thread, they cost the other a transfer from its cache at
-    /// every assembly, measured to double the assembly's time at 28³).
-    pub fn apply(&mut self, q: &[f64], y: &mut [f64]) {
+    /// y = M^{-½} K M^{-½} q; returns qᵀy (summed by chunks in order, the Lanczos α). The
+    /// streaming passes run on the step's team, each participant on its own contiguous share
+    /// of the degrees of freedom, the share it has in the step's node loops: U + εx and the
+    /// zeroed F are written where the element loop's threads read and add to them (written by
+    /// one thread, they cost the other a transfer from its cache at every assembly, measured
+    /// to double the assembly's time at 28³).
+    pub fn apply(&mut self, q: &[f64], y: &mut [f64]) -> f64 {
         let team = self.sim.team.as_ref();
         let c = &mut *self.cache;
-        let (mask, s) = (&c.mask[..], &c.sqrt_inv_m[..]);
+        // s = M^{-½} is 0 on the prescribed components, which removes them: x = sq and
+        // y = sKx vanish there.
+        let s = &c.sqrt_inv_m[..];
         let u = self.sim.u.as_flattened();
         let f0 = if self.forces_current {
             self.sim.f_int.as_flattened()
         } else {
             c.f0.as_flattened()
         };
-        let n = mask.len();
-        let x = |k: usize| if mask[k] { 0.0 } else { q[k] * s[k] };
+        let n = s.len();
+        let x = |k: usize| q[k] * s[k];
         dof_chunks(team, n, &mut c.maxima, |a, b| {
             (a..b).fold(0.0f64, |m, k| m.max(x(k).abs()))
         });
         let xmax = c.maxima.iter().fold(0.0f64, |m, &x| m.max(x));
         if xmax == 0.0 {
             y.fill(0.0);
-            return;
+            return 0.0;
         }
         let eps = c.eps_len / xmax;
         let up = SharedSlice::new(c.up.as_flattened_mut());
@@ -204,53 +224,21 @@ impl<'a> StiffnessOperator<'a> {
         self.elements
             .assemble(&c.up, &mut c.fp, false, &mut c.parts, f64::NEG_INFINITY);
         let fp = c.fp.as_flattened();
-        // K x of the bulk, M^{-½} applied at once except where a glued node's spring
-        // W g_N(α) x is added first.
-        let has_spring = &c.has_spring;
+        // K x of the bulk, plus a glued node's spring W g_N(α) x, then M^{-½}; and qᵀy.
+        let springs = &c.springs[..];
         let yy = SharedSlice::new(y);
         // SAFETY: range a..b of `y` is touched by this item only.
-        dof_chunks(team, n, &mut c.units, |a, b| unsafe {
-            for (i, yk) in yy.range(a, b).iter_mut().enumerate() {
-                let k = a + i;
-                let d = (fp[k] - f0[k]) / eps;
-                *yk = if mask[k] {
-                    0.0
-                } else if has_spring[k] {
-                    d
-                } else {
-                    d * s[k]
-                };
+        dof_sum(team, n, &mut c.sums, |a, b| unsafe {
+            let y = yy.range(a, b);
+            for (k, yk) in (a..b).zip(y.iter_mut()) {
+                *yk = (fp[k] - f0[k]) / eps * s[k];
             }
-        });
-        for &(i, ks) in &c.springs {
-            for k in 3 * i..3 * i + 3 {
-                if !mask[k] {
-                    y[k] += ks * q[k] * s[k];
-                }
+            let first = springs.partition_point(|&(k, _)| k < a);
+            for &(k, ks) in springs[first..].iter().take_while(|&&(k, _)| k < b) {
+                y[k - a] = ((fp[k] - f0[k]) / eps + ks * x(k)) * s[k];
             }
-        }
-        for &k in &c.spring_dofs {
-            y[k] *= s[k];
-        }
-    }
-}
-
-/// `f(a, b)` over the consecutive ranges a..b of [`DOF_GRAIN`] degrees of freedom, on `team`
-/// (participant t on its contiguous share, as in the step's node loops) or on the calling
-/// thread; the results into `out` in order.
-fn dof_chunks<R: Send>(
-    team: Option<&Team>,
-    n: usize,
-    out: &mut Vec<R>,
-    f: impl Fn(usize, usize) -> R + Sync,
-) {
-    let chunk = |i: usize| f(i * DOF_GRAIN, ((i + 1) * DOF_GRAIN).min(n));
-    match team {
-        Some(team) => team.map_into(n.div_ceil(DOF_GRAIN), out, chunk),
-        None => {
-            out.clear();
-            out.extend((0..n.div_ceil(DOF_GRAIN)).map(chunk));
-        }
+            q[a..b].iter().zip(y.iter()).map(|(qk, yk)| qk * yk).sum()
+        })
     }
 }
 
