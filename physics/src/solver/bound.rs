@@ -125,11 +125,9 @@ fn gershgorin_lane(m: &[[[f64; 8]; 3]; 3], q: usize) -> f64 {
 }
 
 /// max_q a(F_q) over the 8 Gauss points of an element, F_q = I + Σₐ uₐ ⊗ ∇ₓNₐ(ξ_q)
-/// (`grad[a][j][q]`): [`modulus_bound`]'s arithmetic on the 8 points at once (lanes, which
-/// the compiler vectorises; only the neo-Hookean ln J is called point by point).
+/// (`grad[a][j][q]`), by [`modulus_lanes`].
 #[inline(always)]
 fn full_modulus(mat: &Material, grad: &[[[f64; 8]; 3]; 8], ue: &[[f64; 3]; 8]) -> f64 {
-    type Lanes = [f64; 8];
     let mut f = [[[0.0f64; 8]; 3]; 3];
     for (i, fi) in f.iter_mut().enumerate() {
         fi[i] = [1.0; 8];
@@ -143,6 +141,17 @@ fn full_modulus(mat: &Material, grad: &[[[f64; 8]; 3]; 8], ue: &[[f64; 3]; 8]) -
             }
         }
     }
+    let a = modulus_lanes(mat, &f);
+    a.iter().fold(0.0f64, |m, &x| m.max(x))
+}
+
+/// a(F) of [`modulus_bound`] for 8 deformation gradients at once, `f[i][j][lane]` (the 8 Gauss
+/// points of an element, or the centres of 8 elements): the same arithmetic on lanes, which
+/// the compiler vectorises; only the neo-Hookean ln J is called lane by lane. A lane with a
+/// non-positive J gives +∞.
+#[inline(always)]
+fn modulus_lanes(mat: &Material, f: &[[[f64; 8]; 3]; 3]) -> [f64; 8] {
+    type Lanes = [f64; 8];
     let mut c = [[[0.0f64; 8]; 3]; 3];
     for i in 0..3 {
         for j in 0..3 {
@@ -181,7 +190,7 @@ fn full_modulus(mat: &Material, grad: &[[[f64; 8]; 3]; 8], ue: &[[f64; 3]; 8]) -
                     + fm(0, 2) * (fm(1, 0) * fm(2, 1) - fm(1, 1) * fm(2, 0));
             }
             if j.iter().any(|&jq| !(jq > 0.0)) {
-                return f64::INFINITY;
+                return j.map(|jq| if jq > 0.0 { 0.0 } else { f64::INFINITY });
             }
             let ln_j: Lanes = j.map(f64::ln);
             for q in 0..8 {
@@ -191,7 +200,7 @@ fn full_modulus(mat: &Material, grad: &[[[f64; 8]; 3]; 8], ue: &[[f64; 3]; 8]) -
             }
         }
     }
-    a.iter().fold(0.0f64, |m, &x| m.max(x))
+    a.map(|x| x.max(0.0))
 }
 
 /// What the bound's element pass reads, shared by its chunks.
@@ -227,32 +236,82 @@ unsafe fn element_pass_impl<const FMA: bool, const ISA: u8>(pass: &ElementPass, 
         u,
     } = *pass;
     let mut worst = 0.0f64;
-    for e in c * ELEMENT_CHUNK..((c + 1) * ELEMENT_CHUNK).min(elements.len()) {
-        let conn = &elements[e];
-        let class = classes.class_of[e] as usize;
-        let mut ue = [[0.0f64; 3]; 8];
-        for (a, ua) in ue.iter_mut().enumerate() {
-            *ua = u[conn[a] as usize];
-        }
-        let a_e = if full {
-            full_modulus(mat, &classes.data[class].grad, &ue)
-        } else {
-            let cd = &classes.centre[class];
-            let mut f = [[0.0; 3]; 3];
+    let range = c * ELEMENT_CHUNK..((c + 1) * ELEMENT_CHUNK).min(elements.len());
+    let gather = |e: usize| elements[e].map(|n| u[n as usize]);
+    if !full {
+        // One point: 8 elements of one class at a time, F at their centres on lanes
+        // (a chunk's mixed-class groups and its tail go element by element).
+        let mut e = range.start;
+        while e + 8 <= range.end {
+            let class = classes.class_of[e] as usize;
+            if classes.class_of[e + 1..e + 8]
+                .iter()
+                .any(|&k| k as usize != class)
+            {
+                worst = worst.max(centre_bound(mat, classes, class_g, e, &gather(e)));
+                e += 1;
+                continue;
+            }
+            let b = &classes.centre[class].b;
+            let mut f = [[[0.0f64; 8]; 3]; 3];
             for (i, fi) in f.iter_mut().enumerate() {
-                fi[i] = 1.0;
-                for (j, fij) in fi.iter_mut().enumerate() {
-                    for a in 0..8 {
-                        *fij += ue[a][i] * cd.b[a][j];
+                fi[i] = [1.0; 8];
+            }
+            let ue: [[[f64; 3]; 8]; 8] = std::array::from_fn(|l| gather(e + l));
+            for a in 0..8 {
+                for (i, fi) in f.iter_mut().enumerate() {
+                    for (j, fij) in fi.iter_mut().enumerate() {
+                        for (l, fl) in fij.iter_mut().enumerate() {
+                            *fl += ue[l][a][i] * b[a][j];
+                        }
                     }
                 }
             }
-            modulus_bound(mat, &f)
-        };
+            let [g, g_hg] = class_g[class];
+            for a_e in modulus_lanes(mat, &f) {
+                worst = worst.max(a_e * g + g_hg);
+            }
+            e += 8;
+        }
+        for e in e..range.end {
+            worst = worst.max(centre_bound(mat, classes, class_g, e, &gather(e)));
+        }
+        return worst;
+    }
+    for e in range {
+        let class = classes.class_of[e] as usize;
+        let a_e = full_modulus(mat, &classes.data[class].grad, &gather(e));
         let [g, g_hg] = class_g[class];
         worst = worst.max(a_e * g + g_hg);
     }
     worst
+}
+
+/// a_e g_e + g_hg,e of element `e` (nodal displacements `ue`) with one point: a(F) at the
+/// centre, F = I + Σₐ uₐ ⊗ bₐ, the arithmetic of the lanes in [`element_pass_impl`].
+#[inline(always)]
+fn centre_bound(
+    mat: &Material,
+    classes: &ElementClasses,
+    class_g: &[[f64; 2]],
+    e: usize,
+    ue: &[[f64; 3]; 8],
+) -> f64 {
+    let class = classes.class_of[e] as usize;
+    let b = &classes.centre[class].b;
+    let mut f = [[0.0; 3]; 3];
+    for (i, fi) in f.iter_mut().enumerate() {
+        fi[i] = 1.0;
+    }
+    for a in 0..8 {
+        for (i, fi) in f.iter_mut().enumerate() {
+            for (j, fij) in fi.iter_mut().enumerate() {
+                *fij += ue[a][i] * b[a][j];
+            }
+        }
+    }
+    let [g, g_hg] = class_g[class];
+    modulus_bound(mat, &f) * g + g_hg
 }
 
 /// λ_max(D^{-½} L D^{-½}) of an 8×8 symmetric L and a positive diagonal D.
@@ -410,6 +469,65 @@ mod tests {
                             "{rule} {model}: {first} {a} vs {name} {b}"
                         );
                     }
+                }
+            }
+        }
+    }
+
+    /// With one point, the pass over 8 elements on lanes gives the element-by-element
+    /// bound of [`centre_bound`] (the same arithmetic: bit for bit), on a box mesh of one class
+    /// with its nodes moved at random (17 × 9 × 5 elements: whole groups of 8 and a tail in
+    /// each chunk) and on a mesh of graded cells (many classes: mixed groups), both models.
+    #[test]
+    fn the_one_point_lanes_are_the_element_bound() {
+        let scene =
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/pull_off.toml");
+        let text = std::fs::read_to_string(&scene).unwrap();
+        for model in ["svk", "neo_hookean"] {
+            for graded in [false, true] {
+                let set = [
+                    "mesh.cells=[17,9,5]".to_string(),
+                    "scheme.integration=\"reduced\"".to_string(),
+                    format!("material.model=\"{model}\""),
+                ];
+                let sc = crate::scene::parse_scene(&text, "pull_off.toml", &set).unwrap();
+                let mut model_ = sc.model;
+                if graded {
+                    // Stretch x quadratically: every column of cells its own class.
+                    for x in std::sync::Arc::make_mut(&mut model_).mesh.nodes.iter_mut() {
+                        x[0] *= 1.0 + 20.0 * x[0];
+                    }
+                }
+                let mut sim = Simulation::new(model_).unwrap();
+                assert_eq!(sim.classes.data.len() > 1, graded);
+                for (k, u) in sim.u.iter_mut().enumerate() {
+                    *u = std::array::from_fn(|i| 0.004 * rand(3 * k as u64 + i as u64));
+                }
+                let _ = sim.stiffness_bound(); // fills the class constants
+                let mat = sim.model.material;
+                let elements = &sim.model.mesh.elements;
+                let class_g = &sim.step_control.bound.class_g;
+                let pass = ElementPass {
+                    mat: &mat,
+                    full: false,
+                    elements,
+                    classes: &sim.classes,
+                    class_g,
+                    u: &sim.u,
+                };
+                for c in 0..elements.len().div_ceil(ELEMENT_CHUNK) {
+                    let lanes = unsafe { element_pass_chunk(&pass, c) };
+                    let range = c * ELEMENT_CHUNK..((c + 1) * ELEMENT_CHUNK).min(elements.len());
+                    let each = range.fold(0.0f64, |m, e| {
+                        let ue = elements[e].map(|n| sim.u[n as usize]);
+                        m.max(centre_bound(&mat, &sim.classes, class_g, e, &ue))
+                    });
+                    assert!(each > 0.0 && each.is_finite(), "{model} {graded}: {each}");
+                    assert_eq!(
+                        lanes.to_bits(),
+                        each.to_bits(),
+                        "{model} {graded}: {lanes} vs {each}"
+                    );
                 }
             }
         }
