@@ -356,8 +356,10 @@ impl BoundaryStep<'_> {
 
     /// Stage 7 on node `b`: each glued entry (μ(αₙ₊₁) of its law) and each contact entry
     /// against its mould, on the node's `free` components. A node with at most one active
-    /// constraint (gₙ₊₁ ≤ 0) gets the one-surface closed form ([`contact_impulse`]); a node
-    /// with several gets them solved together ([`BoundaryStep::contact_together`]).
+    /// constraint (gₙ₊₁ ≤ 0) gets the one-surface closed form ([`contact_impulse`]; an entry
+    /// closed at the previous step is held while its gap is open, v_N ≥ −g⁺/h_{n+3/2}); a node
+    /// with several gets them solved together ([`BoundaryStep::contact_together`], index set
+    /// gₙ₊₁ ≤ 0).
     ///
     /// # Safety
     /// No other thread may touch the interface and contact entries of `b`.
@@ -378,7 +380,8 @@ impl BoundaryStep<'_> {
         let m = self.mass[b.node as usize];
         for e in self.entries(b, itfs, cns) {
             let (n, vm) = self.surface_of(e.plane, e.from);
-            let (impulse, status) = contact_impulse(v, e.gap, n, vm[1], e.mu, m, free);
+            let held = e.held.then_some(self.h_next);
+            let (impulse, status) = contact_impulse(v, e.gap, n, vm[1], e.mu, m, free, held);
             let k = impulses.contacts;
             if k < MAX_CONSTRAINTS {
                 impulses.contact[k] = impulse;

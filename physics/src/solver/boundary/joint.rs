@@ -42,6 +42,8 @@ pub(super) struct Entry {
     pub from: (u32, bool),
     pub mu: f64,
     pub area: f64,
+    /// Closed (stick or slip) at the previous step.
+    pub held: bool,
 }
 
 impl BoundaryStep<'_> {
@@ -69,6 +71,7 @@ impl BoundaryStep<'_> {
                     _ => spec.law.mu(itf.alpha, spec.mu_inf),
                 },
                 area: itf.area,
+                held: itf.contact != ContactStatus::Open,
             }
         });
         let contact = b.contacts.clone().map(move |e| {
@@ -80,6 +83,7 @@ impl BoundaryStep<'_> {
                 from: (j as u32, false),
                 mu: cn.mu,
                 area: cn.area,
+                held: cn.contact != ContactStatus::Open,
             }
         });
         glued.chain(contact)
