@@ -43,15 +43,10 @@ pub fn scene_error(e: SceneError) -> PyErr {
     }
 }
 
-/// `e` and its sources as the command line prints an error (anyhow's `{:#}`): `e: source: …`.
-fn with_sources(e: &dyn std::error::Error) -> String {
-    let mut message = e.to_string();
-    let mut source = e.source();
-    while let Some(s) = source {
-        message.push_str(&format!(": {s}"));
-        source = s.source();
-    }
-    message
+/// `e` and its sources as the command line prints an error (`decohesion::cli::causes_once`):
+/// `e: source: …`, a source that the text already ends with left out.
+fn with_sources(e: &(dyn std::error::Error + 'static)) -> String {
+    decohesion::cli::causes_once(std::iter::successors(Some(e), |e| e.source()))
 }
 
 /// A solver error as a Python exception: the set-up's as `ValueError` (named after `file`),

@@ -27,14 +27,24 @@ pub use {
 };
 
 /// What `decohesion` prints after `error: `: the message of `e` and of each of its causes,
-/// joined by ": ", leaving out a cause whose message the text so far already ends with. The
-/// errors of the physics crate name their cause in their own message (`{file}: cannot read
-/// the scene file: {source}`, so that the Python and GUI fronts show it too), and anyhow's
-/// `{:#}` printed it twice: "… cannot read the scene file: No such file or directory (os
-/// error 2): No such file or directory (os error 2)".
+/// joined by ": ", leaving out a cause whose message the text so far already ends with (see
+/// [`causes_once`]).
 pub fn error_message(e: &anyhow::Error) -> String {
+    causes_once(e.chain())
+}
+
+/// The messages of an error and of its causes (`chain`, outermost first), joined by ": ",
+/// leaving out a cause whose message the text so far already ends with. The errors of the
+/// physics crate name their cause in their own message (`{file}: cannot read the scene file:
+/// {source}`, so that the GUI shows it too), and joining every cause (anyhow's `{:#}`) printed
+/// it twice: "… cannot read the scene file: No such file or directory (os error 2): No such
+/// file or directory (os error 2)". The command line ([`error_message`]) and the Python
+/// bindings' exceptions both build their text here, so that they stay the same words.
+pub fn causes_once<'a>(
+    chain: impl IntoIterator<Item = &'a (dyn std::error::Error + 'static)>,
+) -> String {
     let mut text = String::new();
-    for cause in e.chain() {
+    for cause in chain {
         let m = cause.to_string();
         if text.is_empty() {
             text = m;
