@@ -3,7 +3,9 @@
 //! `(path, include_bytes!(file))` entry per file of `scenes/meshes/` (the meshes and mould
 //! surfaces scenes name), which `src/gui/settings.rs` includes (the page has no file system; the
 //! native explorer reads the files themselves). Adding a scene is adding its file: no list is
-//! edited by hand.
+//! edited by hand. The files are named from `CARGO_MANIFEST_DIR` when the crate compiles, not by
+//! this script's absolute path, so that a target directory shared by two clones (a CI clone and
+//! the working copy) never includes the other clone's files.
 
 use std::fmt::Write as _;
 use std::path::Path;
@@ -28,10 +30,12 @@ fn main() {
     );
     for name in &names {
         let file = dir.join(name);
+        assert!(file.is_file(), "{}: not a file", file.display());
         writeln!(
             out,
-            "    (\"scenes/{name}\", include_str!({:?})),",
-            file.display()
+            "    ({:?}, include_str!(concat!(env!(\"CARGO_MANIFEST_DIR\"), {:?}))),",
+            format!("scenes/{name}"),
+            format!("/scenes/{name}")
         )
         .expect("writing to a String");
     }
@@ -55,8 +59,9 @@ fn main() {
     for name in &files {
         writeln!(
             out,
-            "    (\"scenes/meshes/{name}\", include_bytes!({:?})),",
-            meshes.join(name).display()
+            "    ({:?}, include_bytes!(concat!(env!(\"CARGO_MANIFEST_DIR\"), {:?}))),",
+            format!("scenes/meshes/{name}"),
+            format!("/scenes/meshes/{name}")
         )
         .expect("writing to a String");
     }
