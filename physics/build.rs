@@ -40,6 +40,16 @@ fn main() {
         )
         .unwrap();
     }
+    // The modules above are named by absolute path (an included `mod` cannot resolve beside
+    // mod.rs), so a target directory shared by two clones could compile the other clone's
+    // files when this script is not rerun; mod.rs compares this with its own
+    // CARGO_MANIFEST_DIR at compile time and stops the build instead.
+    writeln!(
+        out,
+        "const GENERATED_IN: &str = {:?};",
+        Path::new(&manifest).display().to_string()
+    )
+    .unwrap();
     out.push_str("families! {\n");
     for (index, name) in names.iter().enumerate() {
         writeln!(out, "    {index} {} => {name},", camel_case(name)).unwrap();

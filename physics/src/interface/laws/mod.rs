@@ -87,3 +87,25 @@ macro_rules! families {
 }
 
 include!(concat!(env!("OUT_DIR"), "/law_families.rs"));
+
+/// Byte-wise equality of two strings, at compile time.
+const fn same_str(a: &str, b: &str) -> bool {
+    let (a, b) = (a.as_bytes(), b.as_bytes());
+    if a.len() != b.len() {
+        return false;
+    }
+    let mut i = 0;
+    while i < a.len() {
+        if a[i] != b[i] {
+            return false;
+        }
+        i += 1;
+    }
+    true
+}
+
+const _: () = assert!(
+    same_str(GENERATED_IN, env!("CARGO_MANIFEST_DIR")),
+    "law_families.rs was generated for another clone sharing this target directory: \
+     `touch physics/build.rs` reruns the build script"
+);
