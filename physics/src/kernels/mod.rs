@@ -289,8 +289,8 @@ unsafe fn chunk_forces_reduced_impl<const FMA: bool, const ISA: u8>(
             hg_sum += hg[l];
             keep_min_j(j[l], e, &mut min_j, &mut min_e);
             keep_min_j(det[l], e, &mut min_jc, &mut min_ec);
-            scatter_lane(f, mesh.elements.get_unchecked(e as usize), &fl, l);
         }
+        scatter_group(f, &mesh.elements, group, &fl);
     }
     let mut fe = [[0.0; 3]; 8];
     for &e in rest {
@@ -425,8 +425,8 @@ unsafe fn chunk_forces_impl<const FMA: bool, const ISA: u8>(
         for (l, &e) in group.iter().enumerate() {
             e_sum += en.0[l];
             keep_min_j(det.0[l], e, &mut min_j, &mut min_e);
-            scatter_lane(f, mesh.elements.get_unchecked(e as usize), fv, l);
         }
+        scatter_group(f, &mesh.elements, group, fv);
     }
     for &e in rest {
         let (en, j) = scalar_element::<FMA>(mesh, classes, mat, u, f, e, energy);
@@ -531,6 +531,82 @@ unsafe fn gather_group<const ISA: u8>(
             for j in 0..3 {
                 ul[a][j][l] = ua[j];
             }
+        }
+    }
+}
+
+/// The hex8 corners in pairs along ξ (a₀, a₁): a₁ is a₀'s neighbour in +x on the element's
+/// x-edge (the node order of `Mesh::boxed`).
+const X_EDGES: [(usize, usize); 4] = [(0, 1), (3, 2), (4, 5), (7, 6)];
+
+/// Whether the 8 elements `group` are a row along x of a structured mesh numbered x first:
+/// element l's node a is node a of the first element plus l, on each x-edge the node a₁ is
+/// a₀ + 1, and the 4 lines [a₀, a₀ + 8] of the first element are disjoint. Then the group's
+/// nodes are 4 lines of 9 consecutive nodes, node m of a line being a₀ of element m (m < 8)
+/// and a₁ of element m − 1 (m > 0), and no other. Only the numbering is read: any mesh whose
+/// numbering has this pattern qualifies, whatever its geometry.
+///
+/// # Safety
+/// Every element of `group` must be in range.
+#[inline(always)]
+unsafe fn is_row(elements: &[[u32; 8]], group: &[u32]) -> bool {
+    let c0 = elements.get_unchecked(*group.get_unchecked(0) as usize);
+    let mut row = true;
+    for (a0, a1) in X_EDGES {
+        row &= c0[a1] == c0[a0].wrapping_add(1);
+    }
+    for (i, &(p, _)) in X_EDGES.iter().enumerate() {
+        for &(q, _) in &X_EDGES[i + 1..] {
+            row &= c0[p].abs_diff(c0[q]) > 8;
+        }
+    }
+    for l in 1..8 {
+        let c = elements.get_unchecked(*group.get_unchecked(l) as usize);
+        for a in 0..8 {
+            row &= c[a] == c0[a].wrapping_add(l as u32);
+        }
+    }
+    row
+}
+
+/// Adds the lane forces `fl` of the 8 elements `group` into the global force array, element
+/// after element (lane 0 first), each element node after node: every nodal row receives its
+/// contributions in the order of [`scatter_lane`] called for l = 0, …, 7, so the same bits.
+///
+/// On a row along x ([`is_row`]) the two contributions to a shared node follow each other
+/// directly (element m − 1's a₁, then element m's a₀) and no other element of the group
+/// touches it; each of the 4 lines of 9 nodes is then read and written once, the sums done in
+/// registers: (F + f_{m−1}[a₁]) + f_m[a₀] per component, as the element-by-element scatter
+/// does it. That removes the element-by-element scatter's chain of stores and reloads of the
+/// shared rows (a one-point 28³ step spent 15 % of its samples there, AVX2).
+///
+/// # Safety
+/// As [`scatter`], for every element of `group` (8 of them).
+#[inline(always)]
+unsafe fn scatter_group(f: SendPtr, elements: &[[u32; 8]], group: &[u32], fl: &[[[f64; 8]; 3]; 8]) {
+    if !is_row(elements, group) {
+        for (l, &e) in group.iter().enumerate() {
+            scatter_lane(f, elements.get_unchecked(e as usize), fl, l);
+        }
+        return;
+    }
+    let c0 = elements.get_unchecked(*group.get_unchecked(0) as usize);
+    for (a0, a1) in X_EDGES {
+        let line = f.0.add(c0[a0] as usize);
+        let (f0, f1) = (&fl[a0], &fl[a1]);
+        let first = &mut *line;
+        for j in 0..3 {
+            first[j] += f0[j][0];
+        }
+        for m in 1..8 {
+            let row = &mut *line.add(m);
+            for j in 0..3 {
+                row[j] = (row[j] + f1[j][m - 1]) + f0[j][m];
+            }
+        }
+        let last = &mut *line.add(8);
+        for j in 0..3 {
+            last[j] += f1[j][7];
         }
     }
 }

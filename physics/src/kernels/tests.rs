@@ -643,3 +643,62 @@ fn one_point_skipped_corner_check_changes_nothing_below_the_threshold() {
         "the bound skipped {skipped} of {groups} groups at J = 0.9"
     );
 }
+
+/// The row scatter ([`scatter_group`] on a row along x) adds the same bits as the element by
+/// element scatter ([`scatter_lane`], l = 0…7): each shared node takes (F + f_{m−1}[a₁]) +
+/// f_m[a₀] in both. Checked on every group of 8 consecutive elements of a 28 × 3 × 2 box
+/// (rows of 28: 6 groups in 7 are rows, the 7th straddles two rows and must not be taken for
+/// one), with forces and a starting F of mixed signs and magnitudes (so that a different order
+/// of the sums would change bits), and on a numbering that has the lanes' pattern but whose
+/// lines overlap (node a₃ of the first element 5 after its a₀), which must not be a row.
+#[test]
+fn the_row_scatter_adds_the_same_bits_as_the_element_by_element_scatter() {
+    let mesh = Mesh::boxed([0.0; 3], [2.8, 0.3, 0.2], [28, 3, 2]);
+    let n = mesh.nodes.len();
+    let mut state = 0x9e3779b97f4a7c15u64;
+    let mut random = move || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        // Magnitudes over 12 decades and both signs.
+        let m = (state >> 11) as f64 / (1u64 << 53) as f64;
+        (if state & 1 == 0 { 1.0 } else { -1.0 }) * 10f64.powf(12.0 * m - 6.0)
+    };
+    let f_start: Vec<[f64; 3]> = (0..n).map(|_| [random(), random(), random()]).collect();
+    let mut rows = 0;
+    let elements: Vec<u32> = (0..mesh.elements.len() as u32).collect();
+    for (k, group) in elements.chunks_exact(8).enumerate() {
+        let fl: [[[f64; 8]; 3]; 8] =
+            std::array::from_fn(|_| std::array::from_fn(|_| std::array::from_fn(|_| random())));
+        let (mut by_group, mut by_lane) = (f_start.clone(), f_start.clone());
+        let row = unsafe { is_row(&mesh.elements, group) };
+        let straddles = group[0] / 28 != group[7] / 28;
+        assert_eq!(row, !straddles, "group {k}: {group:?}");
+        rows += row as usize;
+        unsafe {
+            scatter_group(SendPtr(by_group.as_mut_ptr()), &mesh.elements, group, &fl);
+            for (l, &e) in group.iter().enumerate() {
+                scatter_lane(
+                    SendPtr(by_lane.as_mut_ptr()),
+                    &mesh.elements[e as usize],
+                    &fl,
+                    l,
+                );
+            }
+        }
+        for (i, (a, b)) in by_group.iter().zip(&by_lane).enumerate() {
+            for j in 0..3 {
+                assert_eq!(a[j].to_bits(), b[j].to_bits(), "group {k}, node {i}, {j}");
+            }
+        }
+    }
+    assert_eq!(rows, 18, "21 groups, 3 of them across two rows");
+    // Lines 0–1 and 3–2 overlapping: element l's nodes are the first's + l, yet not a row.
+    let first = [0u32, 1, 6, 5, 20, 21, 26, 25];
+    let overlapping: Vec<[u32; 8]> = (0..8u32).map(|l| first.map(|a| a + l)).collect();
+    let group: Vec<u32> = (0..8).collect();
+    assert!(!unsafe { is_row(&overlapping, &group) });
+    let apart = [0u32, 1, 11, 10, 20, 21, 31, 30];
+    let lines: Vec<[u32; 8]> = (0..8u32).map(|l| apart.map(|a| a + l)).collect();
+    assert!(unsafe { is_row(&lines, &group) }, "lines 10 nodes apart");
+}
