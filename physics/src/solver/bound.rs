@@ -147,8 +147,9 @@ fn full_modulus(mat: &Material, grad: &[[[f64; 8]; 3]; 8], ue: &[[f64; 3]; 8]) -
 
 /// a(F) of [`modulus_bound`] for 8 deformation gradients at once, `f[i][j][lane]` (the 8 Gauss
 /// points of an element, or the centres of 8 elements): the same arithmetic on lanes, which
-/// the compiler vectorises; only the neo-Hookean ln J is called lane by lane. A lane with a
-/// non-positive J gives +∞.
+/// the compiler vectorises; only the neo-Hookean ln J is called lane by lane. When a lane
+/// has a non-positive J it gives +∞ and the others 0: the callers take the maximum, which is
+/// then +∞ whatever the others.
 #[inline(always)]
 fn modulus_lanes(mat: &Material, f: &[[[f64; 8]; 3]; 3]) -> [f64; 8] {
     type Lanes = [f64; 8];
