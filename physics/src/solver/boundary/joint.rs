@@ -46,6 +46,40 @@ pub(super) struct Entry {
     pub held: bool,
 }
 
+impl Entry {
+    /// Whether the entry takes part in stage 7: active (gₙ₊₁ ≤ 0, eq. 19), or held (closed at
+    /// the previous step) whatever its gap, as in the one-surface closed form
+    /// ([`crate::interface::contact::contact_impulse`]).
+    pub(super) fn candidate(&self) -> bool {
+        self.gap <= 0.0 || self.held
+    }
+
+    /// The entry as a constraint of the joint solve, n·(V − v_surface) ≥ 0, on the mould of
+    /// normal `n` whose point moves at `v_mould` over the next step. A held entry with an open
+    /// gap g > 0 may close it over the next step, h = `h_next`, and no more:
+    /// n·(V − v_mould) ≥ −g/h, which is the same inequality with the surface's velocity
+    /// shifted along its normal, v_surface = v_mould − (g/h) n (n unit). The shift is normal, so
+    /// the tangential relative velocity, and with it friction, is unchanged. At g ≤ 0 the
+    /// constraint is eq. 19's, v_mould itself (the same bits as before the rule).
+    pub(super) fn constraint(&self, n: [f64; 3], v_mould: [f64; 3], h_next: f64) -> Constraint {
+        let reach = if self.held {
+            self.gap.max(0.0) / h_next
+        } else {
+            0.0
+        };
+        let v_surface = if reach > 0.0 {
+            std::array::from_fn(|c| v_mould[c] - reach * n[c])
+        } else {
+            v_mould
+        };
+        Constraint {
+            normal: n,
+            v_surface,
+            mu: self.mu,
+        }
+    }
+}
+
 impl BoundaryStep<'_> {
     /// The constraint entries of node `b`, glued ones first, in the order of `b`'s ranges.
     ///
@@ -89,7 +123,8 @@ impl BoundaryStep<'_> {
         glued.chain(contact)
     }
 
-    /// Whether node `b` has two or more active constraints (gₙ₊₁ ≤ 0).
+    /// Whether node `b` has two or more candidate constraints ([`Entry::candidate`]: gₙ₊₁ ≤ 0,
+    /// or held from the previous step).
     ///
     /// # Safety
     /// As [`BoundaryStep::entries`].
@@ -100,7 +135,7 @@ impl BoundaryStep<'_> {
         cns: SharedSlice<ContactNode>,
     ) -> bool {
         b.interfaces.len() + b.contacts.len() > 1
-            && self.entries(b, itfs, cns).filter(|e| e.gap <= 0.0).count() > 1
+            && self.entries(b, itfs, cns).filter(Entry::candidate).count() > 1
     }
 
     /// Stage 7 on node `b` with its active constraints together ([`contact_impulses`] on the
@@ -128,19 +163,12 @@ impl BoundaryStep<'_> {
         };
         let (mut active, mut cs, mut k) = ([None; MAX_JOINT], [none; MAX_JOINT], 0);
         for e in self.entries(b, itfs, cns) {
-            if e.gap > 0.0 {
+            if !e.candidate() {
                 put(itfs, cns, e.from, [0.0; 3], ContactStatus::Open);
                 continue;
             }
             let (n, vm) = self.surface_of(e.plane, e.from);
-            (active[k], cs[k]) = (
-                Some(e),
-                Constraint {
-                    normal: n,
-                    v_surface: vm[1],
-                    mu: e.mu,
-                },
-            );
+            (active[k], cs[k]) = (Some(e), e.constraint(n, vm[1], self.h_next));
             k += 1;
         }
         let (mut p, mut st) = ([[0.0; 3]; MAX_JOINT], [ContactStatus::Open; MAX_JOINT]);
@@ -187,5 +215,84 @@ pub(super) unsafe fn put(
             let cn = cns.get(j as usize);
             (cn.contact_impulse, cn.contact) = (impulse_per_area, status);
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::interface::contact::contact_impulses;
+
+    fn entry(gap: f64, held: bool) -> Entry {
+        Entry {
+            gap,
+            plane: 0,
+            from: (0, false),
+            mu: 0.0,
+            area: 1.0,
+            held,
+        }
+    }
+
+    /// The candidates of stage 7 and their constraints: an entry with gₙ₊₁ ≤ 0 is one with its
+    /// mould's velocity (the same bits); an open entry closed at the previous step is one with
+    /// the surface's velocity moved by −(g/h) n; an open entry not closed before is none.
+    #[test]
+    fn a_held_entry_with_an_open_gap_is_a_candidate_shifted_along_its_normal() {
+        let (n, vm, h, g) = ([0.6, 0.0, 0.8], [0.1, -0.3, 0.25], 1e-3, 4e-6);
+        for held in [false, true] {
+            for gap in [0.0, -2e-6] {
+                let e = entry(gap, held);
+                assert!(e.candidate());
+                let c = e.constraint(n, vm, h);
+                assert_eq!(c.v_surface.map(f64::to_bits), vm.map(f64::to_bits));
+                assert_eq!(c.normal, n);
+            }
+        }
+        assert!(!entry(g, false).candidate());
+        assert!(entry(g, true).candidate());
+        let c = entry(g, true).constraint(n, vm, h);
+        for k in 0..3 {
+            assert_eq!(c.v_surface[k], vm[k] - g / h * n[k]);
+        }
+    }
+
+    /// A node in a corner, pressed on a wall (x = 0, active) and held on a floor (z = 0) whose
+    /// gap has drifted open by g: solved together, the node approaching the floor faster than
+    /// g/h arrives on it at the next position, n·V = −g/h, and no further, while the wall stops
+    /// it; approaching slower, the floor takes no impulse and the node closes part of the gap.
+    /// Before the held rule the joint solve left the floor out (g > 0) and the node went
+    /// through it by h·29 m/s.
+    #[test]
+    fn a_corner_node_held_on_a_drifted_floor_closes_the_gap_and_no_more() {
+        let (m, h, g) = (2.0, 1e-3, 4e-6);
+        let (floor, wall) = ([0.0, 0.0, 1.0], [1.0, 0.0, 0.0]);
+        let constraints = |vz_floor: [f64; 3]| {
+            [
+                entry(g, true).constraint(floor, vz_floor, h),
+                entry(0.0, true).constraint(wall, [0.0; 3], h),
+            ]
+        };
+        let cs = constraints([0.0; 3]);
+        let (mut p, mut st) = ([[0.0; 3]; 2], [ContactStatus::Open; 2]);
+        let mut v = [-1.0, 0.2, -29.0];
+        let solve = contact_impulses(&mut v, &cs, m, [true; 3], &mut p, &mut st);
+        assert!(solve.converged);
+        assert!(
+            (v[2] + g / h).abs() <= 1e-12 * 29.0,
+            "n·V {} against −g/h",
+            v[2]
+        );
+        assert!(v[0].abs() <= 1e-12 * 29.0, "wall: {}", v[0]);
+        assert_eq!(v[1], 0.2, "frictionless: the tangential velocity stays");
+        assert!(p[0][2] > 0.0 && p[1][0] > 0.0, "{p:?}");
+        let mut v = [-1.0, 0.2, -0.5 * g / h];
+        contact_impulses(&mut v, &cs, m, [true; 3], &mut p, &mut st);
+        assert_eq!(
+            p[0], [0.0; 3],
+            "approaching slower than g/h: no floor impulse"
+        );
+        assert_eq!(st[0], ContactStatus::Open);
+        assert_eq!(v[2], -0.5 * g / h);
     }
 }
