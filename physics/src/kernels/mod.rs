@@ -253,7 +253,8 @@ unsafe fn chunk_forces_reduced_impl<const FMA: bool, const ISA: u8>(
             corner_lanes.set(l, cd);
             boxes = (boxes & !(1 << l)) | ((cd.axis_aligned as u8) << l);
         }
-        gather_group::<ISA>(mesh, u, group, &mut ul);
+        let row = is_row(&mesh.elements, group);
+        gather_group::<ISA>(mesh, u, group, row, &mut ul);
         let [en, hg, det] = match (ISA == ISA_AVX2, boxes == u8::MAX) {
             (true, true) => {
                 reduced_group::<FMA, true, true>(mat, &lanes, &ul, &mut fl, work, energy)
@@ -284,13 +285,22 @@ unsafe fn chunk_forces_reduced_impl<const FMA: bool, const ISA: u8>(
             }
             j
         };
-        for (l, &e) in group.iter().enumerate() {
+        for l in 0..8 {
             e_sum += en[l];
             hg_sum += hg[l];
-            keep_min_j(j[l], e, &mut min_j, &mut min_e);
-            keep_min_j(det[l], e, &mut min_jc, &mut min_ec);
         }
-        scatter_group(f, &mesh.elements, group, &fl);
+        // Lane by lane only where some lane lowers a minimum (or is NaN): the same result.
+        if !all_at_least(&j, min_j) {
+            for (l, &e) in group.iter().enumerate() {
+                keep_min_j(j[l], e, &mut min_j, &mut min_e);
+            }
+        }
+        if !all_at_least(&det, min_jc) {
+            for (l, &e) in group.iter().enumerate() {
+                keep_min_j(det[l], e, &mut min_jc, &mut min_ec);
+            }
+        }
+        scatter_group(f, &mesh.elements, group, row, &fl);
     }
     let mut fe = [[0.0; 3]; 8];
     for &e in rest {
@@ -380,7 +390,8 @@ unsafe fn chunk_forces_impl<const FMA: bool, const ISA: u8>(
     let mut staged = [u32::MAX; 8];
     let mut work = full::FullScratch::default();
     for group in grouped.chunks_exact(8) {
-        gather_group::<ISA>(mesh, u, group, &mut ul);
+        let row = is_row(&mesh.elements, group);
+        gather_group::<ISA>(mesh, u, group, row, &mut ul);
         let class = *classes.class_of.get_unchecked(group[0] as usize);
         let one_class = group
             .iter()
@@ -426,7 +437,7 @@ unsafe fn chunk_forces_impl<const FMA: bool, const ISA: u8>(
             e_sum += en.0[l];
             keep_min_j(det.0[l], e, &mut min_j, &mut min_e);
         }
-        scatter_group(f, &mesh.elements, group, fv);
+        scatter_group(f, &mesh.elements, group, row, fv);
     }
     for &e in rest {
         let (en, j) = scalar_element::<FMA>(mesh, classes, mat, u, f, e, energy);
@@ -503,7 +514,9 @@ fn full_group<const FMA: bool, const DIAG: bool, G: full::GaussLanes>(
 
 /// Stages the displacements of the 8 nodes of the 8 elements `group` into lanes,
 /// `ul[a][j][l]` = U[conn(group[l])[a]][j]: with the AVX-512 or AVX2 loads and transposes
-/// ([`simd::load_lanes_avx512`]) in those builds, else element by element.
+/// ([`simd::load_lanes_avx512`]) in those builds, their node addresses from the first element
+/// alone on a row along x (`row`, [`is_row`]: [`simd::load_row_lanes_avx512`]), else element
+/// by element.
 ///
 /// # Safety
 /// `group` holds 8 elements; every one and every node of theirs must be in range.
@@ -512,18 +525,24 @@ unsafe fn gather_group<const ISA: u8>(
     mesh: &Mesh,
     u: &[[f64; 3]],
     group: &[u32],
+    row: bool,
     ul: &mut [[[f64; 8]; 3]; 8],
 ) {
     #[cfg(target_arch = "x86_64")]
     if ISA != ISA_PORTABLE {
         let base = u.as_ptr() as *const f64;
-        if ISA == ISA_AVX512 {
-            simd::load_lanes_avx512(&mesh.elements, group, base, ul);
-        } else {
-            simd::load_lanes_avx2(&mesh.elements, group, base, ul);
+        let first = mesh
+            .elements
+            .get_unchecked(*group.get_unchecked(0) as usize);
+        match (ISA == ISA_AVX512, row) {
+            (true, true) => simd::load_row_lanes_avx512(first, base, ul),
+            (true, false) => simd::load_lanes_avx512(&mesh.elements, group, base, ul),
+            (false, true) => simd::load_row_lanes_avx2(first, base, ul),
+            (false, false) => simd::load_lanes_avx2(&mesh.elements, group, base, ul),
         }
         return;
     }
+    let _ = row;
     for (l, &e) in group.iter().enumerate() {
         let conn = mesh.elements.get_unchecked(e as usize);
         for a in 0..8 {
@@ -573,18 +592,24 @@ unsafe fn is_row(elements: &[[u32; 8]], group: &[u32]) -> bool {
 /// after element (lane 0 first), each element node after node: every nodal row receives its
 /// contributions in the order of [`scatter_lane`] called for l = 0, …, 7, so the same bits.
 ///
-/// On a row along x ([`is_row`]) the two contributions to a shared node follow each other
-/// directly (element m − 1's a₁, then element m's a₀) and no other element of the group
-/// touches it; each of the 4 lines of 9 nodes is then read and written once, the sums done in
-/// registers: (F + f_{m−1}[a₁]) + f_m[a₀] per component, as the element-by-element scatter
+/// On a row along x (`row`, which [`is_row`] gives) the two contributions to a shared node
+/// follow each other directly (element m − 1's a₁, then element m's a₀) and no other element
+/// of the group touches it; each of the 4 lines of 9 nodes is then read and written once, the
+/// sums done in registers: (F + f_{m−1}[a₁]) + f_m[a₀] per component, as the element-by-element scatter
 /// does it. That removes the element-by-element scatter's chain of stores and reloads of the
 /// shared rows (a one-point 28³ step spent 15 % of its samples there, AVX2).
 ///
 /// # Safety
 /// As [`scatter`], for every element of `group` (8 of them).
 #[inline(always)]
-unsafe fn scatter_group(f: SendPtr, elements: &[[u32; 8]], group: &[u32], fl: &[[[f64; 8]; 3]; 8]) {
-    if !is_row(elements, group) {
+unsafe fn scatter_group(
+    f: SendPtr,
+    elements: &[[u32; 8]],
+    group: &[u32],
+    row: bool,
+    fl: &[[[f64; 8]; 3]; 8],
+) {
+    if !row {
         for (l, &e) in group.iter().enumerate() {
             scatter_lane(f, elements.get_unchecked(e as usize), fl, l);
         }

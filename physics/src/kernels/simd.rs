@@ -209,10 +209,38 @@ pub(crate) unsafe fn load_lanes_avx512(
     u: *const f64,
     out: &mut [[[f64; 8]; 3]; 8],
 ) {
-    use std::arch::x86_64::*;
     let c = connectivity(elements, group);
+    lanes_from_rows_avx512(|a| rows(&c, a, u), out);
+}
+
+/// [`load_lanes_avx512`] for a row along x ([`super::is_row`]): node a of lane l is node a of
+/// the first element `first` plus l, so the 64 node addresses come from 8 indices (the same
+/// loads, the same values).
+///
+/// # Safety
+/// `first`'s nodes plus 0…7 must be in range.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f,avx2")]
+#[inline]
+pub(crate) unsafe fn load_row_lanes_avx512(
+    first: &[u32; 8],
+    u: *const f64,
+    out: &mut [[[f64; 8]; 3]; 8],
+) {
+    lanes_from_rows_avx512(|a| row_nodes(first, a, u), out);
+}
+
+/// The transposing loads of [`load_lanes_avx512`] from the node rows `p(a)` of corner a.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f,avx2")]
+#[inline]
+unsafe fn lanes_from_rows_avx512(
+    p_of: impl Fn(usize) -> [*const f64; 8],
+    out: &mut [[[f64; 8]; 3]; 8],
+) {
+    use std::arch::x86_64::*;
     for (a, out_a) in out.iter_mut().enumerate() {
-        let p = rows(&c, a, u);
+        let p = p_of(a);
         // x y of lanes (0 2 4 6) and (1 3 5 7); y z likewise; unpacking pairs them by lane.
         let ev_xy = wide(pair(p[0], p[2]), pair(p[4], p[6]));
         let od_xy = wide(pair(p[1], p[3]), pair(p[5], p[7]));
@@ -253,6 +281,15 @@ unsafe fn rows(c: &[&[u32; 8]; 8], a: usize, u: *const f64) -> [*const f64; 8] {
     p
 }
 
+/// The rows of node `a` of the 8 elements of a row along x whose first element is `first`:
+/// node a of lane l is `first[a]` + l.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+unsafe fn row_nodes(first: &[u32; 8], a: usize, u: *const f64) -> [*const f64; 8] {
+    let base = u.add(3 * first[a] as usize);
+    std::array::from_fn(|l| base.add(3 * l))
+}
+
 /// The connectivity rows of the 8 elements `group`.
 #[cfg(target_arch = "x86_64")]
 #[inline(always)]
@@ -277,10 +314,36 @@ pub(crate) unsafe fn load_lanes_avx2(
     u: *const f64,
     out: &mut [[[f64; 8]; 3]; 8],
 ) {
-    use std::arch::x86_64::*;
     let c = connectivity(elements, group);
+    lanes_from_rows_avx2(|a| rows(&c, a, u), out);
+}
+
+/// [`load_row_lanes_avx512`] with 256-bit vectors.
+///
+/// # Safety
+/// As [`load_row_lanes_avx512`], on a CPU with AVX2.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+#[inline]
+pub(crate) unsafe fn load_row_lanes_avx2(
+    first: &[u32; 8],
+    u: *const f64,
+    out: &mut [[[f64; 8]; 3]; 8],
+) {
+    lanes_from_rows_avx2(|a| row_nodes(first, a, u), out);
+}
+
+/// The transposing loads of [`load_lanes_avx2`] from the node rows `p(a)` of corner a.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+#[inline]
+unsafe fn lanes_from_rows_avx2(
+    p_of: impl Fn(usize) -> [*const f64; 8],
+    out: &mut [[[f64; 8]; 3]; 8],
+) {
+    use std::arch::x86_64::*;
     for (a, out_a) in out.iter_mut().enumerate() {
-        let p = rows(&c, a, u);
+        let p = p_of(a);
         for h in [0, 4] {
             let ev_xy = pair(p[h], p[h + 2]);
             let od_xy = pair(p[h + 1], p[h + 3]);

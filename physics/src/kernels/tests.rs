@@ -650,7 +650,9 @@ fn one_point_skipped_corner_check_changes_nothing_below_the_threshold() {
 /// (rows of 28: 6 groups in 7 are rows, the 7th straddles two rows and must not be taken for
 /// one), with forces and a starting F of mixed signs and magnitudes (so that a different order
 /// of the sums would change bits), and on a numbering that has the lanes' pattern but whose
-/// lines overlap (node a₃ of the first element 5 after its a₀), which must not be a row.
+/// lines overlap (node a₃ of the first element 5 after its a₀), which must not be a row. On
+/// each row, the row gather's addresses ([`simd::load_row_lanes_avx2`], from the first
+/// element alone) load the same lanes as the connectivity's.
 #[test]
 fn the_row_scatter_adds_the_same_bits_as_the_element_by_element_scatter() {
     let mesh = Mesh::boxed([0.0; 3], [2.8, 0.3, 0.2], [28, 3, 2]);
@@ -676,13 +678,44 @@ fn the_row_scatter_adds_the_same_bits_as_the_element_by_element_scatter() {
         assert_eq!(row, !straddles, "group {k}: {group:?}");
         rows += row as usize;
         unsafe {
-            scatter_group(SendPtr(by_group.as_mut_ptr()), &mesh.elements, group, &fl);
+            scatter_group(
+                SendPtr(by_group.as_mut_ptr()),
+                &mesh.elements,
+                group,
+                row,
+                &fl,
+            );
             for (l, &e) in group.iter().enumerate() {
                 scatter_lane(
                     SendPtr(by_lane.as_mut_ptr()),
                     &mesh.elements[e as usize],
                     &fl,
                     l,
+                );
+            }
+        }
+        // The row gather's addresses (from the first element alone) load the same lanes.
+        #[cfg(target_arch = "x86_64")]
+        if row && std::is_x86_feature_detected!("avx2") {
+            let u: Vec<[f64; 3]> = (0..n).map(|_| [random(), random(), random()]).collect();
+            let base = u.as_ptr() as *const f64;
+            let first = &mesh.elements[group[0] as usize];
+            let (mut by_row, mut by_conn) = ([[[0.0; 8]; 3]; 8], [[[1.0; 8]; 3]; 8]);
+            unsafe {
+                simd::load_row_lanes_avx2(first, base, &mut by_row);
+                simd::load_lanes_avx2(&mesh.elements, group, base, &mut by_conn);
+            }
+            assert_eq!(
+                by_row.map(|a| a.map(|j| j.map(f64::to_bits))),
+                by_conn.map(|a| a.map(|j| j.map(f64::to_bits))),
+                "group {k}"
+            );
+            if std::is_x86_feature_detected!("avx512f") {
+                unsafe { simd::load_row_lanes_avx512(first, base, &mut by_row) };
+                assert_eq!(
+                    by_row.map(|a| a.map(|j| j.map(f64::to_bits))),
+                    by_conn.map(|a| a.map(|j| j.map(f64::to_bits))),
+                    "AVX-512, group {k}"
                 );
             }
         }
