@@ -69,10 +69,8 @@ pub fn contact_impulse(
     let on_f = |x: [f64; 3]| std::array::from_fn::<f64, 3, _>(|c| if free[c] { x[c] } else { 0.0 });
     let n_f = if all_free { n } else { on_f(n) };
     let nf2 = if all_free { 1.0 } else { dot(n_f, n_f) };
-    let reach = match held {
-        Some(h) => gap.max(0.0) / h,
-        None if gap > 0.0 => return ([0.0; 3], ContactStatus::Open),
-        None => 0.0,
+    let Some(reach) = held_reach(gap, held) else {
+        return ([0.0; 3], ContactStatus::Open);
     };
     if nf2 <= 1e-12 {
         return ([0.0; 3], ContactStatus::Open);
@@ -112,6 +110,21 @@ pub fn contact_impulse(
         v[c] += p[c] / m;
     }
     (p, status)
+}
+
+/// Whether an entry of gap `gap` is a candidate of stage 7, and how far it may approach its
+/// mould over the next step beyond v_N = 0: a held entry (`held = Some(h)`, closed at the
+/// previous step, h = h_{n+3/2}) always, with reach g⁺/h (its constraint v_N ≥ −g⁺/h); a first
+/// contact (`None`) only at g ≤ 0, with reach 0 (eq. 19); `None` returned: not a candidate.
+/// The one definition of the held rule, for the one-surface closed form ([`contact_impulse`])
+/// and the joint solve's candidates.
+#[inline]
+pub fn held_reach(gap: f64, held: Option<f64>) -> Option<f64> {
+    match held {
+        Some(h) => Some(gap.max(0.0) / h),
+        None if gap > 0.0 => None,
+        None => Some(0.0),
+    }
 }
 
 /// One active unilateral constraint of a node (gₙ₊₁ ≤ 0) in a joint solve

@@ -597,8 +597,8 @@ unsafe fn is_row(elements: &[[u32; 8]], group: &[u32]) -> bool {
 /// follow each other directly (element m − 1's a₁, then element m's a₀) and no other element
 /// of the group touches it; each of the 4 lines of 9 nodes is then read and written once, the
 /// sums done in registers: (F + f_{m−1}[a₁]) + f_m[a₀] per component, as the element-by-element
-/// scatter does it. That removes the element-by-element scatter's chain of stores and reloads of the
-/// shared rows (a one-point 28³ step spent 15 % of its samples there, AVX2).
+/// scatter does it. That removes the element-by-element scatter's chain of stores and reloads
+/// of the shared rows (a one-point 28³ step spent 15 % of its samples there, AVX2).
 ///
 /// # Safety
 /// As [`scatter`], for every element of `group` (8 of them).

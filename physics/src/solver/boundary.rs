@@ -357,10 +357,12 @@ impl BoundaryStep<'_> {
     /// Stage 7 on node `b`: each glued entry (μ(αₙ₊₁) of its law) and each contact entry
     /// against its mould, on the node's `free` components. The candidates are the entries with
     /// gₙ₊₁ ≤ 0 and those closed at the previous step, held while their gap is open:
-    /// v_N ≥ −g⁺/h_{n+3/2} ([`joint::Entry::candidate`]). A node with at most one candidate
-    /// gets the one-surface closed form ([`contact_impulse`]); a node with several gets them
-    /// solved together ([`BoundaryStep::contact_together`], a held entry's surface velocity
-    /// shifted by −(g⁺/h_{n+3/2}) n, [`joint::Entry::constraint`]).
+    /// v_N ≥ −g⁺/h_{n+3/2} ([`held_reach`], one definition for both paths). A node with at most
+    /// one candidate gets the one-surface closed form ([`contact_impulse`]); a node with several
+    /// gets them solved together ([`BoundaryStep::contact_together`], a held entry's surface
+    /// velocity shifted by −(g⁺/h_{n+3/2}) n, [`joint::Entry::constraint`]).
+    ///
+    /// [`held_reach`]: crate::interface::contact::held_reach
     ///
     /// # Safety
     /// No other thread may touch the interface and contact entries of `b`.

@@ -7,7 +7,7 @@
 //! [`BoundaryStep::contact`] (and so its arithmetic, bit for bit).
 
 use super::{BoundaryNode, BoundaryStep, BoundarySums, NodeImpulses, MAX_CONSTRAINTS};
-use crate::interface::contact::{contact_impulses, Constraint};
+use crate::interface::contact::{contact_impulses, held_reach, Constraint};
 use crate::solver::state::{ContactNode, ContactStatus, InterfaceNode};
 use crate::team::SharedSlice;
 
@@ -47,26 +47,20 @@ pub(super) struct Entry {
 }
 
 impl Entry {
-    /// Whether the entry takes part in stage 7: active (gₙ₊₁ ≤ 0, eq. 19), or held (closed at
-    /// the previous step) whatever its gap, as in the one-surface closed form
-    /// ([`crate::interface::contact::contact_impulse`]).
-    pub(super) fn candidate(&self) -> bool {
-        self.gap <= 0.0 || self.held
+    /// How far the entry may approach its mould over the next step, h = `h_next`, beyond
+    /// v_N = 0 ([`held_reach`]: g⁺/h when held from the previous step, 0 for a first contact
+    /// at gₙ₊₁ ≤ 0); `None`: not a candidate of stage 7.
+    pub(super) fn reach(&self, h_next: f64) -> Option<f64> {
+        held_reach(self.gap, self.held.then_some(h_next))
     }
 
     /// The entry as a constraint of the joint solve, n·(V − v_surface) ≥ 0, on the mould of
-    /// normal `n` whose point moves at `v_mould` over the next step. A held entry with an open
-    /// gap g > 0 may close it over the next step, h = `h_next`, and no more:
-    /// n·(V − v_mould) ≥ −g/h, which is the same inequality with the surface's velocity
-    /// shifted along its normal, v_surface = v_mould − (g/h) n (n unit). The shift is normal, so
-    /// the tangential relative velocity, and with it friction, is unchanged. At g ≤ 0 the
-    /// constraint is eq. 19's, v_mould itself (the same bits as before the rule).
-    pub(super) fn constraint(&self, n: [f64; 3], v_mould: [f64; 3], h_next: f64) -> Constraint {
-        let reach = if self.held {
-            self.gap.max(0.0) / h_next
-        } else {
-            0.0
-        };
+    /// normal `n` whose point moves at `v_mould` over the next step, with the entry's `reach`
+    /// ([`Entry::reach`]): n·(V − v_mould) ≥ −reach is the same inequality with the surface's
+    /// velocity shifted along its normal, v_surface = v_mould − reach·n (n unit). The shift is
+    /// normal, so the tangential relative velocity, and with it friction, is unchanged. At
+    /// reach 0 the constraint is eq. 19's, v_mould itself (the same bits as before the rule).
+    pub(super) fn constraint(&self, n: [f64; 3], v_mould: [f64; 3], reach: f64) -> Constraint {
         let v_surface = if reach > 0.0 {
             std::array::from_fn(|c| v_mould[c] - reach * n[c])
         } else {
@@ -123,7 +117,7 @@ impl BoundaryStep<'_> {
         glued.chain(contact)
     }
 
-    /// Whether node `b` has two or more candidate constraints ([`Entry::candidate`]: gₙ₊₁ ≤ 0,
+    /// Whether node `b` has two or more candidate constraints ([`Entry::reach`]: gₙ₊₁ ≤ 0,
     /// or held from the previous step).
     ///
     /// # Safety
@@ -135,7 +129,10 @@ impl BoundaryStep<'_> {
         cns: SharedSlice<ContactNode>,
     ) -> bool {
         b.interfaces.len() + b.contacts.len() > 1
-            && self.entries(b, itfs, cns).filter(Entry::candidate).count() > 1
+            && (self.entries(b, itfs, cns))
+                .filter(|e| e.reach(self.h_next).is_some())
+                .count()
+                > 1
     }
 
     /// Stage 7 on node `b` with its active constraints together ([`contact_impulses`] on the
@@ -163,12 +160,12 @@ impl BoundaryStep<'_> {
         };
         let (mut active, mut cs, mut k) = ([None; MAX_JOINT], [none; MAX_JOINT], 0);
         for e in self.entries(b, itfs, cns) {
-            if !e.candidate() {
+            let Some(reach) = e.reach(self.h_next) else {
                 put(itfs, cns, e.from, [0.0; 3], ContactStatus::Open);
                 continue;
-            }
+            };
             let (n, vm) = self.surface_of(e.plane, e.from);
-            (active[k], cs[k]) = (Some(e), e.constraint(n, vm[1], self.h_next));
+            (active[k], cs[k]) = (Some(e), e.constraint(n, vm[1], reach));
             k += 1;
         }
         let (mut p, mut st) = ([[0.0; 3]; MAX_JOINT], [ContactStatus::Open; MAX_JOINT]);
@@ -243,15 +240,16 @@ mod tests {
         for held in [false, true] {
             for gap in [0.0, -2e-6] {
                 let e = entry(gap, held);
-                assert!(e.candidate());
-                let c = e.constraint(n, vm, h);
+                assert_eq!(e.reach(h), Some(0.0));
+                let c = e.constraint(n, vm, 0.0);
                 assert_eq!(c.v_surface.map(f64::to_bits), vm.map(f64::to_bits));
                 assert_eq!(c.normal, n);
             }
         }
-        assert!(!entry(g, false).candidate());
-        assert!(entry(g, true).candidate());
-        let c = entry(g, true).constraint(n, vm, h);
+        assert_eq!(entry(g, false).reach(h), None);
+        let e = entry(g, true);
+        assert_eq!(e.reach(h), Some(g / h));
+        let c = e.constraint(n, vm, g / h);
         for k in 0..3 {
             assert_eq!(c.v_surface[k], vm[k] - g / h * n[k]);
         }
@@ -267,13 +265,15 @@ mod tests {
     fn a_corner_node_held_on_a_drifted_floor_closes_the_gap_and_no_more() {
         let (m, h, g) = (2.0, 1e-3, 4e-6);
         let (floor, wall) = ([0.0, 0.0, 1.0], [1.0, 0.0, 0.0]);
-        let constraints = |vz_floor: [f64; 3]| {
-            [
-                entry(g, true).constraint(floor, vz_floor, h),
-                entry(0.0, true).constraint(wall, [0.0; 3], h),
-            ]
+        let held = |gap: f64, n: [f64; 3]| {
+            let e = entry(gap, true);
+            e.constraint(
+                n,
+                [0.0; 3],
+                e.reach(h).expect("a held entry is a candidate"),
+            )
         };
-        let cs = constraints([0.0; 3]);
+        let cs = [held(g, floor), held(0.0, wall)];
         let (mut p, mut st) = ([[0.0; 3]; 2], [ContactStatus::Open; 2]);
         let mut v = [-1.0, 0.2, -29.0];
         let solve = contact_impulses(&mut v, &cs, m, [true; 3], &mut p, &mut st);
