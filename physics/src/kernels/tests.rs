@@ -557,12 +557,13 @@ fn free_velocity_every_build_is_bit_identical() {
 }
 
 /// The corner check skipped by the bound ([`corner_bound`]): on every block of the distorted box
-/// and both fields, for thresholds `exact_below` around the field's J (0.8…1.2, and the chunk's
-/// exact minimum itself), every build gives the same force and energy bits as with every corner
-/// checked (`exact_below` = ∞); the smallest J and its element are those of the full check when
-/// that J is below the threshold, else the reported J lies in [threshold, exact J]. The bound
-/// must fire on some groups (else this tests nothing) and not on others (at 0.9, the step
-/// control's threshold).
+/// and both fields, for thresholds `exact_below` around the field's J (0.8…1.1, and the chunk's
+/// exact minimum itself) and the step's (the smallest positive f64, `CORNER_EXACT_BELOW`),
+/// every build gives the same force and energy bits as with every corner checked
+/// (`exact_below` = ∞); the smallest J and its element are those of the full check when that J
+/// is below the threshold, else the reported J lies in [threshold, exact J]. The bound must
+/// fire on some groups (else this tests nothing) and not on others, at 0.9 and at the step's
+/// threshold (the inverted field's corners, J ≤ 0, are checked exactly).
 #[test]
 fn one_point_skipped_corner_check_changes_nothing_below_the_threshold() {
     let mesh = distorted_box();
@@ -570,7 +571,8 @@ fn one_point_skipped_corner_check_changes_nothing_below_the_threshold() {
     let n = mesh.nodes.len();
     let kappa = 0.05;
     let chunks: Vec<Vec<u32>> = mesh.element_blocks(64).into_iter().flatten().collect();
-    let (mut skipped, mut groups) = (0u64, 0u64);
+    let (mut skipped, mut groups, mut skipped_step) = (0u64, 0u64, 0u64);
+    let step = crate::solver::CORNER_EXACT_BELOW;
     let mat = Material::new(MaterialModel::NeoHookean, 5e6, 0.45, 1100.0);
     // The two fields of the other tests (strong hourglassing: the bound stays below 0.9) and
     // `bent` at 2 % (J within 0.5 % of 1, small hourglass amplitudes: the bound skips).
@@ -597,7 +599,7 @@ fn one_point_skipped_corner_check_changes_nothing_below_the_threshold() {
                     (f, r)
                 };
                 let (f_all, all) = run(f64::INFINITY);
-                for t in [0.8, 0.9, 1.0, 1.1, all.min_j, f64::NEG_INFINITY] {
+                for t in [0.8, 0.9, 1.0, 1.1, all.min_j, step, f64::NEG_INFINITY] {
                     let (f, r) = run(t);
                     let what = format!("{field} {name} exact_below {t}");
                     let bits = |f: &[[f64; 3]]| -> Vec<u64> {
@@ -631,6 +633,9 @@ fn one_point_skipped_corner_check_changes_nothing_below_the_threshold() {
                         skipped += r.skipped as u64;
                         groups += chunk.len() as u64 / 8;
                     }
+                    if t == step {
+                        skipped_step += r.skipped as u64;
+                    }
                     if t == f64::NEG_INFINITY {
                         assert_eq!(r.skipped as usize, chunk.len() / 8, "{what}");
                     }
@@ -641,6 +646,11 @@ fn one_point_skipped_corner_check_changes_nothing_below_the_threshold() {
     assert!(
         skipped > 0 && skipped < groups,
         "the bound skipped {skipped} of {groups} groups at J = 0.9"
+    );
+    assert!(
+        skipped_step > skipped && skipped_step < groups,
+        "the bound skipped {skipped_step} of {groups} groups at the step's threshold {step:e} \
+         ({skipped} at 0.9)"
     );
 }
 

@@ -20,9 +20,7 @@ const OMEGA_MOVED: f64 = 0.05;
 const OMEGA_STILL: f64 = 0.02;
 /// Smallest J where the stress is evaluated ([`Simulation::stress_jacobian`]: the Gauss points,
 /// one point's centre) below which compression re-estimates h_crit between scheduled
-/// estimates. Below it the element loop also reports the corners' smallest J exactly
-/// (`Simulation::min_jacobian`); above it, after t₀, it may report a lower bound that is ≥
-/// this value (`Simulation::internal_forces`).
+/// estimates.
 pub(super) const JACOBIAN_COMPRESSED: f64 = 0.9;
 /// Change of the glue's total spring stiffness Σ W g_N(α) since the last estimate, as a
 /// fraction of its value at t = 0, that re-estimates h_crit (damage and rupture soften the

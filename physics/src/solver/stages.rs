@@ -2,11 +2,21 @@
 //! ledger's stage 9 in `ledger.rs`), and the per-step buffers they fill.
 
 use super::boundary::BoundarySums;
-use super::stable_step::JACOBIAN_COMPRESSED;
 use super::state::SolverError;
 use super::{ElementLoop, Simulation, NODE_GRAIN};
 use crate::kernels::{free_velocity_chunk, NodeSums};
 use crate::team::SharedSlice;
+
+/// Below this J the element loop reports the corners' smallest J exactly
+/// ([`crate::kernels::assemble_internal_forces`]' `exact_below`); above it, with one point and
+/// after t₀, the lane groups whose bound proves every corner positive report their bounds.
+/// The smallest positive normal f64: the inversion check (J ≤ 0) is the only reader in the
+/// step, and a skipped group then reports positive bounds (never a bound that underflowed to
+/// 0, which that check would take for an inverted corner). At 0.9, the step control's
+/// compression threshold used before, the bound let no lane group skip the check once the
+/// torn-off body of the 28³ pull-off rang in its hourglass modes (corner J 0.64–0.84 from
+/// t ≈ 0.13 s); here it lets 99.5–100 % skip throughout (README "Performance").
+pub(crate) const CORNER_EXACT_BELOW: f64 = f64::MIN_POSITIVE;
 
 /// A chunk of displacements and the matching velocities (stage 1).
 type PositionChunk<'a> = (&'a mut [[f64; 3]], &'a [[f64; 3]]);
@@ -151,14 +161,16 @@ impl Simulation {
             team: self.team.as_ref(),
         };
         // The smallest J of the corners has one consumer in the step, the inversion check
-        // (J ≤ 0); `min_jacobian` also reports it, exact below JACOBIAN_COMPRESSED. So the
-        // one-point kernel may skip the corner check where its bound shows J ≥
-        // JACOBIAN_COMPRESSED ([`crate::kernels::corner_bound`]); exact everywhere at t₀. The
-        // step control reads the stress points' J (`stress_jacobian`), always exact.
+        // (J ≤ 0), which needs its sign only. So the one-point kernel skips a lane group's exact
+        // corner check where the bound J (1 − C|q|/s)³ ([`crate::kernels::corner_bound`]) of
+        // each of its elements is positive (≥ CORNER_EXACT_BELOW): every corner is then
+        // positive, and an inverted corner (J_a ≤ 0, so a bound ≤ 0) is checked exactly. Exact
+        // everywhere at t₀. The step control reads the stress points' J (`stress_jacobian`),
+        // always exact.
         let exact_below = if self.step_count == 0 {
             f64::INFINITY
         } else {
-            JACOBIAN_COMPRESSED
+            CORNER_EXACT_BELOW
         };
         let asm = elements.assemble(
             &self.u,
