@@ -736,12 +736,39 @@ fn the_row_scatter_adds_the_same_bits_as_the_element_by_element_scatter() {
         }
     }
     assert_eq!(rows, 18, "21 groups, 3 of them across two rows");
+    // The flags computed once per mesh give `is_row` on every group of 8 consecutive elements,
+    // aligned or not, and on none that is not consecutive.
+    let classes = mesh.element_classes().unwrap();
+    let m = mesh.elements.len();
+    for e in 0..m - 7 {
+        let group: Vec<u32> = (e as u32..e as u32 + 8).collect();
+        let expect = unsafe { is_row(&mesh.elements, &group) };
+        assert_eq!(
+            unsafe { group_is_row(&classes.row_start, &group) },
+            expect,
+            "from {e}"
+        );
+        rows -= (expect && e % 8 == 0) as usize;
+        let mut shuffled = group.clone();
+        shuffled.swap(3, 4);
+        assert!(
+            !unsafe { group_is_row(&classes.row_start, &shuffled) },
+            "{shuffled:?}"
+        );
+    }
+    assert_eq!(rows, 0, "the same 18 aligned rows");
+    assert!(classes.row_start[m - 7..].iter().all(|&r| !r));
     // Lines 0–1 and 3–2 overlapping: element l's nodes are the first's + l, yet not a row.
     let first = [0u32, 1, 6, 5, 20, 21, 26, 25];
     let overlapping: Vec<[u32; 8]> = (0..8u32).map(|l| first.map(|a| a + l)).collect();
     let group: Vec<u32> = (0..8).collect();
     assert!(!unsafe { is_row(&overlapping, &group) });
+    assert!(!row_starts(&overlapping)[0]);
     let apart = [0u32, 1, 11, 10, 20, 21, 31, 30];
     let lines: Vec<[u32; 8]> = (0..8u32).map(|l| apart.map(|a| a + l)).collect();
     assert!(unsafe { is_row(&lines, &group) }, "lines 10 nodes apart");
+    assert_eq!(
+        row_starts(&lines),
+        [true, false, false, false, false, false, false, false]
+    );
 }

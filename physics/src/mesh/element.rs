@@ -346,6 +346,10 @@ pub struct ElementClasses {
     pub centre: Vec<CentreData>,
     /// Class index of each element.
     pub class_of: Vec<u32>,
+    /// Per element e: the elements numbered e, …, e + 7 are a row along x of a structured
+    /// numbering ([`crate::kernels::row_starts`]), whose lane group the element loops gather
+    /// and scatter line by line.
+    pub row_start: Vec<bool>,
 }
 
 impl Mesh {
@@ -388,6 +392,7 @@ impl Mesh {
             data,
             centre,
             class_of,
+            row_start: crate::kernels::row_starts(&self.elements),
         })
     }
 }
