@@ -572,7 +572,7 @@ fn one_point_skipped_corner_check_changes_nothing_below_the_threshold() {
     let kappa = 0.05;
     let chunks: Vec<Vec<u32>> = mesh.element_blocks(64).into_iter().flatten().collect();
     let (mut skipped, mut groups, mut skipped_step) = (0u64, 0u64, 0u64);
-    let step = crate::solver::CORNER_EXACT_BELOW;
+    let step = CORNER_EXACT_BELOW;
     let mat = Material::new(MaterialModel::NeoHookean, 5e6, 0.45, 1100.0);
     // The two fields of the other tests (strong hourglassing: the bound stays below 0.9) and
     // `bent` at 2 % (J within 0.5 % of 1, small hourglass amplitudes: the bound skips).

@@ -47,7 +47,6 @@ use crate::team::Team;
 use boundary::{Boundary, BoundarySums};
 use stable_step::StepControl;
 use stages::StepScratch;
-pub(crate) use stages::CORNER_EXACT_BELOW;
 use std::sync::Arc;
 // std's `Instant` on native; the browser's clock on wasm32, where std's panics.
 use web_time::Instant;
@@ -103,7 +102,7 @@ pub struct Simulation {
     /// Smallest Jacobian seen at the last force evaluation (one point: the centre and the
     /// corners): exact when ≤ 0 (an inverted element, which stops the run) and at t₀;
     /// otherwise, with one-point integration, possibly a positive lower bound of it
-    /// ([`crate::kernels::assemble_internal_forces`], [`CORNER_EXACT_BELOW`]).
+    /// ([`crate::kernels::assemble_internal_forces`], [`crate::kernels::CORNER_EXACT_BELOW`]).
     pub min_jacobian: f64,
     /// Smallest J where the stress is evaluated at the last force evaluation (the Gauss points,
     /// or one point's centre: [`crate::kernels::Assembly::min_stress_j`]), always exact: the

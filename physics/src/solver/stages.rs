@@ -4,19 +4,8 @@
 use super::boundary::BoundarySums;
 use super::state::SolverError;
 use super::{ElementLoop, Simulation, NODE_GRAIN};
-use crate::kernels::{free_velocity_chunk, NodeSums};
+use crate::kernels::{free_velocity_chunk, NodeSums, CORNER_EXACT_BELOW};
 use crate::team::SharedSlice;
-
-/// Below this J the element loop reports the corners' smallest J exactly
-/// ([`crate::kernels::assemble_internal_forces`]' `exact_below`); above it, with one point and
-/// after t₀, the lane groups whose bound proves every corner positive report their bounds.
-/// The smallest positive normal f64: the inversion check (J ≤ 0) is the only reader in the
-/// step, and a skipped group then reports positive bounds (never a bound that underflowed to
-/// 0, which that check would take for an inverted corner). At 0.9, the step control's
-/// compression threshold used before, the bound let no lane group skip the check once the
-/// torn-off body of the 28³ pull-off rang in its hourglass modes (corner J 0.64–0.84 from
-/// t ≈ 0.13 s); here it lets 99.5–100 % skip throughout (README "Performance").
-pub(crate) const CORNER_EXACT_BELOW: f64 = f64::MIN_POSITIVE;
 
 /// A chunk of displacements and the matching velocities (stage 1).
 type PositionChunk<'a> = (&'a mut [[f64; 3]], &'a [[f64; 3]]);
