@@ -12,9 +12,9 @@
 
 use super::corners::corner_jacobians;
 use crate::material::{
-    box_factors, box_forces, box_gradient, displacement_gradient, first_piola, modes_to_nodes,
-    node_modes, parent_forces, parent_gradient, row_dot, with_law, Deformation, Law, Material,
-    MaterialModel, Real,
+    box_factors, box_forces, box_gradient, centre_norms_of, displacement_gradient, first_piola,
+    modes_to_nodes, node_modes, parent_forces, parent_gradient, row_dot, with_law, Deformation,
+    Law, Material, MaterialModel, Real,
 };
 use std::cell::Cell;
 use std::ops::{Add, Div, Mul, Sub};
@@ -84,14 +84,25 @@ pub struct KernelFlops {
     pub hourglass: u64,
     /// The 8 corner Jacobians (one point's inversion check, when it runs).
     pub corners: u64,
+    /// The corner bound J (1 − C|q|/s)³ that lets a lane group skip the corner check (one point,
+    /// on every group): ‖F‖²_F and |q|² ([`centre_norms_of`]), then s, √|q|², C|q|/s, 1 − and
+    /// the cube, 9 (written out on f64 in [`super::corner_bound::corner_lower_bound`]; √ one).
+    pub bound: u64,
     /// Natural logarithms (neo-Hookean), not in the flops.
     pub logs: u64,
 }
 
 impl KernelFlops {
-    /// Every flop of the kernel, the corner check included.
+    /// Every flop of the kernel, the corner check included (the bound left out).
     pub fn total(&self) -> u64 {
         self.gradient + self.stress + self.forces + self.hourglass + self.corners
+    }
+
+    /// The flops per element-step the kernel runs when a share `skipped` ∈ [0, 1] of the lane
+    /// groups skips the corner check (`RunStats::corner_checks`): [`KernelFlops::total`] with
+    /// the check on the other groups only, and the bound on every group.
+    pub fn executed(&self, skipped: f64) -> f64 {
+        (self.total() - self.corners + self.bound) as f64 + (1.0 - skipped) * self.corners as f64
     }
 }
 
@@ -169,9 +180,15 @@ pub fn full(model: MaterialModel, axis_aligned: bool) -> KernelFlops {
         forces,
         hourglass: 0,
         corners: 0,
+        bound: 0,
         logs: 8 * logs,
     }
 }
+
+/// The flops of J (1 − C|q|/s)³ from J, ‖F‖²_F and |q|²
+/// ([`super::corner_bound::corner_lower_bound`], on f64): s = 2J/‖F‖²_F 2, √|q|² 1, C·√ 1,
+/// ÷ s 1, 1 − 1, J r r r 3.
+const BOUND_FORMULA: u64 = 9;
 
 /// One element-step of the one-point kernel with hourglass control
 /// ([`crate::material::element_forces_reduced_lanes`]) and its corner check
@@ -189,12 +206,16 @@ pub fn one_point(model: MaterialModel, axis_aligned: bool) -> KernelFlops {
     let (corners, _) = count(|| {
         let _ = corner_jacobians::<Counted, true>(|_, _| c(1.0), |_| c(1.0), |_, _| c(1e-3));
     });
+    let (norms, _) = count(|| {
+        let _ = centre_norms_of(&[[c(1e-3); 3]; 3], &[[c(1e-3); 3]; 4]);
+    });
     KernelFlops {
         gradient,
         stress,
         forces,
         hourglass,
         corners,
+        bound: norms + BOUND_FORMULA,
         logs,
     }
 }
@@ -267,7 +288,8 @@ mod tests {
     /// the transpose 9 × (4 pair sums + 24) + 8 nodes × 3 × 2 (+ 3 for the node of signs
     /// (−, −, −), 0 − G_ξ), energy 8 × 2. One point: 1 point, hourglass modes
     /// 4 × 24 multiply–adds and Ψ_hg 4 × 6 + 2, forces 24 × (5 + 8 + 1 + 2) and V ψ 1, corners
-    /// 12 edges × 3 × 2 and 8 × (triple product 17 + 1 ×).
+    /// 12 edges × 3 × 2 and 8 × (triple product 17 + 1 ×), the bound ‖F‖²_F 9 × and 9 + from 0
+    /// and 3 + for δᵢⱼ, |q|² 12 × and 12 +, and the formula 9.
     #[test]
     fn counts_match_a_count_by_hand() {
         let full_svk = full(MaterialModel::Svk, false);
@@ -279,6 +301,7 @@ mod tests {
                 forces: 72 * 5 + 9 * (4 + 24) + 8 * 3 * 2 + 3 + 16,
                 hourglass: 0,
                 corners: 0,
+                bound: 0,
                 logs: 0,
             }
         );
@@ -303,10 +326,14 @@ mod tests {
                 forces: 3 * (7 + 24) + 1,
                 hourglass: 4 * 6 + 2,
                 corners: 12 * 3 * 2 + 8 * 18,
+                bound: 21 + 24 + 9,
                 logs: 0,
             }
         );
         assert_eq!(box_one.total(), 561);
+        // Every group skipping the check: 561 − 216 + 54; none: 561 + 54.
+        assert_eq!(box_one.executed(1.0), 399.0);
+        assert_eq!(box_one.executed(0.0), 615.0);
         let one = one_point(MaterialModel::Svk, false);
         assert_eq!(
             one,
@@ -316,6 +343,7 @@ mod tests {
                 forces: 24 * 16 + 1,
                 hourglass: 4 * 24 * 2 + 4 * 6 + 2,
                 corners: 12 * 3 * 2 + 8 * 18,
+                bound: 21 + 24 + 9,
                 logs: 0,
             }
         );

@@ -310,29 +310,37 @@ pub struct OnePointScratch {
 }
 
 impl OnePointScratch {
-    /// Per lane, ‖F‖²_F = Σᵢⱼ(δᵢⱼ + Hᵢⱼ)² and |q|² = Σᵅ|qᵅ|² of the last kernel call: what the
-    /// corner bound needs besides J (`kernels::corner_bound`).
+    /// Per lane, ‖F‖²_F and |q|² of the last kernel call ([`centre_norms_of`]).
     #[inline(always)]
     pub fn centre_norms(&self) -> ([f64; 8], [f64; 8]) {
-        let mut f2 = F64x8::splat(0.0);
-        for i in 0..3 {
-            for j in 0..3 {
-                let fij = if i == j {
-                    self.h[i][j] + F64x8::splat(1.0)
-                } else {
-                    self.h[i][j]
-                };
-                f2 = f2 + fij * fij;
-            }
-        }
-        let mut q2 = F64x8::splat(0.0);
-        for al in 0..4 {
-            for i in 0..3 {
-                q2 = q2 + self.q[al][i] * self.q[al][i];
-            }
-        }
+        let (f2, q2) = centre_norms_of(&self.h, &self.q);
         (f2.0, q2.0)
     }
+}
+
+/// ‖F‖²_F = Σᵢⱼ(δᵢⱼ + Hᵢⱼ)² and |q|² = Σᵅ|qᵅ|² from H and the hourglass amplitudes qᵅ: what the
+/// corner bound J (1 − C|q|/s)³, s = 2J/‖F‖²_F, needs besides J (`kernels::corner_bound`,
+/// PHYSICS.md §2). Generic, so that `kernels::flops` counts the operations the kernel runs.
+#[inline(always)]
+pub fn centre_norms_of<T: Real>(h: &Mat3<T>, q: &[[T; 3]; 4]) -> (T, T) {
+    let mut f2 = T::splat(0.0);
+    for i in 0..3 {
+        for j in 0..3 {
+            let fij = if i == j {
+                h[i][j] + T::splat(1.0)
+            } else {
+                h[i][j]
+            };
+            f2 = f2 + fij * fij;
+        }
+    }
+    let mut q2 = T::splat(0.0);
+    for al in 0..4 {
+        for i in 0..3 {
+            q2 = q2 + q[al][i] * q[al][i];
+        }
+    }
+    (f2, q2)
 }
 
 impl Default for OnePointScratch {

@@ -19,7 +19,7 @@ mod tensor;
 
 pub(crate) use element::first_piola_lanes_into;
 pub use element::{
-    element_forces, element_forces_reduced, element_forces_reduced_lanes,
+    centre_norms_of, element_forces, element_forces_reduced, element_forces_reduced_lanes,
     element_forces_reduced_lanes_in, hourglass_stiffness, LaneElements, OnePointScratch,
 };
 pub(crate) use kinematics::{displacement_gradient, hourglass_energy, hourglass_modes, row_dot};
