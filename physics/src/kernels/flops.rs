@@ -98,11 +98,16 @@ impl KernelFlops {
         self.gradient + self.stress + self.forces + self.hourglass + self.corners
     }
 
-    /// The flops per element-step the kernel runs when a share `skipped` ∈ [0, 1] of the lane
-    /// groups skips the corner check (`RunStats::corner_checks`): [`KernelFlops::total`] with
-    /// the check on the other groups only, and the bound on every group.
-    pub fn executed(&self, skipped: f64) -> f64 {
-        (self.total() - self.corners + self.bound) as f64 + (1.0 - skipped) * self.corners as f64
+    /// The flops per element-step the kernel runs when a share `checked` ∈ [0, 1] of the
+    /// element-steps runs the corner check and a share `bounded` computes the corner bound:
+    /// [`KernelFlops::total`] with the check and the bound on those shares only. With one point
+    /// the lane groups compute the bound and run the check unless it skips it; the elements
+    /// left over after the groups of a block run the check without the bound
+    /// (`RunStats::corner_checks` counts the groups).
+    pub fn executed(&self, checked: f64, bounded: f64) -> f64 {
+        (self.total() - self.corners) as f64
+            + checked * self.corners as f64
+            + bounded * self.bound as f64
     }
 }
 
@@ -331,9 +336,11 @@ mod tests {
             }
         );
         assert_eq!(box_one.total(), 561);
-        // Every group skipping the check: 561 − 216 + 54; none: 561 + 54.
-        assert_eq!(box_one.executed(1.0), 399.0);
-        assert_eq!(box_one.executed(0.0), 615.0);
+        // Every element in a group that skips the check: 561 − 216 + 54; none skipping: 561
+        // + 54; no group (the scalar kernel alone): 561.
+        assert_eq!(box_one.executed(0.0, 1.0), 399.0);
+        assert_eq!(box_one.executed(1.0, 1.0), 615.0);
+        assert_eq!(box_one.executed(1.0, 0.0), 561.0);
         let one = one_point(MaterialModel::Svk, false);
         assert_eq!(
             one,

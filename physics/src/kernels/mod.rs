@@ -526,7 +526,7 @@ fn full_group<const FMA: bool, const DIAG: bool, G: full::GaussLanes>(
 /// Stages the displacements of the 8 nodes of the 8 elements `group` into lanes,
 /// `ul[a][j][l]` = U[conn(group[l])[a]][j]: with the AVX-512 or AVX2 loads and transposes
 /// ([`simd::load_lanes_avx512`]) in those builds, their node addresses from the first element
-/// alone on a row along x (`row`, [`is_row`]: [`simd::load_row_lanes_avx512`]), else element
+/// alone on a row along x (`row`, [`group_is_row`]: [`simd::load_row_lanes_avx512`]), else element
 /// by element.
 ///
 /// # Safety
@@ -636,7 +636,7 @@ unsafe fn group_is_row(row_start: &[bool], group: &[u32]) -> bool {
 /// after element (lane 0 first), each element node after node: every nodal row receives its
 /// contributions in the order of [`scatter_lane`] called for l = 0, …, 7, so the same bits.
 ///
-/// On a row along x (`row`, which [`is_row`] gives) the two contributions to a shared node
+/// On a row along x (`row`, [`group_is_row`]) the two contributions to a shared node
 /// follow each other directly (element m − 1's a₁, then element m's a₀) and no other element
 /// of the group touches it; each of the 4 lines of 9 nodes is then read and written once, the
 /// sums done in registers: (F + f_{m−1}[a₁]) + f_m[a₀] per component, as the element-by-element
