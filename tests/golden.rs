@@ -61,10 +61,9 @@ fn record(path: &Path) -> Value {
                 "final_state_hash".into(),
                 Value::String(hash_bits(
                     sim.u
-                        .iter()
-                        .chain(&sim.v)
+                        .rows()
+                        .chain(sim.v.rows())
                         .flatten()
-                        .copied()
                         .chain(sim.interface_nodes.iter().map(|n| n.alpha)),
                 )),
             );

@@ -9,7 +9,7 @@
 mod by_hand;
 
 use by_hand::{piola_energy, stress_scale};
-use decohesion::kernels::{assemble_internal_forces, ElementRule};
+use decohesion::kernels::{assemble_internal_forces, ElementRule, Planes};
 use decohesion::material::{Material, MaterialModel};
 use decohesion::mesh::Mesh;
 use decohesion::team::Team;
@@ -52,14 +52,14 @@ fn forces(
             [d[0], d[1], d[2]]
         })
         .collect();
-    let mut f = vec![[0.0; 3]; u.len()];
+    let mut f = Planes::zeros(u.len());
     let asm = assemble_internal_forces(
         mesh,
         &classes,
         &blocks,
         mat,
         rule,
-        &u,
+        &Planes::from_rows(&u),
         &mut f,
         true,
         Some(&team),
@@ -73,7 +73,7 @@ fn forces(
         "{rule:?}: hourglass energy {} of a homogeneous field",
         asm.hourglass
     );
-    (f, asm.strain)
+    (f.to_rows(), asm.strain)
 }
 
 fn check_patch(f_def: Matrix3<f64>) {

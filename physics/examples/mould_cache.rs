@@ -56,7 +56,7 @@ fn positions(sim: &Simulation) -> Vec<[f64; 3]> {
     (sim.contact_nodes.iter())
         .map(|c| {
             let i = c.node as usize;
-            std::array::from_fn(|k| sim.model.mesh.nodes[i][k] + sim.u[i][k])
+            std::array::from_fn(|k| sim.model.mesh.nodes[i][k] + sim.u.get(i)[k])
         })
         .collect()
 }

@@ -218,7 +218,7 @@ fn vanishing_delay_is_the_rate_independent_law_bit_for_bit() {
     assert!(b.model.interfaces[0].law.delay().is_some());
     assert_eq!(a.step_count, b.step_count);
     let bits = |s: &Simulation| -> Vec<u64> {
-        (s.u.iter().chain(&s.v).flatten().copied())
+        (s.u.rows().chain(s.v.rows()).flatten())
             .chain(s.interface_nodes.iter().map(|i| i.alpha))
             .map(f64::to_bits)
             .collect()

@@ -217,8 +217,12 @@ fn spinning_ten_turns_is_objective() {
         let mut l = [0.0; 3];
         for i in 0..s.u.len() {
             let x = s.model.mesh.nodes[i];
-            let p = [x[0] + s.u[i][0], x[1] + s.u[i][1], x[2] + s.u[i][2]];
-            let v = s.v[i];
+            let p = [
+                x[0] + s.u.get(i)[0],
+                x[1] + s.u.get(i)[1],
+                x[2] + s.u.get(i)[2],
+            ];
+            let v = s.v.get(i);
             let m = s.mass[i];
             l[0] += m * (p[1] * v[2] - p[2] * v[1]);
             l[1] += m * (p[2] * v[0] - p[0] * v[2]);
@@ -275,7 +279,7 @@ fn tip_sag(set: &[&str]) -> (f64, f64, Simulation) {
     let tip = face_nodes(&sim.model, "x+");
     let (mut sum, mut steps, mut max) = (0.0, 0usize, 0.0f64);
     run_finite_with(&mut sim, |s| {
-        let z = tip.iter().map(|&i| s.u[i][2]).sum::<f64>() / tip.len() as f64;
+        let z = tip.iter().map(|&i| s.u.get(i)[2]).sum::<f64>() / tip.len() as f64;
         sum += z;
         steps += 1;
         max = max.max(-z);

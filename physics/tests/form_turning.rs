@@ -121,7 +121,7 @@ fn run(factor: f64) -> Run {
                 continue;
             }
             let i = n.node as usize;
-            let x: [f64; 3] = std::array::from_fn(|c| s.model.mesh.nodes[i][c] + s.u[i][c]);
+            let x: [f64; 3] = std::array::from_fn(|c| s.model.mesh.nodes[i][c] + s.u.get(i)[c]);
             if !was_formed[j] {
                 was_formed[j] = true;
                 formed_while_turning += usize::from(s.time >= 0.005);

@@ -179,10 +179,10 @@ fn block_under_subcritical_traction_sticks() {
             }
         }
         for &i in &bottom {
-            slip = slip.max(sim.u[i][0].hypot(sim.u[i][1]));
+            slip = slip.max(sim.u.get(i)[0].hypot(sim.u.get(i)[1]));
         }
         for &i in &top {
-            top_motion = top_motion.max(sim.u[i][0].abs());
+            top_motion = top_motion.max(sim.u.get(i)[0].abs());
         }
         if sim.time > t_ramp {
             // Total friction force this step: impulse per area × area / h.

@@ -79,10 +79,10 @@ fn bar_rebounds_after_2l_over_c_without_penetration() {
             last_step = sim.step_count;
         }
         for &i in &bottom {
-            min_gap = min_gap.min(z_ref[i] + sim.u[i][2]);
+            min_gap = min_gap.min(z_ref[i] + sim.u.get(i)[2]);
         }
         let e = sim.energies();
-        let p: f64 = sim.v.iter().zip(&sim.mass).map(|(v, m)| m * v[2]).sum();
+        let p: f64 = sim.v.rows().zip(&sim.mass).map(|(v, m)| m * v[2]).sum();
         history.push((
             sim.step_count,
             e.kinetic + e.strain,
@@ -219,13 +219,13 @@ fn dropped_column_scene() {
     // (step, t, in contact, D_normal, min bottom gap, bottom v_z, v_cm)
     let mut rows = vec![];
     while !sim.finished() {
-        let vb = sim.v[bottom[0]][2];
+        let vb = sim.v.get(bottom[0])[2];
         sim.step().unwrap();
         let gap = bottom
             .iter()
-            .map(|&i| z_ref[i] + sim.u[i][2])
+            .map(|&i| z_ref[i] + sim.u.get(i)[2])
             .fold(f64::INFINITY, f64::min);
-        let p: f64 = sim.v.iter().zip(&sim.mass).map(|(v, m)| m * v[2]).sum();
+        let p: f64 = sim.v.rows().zip(&sim.mass).map(|(v, m)| m * v[2]).sum();
         rows.push((
             sim.step_count,
             sim.time,

@@ -225,7 +225,7 @@ fn a_run_from_the_lists_is_the_cold_run_bit_for_bit() {
         touching += warm.contact_nodes.iter().filter(|c| c.gap <= 0.0).count();
     }
     let bits = |s: &Simulation| -> Vec<u64> {
-        (s.u.iter().chain(&s.v).flatten())
+        (s.u.rows().chain(s.v.rows()).flatten())
             .map(|x| x.to_bits())
             .collect()
     };

@@ -66,7 +66,7 @@ fn translating_mould_and_body_stay_unstrained() {
     );
     assert!(sim.interface_nodes.iter().all(|n| n.alpha < 1e-9 * 2e-3));
     // And the body went where the mould went: x = X + v t.
-    let x = sim.u[0];
+    let x = sim.u.get(0);
     assert!(
         (x[0] - 0.6 * sim.time).abs() < 1e-12 && (x[1] + 0.8 * sim.time).abs() < 1e-12,
         "{x:?}"
@@ -118,7 +118,7 @@ fn turning_mould_and_body_stay_unstrained() {
         x0[2] + v[2] * t,
     ];
     for k in 0..3 {
-        let x = x0[k] + sim.u[i][k];
+        let x = x0[k] + sim.u.get(i)[k];
         assert!(
             (x - exact[k]).abs() <= 10.0 * 2.5e-7 * L,
             "{k}: {x} vs {}",

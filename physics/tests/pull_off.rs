@@ -110,7 +110,7 @@ fn summaries_are_bit_identical_with_one_two_and_three_threads() {
                     .iter()
                     .map(|i| i.alpha.to_bits())
                     .collect();
-                let u: Vec<u64> = sim.u.iter().flatten().map(|x| x.to_bits()).collect();
+                let u: Vec<u64> = sim.u.rows().flatten().map(|x| x.to_bits()).collect();
                 let r: Vec<u64> = sim.stats.reactions.iter().map(|x| x.to_bits()).collect();
                 (format!("{e:?}"), alphas, u, r, sim.step_count)
             })

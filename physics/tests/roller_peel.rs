@@ -67,7 +67,7 @@ struct Sample {
 fn roller_load(sim: &Simulation, k: usize, c: [f64; 3]) -> ([f64; 3], [f64; 3]) {
     let (mut f, mut m) = ([0.0; 3], [0.0; 3]);
     let x = |n: u32| -> [f64; 3] {
-        std::array::from_fn(|i| sim.model.mesh.nodes[n as usize][i] + sim.u[n as usize][i])
+        std::array::from_fn(|i| sim.model.mesh.nodes[n as usize][i] + sim.u.get(n as usize)[i])
     };
     let mut add = |p: [f64; 3], fr: [f64; 3]| {
         let mm = cross(std::array::from_fn(|i| p[i] - c[i]), fr);
@@ -137,7 +137,7 @@ fn run(set: &[String]) -> Run {
             ];
             let n = itf.node as usize;
             for (i, yi) in y.into_iter().enumerate() {
-                let anchor = mesh.nodes[n][i] + sim.u[n][i] - itf.jump[i];
+                let anchor = mesh.nodes[n][i] + sim.u.get(n)[i] - itf.jump[i];
                 anchor_error = anchor_error.max((anchor - yi).abs());
             }
             clamp_alpha = clamp_alpha.max(itf.alpha);
@@ -146,7 +146,8 @@ fn run(set: &[String]) -> Run {
         // (|V| + |ω|R), times h.
         let (v_now, w_now) = (value(&vel, t), value(&omega, t)[1]);
         let surface = dot(v_now, v_now).sqrt() + w_now.abs() * radius;
-        let travel = |n: u32| sim.h * (dot(sim.v[n as usize], sim.v[n as usize]).sqrt() + surface);
+        let travel =
+            |n: u32| sim.h * (dot(sim.v.get(n as usize), sim.v.get(n as usize)).sqrt() + surface);
         let gaps = (sim.interface_nodes.iter().map(|i| (i.gap, i.node)))
             .chain(sim.contact_nodes.iter().map(|c| (c.gap, c.node)));
         for (g, n) in gaps {

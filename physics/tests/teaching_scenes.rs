@@ -568,7 +568,7 @@ fn demould_block_leaves_the_cavity() {
             let prescribed_top = sim.model.mesh.nodes[node][2] == depth;
             if !prescribed_top {
                 wall_gap_min = wall_gap_min.min(c.gap);
-                let v = sim.v[node];
+                let v = sim.v.get(node);
                 side_speed = side_speed.max((v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt());
             }
             let r: f64 = c.contact_impulse.iter().map(|x| x.abs()).sum();
@@ -585,7 +585,7 @@ fn demould_block_leaves_the_cavity() {
         .mesh
         .nodes
         .iter()
-        .zip(&sim.u)
+        .zip(sim.u.rows())
         .map(|(x, u)| x[2] + u[2])
         .fold(f64::INFINITY, f64::min);
     let e = sim.energies();

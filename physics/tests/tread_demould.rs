@@ -43,7 +43,7 @@ fn tread_demoulds() {
     // O(h²κ): the test asserts the bound to a relative 1e-6, which is the one-step travel
     // bound itself on flat faces (exact to round-off).
     let n_itf = sim.interface_nodes.len();
-    let mut v_prev: Vec<[f64; 3]> = sim.v.clone();
+    let mut v_prev: Vec<[f64; 3]> = sim.v.to_rows();
     let mut prev_gap: Vec<f64> = sim.interface_nodes.iter().map(|e| e.gap).collect();
     let mut allowed = vec![0.0f64; n_itf];
     let (mut t_prev, mut c_prev) = (sim.time, sim.model.planes[k].displacement(sim.time));
@@ -66,7 +66,7 @@ fn tread_demoulds() {
             }
             prev_gap[j] = itf.gap;
         }
-        v_prev.copy_from_slice(&s.v);
+        v_prev.copy_from_slice(&s.v.to_rows());
         (t_prev, c_prev) = (s.time, c);
         true
     })

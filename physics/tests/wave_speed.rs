@@ -71,7 +71,8 @@ fn run(cells: usize) -> Front {
     );
     let courant = c * sim.h / (LENGTH / cells as f64);
 
-    let mean_vz = |s: &Simulation| far.iter().map(|&i| s.v[i][2]).sum::<f64>() / far.len() as f64;
+    let mean_vz =
+        |s: &Simulation| far.iter().map(|&i| s.v.get(i)[2]).sum::<f64>() / far.len() as f64;
     // V_{n+½} lives at tₙ + h/2.
     let mut prev = (sim.time + 0.5 * sim.h, mean_vz(&sim));
     let mut arrival = None;

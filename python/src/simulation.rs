@@ -260,13 +260,13 @@ impl Simulation {
     /// Uₙ, (nodes, 3) float64 [m].
     #[getter]
     fn displacement<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        vectors(py, self.sim.u.iter().copied())
+        vectors(py, self.sim.u.rows())
     }
 
     /// V_{n+½}, (nodes, 3) float64 [m/s].
     #[getter]
     fn velocity<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        vectors(py, self.sim.v.iter().copied())
+        vectors(py, self.sim.v.rows())
     }
 
     /// The interface nodes' indices into the node arrays, (m,) int64.

@@ -11,6 +11,7 @@
 //! [`FrameBuilder::frame_bytes`]), so the cadence is the recorder's (the run's `frames` over
 //! its end time) or coarser.
 
+use crate::kernels::Planes;
 use crate::law::InterfaceState;
 use crate::model::Model;
 use crate::output::fields::Scalar;
@@ -131,8 +132,8 @@ fn f32x3(x: [f64; 3]) -> [f32; 3] {
 }
 
 /// x = X + U of node `n` [m].
-fn position(m: &Model, u: &[[f64; 3]], n: u32) -> [f32; 3] {
-    let (x, u) = (m.mesh.nodes[n as usize], u[n as usize]);
+fn position(m: &Model, u: &Planes, n: u32) -> [f32; 3] {
+    let (x, u) = (m.mesh.nodes[n as usize], u.get(n as usize));
     f32x3([x[0] + u[0], x[1] + u[1], x[2] + u[2]])
 }
 
@@ -314,13 +315,13 @@ mod tests {
         let key = |p: [f32; 3]| p.map(f32::to_bits);
         let mut expected: Vec<_> = (0..m.mesh.nodes.len())
             .filter(|&k| on_face(&m.mesh.nodes[k]))
-            .map(|k| key([0, 1, 2].map(|i| (m.mesh.nodes[k][i] + sim.u[k][i]) as f32)))
+            .map(|k| key([0, 1, 2].map(|i| (m.mesh.nodes[k][i] + sim.u.get(k)[i]) as f32)))
             .collect();
         let mut got: Vec<_> = f.positions.iter().map(|&p| key(p)).collect();
         expected.sort_unstable();
         got.sort_unstable();
         assert_eq!(got, expected);
-        assert!(sim.u.iter().any(|u| u[2] > 1e-4), "the body has moved");
+        assert!(sim.u.rows().any(|u| u[2] > 1e-4), "the body has moved");
         assert_eq!(f.positions.len(), (n + 1).pow(3) - (n - 1).pow(3));
         assert_eq!(f.topology.triangles.len(), 2 * 6 * n * n);
         assert!(f.fields.iter().all(|v| v.len() == f.positions.len()));
@@ -335,7 +336,7 @@ mod tests {
         let max_u = |v: &[f32]| v.iter().fold(0.0f32, |a, &b| a.max(b));
         let surface_max = (0..m.mesh.nodes.len())
             .filter(|&k| on_face(&m.mesh.nodes[k]))
-            .map(|k| crate::mesh::norm(sim.u[k]) as f32)
+            .map(|k| crate::mesh::norm(sim.u.get(k)) as f32)
             .fold(0.0f32, f32::max);
         assert_eq!(max_u(f.field(Field::Displacement)), surface_max);
     }

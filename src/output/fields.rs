@@ -8,12 +8,13 @@
 //! The centre values are what one-point integration uses; with full integration they are the
 //! element's state at ξ = 0, not a mean of its Gauss points.
 
+use crate::kernels::NodalField;
 use crate::material::von_mises_equivalent;
 use crate::model::Model;
 use nalgebra::Matrix3;
 
 /// F at the centre of element `e` ([`crate::mesh::Mesh::centre_deformation_gradient`]).
-pub fn centre_gradient(model: &Model, e: usize, u: &[[f64; 3]]) -> Matrix3<f64> {
+pub fn centre_gradient<U: NodalField + ?Sized>(model: &Model, e: usize, u: &U) -> Matrix3<f64> {
     let f = model.mesh.centre_deformation_gradient(e, u);
     Matrix3::from_fn(|i, j| f[i][j])
 }
@@ -50,7 +51,7 @@ pub enum Scalar {
 }
 
 /// One scalar field of element `e` at its centre: the same value as [`centre_fields`] gives.
-pub fn centre_scalar(model: &Model, e: usize, u: &[[f64; 3]], field: Scalar) -> f64 {
+pub fn centre_scalar<U: NodalField + ?Sized>(model: &Model, e: usize, u: &U, field: Scalar) -> f64 {
     let f = centre_gradient(model, e, u);
     match field {
         Scalar::Jacobian => f.determinant(),

@@ -73,9 +73,9 @@ impl Snapshot {
             time: sim.time,
             h: sim.h,
             h_crit: sim.h_crit,
-            u: sim.u.clone(),
+            u: sim.u.to_rows(),
             v: if velocities {
-                sim.v.clone()
+                sim.v.to_rows()
             } else {
                 Vec::new()
             },
@@ -140,7 +140,10 @@ pub fn mould_loads(sim: &Simulation) -> Vec<([f64; 3], [f64; 3])> {
         })
         .collect();
     let x = |node: u32| -> [f64; 3] {
-        let (x0, u) = (sim.model.mesh.nodes[node as usize], sim.u[node as usize]);
+        let (x0, u) = (
+            sim.model.mesh.nodes[node as usize],
+            sim.u.get(node as usize),
+        );
         std::array::from_fn(|i| x0[i] + u[i])
     };
     let mut add = |k: usize, p: [f64; 3], f: [f64; 3]| {

@@ -8,6 +8,7 @@
 pub mod mould;
 
 use super::fields::{centre_scalar, Scalar};
+use crate::kernels::NodalField;
 use crate::law::InterfaceState;
 use crate::mesh::norm;
 use crate::model::Model;
@@ -99,9 +100,14 @@ impl Surface {
 
     /// The colouring field at each vertex: `None`, |U| at the node; an element field at the
     /// centres of the surface elements around it, averaged.
-    pub fn values(&self, m: &Model, u: &[[f64; 3]], field: Option<Scalar>) -> Vec<f64> {
+    pub fn values<U: NodalField + ?Sized>(
+        &self,
+        m: &Model,
+        u: &U,
+        field: Option<Scalar>,
+    ) -> Vec<f64> {
         let Some(field) = field else {
-            return self.nodes.iter().map(|&n| norm(u[n as usize])).collect();
+            return self.nodes.iter().map(|&n| norm(u.at(n as usize))).collect();
         };
         let per_element: Vec<f64> = self
             .elements

@@ -8,9 +8,12 @@ pub mod corners;
 pub mod flops;
 mod full;
 mod nodes;
+mod planes;
 pub mod simd;
 
 pub(crate) use nodes::{free_velocity_chunk, internal_and_gravity_impulses, NodeSums};
+pub(crate) use planes::PlanesPtr;
+pub use planes::{NodalField, Planes};
 
 use crate::material::{
     element_forces, element_forces_reduced, element_forces_reduced_lanes_in, hourglass_stiffness,
@@ -22,13 +25,6 @@ use crate::team::Team;
 // The AVX builds exist on x86_64 only (wasm32 runs the portable one).
 #[cfg_attr(not(target_arch = "x86_64"), allow(unused_imports))]
 use simd::{simd_dispatch, ISA_AVX2, ISA_AVX512, ISA_PORTABLE};
-
-/// A raw pointer to the nodal force rows, shared by the blocks of one colour (which write
-/// disjoint rows).
-#[derive(Clone, Copy)]
-pub(crate) struct SendPtr(*mut [f64; 3]);
-unsafe impl Send for SendPtr {}
-unsafe impl Sync for SendPtr {}
 
 /// Which element kernel assembles the internal forces (scene `scheme.integration`).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -110,15 +106,16 @@ pub fn assemble_internal_forces(
     blocks: &[Vec<Vec<u32>>],
     mat: &Material,
     rule: ElementRule,
-    u: &[[f64; 3]],
-    f: &mut [[f64; 3]],
+    u: &Planes,
+    f: &mut Planes,
     energy: bool,
     team: Option<&Team>,
     parts: &mut Vec<ElementSums>,
     exact_below: f64,
 ) -> Assembly {
     assert_eq!(u.len(), f.len());
-    let ptr = SendPtr(f.as_mut_ptr());
+    let ptr = f.ptr();
+    let u = u.planes();
     let mut out = Assembly {
         strain: 0.0,
         hourglass: 0.0,
@@ -131,7 +128,7 @@ pub fn assemble_internal_forces(
     };
     for colour in blocks {
         let run = |chunk: &Vec<u32>| -> ElementSums {
-            // SAFETY: blocks of one colour share no node, so the nodal rows written by
+            // SAFETY: blocks of one colour share no node, so the nodes written by
             // different blocks of this colour are disjoint; inside a block the elements run
             // one after another; `f` outlives the loop.
             unsafe {
@@ -214,8 +211,8 @@ simd_dispatch! {
             classes: &ElementClasses,
             mat: &Material,
             kappa: f64,
-            u: &[[f64; 3]],
-            f: SendPtr,
+            u: [&[f64]; 3],
+            f: PlanesPtr,
             chunk: &[u32],
             energy: bool,
             exact_below: f64
@@ -229,8 +226,8 @@ unsafe fn chunk_forces_reduced_impl<const FMA: bool, const ISA: u8>(
     classes: &ElementClasses,
     mat: &Material,
     kappa: f64,
-    u: &[[f64; 3]],
-    f: SendPtr,
+    u: [&[f64]; 3],
+    f: PlanesPtr,
     chunk: &[u32],
     energy: bool,
     exact_below: f64,
@@ -265,7 +262,7 @@ unsafe fn chunk_forces_reduced_impl<const FMA: bool, const ISA: u8>(
             boxes = (boxes & !(1 << l)) | ((cd.axis_aligned as u8) << l);
         }
         let row = group_is_row(&classes.row_start, group);
-        gather_group::<ISA>(mesh, u, group, row, &mut ul);
+        gather_group(mesh, u, group, row, &mut ul);
         let [en, hg, det] = match (ISA == ISA_AVX2, boxes == u8::MAX) {
             (true, true) => {
                 reduced_group::<FMA, true, true>(mat, &lanes, &ul, &mut fl, work, energy)
@@ -311,7 +308,7 @@ unsafe fn chunk_forces_reduced_impl<const FMA: bool, const ISA: u8>(
                 keep_min_j(det[l], e, &mut min_jc, &mut min_ec);
             }
         }
-        scatter_group(f, &mesh.elements, group, row, &fl);
+        scatter_group::<ISA>(f, &mesh.elements, group, row, &fl);
     }
     let mut fe = [[0.0; 3]; 8];
     for &e in rest {
@@ -320,7 +317,7 @@ unsafe fn chunk_forces_reduced_impl<const FMA: bool, const ISA: u8>(
             .centre
             .get_unchecked(*classes.class_of.get_unchecked(e as usize) as usize);
         let k = hourglass_stiffness(mat, cd, kappa);
-        let ue: [[f64; 3]; 8] = std::array::from_fn(|a| *u.get_unchecked(conn[a] as usize));
+        let ue: [[f64; 3]; 8] = std::array::from_fn(|a| node_of(u, conn[a]));
         let (en, hg, j) = if energy {
             element_forces_reduced::<true>(mat, cd, k, &ue, &mut fe)
         } else {
@@ -366,8 +363,8 @@ simd_dispatch! {
             mesh: &Mesh,
             classes: &ElementClasses,
             mat: &Material,
-            u: &[[f64; 3]],
-            f: SendPtr,
+            u: [&[f64]; 3],
+            f: PlanesPtr,
             chunk: &[u32],
             energy: bool
         ) -> (f64, f64, usize)
@@ -378,8 +375,8 @@ unsafe fn chunk_forces_impl<const FMA: bool, const ISA: u8>(
     mesh: &Mesh,
     classes: &ElementClasses,
     mat: &Material,
-    u: &[[f64; 3]],
-    f: SendPtr,
+    u: [&[f64]; 3],
+    f: PlanesPtr,
     chunk: &[u32],
     energy: bool,
 ) -> (f64, f64, usize) {
@@ -402,7 +399,7 @@ unsafe fn chunk_forces_impl<const FMA: bool, const ISA: u8>(
     let mut work = full::FullScratch::default();
     for group in grouped.chunks_exact(8) {
         let row = group_is_row(&classes.row_start, group);
-        gather_group::<ISA>(mesh, u, group, row, &mut ul);
+        gather_group(mesh, u, group, row, &mut ul);
         let class = *classes.class_of.get_unchecked(group[0] as usize);
         let one_class = group
             .iter()
@@ -448,7 +445,7 @@ unsafe fn chunk_forces_impl<const FMA: bool, const ISA: u8>(
             e_sum += en.0[l];
             keep_min_j(det.0[l], e, &mut min_j, &mut min_e);
         }
-        scatter_group(f, &mesh.elements, group, row, fv);
+        scatter_group::<ISA>(f, &mesh.elements, group, row, fv);
     }
     for &e in rest {
         let (en, j) = scalar_element::<FMA>(mesh, classes, mat, u, f, e, energy);
@@ -468,8 +465,8 @@ unsafe fn scalar_element<const FMA: bool>(
     mesh: &Mesh,
     classes: &ElementClasses,
     mat: &Material,
-    u: &[[f64; 3]],
-    f: SendPtr,
+    u: [&[f64]; 3],
+    f: PlanesPtr,
     e: u32,
     energy: bool,
 ) -> (f64, f64) {
@@ -477,7 +474,7 @@ unsafe fn scalar_element<const FMA: bool>(
     let gd: &GaussData = classes
         .data
         .get_unchecked(*classes.class_of.get_unchecked(e as usize) as usize);
-    let ue: [[f64; 3]; 8] = std::array::from_fn(|a| *u.get_unchecked(conn[a] as usize));
+    let ue: [[f64; 3]; 8] = std::array::from_fn(|a| node_of(u, conn[a]));
     let mut fe = [[0.0; 3]; 8];
     let out = if energy {
         element_forces::<true, FMA>(mat, gd, &ue, &mut fe)
@@ -524,46 +521,55 @@ fn full_group<const FMA: bool, const DIAG: bool, G: full::GaussLanes>(
 }
 
 /// Stages the displacements of the 8 nodes of the 8 elements `group` into lanes,
-/// `ul[a][j][l]` = U[conn(group[l])[a]][j]: with the AVX-512 or AVX2 loads and transposes
-/// ([`simd::load_lanes_avx512`]) in those builds, their node addresses from the first element
-/// alone on a row along x (`row`, [`group_is_row`]: [`simd::load_row_lanes_avx512`]), else element
-/// by element.
+/// `ul[a][j][l]` = U_j[conn(group[l])[a]] from the planes of U ([`Planes`]): on a row along x
+/// (`row`, [`group_is_row`]) node a of lane l is node a of the first element plus l, so each
+/// `ul[a][j]` is 8 consecutive numbers of plane j, one vector load; elsewhere element by
+/// element. Only data moves, so every value keeps its bits.
 ///
 /// # Safety
 /// `group` holds 8 elements; every one and every node of theirs must be in range.
 #[inline(always)]
-unsafe fn gather_group<const ISA: u8>(
+unsafe fn gather_group(
     mesh: &Mesh,
-    u: &[[f64; 3]],
+    u: [&[f64]; 3],
     group: &[u32],
     row: bool,
     ul: &mut [[[f64; 8]; 3]; 8],
 ) {
-    #[cfg(target_arch = "x86_64")]
-    if ISA != ISA_PORTABLE {
-        let base = u.as_ptr() as *const f64;
+    if row {
         let first = mesh
             .elements
             .get_unchecked(*group.get_unchecked(0) as usize);
-        match (ISA == ISA_AVX512, row) {
-            (true, true) => simd::load_row_lanes_avx512(first, base, ul),
-            (true, false) => simd::load_lanes_avx512(&mesh.elements, group, base, ul),
-            (false, true) => simd::load_row_lanes_avx2(first, base, ul),
-            (false, false) => simd::load_lanes_avx2(&mesh.elements, group, base, ul),
+        for a in 0..8 {
+            for j in 0..3 {
+                ul[a][j] = *(u[j].as_ptr().add(first[a] as usize) as *const [f64; 8]);
+            }
         }
         return;
     }
-    // The portable build stages element by element, row or not.
-    let _ = row;
     for (l, &e) in group.iter().enumerate() {
         let conn = mesh.elements.get_unchecked(e as usize);
         for a in 0..8 {
-            let ua = u.get_unchecked(conn[a] as usize);
+            let i = conn[a] as usize;
             for j in 0..3 {
-                ul[a][j][l] = ua[j];
+                ul[a][j][l] = *u[j].get_unchecked(i);
             }
         }
     }
+}
+
+/// Node i's vector from the planes `u`.
+///
+/// # Safety
+/// i must be in range.
+#[inline(always)]
+unsafe fn node_of(u: [&[f64]; 3], i: u32) -> [f64; 3] {
+    let i = i as usize;
+    [
+        *u[0].get_unchecked(i),
+        *u[1].get_unchecked(i),
+        *u[2].get_unchecked(i),
+    ]
 }
 
 /// The hex8 corners in pairs along ξ (a₀, a₁): a₁ is a₀'s neighbour in +x on the element's
@@ -632,22 +638,21 @@ unsafe fn group_is_row(row_start: &[bool], group: &[u32]) -> bool {
     consecutive && *row_start.get_unchecked(first as usize)
 }
 
-/// Adds the lane forces `fl` of the 8 elements `group` into the global force array, element
-/// after element (lane 0 first), each element node after node: every nodal row receives its
+/// Adds the lane forces `fl` of the 8 elements `group` into the global force planes, element
+/// after element (lane 0 first), each element node after node: every node receives its
 /// contributions in the order of [`scatter_lane`] called for l = 0, …, 7, so the same bits.
 ///
-/// On a row along x (`row`, [`group_is_row`]) the two contributions to a shared node
-/// follow each other directly (element m − 1's a₁, then element m's a₀) and no other element
-/// of the group touches it; each of the 4 lines of 9 nodes is then read and written once, the
-/// sums done in registers: (F + f_{m−1}[a₁]) + f_m[a₀] per component, as the element-by-element
-/// scatter does it. That removes the element-by-element scatter's chain of stores and reloads
-/// of the shared rows (a one-point 28³ step spent 15 % of its samples there, AVX2).
+/// On a row along x (`row`, [`group_is_row`]) the two contributions to a shared node follow
+/// each other directly (element m − 1's a₁, then element m's a₀) and no other element of the
+/// group touches it; each of the 4 lines of 9 nodes is 9 consecutive numbers of each plane
+/// ([`Planes`]), which [`add_line`] updates lane against lane: (F + f_{m−1}[a₁]) + f_m[a₀]
+/// per component, as the element-by-element scatter does it.
 ///
 /// # Safety
 /// As [`scatter`], for every element of `group` (8 of them).
 #[inline(always)]
-unsafe fn scatter_group(
-    f: SendPtr,
+unsafe fn scatter_group<const ISA: u8>(
+    f: PlanesPtr,
     elements: &[[u32; 8]],
     group: &[u32],
     row: bool,
@@ -661,36 +666,47 @@ unsafe fn scatter_group(
     }
     let c0 = elements.get_unchecked(*group.get_unchecked(0) as usize);
     for (a0, a1) in X_EDGES {
-        let line = f.0.add(c0[a0] as usize);
-        let (f0, f1) = (&fl[a0], &fl[a1]);
-        let first = &mut *line;
+        let start = c0[a0] as usize;
         for j in 0..3 {
-            first[j] += f0[j][0];
-        }
-        for m in 1..8 {
-            let row = &mut *line.add(m);
-            for j in 0..3 {
-                row[j] = (row[j] + f1[j][m - 1]) + f0[j][m];
-            }
-        }
-        let last = &mut *line.add(8);
-        for j in 0..3 {
-            last[j] += f1[j][7];
+            add_line::<ISA>(f.0[j].add(start), &fl[a0][j], &fl[a1][j]);
         }
     }
 }
 
-/// Adds lane `l` of the lane forces `fl` into the rows `conn` of the global force array.
+/// One component of a line of 9 nodes of a row along x ([`scatter_group`]): node m receives
+/// (F_m + f₁[m − 1]) + f₀[m], where f₁ (the elements' a₁ corner) misses at m = 0 and f₀ (a₀)
+/// at m = 8. The AVX-512 and AVX2 builds add nodes 0–7 in vectors with f₁ moved up one lane
+/// and a 0 in lane 0 ([`simd::add_line_avx512`]): F_m + 0 = F_m exactly, as F is never −0
+/// (it starts at +0, and a sum is −0 only when both terms are), so the same bits.
+///
+/// # Safety
+/// `line` points to 9 numbers no other thread touches meanwhile.
+#[inline(always)]
+unsafe fn add_line<const ISA: u8>(line: *mut f64, f0: &[f64; 8], f1: &[f64; 8]) {
+    #[cfg(target_arch = "x86_64")]
+    if ISA == ISA_AVX512 {
+        return simd::add_line_avx512(line, f0, f1);
+    } else if ISA == ISA_AVX2 {
+        return simd::add_line_avx2(line, f0, f1);
+    }
+    *line += f0[0];
+    for m in 1..8 {
+        *line.add(m) = (*line.add(m) + f1[m - 1]) + f0[m];
+    }
+    *line.add(8) += f1[7];
+}
+
+/// Adds lane `l` of the lane forces `fl` into the nodes `conn` of the global force planes.
 ///
 /// # Safety
 /// As [`scatter`].
 #[inline(always)]
-unsafe fn scatter_lane(f: SendPtr, conn: &[u32; 8], fl: &[[[f64; 8]; 3]; 8], l: usize) {
+unsafe fn scatter_lane(f: PlanesPtr, conn: &[u32; 8], fl: &[[[f64; 8]; 3]; 8], l: usize) {
     for a in 0..8 {
-        let row = &mut *f.0.add(conn[a] as usize);
-        row[0] += fl[a][0][l];
-        row[1] += fl[a][1][l];
-        row[2] += fl[a][2][l];
+        let i = conn[a] as usize;
+        for j in 0..3 {
+            *f.0[j].add(i) += fl[a][j][l];
+        }
     }
 }
 
@@ -704,17 +720,17 @@ fn keep_min_j(j: f64, e: u32, min_j: &mut f64, min_e: &mut usize) {
     }
 }
 
-/// Adds one element's nodal forces `fe` into the rows `conn` of the global force array.
+/// Adds one element's nodal forces `fe` into the nodes `conn` of the global force planes.
 ///
 /// # Safety
-/// No other thread may write these rows meanwhile (blocks of one colour share no node).
+/// No other thread may write these nodes meanwhile (blocks of one colour share no node).
 #[inline(always)]
-unsafe fn scatter(f: SendPtr, conn: &[u32; 8], fe: &[[f64; 3]; 8]) {
+unsafe fn scatter(f: PlanesPtr, conn: &[u32; 8], fe: &[[f64; 3]; 8]) {
     for a in 0..8 {
-        let row = &mut *f.0.add(conn[a] as usize);
-        row[0] += fe[a][0];
-        row[1] += fe[a][1];
-        row[2] += fe[a][2];
+        let i = conn[a] as usize;
+        for j in 0..3 {
+            *f.0[j].add(i) += fe[a][j];
+        }
     }
 }
 

@@ -3,6 +3,7 @@
 // The AVX builds exist on x86_64 only (wasm32 runs the portable one).
 #[cfg_attr(not(target_arch = "x86_64"), allow(unused_imports))]
 use super::simd::{simd_dispatch, ISA_AVX2, ISA_AVX512, ISA_PORTABLE};
+use crate::material::{F64x8, Real};
 use crate::mesh::dot;
 
 /// Partial sums of the node loop (stage 5), reduced in a fixed order.
@@ -31,12 +32,12 @@ impl NodeSums {
 simd_dispatch! {
     /// Stage 5 on one chunk of nodes: V_free = V + h̄ M⁻¹(m g − F_int) in place, and the chunk's
     /// ledger sums (½ m V_old·V_free, ½ m V_free·V_free, ½ V·P halves of the internal and gravity
-    /// impulses P).
+    /// impulses P). `f`: the chunk's F_int, plane by plane ([`super::Planes`]).
     pub(crate) fn free_velocity_chunk / free_velocity_chunk_avx2 / free_velocity_chunk_avx512
         / free_velocity_chunk_builds
         => free_velocity_impl(
-            v: &mut [[f64; 3]],
-            f: &[[f64; 3]],
+            v: [&mut [f64]; 3],
+            f: [&[f64]; 3],
             m: &[f64],
             im: &[f64],
             h_bar: f64,
@@ -49,44 +50,73 @@ simd_dispatch! {
 /// then added lane 0 to 7: a fixed order for a given chunk, whatever the thread count.
 #[inline(always)]
 unsafe fn free_velocity_impl<const FMA: bool, const ISA: u8>(
-    v: &mut [[f64; 3]],
-    f: &[[f64; 3]],
+    v: [&mut [f64]; 3],
+    f: [&[f64]; 3],
     m: &[f64],
     im: &[f64],
     h_bar: f64,
     g: [f64; 3],
 ) -> NodeSums {
     const L: usize = 8;
-    let n = v.len();
-    assert!(f.len() == n && m.len() == n && im.len() == n);
-    let mut acc = [[0.0f64; L]; 6];
-    let mut node = |i: usize, l: usize, acc: &mut [[f64; L]; 6]| {
-        let (vo, fi) = (*v.get_unchecked(i), *f.get_unchecked(i));
-        let (mi, imi) = (*m.get_unchecked(i), *im.get_unchecked(i));
+    let n = m.len();
+    assert!(v.iter().all(|p| p.len() == n) && f.iter().all(|p| p.len() == n) && im.len() == n);
+    let mut acc = [F64x8::splat(0.0); 6];
+    let whole = n / L * L;
+    // Blocks of 8 nodes, node base + l in lane l; the operations of the tail loop below, lane
+    // by lane.
+    let s = F64x8::splat;
+    let dot8 = |a: [F64x8; 3], b: [F64x8; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+    for base in (0..whole).step_by(L) {
+        let lanes = |p: &[f64]| F64x8(*(p.as_ptr().add(base) as *const [f64; L]));
+        let (mi, imi) = (lanes(m), lanes(im));
+        let vo = [lanes(v[0]), lanes(v[1]), lanes(v[2])];
+        // internal_and_gravity_impulses, lane by lane (written out: `array::map` was left as
+        // a call).
+        let pi = [
+            s(-h_bar) * lanes(f[0]),
+            s(-h_bar) * lanes(f[1]),
+            s(-h_bar) * lanes(f[2]),
+        ];
+        let hm = s(h_bar) * mi;
+        let pg = [hm * s(g[0]), hm * s(g[1]), hm * s(g[2])];
+        let w = [
+            vo[0] + (pi[0] + pg[0]) * imi,
+            vo[1] + (pi[1] + pg[1]) * imi,
+            vo[2] + (pi[2] + pg[2]) * imi,
+        ];
+        acc[0] = acc[0] + s(0.5) * mi * dot8(vo, w);
+        acc[1] = acc[1] + s(0.5) * mi * dot8(w, w);
+        acc[2] = acc[2] + s(0.5) * dot8(vo, pi);
+        acc[3] = acc[3] + s(0.5) * dot8(w, pi);
+        acc[4] = acc[4] + s(0.5) * dot8(vo, pg);
+        acc[5] = acc[5] + s(0.5) * dot8(w, pg);
+        for c in 0..3 {
+            *(v[c].as_mut_ptr().add(base) as *mut [f64; L]) = w[c].0;
+        }
+    }
+    for i in whole..n {
+        let l = i - whole;
+        let at = |p: &[f64]| *p.get_unchecked(i);
+        let vo = [at(v[0]), at(v[1]), at(v[2])];
+        let fi = [at(f[0]), at(f[1]), at(f[2])];
+        let (mi, imi) = (at(m), at(im));
         let (pi, pg) = internal_and_gravity_impulses(h_bar, fi, mi, g);
         let vn = [
             vo[0] + (pi[0] + pg[0]) * imi,
             vo[1] + (pi[1] + pg[1]) * imi,
             vo[2] + (pi[2] + pg[2]) * imi,
         ];
-        acc[0][l] += 0.5 * mi * dot(vo, vn);
-        acc[1][l] += 0.5 * mi * dot(vn, vn);
-        acc[2][l] += 0.5 * dot(vo, pi);
-        acc[3][l] += 0.5 * dot(vn, pi);
-        acc[4][l] += 0.5 * dot(vo, pg);
-        acc[5][l] += 0.5 * dot(vn, pg);
-        *v.get_unchecked_mut(i) = vn;
-    };
-    let whole = n / L * L;
-    for base in (0..whole).step_by(L) {
-        for l in 0..L {
-            node(base + l, l, &mut acc);
+        acc[0].0[l] += 0.5 * mi * dot(vo, vn);
+        acc[1].0[l] += 0.5 * mi * dot(vn, vn);
+        acc[2].0[l] += 0.5 * dot(vo, pi);
+        acc[3].0[l] += 0.5 * dot(vn, pi);
+        acc[4].0[l] += 0.5 * dot(vo, pg);
+        acc[5].0[l] += 0.5 * dot(vn, pg);
+        for c in 0..3 {
+            *v[c].get_unchecked_mut(i) = vn[c];
         }
     }
-    for i in whole..n {
-        node(i, i - whole, &mut acc);
-    }
-    let sum = |k: usize| acc[k].iter().fold(0.0, |s, x| s + x);
+    let sum = |k: usize| acc[k].0.iter().fold(0.0, |s, x| s + x);
     NodeSums {
         kinetic: sum(0),
         kinetic_half: sum(1),

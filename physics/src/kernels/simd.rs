@@ -1,6 +1,7 @@
 //! The per-ISA dispatch of the SIMD kernels: one macro that builds a kernel for AVX-512, for
 //! AVX2 (both with fused multiply–adds) and portably, and picks one at run time; plus the
-//! AVX-512 and AVX2 node loads of the lane kernels (the per-ISA twins, kept apart here).
+//! AVX-512 and AVX2 twins of the corner bound and of the row scatter's line adds, kept apart
+//! here.
 
 /// The instruction set a kernel build is for (`ISA` of [`simd_dispatch!`]).
 pub(crate) const ISA_PORTABLE: u8 = 0;
@@ -182,189 +183,6 @@ macro_rules! simd_dispatch {
 }
 pub(crate) use simd_dispatch;
 
-/// The two 128-bit rows `p0` (low half) and `p1` (high half) as one 256-bit vector.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx")]
-#[inline]
-unsafe fn pair(p0: *const f64, p1: *const f64) -> std::arch::x86_64::__m256d {
-    use std::arch::x86_64::*;
-    _mm256_insertf128_pd::<1>(_mm256_castpd128_pd256(_mm_loadu_pd(p0)), _mm_loadu_pd(p1))
-}
-
-/// Stages the displacements of the 8 nodes of the 8 elements `group` into lanes,
-/// `out[a][j][l]` = U[conn(group[l])[a]][j], with 128-bit loads of each node's (x, y) and
-/// (y, z) and an in-register transpose (AVX-512: 8 lanes per vector). Plain loads and
-/// shuffles: the AVX-512 and AVX2 gathers they replace took a third of the one-point element
-/// loop on AMD Zen 4 (microcoded there). Only data moves, so every value keeps its bits; no
-/// load reaches past a node's 3 components.
-///
-/// # Safety
-/// Every element of `group` (8 of them) and every node of theirs must be in range.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f,avx2")]
-#[inline]
-pub(crate) unsafe fn load_lanes_avx512(
-    elements: &[[u32; 8]],
-    group: &[u32],
-    u: *const f64,
-    out: &mut [[[f64; 8]; 3]; 8],
-) {
-    let c = connectivity(elements, group);
-    lanes_from_rows_avx512(|a| rows(&c, a, u), out);
-}
-
-/// [`load_lanes_avx512`] for a row along x ([`super::is_row`]): node a of lane l is node a of
-/// the first element `first` plus l, so the 64 node addresses come from 8 indices (the same
-/// loads, the same values).
-///
-/// # Safety
-/// `first`'s nodes plus 0…7 must be in range.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f,avx2")]
-#[inline]
-pub(crate) unsafe fn load_row_lanes_avx512(
-    first: &[u32; 8],
-    u: *const f64,
-    out: &mut [[[f64; 8]; 3]; 8],
-) {
-    lanes_from_rows_avx512(|a| row_nodes(first, a, u), out);
-}
-
-/// The transposing loads of [`load_lanes_avx512`] from the node rows `p(a)` of corner a.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f,avx2")]
-#[inline]
-unsafe fn lanes_from_rows_avx512(
-    p_of: impl Fn(usize) -> [*const f64; 8],
-    out: &mut [[[f64; 8]; 3]; 8],
-) {
-    use std::arch::x86_64::*;
-    for (a, out_a) in out.iter_mut().enumerate() {
-        let p = p_of(a);
-        // x y of lanes (0 2 4 6) and (1 3 5 7); y z likewise; unpacking pairs them by lane.
-        let ev_xy = wide(pair(p[0], p[2]), pair(p[4], p[6]));
-        let od_xy = wide(pair(p[1], p[3]), pair(p[5], p[7]));
-        let ev_yz = wide(
-            pair(p[0].add(1), p[2].add(1)),
-            pair(p[4].add(1), p[6].add(1)),
-        );
-        let od_yz = wide(
-            pair(p[1].add(1), p[3].add(1)),
-            pair(p[5].add(1), p[7].add(1)),
-        );
-        _mm512_storeu_pd(out_a[0].as_mut_ptr(), _mm512_unpacklo_pd(ev_xy, od_xy));
-        _mm512_storeu_pd(out_a[1].as_mut_ptr(), _mm512_unpackhi_pd(ev_xy, od_xy));
-        _mm512_storeu_pd(out_a[2].as_mut_ptr(), _mm512_unpackhi_pd(ev_yz, od_yz));
-    }
-}
-
-/// The 256-bit `lo` and `hi` as one 512-bit vector.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f")]
-#[inline]
-unsafe fn wide(
-    lo: std::arch::x86_64::__m256d,
-    hi: std::arch::x86_64::__m256d,
-) -> std::arch::x86_64::__m512d {
-    use std::arch::x86_64::*;
-    _mm512_insertf64x4::<1>(_mm512_castpd256_pd512(lo), hi)
-}
-
-/// The rows of node `a` of the elements `c` in `u` (3 f64 per node).
-#[cfg(target_arch = "x86_64")]
-#[inline(always)]
-unsafe fn rows(c: &[&[u32; 8]; 8], a: usize, u: *const f64) -> [*const f64; 8] {
-    let mut p = [u; 8];
-    for l in 0..8 {
-        p[l] = u.add(3 * c[l][a] as usize);
-    }
-    p
-}
-
-/// The rows of node `a` of the 8 elements of a row along x whose first element is `first`:
-/// node a of lane l is `first[a]` + l.
-#[cfg(target_arch = "x86_64")]
-#[inline(always)]
-unsafe fn row_nodes(first: &[u32; 8], a: usize, u: *const f64) -> [*const f64; 8] {
-    let base = u.add(3 * first[a] as usize);
-    std::array::from_fn(|l| base.add(3 * l))
-}
-
-/// The connectivity rows of the 8 elements `group`.
-#[cfg(target_arch = "x86_64")]
-#[inline(always)]
-unsafe fn connectivity<'a>(elements: &'a [[u32; 8]], group: &[u32]) -> [&'a [u32; 8]; 8] {
-    let mut c = [elements.get_unchecked(0); 8];
-    for l in 0..8 {
-        c[l] = elements.get_unchecked(*group.get_unchecked(l) as usize);
-    }
-    c
-}
-
-/// [`load_lanes_avx512`] with 256-bit vectors (4 lanes each).
-///
-/// # Safety
-/// As [`load_lanes_avx512`].
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-#[inline]
-pub(crate) unsafe fn load_lanes_avx2(
-    elements: &[[u32; 8]],
-    group: &[u32],
-    u: *const f64,
-    out: &mut [[[f64; 8]; 3]; 8],
-) {
-    let c = connectivity(elements, group);
-    lanes_from_rows_avx2(|a| rows(&c, a, u), out);
-}
-
-/// [`load_row_lanes_avx512`] with 256-bit vectors.
-///
-/// # Safety
-/// As [`load_row_lanes_avx512`], on a CPU with AVX2.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-#[inline]
-pub(crate) unsafe fn load_row_lanes_avx2(
-    first: &[u32; 8],
-    u: *const f64,
-    out: &mut [[[f64; 8]; 3]; 8],
-) {
-    lanes_from_rows_avx2(|a| row_nodes(first, a, u), out);
-}
-
-/// The transposing loads of [`load_lanes_avx2`] from the node rows `p(a)` of corner a.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-#[inline]
-unsafe fn lanes_from_rows_avx2(
-    p_of: impl Fn(usize) -> [*const f64; 8],
-    out: &mut [[[f64; 8]; 3]; 8],
-) {
-    use std::arch::x86_64::*;
-    for (a, out_a) in out.iter_mut().enumerate() {
-        let p = p_of(a);
-        for h in [0, 4] {
-            let ev_xy = pair(p[h], p[h + 2]);
-            let od_xy = pair(p[h + 1], p[h + 3]);
-            let ev_yz = pair(p[h].add(1), p[h + 2].add(1));
-            let od_yz = pair(p[h + 1].add(1), p[h + 3].add(1));
-            _mm256_storeu_pd(
-                out_a[0].as_mut_ptr().add(h),
-                _mm256_unpacklo_pd(ev_xy, od_xy),
-            );
-            _mm256_storeu_pd(
-                out_a[1].as_mut_ptr().add(h),
-                _mm256_unpackhi_pd(ev_xy, od_xy),
-            );
-            _mm256_storeu_pd(
-                out_a[2].as_mut_ptr().add(h),
-                _mm256_unpackhi_pd(ev_yz, od_yz),
-            );
-        }
-    }
-}
-
 /// The corner bound J (1 − C|q|/s)³, s = 2J/‖F‖²_F, of 8 lanes in whole vectors
 /// ([`super::corner_bound::corner_lower_bound`], the same IEEE operations lane by lane, so the
 /// same bits; −∞ unless J > 0 and 1 − C|q|/s > 0). The per-lane form was compiled to a mix of
@@ -441,4 +259,50 @@ pub(crate) unsafe fn corner_bound_avx2(
         );
     }
     b
+}
+
+/// [`super::add_line`] with one 512-bit vector: nodes 0–7 of the line get
+/// (F + [0, f₁[0], …, f₁[6]]) + f₀ (f₁ moved up one lane by `valignq`), node 8 gets F + f₁[7].
+///
+/// # Safety
+/// The CPU must have AVX-512F; `line` points to 9 numbers no other thread touches meanwhile.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f")]
+#[inline]
+pub(crate) unsafe fn add_line_avx512(line: *mut f64, f0: &[f64; 8], f1: &[f64; 8]) {
+    use std::arch::x86_64::*;
+    let f1v = _mm512_castpd_si512(_mm512_loadu_pd(f1.as_ptr()));
+    let up = _mm512_castsi512_pd(_mm512_alignr_epi64::<7>(f1v, _mm512_setzero_si512()));
+    let x = _mm512_add_pd(_mm512_loadu_pd(line), up);
+    _mm512_storeu_pd(line, _mm512_add_pd(x, _mm512_loadu_pd(f0.as_ptr())));
+    *line.add(8) += f1[7];
+}
+
+/// [`add_line_avx512`] with two 256-bit vectors: f₁ moved up one lane across them by a
+/// permute and a blend (low half) and a cross-half permute and a shuffle (high half).
+///
+/// # Safety
+/// The CPU must have AVX2; `line` points to 9 numbers no other thread touches meanwhile.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+#[inline]
+pub(crate) unsafe fn add_line_avx2(line: *mut f64, f0: &[f64; 8], f1: &[f64; 8]) {
+    use std::arch::x86_64::*;
+    let (lo, hi) = (
+        _mm256_loadu_pd(f1.as_ptr()),
+        _mm256_loadu_pd(f1.as_ptr().add(4)),
+    );
+    // [0, f₁0, f₁1, f₁2]: lanes (0 0 1 2), then lane 0 from zero.
+    let up_lo = _mm256_blend_pd::<0b0001>(_mm256_permute4x64_pd::<0x90>(lo), _mm256_setzero_pd());
+    // [f₁3, f₁4, f₁5, f₁6]: (f₁2 f₁3 f₁4 f₁5) from the two halves, then lanes 1, 0, 3, 2 of
+    // it and of `hi` alternately.
+    let up_hi = _mm256_shuffle_pd::<0b0101>(_mm256_permute2f128_pd::<0x21>(lo, hi), hi);
+    let x_lo = _mm256_add_pd(_mm256_loadu_pd(line), up_lo);
+    let x_hi = _mm256_add_pd(_mm256_loadu_pd(line.add(4)), up_hi);
+    _mm256_storeu_pd(line, _mm256_add_pd(x_lo, _mm256_loadu_pd(f0.as_ptr())));
+    _mm256_storeu_pd(
+        line.add(4),
+        _mm256_add_pd(x_hi, _mm256_loadu_pd(f0.as_ptr().add(4))),
+    );
+    *line.add(8) += f1[7];
 }

@@ -23,6 +23,12 @@ type Sums = (f64, f64, f64, usize);
 /// A build's name and what it assembled: the forces and the [`Sums`].
 type Build<'a> = (&'a str, (Vec<[f64; 3]>, Sums));
 
+/// The lane forces of a group of 8 elements, `fl[a][j][l]`.
+type Fl = [[[f64; 8]; 3]; 8];
+
+/// A build of [`scatter_group`].
+type ScatterBuild = unsafe fn(PlanesPtr, &[[u32; 8]], &[u32], bool, &Fl);
+
 /// The test box: 8×8×6 elements, every 11th node moved off the grid.
 fn distorted_box() -> Mesh {
     let mut mesh = Mesh::boxed([0.0; 3], [1.0, 0.8, 0.6], [8, 8, 6]);
@@ -104,10 +110,10 @@ fn min_j_of(chunk: &[u32], j_of: impl Fn(usize) -> f64) -> (f64, usize) {
 }
 
 /// Runs one chunk into a zeroed force array.
-fn run_chunk(n_nodes: usize, run: impl FnOnce(SendPtr) -> Sums) -> (Vec<[f64; 3]>, Sums) {
-    let mut f = vec![[0.0; 3]; n_nodes];
-    let out = run(SendPtr(f.as_mut_ptr()));
-    (f, out)
+fn run_chunk(n_nodes: usize, run: impl FnOnce(PlanesPtr) -> Sums) -> (Vec<[f64; 3]>, Sums) {
+    let mut f = Planes::zeros(n_nodes);
+    let out = run(f.ptr());
+    (f.to_rows(), out)
 }
 
 /// The scalar full-integration kernel (fused when `fma`) element by element in chunk order,
@@ -148,7 +154,7 @@ fn scalar_one_point_chunk<'a>(
     kappa: f64,
     u: &[[f64; 3]],
     chunk: &[u32],
-    p: SendPtr,
+    p: PlanesPtr,
 ) -> (f64, f64) {
     let (mut strain, mut hg) = (0.0, 0.0);
     for &e in chunk {
@@ -274,7 +280,17 @@ fn full_chunk_builds(
         .into_iter()
         .map(|(name, build)| {
             let out = run_chunk(n, |p| {
-                let (e, j, el) = unsafe { build(mesh, classes, mat, u, p, chunk, true) };
+                let (e, j, el) = unsafe {
+                    build(
+                        mesh,
+                        classes,
+                        mat,
+                        Planes::from_rows(u).planes(),
+                        p,
+                        chunk,
+                        true,
+                    )
+                };
                 (e, 0.0, j, el)
             });
             (name, out)
@@ -328,7 +344,17 @@ fn axis_aligned_kernels_give_the_row_products_values() {
         let u = bent(&mesh);
         for (name, build) in chunk_forces_builds() {
             let (f, sums) = run_chunk(n, |p| {
-                let (e, j, el) = unsafe { build(&mesh, &classes, &mat, &u, p, &chunk, true) };
+                let (e, j, el) = unsafe {
+                    build(
+                        &mesh,
+                        &classes,
+                        &mat,
+                        Planes::from_rows(&u).planes(),
+                        p,
+                        &chunk,
+                        true,
+                    )
+                };
                 (e, 0.0, j, el)
             });
             let (reference, strain) =
@@ -388,8 +414,20 @@ fn box_one_point_kernels_give_the_general_kernels_values() {
             .into_iter()
             .map(|(name, build)| {
                 let out = run_chunk(n, |p| {
-                    let r =
-                        unsafe { build(&mesh, &classes, &mat, kappa, &u, p, &chunk, true, 0.0) };
+                    let r = unsafe {
+                        let up = Planes::from_rows(&u);
+                        build(
+                            &mesh,
+                            &classes,
+                            &mat,
+                            kappa,
+                            up.planes(),
+                            p,
+                            &chunk,
+                            true,
+                            0.0,
+                        )
+                    };
                     (r.strain, r.hourglass, r.min_j, r.min_element)
                 });
                 (name, out)
@@ -462,7 +500,7 @@ fn one_point_chunk_every_build_matches_portable_and_scalar_kernel() {
                                     &classes,
                                     &mat,
                                     kappa,
-                                    &u,
+                                    Planes::from_rows(&u).planes(),
                                     p,
                                     chunk,
                                     true,
@@ -526,9 +564,11 @@ fn free_velocity_every_build_is_bit_identical() {
     let runs: Vec<_> = free_velocity_chunk_builds()
         .into_iter()
         .map(|(name, build)| {
-            let mut v = v0.clone();
-            let sums = unsafe { build(&mut v, &f, &m, &im, 1e-5, [0.0, 0.0, -9.81]) };
-            (name, v, sums)
+            let mut vp = Planes::from_rows(&v0);
+            let fp = Planes::from_rows(&f);
+            let g = [0.0, 0.0, -9.81];
+            let sums = unsafe { build(vp.planes_mut(), fp.planes(), &m, &im, 1e-5, g) };
+            (name, vp.to_rows(), sums)
         })
         .collect();
     let bits = |v: &[[f64; 3]], s: &NodeSums| {
@@ -582,21 +622,21 @@ fn one_point_skipped_corner_check_changes_nothing_below_the_threshold() {
         for chunk in &chunks {
             for (name, build) in chunk_forces_reduced_builds() {
                 let run = |t: f64| {
-                    let mut f = vec![[0.0; 3]; n];
+                    let mut f = Planes::zeros(n);
                     let r = unsafe {
                         build(
                             &mesh,
                             &classes,
                             &mat,
                             kappa,
-                            &u,
-                            SendPtr(f.as_mut_ptr()),
+                            Planes::from_rows(&u).planes(),
+                            f.ptr(),
                             chunk,
                             true,
                             t,
                         )
                     };
-                    (f, r)
+                    (f.to_rows(), r)
                 };
                 let (f_all, all) = run(f64::INFINITY);
                 for t in [0.8, 0.9, 1.0, 1.1, all.min_j, step, f64::NEG_INFINITY] {
@@ -661,8 +701,9 @@ fn one_point_skipped_corner_check_changes_nothing_below_the_threshold() {
 /// one), with forces and a starting F of mixed signs and magnitudes (so that a different order
 /// of the sums would change bits), and on a numbering that has the lanes' pattern but whose
 /// lines overlap (node a₃ of the first element 5 after its a₀), which must not be a row. On
-/// each row, the row gather's addresses ([`simd::load_row_lanes_avx2`], from the first
-/// element alone) load the same lanes as the connectivity's.
+/// each row, the row gather ([`gather_group`], from the first element alone) stages the same
+/// lanes as the element-by-element one. Every build's line adds ([`add_line`]) are checked,
+/// starting from random F and from +0 (as the element loop does).
 #[test]
 fn the_row_scatter_adds_the_same_bits_as_the_element_by_element_scatter() {
     let mesh = Mesh::boxed([0.0; 3], [2.8, 0.3, 0.2], [28, 3, 2]);
@@ -682,57 +723,59 @@ fn the_row_scatter_adds_the_same_bits_as_the_element_by_element_scatter() {
     for (k, group) in elements.chunks_exact(8).enumerate() {
         let fl: [[[f64; 8]; 3]; 8] =
             std::array::from_fn(|_| std::array::from_fn(|_| std::array::from_fn(|_| random())));
-        let (mut by_group, mut by_lane) = (f_start.clone(), f_start.clone());
         let row = unsafe { is_row(&mesh.elements, group) };
         let straddles = group[0] / 28 != group[7] / 28;
         assert_eq!(row, !straddles, "group {k}: {group:?}");
         rows += row as usize;
-        unsafe {
-            scatter_group(
-                SendPtr(by_group.as_mut_ptr()),
-                &mesh.elements,
-                group,
-                row,
-                &fl,
-            );
-            for (l, &e) in group.iter().enumerate() {
-                scatter_lane(
-                    SendPtr(by_lane.as_mut_ptr()),
-                    &mesh.elements[e as usize],
-                    &fl,
-                    l,
-                );
+        // F as the element loop starts it (+0) in every other group.
+        let start = if k % 2 == 0 {
+            f_start.clone()
+        } else {
+            vec![[0.0; 3]; n]
+        };
+        let mut by_lane = Planes::from_rows(&start);
+        for (l, &e) in group.iter().enumerate() {
+            unsafe { scatter_lane(by_lane.ptr(), &mesh.elements[e as usize], &fl, l) };
+        }
+        // Every build's line adds (the vector ones move f₁ up a lane, with a 0 in lane 0).
+        let mut builds: Vec<(&str, ScatterBuild)> =
+            vec![("portable", scatter_group::<ISA_PORTABLE>)];
+        #[cfg(target_arch = "x86_64")]
+        {
+            if std::is_x86_feature_detected!("avx2") {
+                builds.push(("avx2", scatter_group::<ISA_AVX2>));
+            }
+            if std::is_x86_feature_detected!("avx512f") {
+                builds.push(("avx512", scatter_group::<ISA_AVX512>));
             }
         }
-        // The row gather's addresses (from the first element alone) load the same lanes.
-        #[cfg(target_arch = "x86_64")]
-        if row && std::is_x86_feature_detected!("avx2") {
-            let u: Vec<[f64; 3]> = (0..n).map(|_| [random(), random(), random()]).collect();
-            let base = u.as_ptr() as *const f64;
-            let first = &mesh.elements[group[0] as usize];
+        for (name, scatter_build) in builds {
+            let mut by_group = Planes::from_rows(&start);
+            unsafe { scatter_build(by_group.ptr(), &mesh.elements, group, row, &fl) };
+            let bits = |p: &Planes| p.as_slice().iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+            assert!(
+                bits(&by_group) == bits(&by_lane),
+                "{name}, group {k}: the row scatter's bits differ"
+            );
+        }
+        // The row gather (each lane vector one load from a plane, from the first element's
+        // nodes alone) stages the same lanes as the element-by-element gather.
+        if row {
+            let u = Planes::from_rows(
+                &(0..n)
+                    .map(|_| [random(), random(), random()])
+                    .collect::<Vec<_>>(),
+            );
             let (mut by_row, mut by_conn) = ([[[0.0; 8]; 3]; 8], [[[1.0; 8]; 3]; 8]);
             unsafe {
-                simd::load_row_lanes_avx2(first, base, &mut by_row);
-                simd::load_lanes_avx2(&mesh.elements, group, base, &mut by_conn);
+                gather_group(&mesh, u.planes(), group, true, &mut by_row);
+                gather_group(&mesh, u.planes(), group, false, &mut by_conn);
             }
             assert_eq!(
                 by_row.map(|a| a.map(|j| j.map(f64::to_bits))),
                 by_conn.map(|a| a.map(|j| j.map(f64::to_bits))),
                 "group {k}"
             );
-            if std::is_x86_feature_detected!("avx512f") {
-                unsafe { simd::load_row_lanes_avx512(first, base, &mut by_row) };
-                assert_eq!(
-                    by_row.map(|a| a.map(|j| j.map(f64::to_bits))),
-                    by_conn.map(|a| a.map(|j| j.map(f64::to_bits))),
-                    "AVX-512, group {k}"
-                );
-            }
-        }
-        for (i, (a, b)) in by_group.iter().zip(&by_lane).enumerate() {
-            for j in 0..3 {
-                assert_eq!(a[j].to_bits(), b[j].to_bits(), "group {k}, node {i}, {j}");
-            }
         }
     }
     assert_eq!(rows, 18, "21 groups, 3 of them across two rows");

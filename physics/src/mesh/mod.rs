@@ -6,6 +6,7 @@
 //! Node numbering of an element follows the usual convention: nodes 0–3 on the ζ = −1 face
 //! counter-clockwise seen from +ζ, nodes 4–7 above them.
 
+use crate::kernels::NodalField;
 use std::collections::BTreeMap;
 mod element;
 mod order;
@@ -263,7 +264,11 @@ impl Mesh {
 
     /// Deformation gradient F = I + Σₐ uₐ ⊗ ∇ₓNₐ at the centre (ξ = 0) of element `e`
     /// (PHYSICS.md §2), for post-processing (von Mises stress, J) of a displacement field `u`.
-    pub fn centre_deformation_gradient(&self, e: usize, u: &[[f64; 3]]) -> [[f64; 3]; 3] {
+    pub fn centre_deformation_gradient<U: NodalField + ?Sized>(
+        &self,
+        e: usize,
+        u: &U,
+    ) -> [[f64; 3]; 3] {
         let x = self.element_coords(e);
         let d = shape_derivatives([0.0; 3]);
         // J₀ = ∂X/∂ξ, then ∇ₓNₐ = J₀⁻ᵀ ∂Nₐ/∂ξ.
@@ -285,7 +290,7 @@ impl Mesh {
         }
         for a in 0..8 {
             let g = inv_t * nalgebra::Vector3::new(d[a][0], d[a][1], d[a][2]);
-            let ua = u[self.elements[e][a] as usize];
+            let ua = u.at(self.elements[e][a] as usize);
             for i in 0..3 {
                 for j in 0..3 {
                     f[i][j] += ua[i] * g[j];

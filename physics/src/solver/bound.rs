@@ -20,6 +20,7 @@
 //! the elements computing F at the integration points (no stress), about an assembly.
 
 use super::Simulation;
+use crate::kernels::Planes;
 // The AVX builds exist on x86_64 only (wasm32 runs the portable one).
 #[cfg_attr(not(target_arch = "x86_64"), allow(unused_imports))]
 use crate::kernels::simd::{simd_dispatch, ISA_AVX2, ISA_AVX512, ISA_PORTABLE};
@@ -212,7 +213,7 @@ pub(super) struct ElementPass<'a> {
     classes: &'a ElementClasses,
     /// (g_e, g_hg,e) per class.
     class_g: &'a [[f64; 2]],
-    u: &'a [[f64; 3]],
+    u: &'a Planes,
 }
 
 simd_dispatch! {
@@ -238,7 +239,7 @@ unsafe fn element_pass_impl<const FMA: bool, const ISA: u8>(pass: &ElementPass, 
     } = *pass;
     let mut worst = 0.0f64;
     let range = c * ELEMENT_CHUNK..((c + 1) * ELEMENT_CHUNK).min(elements.len());
-    let gather = |e: usize| elements[e].map(|n| u[n as usize]);
+    let gather = |e: usize| elements[e].map(|n| u.get(n as usize));
     if !full {
         // One point: 8 elements of one class at a time, F at their centres on lanes
         // (a chunk's mixed-class groups and its tail go element by element).
@@ -444,8 +445,9 @@ mod tests {
                 ];
                 let sc = crate::scene::parse_scene(&text, "pull_off.toml", &set).unwrap();
                 let mut sim = Simulation::new(sc.model).unwrap();
-                for (k, u) in sim.u.iter_mut().enumerate() {
-                    *u = std::array::from_fn(|i| 0.02 * rand(3 * k as u64 + i as u64));
+                for k in 0..sim.u.len() {
+                    let x = std::array::from_fn(|i| 0.02 * rand(3 * k as u64 + i as u64));
+                    sim.u.set(k, x);
                 }
                 let _ = sim.stiffness_bound(); // fills the class constants
                 let mat = sim.model.material;
@@ -501,8 +503,9 @@ mod tests {
                 }
                 let mut sim = Simulation::new(model_).unwrap();
                 assert_eq!(sim.classes.data.len() > 1, graded);
-                for (k, u) in sim.u.iter_mut().enumerate() {
-                    *u = std::array::from_fn(|i| 0.004 * rand(3 * k as u64 + i as u64));
+                for k in 0..sim.u.len() {
+                    let x = std::array::from_fn(|i| 0.004 * rand(3 * k as u64 + i as u64));
+                    sim.u.set(k, x);
                 }
                 let _ = sim.stiffness_bound(); // fills the class constants
                 let mat = sim.model.material;
@@ -520,7 +523,7 @@ mod tests {
                     let lanes = unsafe { element_pass_chunk(&pass, c) };
                     let range = c * ELEMENT_CHUNK..((c + 1) * ELEMENT_CHUNK).min(elements.len());
                     let each = range.fold(0.0f64, |m, e| {
-                        let ue = elements[e].map(|n| sim.u[n as usize]);
+                        let ue = elements[e].map(|n| sim.u.get(n as usize));
                         m.max(centre_bound(&mat, &sim.classes, class_g, e, &ue))
                     });
                     assert!(each > 0.0 && each.is_finite(), "{model} {graded}: {each}");

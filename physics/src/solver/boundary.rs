@@ -9,7 +9,7 @@ use super::stages::StepScratch;
 use super::state::{ContactNode, InterfaceNode};
 use super::{Simulation, BOUNDARY_GRAIN};
 use crate::interface::contact::{contact_impulse, JointStats};
-use crate::kernels::internal_and_gravity_impulses;
+use crate::kernels::{internal_and_gravity_impulses, Planes, PlanesPtr};
 use crate::mesh::dot;
 use crate::model::Model;
 use crate::mould::step::NodeGeometry;
@@ -124,7 +124,7 @@ struct BoundaryStep<'a> {
     scratch: &'a StepScratch,
     mass: &'a [f64],
     inv_mass: &'a [f64],
-    f_int: &'a [[f64; 3]],
+    f_int: &'a Planes,
     h_bar: f64,
     h_next: f64,
     /// Some mould is not a plain plane (else every node takes the plane path at once).
@@ -413,7 +413,7 @@ impl BoundaryStep<'_> {
         let i = b.node as usize;
         let m = self.mass[i];
         let dv = [v[0] - v_free0[0], v[1] - v_free0[1], v[2] - v_free0[2]];
-        let (pint, pg) = internal_and_gravity_impulses(h_bar, self.f_int[i], m, g);
+        let (pint, pg) = internal_and_gravity_impulses(h_bar, self.f_int.get(i), m, g);
         out.int_a += 0.5 * dot(dv, pint);
         out.grav_a += 0.5 * dot(dv, pg);
         out.kinetic += 0.5 * m * dot(vo, dv);
@@ -498,7 +498,7 @@ impl BoundaryStep<'_> {
 unsafe fn boundary_chunk(
     cx: &BoundaryStep,
     range: Range<usize>,
-    v_all: SharedSlice<[f64; 3]>,
+    v_all: PlanesPtr,
     itfs: SharedSlice<InterfaceNode>,
     cns: SharedSlice<ContactNode>,
     reactions: &mut [f64],
@@ -508,7 +508,7 @@ unsafe fn boundary_chunk(
     for k in range {
         let b = &cx.boundary.nodes[k];
         let vo = cx.scratch.v_old[k];
-        let v_free0 = *v_all.get(b.node as usize);
+        let v_free0 = v_all.get(b.node as usize);
         let mut v = v_free0;
         impulses.clear();
         // 5 (F_ext): surface tractions.
@@ -522,7 +522,7 @@ unsafe fn boundary_chunk(
         if free != [false; 3] {
             cx.contact(b, itfs, cns, &mut v, free, &mut impulses, &mut out);
         }
-        *v_all.get(b.node as usize) = v;
+        v_all.set(b.node as usize, v);
         // 9 (this node's share): forward halves of the ledger.
         cx.ledger_halves(b, vo, v_free0, v_free, v, &impulses, &mut out);
         // 8. Damage rate after the dynamics.
@@ -541,7 +541,7 @@ impl Simulation {
         self.scratch.moulds.h_bar = h_bar;
         let cx = boundary_step!(self, h_bar, h_next);
         let (v_all, itfs, cns) = (
-            SharedSlice::new(&mut self.v),
+            self.v.ptr(),
             SharedSlice::new(&mut self.interface_nodes),
             SharedSlice::new(&mut self.contact_nodes),
         );
@@ -585,11 +585,12 @@ impl Simulation {
         let itfs = SharedSlice::new(&mut self.interface_nodes);
         let (mut sums, mut impulses) = (BoundarySums::default(), NodeImpulses::default());
         for (k, b) in self.boundary.nodes.iter().enumerate() {
-            let v = &mut self.v[b.node as usize];
-            cx.tractions(b, cx.scratch.v_old[k], v, &mut sums);
+            let mut v = self.v.get(b.node as usize);
+            cx.tractions(b, cx.scratch.v_old[k], &mut v, &mut sums);
             impulses.clear();
             // SAFETY: one thread, one node at a time.
-            unsafe { cx.cohesion(b, itfs, v, &mut impulses) };
+            unsafe { cx.cohesion(b, itfs, &mut v, &mut impulses) };
+            self.v.set(b.node as usize, v);
         }
     }
 }

@@ -38,7 +38,7 @@ impl Simulation {
             Integration::Reduced => {
                 let conn = self.model.mesh.elements[element];
                 let cd = &self.classes.centre[self.classes.class_of[element] as usize];
-                let ue = conn.map(|n| self.u[n as usize]);
+                let ue = conn.map(|n| self.u.get(n as usize));
                 let corners = element_corner_jacobians(cd, &ue);
                 let (a, j_a) =
                     (corners.iter().copied().enumerate()).fold((0, f64::INFINITY), |m, (a, x)| {

@@ -216,7 +216,7 @@ impl Simulation {
         }
         let mut halves = self.mould_halves(n_moulds);
         for (b, node) in self.boundary.nodes.iter().enumerate() {
-            let (vo, v) = (self.scratch.v_old[b], self.v[node.node as usize]);
+            let (vo, v) = (self.scratch.v_old[b], self.v.get(node.node as usize));
             let mut add = |k: usize, p: [f64; 3], geo: Option<usize>, interface: bool| {
                 let (n, vm) = self.contact_frame(k, geo, interface);
                 let pn = dot(p, n);

@@ -39,7 +39,9 @@ pub use state::{
 };
 
 use crate::energy::{EnergySnapshot, Ledger};
-use crate::kernels::{assemble_internal_forces, Assembly, ElementRule, ElementSums, NodeSums};
+use crate::kernels::{
+    assemble_internal_forces, Assembly, ElementRule, ElementSums, NodeSums, Planes,
+};
 use crate::law::InterfaceState;
 use crate::mesh::ElementClasses;
 use crate::model::Model;
@@ -79,12 +81,14 @@ pub struct Simulation {
     /// Lumped nodal masses [kg] and their inverses.
     pub mass: Vec<f64>,
     inv_mass: Vec<f64>,
-    /// Displacements Uₙ [m].
-    pub u: Vec<[f64; 3]>,
-    /// Velocities V_{n+½} [m/s].
-    pub v: Vec<[f64; 3]>,
-    /// Internal forces F_int(Uₙ) [N].
-    pub f_int: Vec<[f64; 3]>,
+    /// Displacements Uₙ [m], by component ([`Planes`]: a row of elements along x loads its
+    /// nodes 8 at a time, and the node loops run lane against lane).
+    pub u: Planes,
+    /// Velocities V_{n+½} [m/s], by component.
+    pub v: Planes,
+    /// Internal forces F_int(Uₙ) [N], by component ([`Planes`]: the element loop adds a row of
+    /// elements' forces 8 nodes at a time).
+    pub f_int: Planes,
     pub interface_nodes: Vec<InterfaceNode>,
     pub contact_nodes: Vec<ContactNode>,
     /// What acts on each boundary node (glue, contact, tractions, prescribed components).
@@ -293,8 +297,8 @@ impl ElementLoop<'_> {
     /// F_int(`u`) added into `f` (zeroed by the caller), with Ψ and Ψ_hg if `energy`.
     fn assemble(
         &self,
-        u: &[[f64; 3]],
-        f: &mut [[f64; 3]],
+        u: &Planes,
+        f: &mut Planes,
         energy: bool,
         parts: &mut Vec<ElementSums>,
         exact_below: f64,

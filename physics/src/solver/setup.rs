@@ -10,6 +10,7 @@ use super::state::{
 };
 use super::{Simulation, ELEMENT_GRAIN, PARALLEL_MIN_ELEMENTS};
 use crate::energy::Ledger;
+use crate::kernels::Planes;
 use crate::law::StiffnessLaw;
 use crate::mesh::{dot, sub, ElementClasses, Mesh};
 use crate::model::{Model, RigidPlane};
@@ -332,9 +333,9 @@ impl Simulation {
             parts_reactions: Vec::new(),
             inv_mass: mass.iter().map(|m| 1.0 / m).collect(),
             mass,
-            u: u0,
-            v: v0,
-            f_int: vec![[0.0; 3]; n_nodes],
+            u: Planes::from_rows(&u0),
+            v: Planes::from_rows(&v0),
+            f_int: Planes::zeros(n_nodes),
             interface_nodes,
             contact_nodes,
             boundary,
@@ -388,9 +389,11 @@ impl Simulation {
         for b in &self.boundary.nodes {
             for c in 0..3 {
                 if b.prescribed[c] != NONE {
-                    self.u[b.node as usize][c] = self.model.displacements[b.prescribed[c] as usize]
+                    let mut x = self.u.get(b.node as usize);
+                    x[c] = self.model.displacements[b.prescribed[c] as usize]
                         .history
                         .value(0.0)[0];
+                    self.u.set(b.node as usize, x);
                 }
             }
         }

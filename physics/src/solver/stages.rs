@@ -7,10 +7,8 @@ use super::{ElementLoop, Simulation, NODE_GRAIN};
 use crate::kernels::{free_velocity_chunk, NodeSums, CORNER_EXACT_BELOW};
 use crate::team::SharedSlice;
 
-/// A chunk of displacements and the matching velocities (stage 1).
-type PositionChunk<'a> = (&'a mut [[f64; 3]], &'a [[f64; 3]]);
-/// One chunk of the node loop: (velocities, internal forces), (masses, inverse masses).
-type NodeChunk<'a> = ((&'a mut [[f64; 3]], &'a [[f64; 3]]), (&'a [f64], &'a [f64]));
+/// One chunk of the node loop, by plane: velocities, internal forces, (masses, inverse masses).
+type NodeChunk<'a> = ([&'a mut [f64]; 3], [&'a [f64]; 3], (&'a [f64], &'a [f64]));
 
 /// Per-step values of the planes, prescribed conditions and tractions, computed once per step
 /// (not per node), and the step's sums, in buffers that are reused, so the step allocates
@@ -44,32 +42,27 @@ impl Simulation {
     /// tₙ₊₁ = tₙ + h; and F_int ← 0 for stage 3.
     pub(super) fn advance_positions(&mut self, h: f64) {
         let grain = NODE_GRAIN;
-        // The same pass zeroes F_int for stage 3 (nothing reads it in between).
-        // Flat component slices, so the loop vectorises.
-        let body = |((u, v), f): (PositionChunk, &mut [[f64; 3]])| {
-            for (ui, vi) in u.as_flattened_mut().iter_mut().zip(v.as_flattened()) {
-                *ui += h * vi;
+        let n = self.v.len();
+        // Plane by plane (component slices, so the loops vectorise); the same pass zeroes
+        // F_int for stage 3 (nothing reads it in between).
+        let u = self.u.planes_mut().map(SharedSlice::new);
+        let f = self.f_int.planes_mut().map(SharedSlice::new);
+        let v = self.v.planes();
+        // SAFETY: nodes a..b of each plane of u and f are touched by item i only.
+        let chunk = |i: usize| unsafe {
+            let (a, b) = (i * grain, ((i + 1) * grain).min(n));
+            for c in 0..3 {
+                for (ui, vi) in u[c].range(a, b).iter_mut().zip(&v[c][a..b]) {
+                    *ui += h * vi;
+                }
+                f[c].range(a, b).fill(0.0);
             }
-            f.as_flattened_mut().fill(0.0);
         };
-        if let Some(team) = &self.team {
-            let (u, f) = (
-                SharedSlice::new(&mut self.u),
-                SharedSlice::new(&mut self.f_int),
-            );
-            let v = &self.v;
-            let n = v.len();
-            // SAFETY: chunk i of u and f is touched by item i only.
-            team.map(n.div_ceil(grain), |i| unsafe {
-                let (a, b) = (i * grain, ((i + 1) * grain).min(n));
-                body(((u.range(a, b), &v[a..b]), f.range(a, b)))
-            });
-        } else {
-            self.u
-                .chunks_mut(grain)
-                .zip(self.v.chunks(grain))
-                .zip(self.f_int.chunks_mut(grain))
-                .for_each(body);
+        match &self.team {
+            Some(team) => {
+                team.map(n.div_ceil(grain), chunk);
+            }
+            None => (0..n.div_ceil(grain)).for_each(chunk),
         }
         for itf in self.interface_nodes.iter_mut() {
             itf.alpha = itf.alpha_next;
@@ -109,7 +102,8 @@ impl Simulation {
             let k = self.model.interfaces[itf.interface as usize].plane;
             let (p, d) = (&planes[k], disp[k]);
             let i = itf.node as usize;
-            let x: [f64; 3] = std::array::from_fn(|c| nodes[i][c] + self.u[i][c]);
+            let ui = self.u.get(i);
+            let x: [f64; 3] = std::array::from_fn(|c| nodes[i][c] + ui[c]);
             itf.jump = std::array::from_fn(|c| x[c] - (itf.bonded_point[c] + d[c]));
             itf.gap = snap(
                 (0..3)
@@ -121,9 +115,10 @@ impl Simulation {
         for cn in self.contact_nodes.iter_mut() {
             let (p, d) = (&planes[cn.plane as usize], disp[cn.plane as usize]);
             let i = cn.node as usize;
+            let ui = self.u.get(i);
             cn.gap = snap(
                 (0..3)
-                    .map(|c| p.normal[c] * (nodes[i][c] + self.u[i][c] - p.point[c] - d[c]))
+                    .map(|c| p.normal[c] * (nodes[i][c] + ui[c] - p.point[c] - d[c]))
                     .sum(),
                 tol[cn.plane as usize],
             );
@@ -141,7 +136,7 @@ impl Simulation {
     ) -> Result<(), SolverError> {
         if !zeroed {
             // (Else F_int was zeroed by stage 1.)
-            self.f_int.fill([0.0; 3]);
+            self.f_int.fill_zero();
         }
         let elements = ElementLoop {
             model: &self.model,
@@ -245,34 +240,35 @@ impl Simulation {
         // Keep V_{n+½} of boundary nodes for the ledger's backward halves.
         let sc = &mut self.scratch;
         sc.v_old.clear();
-        sc.v_old
-            .extend(self.boundary.nodes.iter().map(|b| self.v[b.node as usize]));
+        sc.v_old.extend(
+            self.boundary
+                .nodes
+                .iter()
+                .map(|b| self.v.get(b.node as usize)),
+        );
         let g = self.model.gravity;
         // SAFETY: the dispatch runs the build the CPU supports; the slices have one length.
-        let body = |((v, f), (m, im)): NodeChunk| -> NodeSums {
+        let body = |(v, f, (m, im)): NodeChunk| -> NodeSums {
             unsafe { free_velocity_chunk(v, f, m, im, h_bar, g) }
         };
         let grain = NODE_GRAIN;
         let parts = &mut self.parts_nodes;
-        if let Some(team) = &self.team {
-            let v = SharedSlice::new(&mut self.v);
-            let (f, m, im) = (&self.f_int, &self.mass, &self.inv_mass);
-            let n = f.len();
-            // SAFETY: chunk i of v is touched by item i only.
-            team.map_into(n.div_ceil(grain), parts, |i| unsafe {
-                let (a, b) = (i * grain, ((i + 1) * grain).min(n));
-                body(((v.range(a, b), &f[a..b]), (&m[a..b], &im[a..b])))
-            })
-        } else {
-            parts.clear();
-            parts.extend(
-                self.v
-                    .chunks_mut(grain)
-                    .zip(self.f_int.chunks(grain))
-                    .zip(self.mass.chunks(grain).zip(self.inv_mass.chunks(grain)))
-                    .map(body),
-            );
+        let n = self.v.len();
+        let v = self.v.planes_mut().map(SharedSlice::new);
+        let (f, m, im) = (self.f_int.planes(), &self.mass, &self.inv_mass);
+        // SAFETY: nodes a..b of each plane of v are touched by item i only.
+        let chunk = |i: usize| unsafe {
+            let (a, b) = (i * grain, ((i + 1) * grain).min(n));
+            let vc = v.each_ref().map(|p| p.range(a, b));
+            body((vc, f.map(|p| &p[a..b]), (&m[a..b], &im[a..b])))
         };
+        match &self.team {
+            Some(team) => team.map_into(n.div_ceil(grain), parts, chunk),
+            None => {
+                parts.clear();
+                parts.extend((0..n.div_ceil(grain)).map(chunk));
+            }
+        }
         self.scratch.node_sums = parts.iter().fold(NodeSums::default(), |a, &b| a.add(b));
     }
 }

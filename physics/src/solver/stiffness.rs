@@ -5,6 +5,7 @@ use super::boundary::NONE;
 use super::lanczos::{dof_chunks, dof_sum, LanczosWork};
 use super::{ElementLoop, Simulation};
 use crate::kernels::ElementSums;
+use crate::kernels::Planes;
 use crate::team::SharedSlice;
 
 /// What the stable-step estimates keep from one estimate to the next, so that an estimate
@@ -24,9 +25,9 @@ pub(super) struct EstimateCache {
     random: Vec<f64>,
     random_norm: f64,
     /// U + εx and F_int(U + εx), F_int(U) when the step's own is not current.
-    up: Vec<[f64; 3]>,
-    fp: Vec<[f64; 3]>,
-    f0: Vec<[f64; 3]>,
+    up: Planes,
+    fp: Planes,
+    f0: Planes,
     /// (degree of freedom, W g_N(α)) of the glued nodes' free components in this estimate,
     /// by degree of freedom, the springs of a node on several interfaces summed.
     springs: Vec<(usize, f64)>,
@@ -82,16 +83,19 @@ impl<'a> StiffnessOperator<'a> {
                 })
                 .collect();
             cache.eps_len = 1e-6 * sim.model.mesh.min_edge();
-            cache.up = vec![[0.0; 3]; nodes];
-            cache.fp = vec![[0.0; 3]; nodes];
+            cache.up = Planes::zeros(nodes);
+            cache.fp = Planes::zeros(nodes);
             cache.random = (cache.mask.iter().enumerate())
                 .map(|(k, &m)| if m { 0.0 } else { splitmix(k as u64) })
                 .collect();
             cache.random_norm = cache.random.iter().map(|x| x * x).sum::<f64>().sqrt();
         }
         if !forces_current {
-            cache.f0.clear();
-            cache.f0.resize(nodes, [0.0; 3]);
+            if cache.f0.len() == nodes {
+                cache.f0.fill_zero();
+            } else {
+                cache.f0 = Planes::zeros(nodes);
+            }
             // (The smallest J is not used here: no corner check.)
             elements.assemble(
                 &sim.u,
@@ -195,12 +199,15 @@ impl<'a> StiffnessOperator<'a> {
         // s = M^{-½} is 0 on the prescribed components, which removes them: x = sq and
         // y = sKx vanish there.
         let s = &c.sqrt_inv_m[..];
-        let u = self.sim.u.as_flattened();
+        let u = self.sim.u.as_slice();
         let f0 = if self.forces_current {
-            self.sim.f_int.as_flattened()
+            self.sim.f_int.as_slice()
         } else {
-            c.f0.as_flattened()
+            c.f0.as_slice()
         };
+        // Degree of freedom k = 3i + c (node i, component c) in the planes of F.
+        let nodes = self.sim.u.len();
+        let at = |p: &[f64], k: usize| p[(k % 3) * nodes + k / 3];
         let n = s.len();
         let x = |k: usize| q[k] * s[k];
         dof_chunks(team, n, &mut c.maxima, |a, b| {
@@ -212,18 +219,23 @@ impl<'a> StiffnessOperator<'a> {
             return 0.0;
         }
         let eps = c.eps_len / xmax;
-        let up = SharedSlice::new(c.up.as_flattened_mut());
-        let fp = SharedSlice::new(c.fp.as_flattened_mut());
-        // SAFETY: range a..b of `up` and `fp` is touched by this item only.
+        let up = c.up.planes_mut().map(SharedSlice::new);
+        let fp = c.fp.planes_mut().map(SharedSlice::new);
+        // SAFETY: dofs a..b (nodes a/3..b/3: DOF_GRAIN is a multiple of 3) of `up` and `fp`
+        // are touched by this item only.
         dof_chunks(team, n, &mut c.units, |a, b| unsafe {
-            for (i, upk) in up.range(a, b).iter_mut().enumerate() {
-                *upk = u[a + i] + eps * x(a + i);
+            let (na, nb) = (a / 3, b / 3);
+            for comp in 0..3 {
+                for (i, upk) in up[comp].range(na, nb).iter_mut().enumerate() {
+                    let k = 3 * (na + i) + comp;
+                    *upk = at(u, k) + eps * x(k);
+                }
+                fp[comp].range(na, nb).fill(0.0);
             }
-            fp.range(a, b).fill(0.0);
         });
         self.elements
             .assemble(&c.up, &mut c.fp, false, &mut c.parts, f64::NEG_INFINITY);
-        let fp = c.fp.as_flattened();
+        let fp = c.fp.as_slice();
         // K x of the bulk, plus a glued node's spring W g_N(α) x, then M^{-½}; and qᵀy.
         let springs = &c.springs[..];
         let yy = SharedSlice::new(y);
@@ -231,11 +243,11 @@ impl<'a> StiffnessOperator<'a> {
         dof_sum(team, n, &mut c.sums, |a, b| unsafe {
             let y = yy.range(a, b);
             for (k, yk) in (a..b).zip(y.iter_mut()) {
-                *yk = (fp[k] - f0[k]) / eps * s[k];
+                *yk = (at(fp, k) - at(f0, k)) / eps * s[k];
             }
             let first = springs.partition_point(|&(k, _)| k < a);
             for &(k, ks) in springs[first..].iter().take_while(|&&(k, _)| k < b) {
-                y[k - a] = ((fp[k] - f0[k]) / eps + ks * x(k)) * s[k];
+                y[k - a] = ((at(fp, k) - at(f0, k)) / eps + ks * x(k)) * s[k];
             }
             q[a..b].iter().zip(y.iter()).map(|(qk, yk)| qk * yk).sum()
         })

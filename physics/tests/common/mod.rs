@@ -1,6 +1,7 @@
 //! Models built in code for the verification tests, and the project's scene files.
 #![allow(dead_code)]
 
+use decohesion_physics::kernels::Planes;
 use decohesion_physics::law::{Knots, StiffnessLaw};
 use decohesion_physics::material::{Material, MaterialModel};
 use decohesion_physics::mesh::Mesh;
@@ -26,10 +27,10 @@ pub fn face_nodes(model: &Model, name: &str) -> Vec<usize> {
 }
 
 /// Centre-of-mass value Σmᵢxᵢ[c] / Σmᵢ of a nodal field's component c.
-pub fn centre_of_mass(sim: &Simulation, field: &[[f64; 3]], c: usize) -> f64 {
+pub fn centre_of_mass(sim: &Simulation, field: &Planes, c: usize) -> f64 {
     let m: f64 = sim.mass.iter().sum();
     field
-        .iter()
+        .rows()
         .zip(&sim.mass)
         .map(|(x, mi)| mi * x[c])
         .sum::<f64>()

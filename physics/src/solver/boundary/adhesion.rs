@@ -53,7 +53,7 @@ impl Simulation {
         let k = spec.plane;
         let g0 = spec.law.g_n(0.0);
         let i = itf.node as usize;
-        let x: [f64; 3] = std::array::from_fn(|c| self.model.mesh.nodes[i][c] + self.u[i][c]);
+        let x: [f64; 3] = std::array::from_fn(|c| self.model.mesh.nodes[i][c] + self.u.get(i)[c]);
         let ms = &mut self.scratch.moulds;
         let bonded = if !ms.any_general() || ms.plane[k] {
             sub(x, self.scratch.plane_disp[k])

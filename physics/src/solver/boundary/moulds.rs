@@ -52,7 +52,10 @@ impl Simulation {
         let sc = &mut self.scratch;
         let (ms, tol) = (&mut sc.moulds, &sc.plane_tol);
         let snap = |g: f64, tol: f64| if g.abs() <= tol { 0.0 } else { g };
-        let place = |i: usize| -> [f64; 3] { std::array::from_fn(|c| nodes[i][c] + u[i][c]) };
+        let place = |i: usize| -> [f64; 3] {
+            let ui = u.get(i);
+            std::array::from_fn(|c| nodes[i][c] + ui[c])
+        };
         for (j, itf) in self.interface_nodes.iter_mut().enumerate() {
             let k = self.model.interfaces[itf.interface as usize].plane;
             if ms.plane[k] {
