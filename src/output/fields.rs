@@ -86,7 +86,7 @@ mod tests {
             assert!(p > 0.0, "stretched: tension");
             assert!(c.von_mises <= 1e-9 * p, "{} vs p = {p}", c.von_mises);
             // The scalar alone is the same value, to the bit.
-            let alone = |f| centre_scalar(&m, e, &u, f).to_bits();
+            let alone = |f| centre_scalar(&m, e, &u[..], f).to_bits();
             assert_eq!(alone(Scalar::Jacobian), c.jacobian.to_bits());
             assert_eq!(alone(Scalar::VonMises), c.von_mises.to_bits());
         }

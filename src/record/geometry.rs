@@ -137,7 +137,7 @@ impl Geometry {
             ColourField::VonMises => Some(Scalar::VonMises),
             ColourField::Jacobian => Some(Scalar::Jacobian),
         };
-        let values = self.surface.values(m, &s.u, field);
+        let values = self.surface.values(m, &s.u[..], field);
         for &v in &values {
             if v.is_finite() {
                 self.colour_range.0 = self.colour_range.0.min(v);

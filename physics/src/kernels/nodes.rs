@@ -3,8 +3,7 @@
 // The AVX builds exist on x86_64 only (wasm32 runs the portable one).
 #[cfg_attr(not(target_arch = "x86_64"), allow(unused_imports))]
 use super::simd::{simd_dispatch, ISA_AVX2, ISA_AVX512, ISA_PORTABLE};
-use crate::material::{F64x8, Real};
-use crate::mesh::dot;
+use crate::material::{row_dot, F64x8, Real};
 
 /// Partial sums of the node loop (stage 5), reduced in a fixed order.
 #[derive(Default, Clone, Copy)]
@@ -62,58 +61,30 @@ unsafe fn free_velocity_impl<const FMA: bool, const ISA: u8>(
     assert!(v.iter().all(|p| p.len() == n) && f.iter().all(|p| p.len() == n) && im.len() == n);
     let mut acc = [F64x8::splat(0.0); 6];
     let whole = n / L * L;
-    // Blocks of 8 nodes, node base + l in lane l; the operations of the tail loop below, lane
-    // by lane.
-    let s = F64x8::splat;
-    let dot8 = |a: [F64x8; 3], b: [F64x8; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+    // Blocks of 8 nodes, node base + l in lane l, then the rest one by one into lane i − whole:
+    // the same operations ([`free_velocity_node`]).
     for base in (0..whole).step_by(L) {
         let lanes = |p: &[f64]| F64x8(*(p.as_ptr().add(base) as *const [f64; L]));
-        let (mi, imi) = (lanes(m), lanes(im));
         let vo = [lanes(v[0]), lanes(v[1]), lanes(v[2])];
-        // internal_and_gravity_impulses, lane by lane (written out: `array::map` was left as
-        // a call).
-        let pi = [
-            s(-h_bar) * lanes(f[0]),
-            s(-h_bar) * lanes(f[1]),
-            s(-h_bar) * lanes(f[2]),
-        ];
-        let hm = s(h_bar) * mi;
-        let pg = [hm * s(g[0]), hm * s(g[1]), hm * s(g[2])];
-        let w = [
-            vo[0] + (pi[0] + pg[0]) * imi,
-            vo[1] + (pi[1] + pg[1]) * imi,
-            vo[2] + (pi[2] + pg[2]) * imi,
-        ];
-        acc[0] = acc[0] + s(0.5) * mi * dot8(vo, w);
-        acc[1] = acc[1] + s(0.5) * mi * dot8(w, w);
-        acc[2] = acc[2] + s(0.5) * dot8(vo, pi);
-        acc[3] = acc[3] + s(0.5) * dot8(w, pi);
-        acc[4] = acc[4] + s(0.5) * dot8(vo, pg);
-        acc[5] = acc[5] + s(0.5) * dot8(w, pg);
+        let fi = [lanes(f[0]), lanes(f[1]), lanes(f[2])];
+        let (w, terms) = free_velocity_node(vo, fi, lanes(m), lanes(im), h_bar, g);
+        for k in 0..6 {
+            acc[k] = acc[k] + terms[k];
+        }
         for c in 0..3 {
             *(v[c].as_mut_ptr().add(base) as *mut [f64; L]) = w[c].0;
         }
     }
     for i in whole..n {
-        let l = i - whole;
         let at = |p: &[f64]| *p.get_unchecked(i);
         let vo = [at(v[0]), at(v[1]), at(v[2])];
         let fi = [at(f[0]), at(f[1]), at(f[2])];
-        let (mi, imi) = (at(m), at(im));
-        let (pi, pg) = internal_and_gravity_impulses(h_bar, fi, mi, g);
-        let vn = [
-            vo[0] + (pi[0] + pg[0]) * imi,
-            vo[1] + (pi[1] + pg[1]) * imi,
-            vo[2] + (pi[2] + pg[2]) * imi,
-        ];
-        acc[0].0[l] += 0.5 * mi * dot(vo, vn);
-        acc[1].0[l] += 0.5 * mi * dot(vn, vn);
-        acc[2].0[l] += 0.5 * dot(vo, pi);
-        acc[3].0[l] += 0.5 * dot(vn, pi);
-        acc[4].0[l] += 0.5 * dot(vo, pg);
-        acc[5].0[l] += 0.5 * dot(vn, pg);
+        let (w, terms) = free_velocity_node(vo, fi, at(m), at(im), h_bar, g);
+        for k in 0..6 {
+            acc[k].0[i - whole] += terms[k];
+        }
         for c in 0..3 {
-            *v[c].get_unchecked_mut(i) = vn[c];
+            *v[c].get_unchecked_mut(i) = w[c];
         }
     }
     let sum = |k: usize| acc[k].0.iter().fold(0.0, |s, x| s + x);
@@ -127,18 +98,58 @@ unsafe fn free_velocity_impl<const FMA: bool, const ISA: u8>(
     }
 }
 
+/// Stage 5 at one node, or at 8 in lanes (`T` = [`F64x8`]): V_free = V + (P_int + P_g)/m
+/// from V = `vo`, F_int = `f`, m and 1/m = `im`, and the node's ledger terms
+/// ½ m V·V_free, ½ m V_free·V_free, ½ V·P_int, ½ V_free·P_int, ½ V·P_g, ½ V_free·P_g
+/// (PHYSICS.md §4 stage 5, §5). No fused operation, so every build and lane gives the same bits.
+#[inline(always)]
+fn free_velocity_node<T: Real>(
+    vo: [T; 3],
+    f: [T; 3],
+    m: T,
+    im: T,
+    h_bar: f64,
+    g: [f64; 3],
+) -> ([T; 3], [T; 6]) {
+    let (pi, pg) = internal_and_gravity_impulses(h_bar, f, m, g);
+    // (Written out: through `array::map` the lane build kept the maps as calls and spilled.)
+    let w = [
+        vo[0] + (pi[0] + pg[0]) * im,
+        vo[1] + (pi[1] + pg[1]) * im,
+        vo[2] + (pi[2] + pg[2]) * im,
+    ];
+    let dot = |a: [T; 3], b: [T; 3]| row_dot::<T, false>(&a, b);
+    let half = T::splat(0.5);
+    (
+        w,
+        [
+            half * m * dot(vo, w),
+            half * m * dot(w, w),
+            half * dot(vo, pi),
+            half * dot(w, pi),
+            half * dot(vo, pg),
+            half * dot(w, pg),
+        ],
+    )
+}
+
 /// The internal and gravity impulses of one node over h̄ (PHYSICS.md §4 stage 5):
 /// P_int = −h̄ F_int and P_g = h̄ m g [N·s]. Used by the free velocity and by the boundary
 /// pass's ledger corrections, so both take the same bits.
 #[inline(always)]
-pub(crate) fn internal_and_gravity_impulses(
+pub(crate) fn internal_and_gravity_impulses<T: Real>(
     h_bar: f64,
-    f_int: [f64; 3],
-    m: f64,
+    f_int: [T; 3],
+    m: T,
     g: [f64; 3],
-) -> ([f64; 3], [f64; 3]) {
+) -> ([T; 3], [T; 3]) {
+    let (nh, hm) = (T::splat(-h_bar), T::splat(h_bar) * m);
     (
-        [-h_bar * f_int[0], -h_bar * f_int[1], -h_bar * f_int[2]],
-        [h_bar * m * g[0], h_bar * m * g[1], h_bar * m * g[2]],
+        [nh * f_int[0], nh * f_int[1], nh * f_int[2]],
+        [
+            hm * T::splat(g[0]),
+            hm * T::splat(g[1]),
+            hm * T::splat(g[2]),
+        ],
     )
 }

@@ -69,11 +69,6 @@ impl Planes {
         (0..self.n).map(|i| self.get(i))
     }
 
-    /// Component c of every node.
-    pub fn plane(&self, c: usize) -> &[f64] {
-        &self.data[c * self.n..(c + 1) * self.n]
-    }
-
     /// The three planes, x, y, z.
     pub fn planes(&self) -> [&[f64]; 3] {
         let (x, yz) = self.data.split_at(self.n);
@@ -128,13 +123,6 @@ impl NodalField for [[f64; 3]] {
     }
 }
 
-impl NodalField for Vec<[f64; 3]> {
-    #[inline(always)]
-    fn at(&self, i: usize) -> [f64; 3] {
-        self[i]
-    }
-}
-
 impl NodalField for Planes {
     #[inline(always)]
     fn at(&self, i: usize) -> [f64; 3] {
@@ -183,7 +171,7 @@ mod tests {
         let p = Planes::from_rows(&rows);
         assert_eq!(p.len(), 5);
         assert_eq!(p.to_rows(), rows);
-        assert_eq!(p.plane(1), &[10.0, 11.0, 12.0, 13.0, 14.0]);
+        assert_eq!(p.planes()[1], &[10.0, 11.0, 12.0, 13.0, 14.0]);
         assert_eq!(p.get(3), [3.0, 13.0, -3.0]);
         let [x, _, z] = p.planes();
         assert_eq!((x[4], z[4]), (4.0, -4.0));

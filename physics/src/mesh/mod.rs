@@ -451,7 +451,7 @@ mod tests {
             .map(|x| [dot(g[0], *x), dot(g[1], *x), dot(g[2], *x)])
             .collect();
         for e in [0, 17, 59] {
-            let f = m.centre_deformation_gradient(e, &u);
+            let f = m.centre_deformation_gradient(e, &u[..]);
             for i in 0..3 {
                 for j in 0..3 {
                     let expect = g[i][j] + if i == j { 1.0 } else { 0.0 };
