@@ -289,6 +289,7 @@ fn full_chunk_builds(
                         p,
                         chunk,
                         true,
+                        true,
                     )
                 };
                 (e, 0.0, j, el)
@@ -352,6 +353,7 @@ fn axis_aligned_kernels_give_the_row_products_values() {
                         Planes::from_rows(&u).planes(),
                         p,
                         &chunk,
+                        true,
                         true,
                     )
                 };
@@ -426,6 +428,7 @@ fn box_one_point_kernels_give_the_general_kernels_values() {
                             &chunk,
                             true,
                             0.0,
+                            true,
                         )
                     };
                     (r.strain, r.hourglass, r.min_j, r.min_element)
@@ -505,6 +508,7 @@ fn one_point_chunk_every_build_matches_portable_and_scalar_kernel() {
                                     chunk,
                                     true,
                                     f64::INFINITY,
+                                    true,
                                 )
                             };
                             assert_eq!(r.skipped, 0, "exact_below = ∞ checks every corner");
@@ -634,6 +638,7 @@ fn one_point_skipped_corner_check_changes_nothing_below_the_threshold() {
                             chunk,
                             true,
                             t,
+                            true,
                         )
                     };
                     (f.to_rows(), r)

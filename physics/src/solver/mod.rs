@@ -72,6 +72,9 @@ pub struct Simulation {
     blocks: Vec<Vec<Vec<u32>>>,
     /// The threads of the parallel loops (None: everything on the calling thread).
     team: Option<Team>,
+    /// The element loops prefetch each lane group's nodes: the nodal fields exceed the
+    /// last-level cache ([`crate::kernels::prefetch_pays`]).
+    prefetch: bool,
     /// Per-block / per-chunk results of the parallel loops, reused from step to step.
     parts_elements: Vec<ElementSums>,
     parts_nodes: Vec<NodeSums>,
@@ -291,6 +294,8 @@ struct ElementLoop<'a> {
     classes: &'a ElementClasses,
     blocks: &'a [Vec<Vec<u32>>],
     team: Option<&'a Team>,
+    /// Prefetch each lane group's nodes ([`crate::kernels::prefetch_pays`]).
+    prefetch: bool,
 }
 
 impl ElementLoop<'_> {
@@ -315,6 +320,7 @@ impl ElementLoop<'_> {
             self.team,
             parts,
             exact_below,
+            self.prefetch,
         )
     }
 }

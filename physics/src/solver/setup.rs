@@ -325,6 +325,7 @@ impl Simulation {
         let mut sim = Simulation {
             start_offsets,
             blocks: mesh.element_blocks(ELEMENT_GRAIN),
+            prefetch: crate::kernels::prefetch_pays(mesh.nodes.len()),
             classes,
             team,
             parts_elements: Vec::new(),

@@ -143,6 +143,7 @@ impl Simulation {
             classes: &self.classes,
             blocks: &self.blocks,
             team: self.team.as_ref(),
+            prefetch: self.prefetch,
         };
         // The smallest J of the corners has one consumer in the step, the inversion check
         // (J ≤ 0), which needs its sign only. So the one-point kernel skips a lane group's exact

@@ -69,6 +69,7 @@ impl<'a> StiffnessOperator<'a> {
             classes: &sim.classes,
             blocks: &sim.blocks,
             team: sim.team.as_ref(),
+            prefetch: sim.prefetch,
         };
         let nodes = sim.u.len();
         if cache.mask.len() != 3 * nodes {
