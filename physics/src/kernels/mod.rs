@@ -221,12 +221,18 @@ simd_dispatch! {
             energy: bool,
             exact_below: f64,
             prefetch: bool
-        ) -> ElementSums
+        ) -> ElementSums, const by prefetch
 }
 
+/// `PREFETCH`: the loop asks for the next group's nodes ([`prefetch_group`]); it is the
+/// `prefetch` argument, made a constant by the dispatch, so the loop is compiled once with the
+/// hints and once without. With the flag tested inside the loop, LLVM laid it out so that the
+/// hints stalled on the next group's connectivity and the kernel lost the gain (one thread at
+/// 100³: 56.1–58.6 ns per element against 53.9–54.8 with the hints unconditional, 55.1–57.0
+/// without them).
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
-unsafe fn chunk_forces_reduced_impl<const FMA: bool, const ISA: u8>(
+unsafe fn chunk_forces_reduced_impl<const FMA: bool, const ISA: u8, const PREFETCH: bool>(
     mesh: &Mesh,
     classes: &ElementClasses,
     mat: &Material,
@@ -236,48 +242,7 @@ unsafe fn chunk_forces_reduced_impl<const FMA: bool, const ISA: u8>(
     chunk: &[u32],
     energy: bool,
     exact_below: f64,
-    prefetch: bool,
-) -> ElementSums {
-    // One loop with the hints and one without (as in `chunk_forces_impl`).
-    if prefetch {
-        chunk_forces_reduced_loop::<FMA, ISA, true>(
-            mesh,
-            classes,
-            mat,
-            kappa,
-            u,
-            f,
-            chunk,
-            energy,
-            exact_below,
-        )
-    } else {
-        chunk_forces_reduced_loop::<FMA, ISA, false>(
-            mesh,
-            classes,
-            mat,
-            kappa,
-            u,
-            f,
-            chunk,
-            energy,
-            exact_below,
-        )
-    }
-}
-
-#[inline(always)]
-#[allow(clippy::too_many_arguments)]
-unsafe fn chunk_forces_reduced_loop<const FMA: bool, const ISA: u8, const PREFETCH: bool>(
-    mesh: &Mesh,
-    classes: &ElementClasses,
-    mat: &Material,
-    kappa: f64,
-    u: [&[f64]; 3],
-    f: PlanesPtr,
-    chunk: &[u32],
-    energy: bool,
-    exact_below: f64,
+    _prefetch: bool,
 ) -> ElementSums {
     let (mut e_sum, mut hg_sum) = (0.0, 0.0);
     let mut skipped = 0u32;
@@ -418,12 +383,13 @@ simd_dispatch! {
             chunk: &[u32],
             energy: bool,
             prefetch: bool
-        ) -> (f64, f64, usize)
+        ) -> (f64, f64, usize), const by prefetch
 }
 
+/// `PREFETCH` as in [`chunk_forces_reduced_impl`].
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
-unsafe fn chunk_forces_impl<const FMA: bool, const ISA: u8>(
+unsafe fn chunk_forces_impl<const FMA: bool, const ISA: u8, const PREFETCH: bool>(
     mesh: &Mesh,
     classes: &ElementClasses,
     mat: &Material,
@@ -431,28 +397,7 @@ unsafe fn chunk_forces_impl<const FMA: bool, const ISA: u8>(
     f: PlanesPtr,
     chunk: &[u32],
     energy: bool,
-    prefetch: bool,
-) -> (f64, f64, usize) {
-    // One loop with the hints and one without, not a flag tested in the loop: with the test
-    // inside, LLVM laid the loop out so that the hints stalled on the next group's
-    // connectivity and the kernel lost the gain (one thread at 100³: 56.1–58.6 ns per element
-    // against 53.9–54.8 with the hints unconditional and 55.1–57.0 without them).
-    if prefetch {
-        chunk_forces_loop::<FMA, ISA, true>(mesh, classes, mat, u, f, chunk, energy)
-    } else {
-        chunk_forces_loop::<FMA, ISA, false>(mesh, classes, mat, u, f, chunk, energy)
-    }
-}
-
-#[inline(always)]
-unsafe fn chunk_forces_loop<const FMA: bool, const ISA: u8, const PREFETCH: bool>(
-    mesh: &Mesh,
-    classes: &ElementClasses,
-    mat: &Material,
-    u: [&[f64]; 3],
-    f: PlanesPtr,
-    chunk: &[u32],
-    energy: bool,
+    _prefetch: bool,
 ) -> (f64, f64, usize) {
     let mut e_sum = 0.0;
     let mut min_j = f64::INFINITY;

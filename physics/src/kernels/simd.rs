@@ -134,7 +134,7 @@ impl Isa {
 /// `$builds()` lists every build this CPU runs.
 macro_rules! simd_dispatch {
     ($(#[$doc:meta])* $vis:vis fn $name:ident / $avx2:ident / $avx512:ident / $builds:ident
-        => $imp:ident($($arg:ident: $ty:ty),* $(,)?) -> $ret:ty) => {
+        => $imp:ident($($arg:ident: $ty:ty),* $(,)?) -> $ret:ty $(, const by $flag:ident)?) => {
         $(#[$doc])*
         #[allow(clippy::too_many_arguments)]
         $vis unsafe fn $name($($arg: $ty),*) -> $ret {
@@ -144,21 +144,21 @@ macro_rules! simd_dispatch {
                 $crate::kernels::simd::Isa::Avx2 => return $avx2($($arg),*),
                 $crate::kernels::simd::Isa::Portable => {}
             }
-            $imp::<false, ISA_PORTABLE>($($arg),*)
+            simd_dispatch!(@call $imp, false, ISA_PORTABLE, [$($flag)?], ($($arg),*))
         }
 
         #[cfg(target_arch = "x86_64")]
         #[target_feature(enable = "avx2,fma")]
         #[allow(clippy::too_many_arguments)]
         unsafe fn $avx2($($arg: $ty),*) -> $ret {
-            $imp::<true, ISA_AVX2>($($arg),*)
+            simd_dispatch!(@call $imp, true, ISA_AVX2, [$($flag)?], ($($arg),*))
         }
 
         #[cfg(target_arch = "x86_64")]
         #[target_feature(enable = "avx512f,avx2,fma")]
         #[allow(clippy::too_many_arguments)]
         unsafe fn $avx512($($arg: $ty),*) -> $ret {
-            $imp::<true, ISA_AVX512>($($arg),*)
+            simd_dispatch!(@call $imp, true, ISA_AVX512, [$($flag)?], ($($arg),*))
         }
 
         /// Every build of the kernel this CPU runs, named: "portable" first, then "avx2" and
@@ -166,8 +166,12 @@ macro_rules! simd_dispatch {
         #[cfg(test)]
         #[allow(clippy::type_complexity)]
         pub(super) fn $builds() -> Vec<(&'static str, unsafe fn($($ty),*) -> $ret)> {
+            #[allow(clippy::too_many_arguments)]
+            unsafe fn portable($($arg: $ty),*) -> $ret {
+                simd_dispatch!(@call $imp, false, ISA_PORTABLE, [$($flag)?], ($($arg),*))
+            }
             let mut builds: Vec<(&'static str, unsafe fn($($ty),*) -> $ret)> =
-                vec![("portable", $imp::<false, ISA_PORTABLE>)];
+                vec![("portable", portable)];
             #[cfg(target_arch = "x86_64")]
             if std::is_x86_feature_detected!("fma") {
                 if std::is_x86_feature_detected!("avx2") {
@@ -178,6 +182,18 @@ macro_rules! simd_dispatch {
                 }
             }
             builds
+        }
+    };
+    // The build's call: `imp::<FMA, ISA>`, or, with `const by flag`, `imp::<FMA, ISA, B>` with
+    // B the runtime argument `flag` made a constant (a body compiled once per value).
+    (@call $imp:ident, $fma:expr, $isa:expr, [], ($($arg:ident),*)) => {
+        $imp::<$fma, $isa>($($arg),*)
+    };
+    (@call $imp:ident, $fma:expr, $isa:expr, [$flag:ident], ($($arg:ident),*)) => {
+        if $flag {
+            $imp::<$fma, $isa, true>($($arg),*)
+        } else {
+            $imp::<$fma, $isa, false>($($arg),*)
         }
     };
 }
