@@ -8,8 +8,8 @@ use crate::report::state_bytes;
 use crate::scene::load_scene;
 use crate::solver::Simulation;
 use anyhow::{anyhow, bail, Result};
-use decohesion_physics::kernels::flops;
 use decohesion_physics::kernels::simd::{Isa, ISA_VARIABLE};
+use decohesion_physics::kernels::{self, flops};
 use decohesion_physics::model::Integration;
 use decohesion_physics::timing::median;
 use std::path::Path;
@@ -241,6 +241,25 @@ fn print_limits(configs: &[Config], isa: Isa, forced: bool) {
     println!("peak: {}", p.describe());
     let triad = triad_gbs();
     println!("memory: {triad:.1} GB/s (triad a = b + s·c on 3 × 64 MiB, one thread, best of 5)");
+    let mut sizes: Vec<usize> = configs
+        .iter()
+        .filter(|c| kernels::prefetch_pays(c.sim.model.mesh.nodes.len()))
+        .map(|c| c.n)
+        .collect();
+    sizes.sort_unstable();
+    sizes.dedup();
+    println!(
+        "prefetch of the next lane group, where U, V and F_int (72 bytes per node) exceed the last-level cache ({}): {}",
+        match kernels::last_level_cache_bytes() {
+            Some(b) => format!("{:.0} MiB, sysfs", b as f64 / (1 << 20) as f64),
+            None => "unread, 32 MiB assumed".to_string(),
+        },
+        if sizes.is_empty() {
+            "at no size here".to_string()
+        } else {
+            format!("n = {}", sizes.iter().map(|n| n.to_string()).collect::<Vec<_>>().join(", "))
+        }
+    );
     if let Some(c) = configs.first() {
         let model = c.sim.model.material.model;
         println!(

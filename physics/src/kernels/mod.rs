@@ -242,8 +242,10 @@ unsafe fn chunk_forces_reduced_impl<const FMA: bool, const ISA: u8, const PREFET
     chunk: &[u32],
     energy: bool,
     exact_below: f64,
-    _prefetch: bool,
+    prefetch: bool,
 ) -> ElementSums {
+    // The dispatch made the argument this constant.
+    debug_assert_eq!(prefetch, PREFETCH);
     let (mut e_sum, mut hg_sum) = (0.0, 0.0);
     let mut skipped = 0u32;
     let mut min_j = f64::INFINITY;
@@ -397,8 +399,10 @@ unsafe fn chunk_forces_impl<const FMA: bool, const ISA: u8, const PREFETCH: bool
     f: PlanesPtr,
     chunk: &[u32],
     energy: bool,
-    _prefetch: bool,
+    prefetch: bool,
 ) -> (f64, f64, usize) {
+    // The dispatch made the argument this constant.
+    debug_assert_eq!(prefetch, PREFETCH);
     let mut e_sum = 0.0;
     let mut min_j = f64::INFINITY;
     let mut min_e = 0usize;
@@ -608,15 +612,7 @@ pub fn last_level_cache_bytes() -> Option<usize> {
             let Ok(level) = level.trim().parse::<u32>() else {
                 continue;
             };
-            let size = size.trim();
-            let bytes = match size.strip_suffix('K') {
-                Some(k) => k.parse::<usize>().ok().map(|k| k << 10),
-                None => match size.strip_suffix('M') {
-                    Some(m) => m.parse::<usize>().ok().map(|m| m << 20),
-                    None => size.parse::<usize>().ok(),
-                },
-            };
-            if let Some(bytes) = bytes {
+            if let Some(bytes) = cache_size_bytes(&size) {
                 if best.is_none_or(|(l, _)| level > l) {
                     best = Some((level, bytes));
                 }
@@ -624,6 +620,18 @@ pub fn last_level_cache_bytes() -> Option<usize> {
         }
         best.map(|(_, b)| b)
     })
+}
+
+/// A cache size as sysfs writes it ("32768K", "1M", "512"), in bytes; None if unreadable.
+fn cache_size_bytes(size: &str) -> Option<usize> {
+    let size = size.trim();
+    let (digits, shift) = match size.as_bytes().last() {
+        Some(b'K') => (&size[..size.len() - 1], 10),
+        Some(b'M') => (&size[..size.len() - 1], 20),
+        Some(b'G') => (&size[..size.len() - 1], 30),
+        _ => (size, 0),
+    };
+    digits.parse::<usize>().ok()?.checked_mul(1 << shift)
 }
 
 /// Asks the cache for the displacements and forces of the lane group `group` (the next one)

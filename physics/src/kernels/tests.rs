@@ -820,3 +820,16 @@ fn the_row_scatter_adds_the_same_bits_as_the_element_by_element_scatter() {
         [true, false, false, false, false, false, false, false]
     );
 }
+
+/// Cache sizes as Linux's sysfs writes them, and what is not one.
+#[test]
+fn cache_sizes_parse_from_sysfs_text() {
+    use super::cache_size_bytes;
+    assert_eq!(cache_size_bytes("32768K\n"), Some(32 << 20));
+    assert_eq!(cache_size_bytes("1M"), Some(1 << 20));
+    assert_eq!(cache_size_bytes("512"), Some(512));
+    assert_eq!(cache_size_bytes("2G"), Some(2 << 30));
+    for bad in ["", "K", "12X", "-1K", "1.5M", "99999999999999999999K"] {
+        assert_eq!(cache_size_bytes(bad), None, "{bad:?}");
+    }
+}
