@@ -5,5 +5,5 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 export CARGO_TARGET_DIR="${CARGO_TARGET_DIR:-$HOME/.cache/decohesion-target}"
-UPDATE_GOLDEN=1 cargo test --release --test golden -- --nocapture
+UPDATE_GOLDEN=1 cargo test --release --test integration golden:: -- --nocapture
 git status --short tests/golden

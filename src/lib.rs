@@ -24,7 +24,9 @@ pub mod cli;
 #[cfg(not(target_arch = "wasm32"))]
 pub mod driver;
 /// The explorer (egui): reads scenes, runs simulations on a thread or, in the web page, inside
-/// the frame loop; not used by the physics.
+/// the frame loop; not used by the physics. Left out without the `gui` feature (the Python
+/// package).
+#[cfg(feature = "gui")]
 pub mod gui;
 /// What the outputs share: frame cadence, snapshot, per-element fields, writer threads (on
 /// wasm32 without the outputs themselves: the explorer's view may read the fields).
@@ -41,7 +43,7 @@ pub mod tradeoff;
 pub mod vtk;
 /// The web page's entry point (wasm32): the explorer in a canvas, every scene of `scenes/`
 /// built in, runs stepped inside the frame loop.
-#[cfg(target_arch = "wasm32")]
+#[cfg(all(target_arch = "wasm32", feature = "gui"))]
 pub mod web;
 
 // Native-only (threads, files, Rerun, ParaView, the command line): on wasm32-unknown-unknown the

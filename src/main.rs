@@ -53,6 +53,7 @@ enum Command {
     },
     /// Open the explorer window: scene picker, law editor with live curves, runs on a background
     /// thread streamed to the Rerun viewer, run history.
+    #[cfg(feature = "gui")]
     Gui {
         /// Scene to open (default: the last one used, or scenes/pull_off.toml).
         scene: Option<PathBuf>,
@@ -274,6 +275,7 @@ fn main() {
             save,
             spawn,
         ),
+        #[cfg(feature = "gui")]
         Command::Gui {
             scene,
             run_on_start,

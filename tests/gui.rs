@@ -3,10 +3,10 @@
 //! adds a history row; Stop during a run leaves a complete recording; the ParaView option writes
 //! frames that read back with the run's outcome.
 
-mod common;
+use crate::common;
 
-use common::capture::{read_capture, steps_with};
-use common::paraview::{read_pvd, read_vtu, state_counts};
+use crate::common::capture::{read_capture, steps_with};
+use crate::common::paraview::{read_pvd, read_vtu, state_counts};
 use decohesion::gui::{App, RecordChoice, Status};
 use decohesion::law::{families, ParamKind};
 use egui::accesskit::Role;

@@ -6,9 +6,9 @@
 //! hourglass control (the hourglass shape vectors are orthogonal to affine fields, so the patch
 //! test holds exactly and the hourglass energy is round-off).
 
-mod by_hand;
+use crate::by_hand;
 
-use by_hand::{piola_energy, stress_scale};
+use crate::by_hand::{piola_energy, stress_scale};
 use decohesion::kernels::{assemble_internal_forces, ElementRule, Planes};
 use decohesion::material::{Material, MaterialModel};
 use decohesion::mesh::Mesh;

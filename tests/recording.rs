@@ -3,13 +3,13 @@
 //! Cases: a completed run, an unstable run that fails mid-way, a run cancelled with Ctrl-C
 //! (SIGINT), and the errors of bad recording flags.
 
-mod common;
+use crate::common;
 
-use common::capture::{read_capture, scalars, steps_with};
+use crate::common::capture::{read_capture, scalars, steps_with};
 use std::path::PathBuf;
 use std::process::Command;
 
-use common::cli::{decohesion, summary, BIN};
+use crate::common::cli::{decohesion, summary, BIN};
 
 fn scratch(name: &str) -> PathBuf {
     common::cli::scratch("rec", name)

@@ -3,11 +3,11 @@
 //! contact and none elsewhere, for glued and contact-only nodes; and a turning mould's logged
 //! rotation against its analytic pose. The file is read back with the SDK's chunk store.
 
-mod common;
+use crate::common;
 
-use common::capture::{read_capture, rows};
-use common::cli::{decohesion_ok, scratch};
-use common::turning;
+use crate::common::capture::{read_capture, rows};
+use crate::common::cli::{decohesion_ok, scratch};
+use crate::common::turning;
 use decohesion::model::Shape;
 use decohesion::record::NORMAL_FRACTION;
 use decohesion::scene::load_scene;

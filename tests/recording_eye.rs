@@ -3,9 +3,9 @@
 //! the body's bounding box at t = 0, from where the whole body box — and the half-space
 //! moulds' squares drawn around it — are inside the view's frustum.
 
-mod common;
+use crate::common;
 
-use common::cli::decohesion_ok;
+use crate::common::cli::decohesion_ok;
 use decohesion::output::surface::mould::{body_box, mould_drawing};
 use decohesion::scene::load_scene;
 use rerun::external::re_sdk_types::blueprint::archetypes::{EyeControls3D, ViewBlueprint};

@@ -9,10 +9,10 @@
 //!   makes with the loads rebuilt at every step, here on the plotted frames; and its moment
 //!   about the roller's axis is logged (`mould_moment/roller`).
 
-mod common;
+use crate::common;
 
-use common::capture::{read_capture, rows_on};
-use common::cli::{decohesion_ok, summary};
+use crate::common::capture::{read_capture, rows_on};
+use crate::common::cli::{decohesion_ok, summary};
 use decohesion::output::surface::mould::body_box;
 use decohesion::scene::load_scene;
 use rerun::ChunkStore;

@@ -4,10 +4,10 @@
 //! is read back with the SDK's chunk store, as in `tests/recording.rs`; `rerun rrd verify` is
 //! CI's (it runs it on every scene's capture), not this test's.
 
-mod common;
+use crate::common;
 
-use common::capture::{read_capture, steps_with};
-use common::cli::{decohesion_ok, summary};
+use crate::common::capture::{read_capture, steps_with};
+use crate::common::cli::{decohesion_ok, summary};
 use decohesion::model::Shape;
 use decohesion::scene::load_scene;
 use decohesion::solver::Simulation;

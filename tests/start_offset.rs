@@ -2,10 +2,10 @@
 //! run's summary (its `warnings` and the `glued_start_offsets` field with the count and the
 //! largest offset) and the recording's run log.
 
-mod common;
+use crate::common;
 
-use common::capture::read_capture;
-use common::cli::{decohesion, scratch, summary};
+use crate::common::capture::read_capture;
+use crate::common::cli::{decohesion, scratch, summary};
 
 #[test]
 fn a_start_off_the_mould_is_reported_in_check_summary_and_recording() {

@@ -4,10 +4,10 @@
 //! value (read back with the SDK, and checked by `rerun rrd verify` when the CLI is installed);
 //! a failed run is a row; Ctrl-C writes the rows done.
 
-mod common;
+use crate::common;
 
-use common::capture::read_capture;
-use common::cli::{decohesion, scratch, summary, BIN};
+use crate::common::capture::read_capture;
+use crate::common::cli::{decohesion, scratch, summary, BIN};
 use serde_json::Value;
 use std::io::{BufRead, BufReader};
 use std::path::Path;

@@ -9,9 +9,9 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 use vtkio::model::CellType;
 
-mod common;
-use common::cli::{decohesion, summary, BIN};
-use common::paraview::{read_pvd, read_vtu, state_counts, Grid};
+use crate::common;
+use crate::common::cli::{decohesion, summary, BIN};
+use crate::common::paraview::{read_pvd, read_vtu, state_counts, Grid};
 const SCENE: &str = "scenes/pull_off.toml";
 
 fn scratch(name: &str) -> PathBuf {

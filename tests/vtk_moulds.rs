@@ -2,11 +2,11 @@
 //! with its own files, a fixed one written once, a moving one at every frame, placed by the
 //! step's pose. Read back with vtkio and quick-xml, readers independent of the writer.
 
-mod common;
+use crate::common;
 
-use common::cli::{decohesion_ok, scratch};
-use common::paraview::{read_pvd, read_pvd_parts, read_vtu};
-use common::turning;
+use crate::common::cli::{decohesion_ok, scratch};
+use crate::common::paraview::{read_pvd, read_pvd_parts, read_vtu};
+use crate::common::turning;
 use vtkio::model::CellType;
 
 #[test]

@@ -1,8 +1,8 @@
 //! Malformed scenes: each error must name the file, the key path and the offending value, and say
 //! what is admissible. Each case edits one line of a valid scene.
 
-mod common;
-use common::scene_file;
+use crate::common;
+use crate::common::scene_file;
 use decohesion_physics::law::families;
 use decohesion_physics::scene::parse_scene;
 use std::sync::LazyLock;

@@ -12,8 +12,8 @@
 //! traction, G_c), and the table of families by its folder: every file is a family, every
 //! family's defaults are admissible, every family's errors name the key.
 
-mod common;
-use common::*;
+use crate::common;
+use crate::common::*;
 use decohesion_physics::law::{families, Knots, ParamValues, StiffnessLaw};
 use decohesion_physics::material::{Material, MaterialModel};
 use decohesion_physics::model::{Interface, PrescribedDisplacement};

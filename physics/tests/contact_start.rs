@@ -4,8 +4,8 @@
 //! cube: 0.1 mm inside is refused with the face set, the mould, the node count and the depth;
 //! 0.1 µm inside, on the mould, or off it load.
 
-mod common;
-use common::scene_file;
+use crate::common;
+use crate::common::scene_file;
 use decohesion_physics::scene::parse_scene;
 
 /// A 1 m cube resting on the plane z = `z0` by contact on its `z-` face (9 nodes), another

@@ -3,8 +3,8 @@
 //! ODE; the rate bound at every step; the rate effect on the work of separation and the peak
 //! traction; τ_c → 0 gives the rate-independent run bit for bit.
 
-mod common;
-use common::*;
+use crate::common;
+use crate::common::*;
 use decohesion_physics::law::{Delay, Knots, StiffnessLaw};
 use decohesion_physics::scene::parse_scene;
 use decohesion_physics::solver::Simulation;

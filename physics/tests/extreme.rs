@@ -3,9 +3,9 @@
 //! never a panic. Every test loads the scene file itself; the tolerances are argued where they
 //! are asserted.
 
-mod common;
-use common::face_nodes;
-use common::scene_file;
+use crate::common;
+use crate::common::face_nodes;
+use crate::common::scene_file;
 use decohesion_physics::scene::load_scene;
 use decohesion_physics::solver::{Simulation, SolverError};
 

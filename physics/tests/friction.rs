@@ -14,8 +14,8 @@
 //!     T/M − μg (the test that (b) would fail if the friction were unbounded).
 
 use decohesion_physics::material::{Material, MaterialModel};
-mod common;
-use common::{centre_of_mass, face_nodes, on_floor};
+use crate::common;
+use crate::common::{centre_of_mass, face_nodes, on_floor};
 use decohesion_physics::model::{Model, PiecewiseLinear, Traction};
 use decohesion_physics::solver::{ContactStatus, Simulation};
 

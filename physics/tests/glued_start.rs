@@ -4,8 +4,8 @@
 //! within the tolerance) load with a warning that says how many and how far, and what that does
 //! to the glue — which the run then shows (pre-damage).
 
-mod common;
-use common::scene_file;
+use crate::common;
+use crate::common::scene_file;
 use decohesion_physics::scene::parse_scene;
 use decohesion_physics::solver::Simulation;
 use std::sync::LazyLock;

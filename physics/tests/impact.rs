@@ -15,9 +15,9 @@
 //! ν = 0) dropped from a height, whose landings happen inside the run and inside the ledger.
 
 use decohesion_physics::material::{Material, MaterialModel};
-mod common;
-use common::scene_file;
-use common::{face_nodes, on_floor};
+use crate::common;
+use crate::common::scene_file;
+use crate::common::{face_nodes, on_floor};
 use decohesion_physics::model::Model;
 use decohesion_physics::solver::Simulation;
 

@@ -1,8 +1,8 @@
 //! Issue 13: malformed `[[mould]]` sections — each error names the file, the key and the value
 //! and says what is admissible. Each case adds one mould to a valid scene.
 
-mod common;
-use common::scene_file;
+use crate::common;
+use crate::common::scene_file;
 use decohesion_physics::scene::parse_scene;
 
 /// The scene's name in messages: a file of `scenes/`, so that mould files resolve there.

@@ -10,8 +10,8 @@
 //! (from the list, rebuilt, tie). A golden run (`tread_demould`) being unchanged is the
 //! scene-level check.
 
-mod common;
-use common::scene_file;
+use crate::common;
+use crate::common::scene_file;
 
 use decohesion_physics::mould::surface::{read_stl, NearLists, NearStats, NO_FEATURE};
 use decohesion_physics::mould::SurfaceMesh;

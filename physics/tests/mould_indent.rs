@@ -1,9 +1,9 @@
 //! Issue 13: `scenes/indent.toml`, a rigid sphere pressed into a glued rubber pad and lifted —
 //! Hertz on loading, the ledger closing with the sphere's work.
 
-mod common;
-mod hertz;
-use common::*;
+use crate::common;
+use crate::hertz;
+use crate::common::*;
 use decohesion_physics::scene::load_scene;
 use decohesion_physics::solver::Simulation;
 

@@ -2,8 +2,8 @@
 //! everything) — no jump, no strain, no damage, no dissipation; and the ledger, with the mould's
 //! work, closing while a sphere is pressed into a pad.
 
-mod common;
-use common::*;
+use crate::common;
+use crate::common::*;
 use decohesion_physics::material::{Material, MaterialModel};
 use decohesion_physics::model::*;
 use decohesion_physics::solver::Simulation;

@@ -10,8 +10,8 @@
 //! block's weight and slide without friction on that edge.
 
 use decohesion_physics::material::{Material, MaterialModel};
-mod common;
-use common::{centre_of_mass, face_nodes, on_floor};
+use crate::common;
+use crate::common::{centre_of_mass, face_nodes, on_floor};
 use decohesion_physics::model::PiecewiseLinear;
 use decohesion_physics::model::PrescribedDisplacement;
 use decohesion_physics::solver::{ContactStatus, Simulation};

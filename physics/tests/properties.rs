@@ -5,8 +5,8 @@
 //! that they do damage the glue: at least half of the cases must take some node past α_e (a
 //! property test whose histories never leave the elastic range would test nothing).
 
-mod common;
-use common::*;
+use crate::common;
+use crate::common::*;
 use decohesion_physics::law::{Knots, ParamValues, StiffnessLaw};
 use decohesion_physics::material::{Material, MaterialModel};
 use decohesion_physics::model::{Interface, PiecewiseLinear, PrescribedDisplacement};

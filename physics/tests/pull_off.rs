@@ -2,8 +2,8 @@
 //! a third of the run, a free cube afterwards, a ledger that closes, and its residual falling as
 //! h² (PHYSICS.md §5).
 
-mod common;
-use common::scene_file;
+use crate::common;
+use crate::common::scene_file;
 
 use decohesion_physics::scene::load_scene;
 use decohesion_physics::solver::Simulation;

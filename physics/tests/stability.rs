@@ -3,8 +3,8 @@
 //! the way a run gets there) is caught with a diagnostic naming the step, the time, h and
 //! h_crit.
 
-mod common;
-use common::scene_file;
+use crate::common;
+use crate::common::scene_file;
 
 use decohesion_physics::scene::load_scene;
 use decohesion_physics::solver::{Simulation, SolverError};

@@ -2,8 +2,8 @@
 //! ones where the stiffness changes, and the energy ledger across changes of h (PHYSICS.md §6
 //! and §8, `solver/stable_step.rs`, `solver/ledger.rs`).
 
-mod common;
-use common::scene_file;
+use crate::common;
+use crate::common::scene_file;
 use decohesion_physics::scene::load_scene;
 use decohesion_physics::solver::Simulation;
 

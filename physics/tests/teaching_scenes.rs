@@ -1,10 +1,10 @@
 //! The teaching scenes of scenes/: each test loads the scene file itself and checks the
 //! behaviour its `description` promises against the analytic number.
 
-mod common;
-use common::centre_of_mass;
-use common::scene_file;
-use common::{mean, slope};
+use crate::common;
+use crate::common::centre_of_mass;
+use crate::common::scene_file;
+use crate::common::{mean, slope};
 use decohesion_physics::scene::load_scene;
 use decohesion_physics::solver::Simulation;
 use std::f64::consts::FRAC_PI_2;

@@ -11,8 +11,8 @@
 //! test's yardstick: the arrival must be within one front width of L/c, and its lag must be the
 //! predicted one.
 
-mod common;
-use common::bare_box;
+use crate::common;
+use crate::common::bare_box;
 use decohesion_physics::material::{Material, MaterialModel};
 use decohesion_physics::model::{Model, PiecewiseLinear, PrescribedDisplacement};
 use decohesion_physics::solver::Simulation;

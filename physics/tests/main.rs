@@ -1,0 +1,65 @@
+//! The physics crate's integration tests as one test binary: each file of `tests/` is a module
+//! here, linked once. `allocation.rs` is a binary of its own: it installs a counting global
+//! allocator, which would count every other test's allocations too. A file of `tests/` that is
+//! neither listed here nor in `Cargo.toml` fails [`every_test_file_is_built`].
+
+mod common;
+mod hertz;
+
+mod bad_input;
+mod cohesive_law;
+mod contact_start;
+mod corner_jacobian;
+mod delay;
+mod extreme;
+mod form_turning;
+mod free_vibration;
+mod friction;
+mod glued_start;
+mod impact;
+mod indent_adhesive;
+mod mould_bad_input;
+mod mould_cache;
+mod mould_indent;
+mod mould_motion;
+mod mould_shapes;
+mod multi_constraint;
+mod partial_contact;
+mod properties;
+mod pull_off;
+mod rccm;
+mod reduced;
+mod roller_peel;
+mod stability;
+mod step;
+mod teaching_scenes;
+mod tread_demould;
+mod wave_speed;
+
+/// Every `tests/*.rs` is a module of this binary or a test binary of its own in `Cargo.toml`:
+/// with `autotests = false`, a file added to `tests/` and listed nowhere would never run.
+#[test]
+fn every_test_file_is_built() {
+    let root = env!("CARGO_MANIFEST_DIR");
+    let main = std::fs::read_to_string(format!("{root}/tests/main.rs")).unwrap();
+    let manifest = std::fs::read_to_string(format!("{root}/Cargo.toml")).unwrap();
+    let mut missing = Vec::new();
+    for entry in std::fs::read_dir(format!("{root}/tests")).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_none_or(|e| e != "rs") {
+            continue;
+        }
+        let stem = path.file_stem().unwrap().to_str().unwrap().to_string();
+        let listed = stem == "main"
+            || main.lines().any(|l| l.trim() == format!("mod {stem};"))
+            || manifest.contains(&format!("path = \"tests/{stem}.rs\""));
+        if !listed {
+            missing.push(stem);
+        }
+    }
+    assert!(
+        missing.is_empty(),
+        "tests/{{{}}}.rs: add `mod NAME;` to tests/main.rs (or a [[test]] to Cargo.toml)",
+        missing.join(",")
+    );
+}

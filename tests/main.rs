@@ -1,0 +1,53 @@
+//! The tests of the whole program, as one test binary: each file of `tests/` is a module here, so
+//! the Rerun SDK, egui and the command line are linked once rather than once per file.
+//! `gui_view.rs` (a real window under Xvfb, which sets the process's `DISPLAY`) is a binary of
+//! its own. A file of `tests/` that is neither listed here nor in `Cargo.toml` fails
+//! [`every_test_file_is_built`].
+
+mod by_hand;
+mod common;
+
+mod gmsh;
+mod golden;
+mod gui;
+mod material;
+mod patch;
+mod recording;
+mod recording_contact;
+mod recording_eye;
+mod recording_mould_loads;
+mod recording_moulds;
+mod ribbed_mould;
+mod start_offset;
+mod sweep;
+mod tradeoff;
+mod vtk;
+mod vtk_moulds;
+
+/// Every `tests/*.rs` is a module of this binary or a test binary of its own in `Cargo.toml`:
+/// with `autotests = false`, a file added to `tests/` and listed nowhere would never run.
+#[test]
+fn every_test_file_is_built() {
+    let root = env!("CARGO_MANIFEST_DIR");
+    let main = std::fs::read_to_string(format!("{root}/tests/main.rs")).unwrap();
+    let manifest = std::fs::read_to_string(format!("{root}/Cargo.toml")).unwrap();
+    let mut missing = Vec::new();
+    for entry in std::fs::read_dir(format!("{root}/tests")).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_none_or(|e| e != "rs") {
+            continue;
+        }
+        let stem = path.file_stem().unwrap().to_str().unwrap().to_string();
+        let listed = stem == "main"
+            || main.lines().any(|l| l.trim() == format!("mod {stem};"))
+            || manifest.contains(&format!("path = \"tests/{stem}.rs\""));
+        if !listed {
+            missing.push(stem);
+        }
+    }
+    assert!(
+        missing.is_empty(),
+        "tests/{{{}}}.rs: add `mod NAME;` to tests/main.rs (or a [[test]] to Cargo.toml)",
+        missing.join(",")
+    );
+}
