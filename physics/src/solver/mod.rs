@@ -1,8 +1,8 @@
-//! The CD-Lagrange time step (PHYSICS.md §4) with the RCCM interface, contact, friction,
-//! prescribed displacements, the energy ledger (§5) and the stable-step estimate (§6).
+//! The CD-Lagrange time step (model §4) with the RCCM interface, contact, friction,
+//! prescribed displacements, the energy ledger (model §5) and the stable-step estimate (§6).
 //!
 //! State at integer times tₙ: displacements U, damage α; at half times: velocities V. One call of
-//! [`Simulation::step`] goes from tₙ to tₙ₊₁ through the numbered stages of PHYSICS.md §4, each a
+//! [`Simulation::step`] goes from tₙ to tₙ₊₁ through the numbered stages of model §4, each a
 //! named function:
 //!
 //! | stage | function | file |
@@ -141,7 +141,7 @@ pub struct Simulation {
 }
 
 impl Simulation {
-    /// One CD-Lagrange step tₙ → tₙ₊₁ (PHYSICS.md §4, stages 1–9), written with the index of
+    /// One CD-Lagrange step tₙ → tₙ₊₁ (model §4.1–§4.9), written with the index of
     /// the step just completed as n − 1: on entry Uₙ, αₙ, V_{n+½}; on exit Uₙ₊₁, αₙ₊₁, V_{n+3/2}.
     pub fn step(&mut self) -> Result<(), SolverError> {
         let t0 = Instant::now();
@@ -287,7 +287,7 @@ impl Simulation {
 }
 
 /// The element loop of stage 3 over one simulation's mesh, material, rule and team: all that
-/// F_int(U) = Σ_e fₑ(U) needs besides U (PHYSICS.md §2). Borrowed field by field, so the step
+/// F_int(U) = Σ_e fₑ(U) needs besides U (model §1.5). Borrowed field by field, so the step
 /// can write F_int while it holds it.
 struct ElementLoop<'a> {
     model: &'a Model,
