@@ -10,7 +10,7 @@
 //! | 1 positions and state | [`Simulation::advance_positions`] | `stages.rs` |
 //! | 2 surfaces, gaps, prescribed values | [`Simulation::surfaces_and_gaps`], [`Simulation::prescribed_motion`] | `stages.rs` |
 //! | 3 internal forces | [`Simulation::internal_forces`] | `stages.rs` |
-//! | §6 next step | [`Simulation::next_time_step`] | `stable_step.rs`, `lanczos.rs`, `stiffness.rs` |
+//! | model §6: next step | [`Simulation::next_time_step`] | `stable_step.rs`, `lanczos.rs`, `stiffness.rs` |
 //! | 5 free velocity, all nodes | [`Simulation::free_velocity`] | `stages.rs` |
 //! | 4–8 at boundary nodes | [`Simulation::boundary_pass`]: per node, tractions, cohesion (4), free velocity (5), prescribed components (6), contact (7), the ledger's halves, damage (8) | `boundary.rs` |
 //! | 9 ledger | [`Simulation::ledger`] | `ledger.rs` |
@@ -154,7 +154,7 @@ impl Simulation {
         // 3. F_int,ₙ₊₁ from Uₙ₊₁ (parallel element loop); an inverted element stops the run.
         self.internal_forces(true, true)?;
         let t2 = Instant::now();
-        // §6. Re-estimate h_crit as the stiffness changes; fixes h_{n+3/2}.
+        // §6 (model §6.5, §6.6). Re-estimate h_crit as the stiffness changes; fixes h_{n+3/2}.
         let h_next = self.next_time_step();
         let t3 = Instant::now();
         // 2. Surface and prescribed velocities over the interval about to be taken.
