@@ -1,7 +1,7 @@
 //! decohesion: explicit non-smooth dynamics (CD-Lagrange scheme) of a hyperelastic solid glued
 //! to rigid surfaces by the RCCM cohesive law (damageable adhesion, unilateral contact, friction
-//! growing with damage). See `PHYSICS.md` of the project for the model; every function that
-//! implements an equation names it.
+//! growing with damage). The model is stated in `docs/src/model.md`; every
+//! function that implements an equation names it and cites the section ("model §4.7").
 //!
 //! The physics is the crate `decohesion_physics` (folder `physics/`), re-exported here: it knows
 //! nothing of the command line or of any viewer, by its dependencies; `record` (Rerun) and `vtk` (ParaView files) read them

@@ -74,7 +74,7 @@ pub struct RunSummary {
     pub glued_start_offsets: Vec<crate::solver::StartOffset>,
     /// Each mould's work since t₀ [J] (force · velocity of the mould at the points it acts on,
     /// moments included; their sum is `energies.plane_work`), as (name, work). Listed when a
-    /// scene has a mould that is not a plain fixed-orientation plane (issue 13).
+    /// scene has a mould that is not a plain fixed-orientation plane (model §7.6).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub mould_work: Vec<(String, f64)>,
     /// The friction dissipated on each mould since t₀ [J] (their sum is

@@ -19,7 +19,7 @@
 //! | array | where | components | meaning [unit] |
 //! |---|---|---|---|
 //! | `displacement` | points | 3 | Uₙ [m]; ParaView's *Warp By Vector* on it shows x = X + U |
-//! | `velocity` | points | 3 | V_{n+½} [m/s], the CD-Lagrange velocity of the step that follows tₙ (PHYSICS.md §4: Uₙ₊₁ = Uₙ + h V_{n+½}) |
+//! | `velocity` | points | 3 | V_{n+½} [m/s], the CD-Lagrange velocity of the step that follows tₙ (model §4.1: Uₙ₊₁ = Uₙ + h V_{n+½}) |
 //! | `alpha` | points | 1 | damage α of an interface node [m] (eq. 12); [`NOT_INTERFACE`] elsewhere |
 //! | `state` | points | 1 (Int8) | 0 elastic, 1 transition, 2 ruptured, 3 unformed (glue that forms on contact, not formed yet; [`crate::law::InterfaceState`]); [`NOT_INTERFACE`] on nodes off the interfaces |
 //! | `J` | cells | 1 | J = det F at the element centre ξ = 0 ([`crate::output::fields`]) [-] |

@@ -214,10 +214,10 @@ fn stop_during_a_run_leaves_a_valid_recording() {
     assert_eq!(frames.last(), Some(&(row.steps as i64)), "ends at the stop");
 }
 
-/// Issue 16: the window stays responsive on a 56³ run (175 616 hex8): its solver thread reports
+/// The window stays responsive on a 56³ run (175 616 hex8): its solver thread reports
 /// progress while the window draws, the 3-D view receives the run's frames, and Stop ends the
 /// run at the solver's next step. The frame times and the stop latency are printed, not
-/// asserted (`--nocapture`; machines differ): the README quotes them.
+/// asserted (`--nocapture`; machines differ; docs: performance log).
 #[test]
 fn a_56_cube_run_reports_progress_and_stops_at_the_next_step() {
     let mut app = small_pull_off(56);

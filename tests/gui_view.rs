@@ -3,8 +3,8 @@
 //! the picture in the view's rect is not blank at the first frame nor at the last, and the two
 //! differ (the view follows the time slider). Then a short 28³ run: with the view animating
 //! (a new frame every repaint, the camera turning) the repaints are timed, and with the camera
-//! alone turning the vertex buffer is not uploaded again. The repaint times are printed (the
-//! README quotes them), not asserted.
+//! alone turning the vertex buffer is not uploaded again. The repaint times are printed, not
+//! asserted.
 //!
 //! Needs `Xvfb` on PATH (Debian: xvfb, libgl1-mesa-dri), as `scripts/gui_screenshot.sh` does.
 //! Without it the test is skipped with a printed reason, except under CI (`CI=true`), where a
@@ -323,9 +323,8 @@ fn the_view_draws_the_body_and_follows_the_slider() {
             1.0 / t
         );
     }
-    // The frame rate is printed, not asserted: speed is measured (README: 73 pictures/s for the
-    // view alone, 700×500, with the two cores loaded), never a timed assertion that a slower or
-    // busier machine would fail.
+    // The frame rate is printed, not asserted: speed is measured (docs: performance log), never
+    // a timed assertion that a slower or busier machine would fail.
     // Playing: a new frame every repaint, so one upload each; turning only: none.
     assert!(r.uploads.0 as usize >= TIMED - 2, "{:?}", r.uploads);
     assert_eq!(r.uploads.1, 0, "the camera alone re-uploaded the vertices");

@@ -1,4 +1,4 @@
-//! The materials and the element kernels against PHYSICS.md §2 written out by hand
+//! The materials and the element kernels against model §1.3–§1.6 written out by hand
 //! (`by_hand`), at ν = 0.45 so that λ (9 μ here) weighs: the Lamé constants, the P-wave modulus
 //! and speed, the pointwise stress, and each element kernel (full 2×2×2, one point, one point on
 //! 8 elements in lanes) on distorted elements under homogeneous deformations, where the

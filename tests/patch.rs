@@ -1,7 +1,7 @@
-//! Patch tests (PHYSICS.md §2): a homogeneous deformation U = (F − I)X of a mesh with
+//! Patch tests (model §1.5, §1.6): a homogeneous deformation U = (F − I)X of a mesh with
 //! distorted elements must give the exact stress: zero force on interior nodes, and on the
 //! boundary the nodal forces of the constant first Piola stress P = F·S, P and ψ being the
-//! formulas of PHYSICS.md §2 written out by hand (`by_hand`) at ν = 0.45. A rigid rotation
+//! formulas of model §1.3–§1.4 written out by hand (`by_hand`) at ν = 0.45. A rigid rotation
 //! gives no force and no strain energy. Both quadratures: 2×2×2 Gauss and one point with
 //! hourglass control (the hourglass shape vectors are orthogonal to affine fields, so the patch
 //! test holds exactly and the hourglass energy is round-off).

@@ -110,7 +110,7 @@ fn pull_off_capture_holds_every_frame_and_matches_the_summary() {
     let dissipated: Vec<f64> = energy.values().map(|v| v[4]).collect();
     let expect = s["energies"]["damage_dissipated"].as_f64().unwrap();
     assert_eq!(*dissipated.last().unwrap(), expect);
-    // And it never decreases (ΔD ≥ 0, PHYSICS.md §5).
+    // And it never decreases (ΔD ≥ 0, model §5.5).
     assert!(dissipated.windows(2).all(|w| w[1] >= w[0]));
 
     // α(t) of every node (64 ≤ 64): at the end all beyond u_r.

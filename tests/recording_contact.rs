@@ -1,4 +1,4 @@
-//! Contact in the Rerun capture (issue 13, "Seeing it"): the nodes coloured open / stick / slip
+//! Contact in the Rerun capture (model §3, §7.5): the nodes coloured open / stick / slip
 //! (class ids of the annotation context), an arrow along the mould's normal at every node in
 //! contact and none elsewhere, for glued and contact-only nodes; and a turning mould's logged
 //! rotation against its analytic pose. The file is read back with the SDK's chunk store.

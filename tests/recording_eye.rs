@@ -1,4 +1,4 @@
-//! The 3-D view's default eye in the capture (issue 13, "Seeing it"): the blueprint store of
+//! The 3-D view's default eye in the capture: the blueprint store of
 //! the `.rrd` carries an `EyeControls3D` under the 3-D view's path, looking at the centre of
 //! the body's bounding box at t = 0, from where the whole body box — and the half-space
 //! moulds' squares drawn around it — are inside the view's frustum.

@@ -1,4 +1,4 @@
-//! What the capture plots of each mould (issue 13, "Seeing it"), on `roller_peel` (a fixed
+//! What the capture plots of each mould (model §5.7, §7.6), on `roller_peel` (a fixed
 //! plate and a turning, translating roller, both rubbing on the strip):
 //! - the friction dissipated on each mould, one series per mould in the energy view
 //!   (`energy/mould_friction`), ends at the summary's per-mould values and sums to the

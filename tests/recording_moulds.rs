@@ -1,4 +1,4 @@
-//! Moulds that are not planes in the Rerun capture (issue 13, "Seeing it"): the indent scene's
+//! Moulds that are not planes in the Rerun capture (model §7): the indent scene's
 //! sphere is logged once as a mesh at its t = 0 placement under `planes/ball`, and moved by a
 //! Transform3D per frame taken from the step's own pose (`Simulation::mould_pose`). The file
 //! is read back with the SDK's chunk store, as in `tests/recording.rs`; `rerun rrd verify` is

@@ -1,4 +1,4 @@
-//! Glued nodes that start off their mould (issue 13's audit): the warning reaches `check`, the
+//! Glued nodes that start off their mould (model §7.7): the warning reaches `check`, the
 //! run's summary (its `warnings` and the `glued_start_offsets` field with the count and the
 //! largest offset) and the recording's run log.
 

@@ -135,7 +135,7 @@ fn pull_off_frames_read_back_with_the_run_physics() {
         );
         // The prescribed face moves with the table: U_z = Ū(t) at the last time, to the
         // round-off of summing one increment Ū(tₙ₊₁) − Ū(tₙ) per step (a few ulps each), and its
-        // velocity V_{n+½} = (Ū(tₙ + h) − Ū(tₙ))/h (PHYSICS.md §4 stage 6).
+        // velocity V_{n+½} = (Ū(tₙ + h) − Ū(tₙ))/h (model §4.6).
         let t = *times.last().unwrap();
         let h = s["time_step"].as_f64().unwrap();
         let bc = &model.displacements[0];

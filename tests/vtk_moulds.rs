@@ -1,4 +1,4 @@
-//! The moulds in the ParaView output (issue 13, "Seeing it"): each mould a part of the `.pvd`
+//! The moulds in the ParaView output (model §7): each mould a part of the `.pvd`
 //! with its own files, a fixed one written once, a moving one at every frame, placed by the
 //! step's pose. Read back with vtkio and quick-xml, readers independent of the writer.
 

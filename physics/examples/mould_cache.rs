@@ -1,4 +1,4 @@
-//! What the closest-point cache of triangulated moulds saves (issue 13, Performance): a
+//! What the closest-point cache of triangulated moulds saves (docs: performance log): a
 //! 100 × 100 mm, 1 mm thick rubber sheet (100 × 100 × 1 hex8) on a mould
 //! surface of 2 × 71² = 10 082 triangles (sine ribs every 10 mm, `examples/shared/sine_ribs.rs`,
 //! written to a temporary STL), its 10 201 bottom nodes a contact face set on it (μ = 0.3),

@@ -1,4 +1,4 @@
-//! The pull-off run of issue 16 with the physics crate alone: what `decohesion run
+//! The pull-off run (model §9) with the physics crate alone: what `decohesion run
 //! scenes/pull_off.toml --set mesh.cells=[N,N,N] --summary` measures, without building the root
 //! package (Rerun, egui). It parses `scenes/pull_off.toml` with the cells overridden the way
 //! `--set` does, runs to the end on the global rayon pool (2 threads on the 2-core machine,

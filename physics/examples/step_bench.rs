@@ -1,7 +1,7 @@
 //! The whole step and its stages per element-step on the n³ pull-off, built as
 //! `decohesion bench` builds it (`scenes/pull_off.toml`, `mesh.cells = [n, n, n]`, no h_crit
 //! re-estimates, the interface on), but from the physics crate alone, so that a kernel change
-//! can be measured without building the root package (issue 16, README "Performance").
+//! can be measured without building the root package (docs: performance log).
 //!
 //! ```sh
 //! cargo run --release -p decohesion-physics --example step_bench -- [N] [STEPS] [REPEATS] [RULE] [SKIP]
@@ -12,8 +12,8 @@
 //! on each, so a burst of load on the shared machine lands in one repetition of both (the
 //! medians see it as an outlier). Prints the medians over REPEATS of ns per element-step of the
 //! whole step and of each stage ([`decohesion_physics::solver::StageTimes`]), and the share of
-//! the one-point lane groups whose exact corner check the cheap bound let skip (PHYSICS.md
-//! §2, [`decohesion_physics::kernels::corner_bound`]). Wall-clock figures: on a shared machine
+//! the one-point lane groups whose exact corner check the cheap bound let skip (model
+//! §1.9, [`decohesion_physics::kernels::corner_bound`]). Wall-clock figures: on a shared machine
 //! say "loaded" and quote the load average next to them. `DECOHESION_ISA=avx2|avx512|portable`
 //! forces a build of the kernels.
 

@@ -1,4 +1,4 @@
-//! The energy ledger of PHYSICS.md §5 with its exact discrete definitions.
+//! The energy ledger of model §5 with its exact discrete definitions.
 //!
 //! Every force k works by the trapezoid rule on integer-time displacements; in impulse form
 //! (Pᵏₙ = h̄ₙ Fᵏₙ, the velocity jump M(V_{n+½} − V_{n−½}) = Σₖ Pᵏₙ) the work over [tₙ₋₁, tₙ] is
@@ -70,7 +70,7 @@ pub struct Ledger {
     pub internal_work: Work,
     /// Step-change work W_Δh: what a change of the time step feeds into the kinetic energy
     /// through the conservative forces (internal, cohesive), the difference between their
-    /// impulse-form and plain trapezoid works (0 at a constant step; PHYSICS.md §8,
+    /// impulse-form and plain trapezoid works (0 at a constant step; model §5.8,
     /// `solver/ledger.rs`). A source in the balance.
     pub step_change_work: Work,
     /// Contact work on relative displacement, normal and tangential (negated into dissipations).
@@ -130,7 +130,7 @@ impl Ledger {
     }
 
     /// Balance residual = W_ext + W_Δh − (ΔK + ΔΨ + ΔΨ_hg + ΔΨ_d + D_damage + D_normal + D_friction)
-    /// (PHYSICS.md §5).
+    /// (model §5.1).
     pub fn residual(&self) -> f64 {
         self.external_work() + self.step_change_work.value
             - ((self.kinetic - self.initial_kinetic)

@@ -13,7 +13,7 @@
 //!   keep the order of the file and are numbered from 0;
 //! - curves, points, surface elements outside physical groups and volume physical groups are
 //!   ignored;
-//! - every hexahedron must have det J₀ > 0 at its Gauss points (PHYSICS.md §2); an inverted or
+//! - every hexahedron must have det J₀ > 0 at its Gauss points (model §1.5); an inverted or
 //!   degenerate one is refused with its tag.
 //!
 //! Node order: Gmsh's hexahedron has node 0 at (u, v, w) = (−1, −1, −1), 1 at (1, −1, −1),

@@ -1,7 +1,8 @@
 //! The physics of decohesion: explicit non-smooth dynamics (CD-Lagrange scheme) of a
 //! hyperelastic solid glued to rigid surfaces by the RCCM cohesive law (damageable adhesion,
-//! unilateral contact, friction growing with damage). See `PHYSICS.md` of the project for the
-//! model; every function that implements an equation names it.
+//! unilateral contact, friction growing with damage). The model is stated in
+//! `docs/src/model.md`; every function that implements an equation names it and cites the
+//! section ("model §4.7").
 //!
 //! `Scene -> Model -> Simulation::step()`. This crate depends on no viewer, GUI or command-line
 //! crate (rerun, egui, eframe, clap, indicatif): the compiler enforces it, since none is in its

@@ -83,7 +83,7 @@ impl<const N: usize> PiecewiseLinear<N> {
     }
 }
 
-/// A rigid mould (issue 13): a shape ([`Shape`]) moved by a prescribed rigid motion. A
+/// A rigid mould (model §7): a shape ([`Shape`]) moved by a prescribed rigid motion. A
 /// `[[plane]]` is the half-space shape: points x with n·(x − p(t)) > 0 are on the solid's side.
 /// The name `RigidPlane` is kept for the code that knew only planes; [`Mould`] is the same type.
 #[derive(Debug, Clone, PartialEq, Serialize, Default)]
@@ -118,7 +118,7 @@ impl RigidPlane {
     }
 
     /// True for the path of today's planes: a half-space that does not turn (its gaps and
-    /// velocities are the plane's, the same at every node, computed as before issue 13).
+    /// velocities are the plane's, the same at every node: the plain plane of model §7.2).
     pub fn is_plane(&self) -> bool {
         matches!(self.shape, Shape::HalfSpace) && self.angular_velocity.is_none()
     }
@@ -143,7 +143,7 @@ impl RigidPlane {
     }
 }
 
-/// A face set glued to a rigid plane by the RCCM cohesive law (PHYSICS.md §3).
+/// A face set glued to a rigid plane by the RCCM cohesive law (model §2).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Interface {
     /// Name of the face set of the mesh.
@@ -158,7 +158,7 @@ pub struct Interface {
     /// happened before the run is not counted as dissipated in its ledger. Default 0.
     pub initial_damage: f64,
     /// `Some(μ)`: glue that forms on contact (a `[[contact]]` entry with an adhesive law,
-    /// README "Model"): no glue at t = 0, the face set is in contact with Coulomb friction μ; a
+    /// model §8): no glue at t = 0, the face set is in contact with Coulomb friction μ; a
     /// node that comes into contact is glued from then on, anchored where it touched, with
     /// intact glue (α = 0), and follows this law like any glued node (rupture leaves contact
     /// with μ_inf; a ruptured node is never glued again). `None`: glued from t = 0.
@@ -196,7 +196,7 @@ pub struct Traction {
     pub amplitude: PiecewiseLinear<1>,
 }
 
-/// Quadrature of the hexahedra (PHYSICS.md §2).
+/// Quadrature of the hexahedra (model §1.5, §1.6).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, serde::Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Integration {
@@ -219,7 +219,7 @@ pub struct SchemeParams {
     /// Re-estimate h_crit every this many steps (large strains stiffen or soften the body);
     /// 0 = only at the start. Default 500.
     pub h_crit_update_interval: usize,
-    /// Relative tolerance on ω_max² of the Lanczos estimate (PHYSICS.md §6). Default 1e-6.
+    /// Relative tolerance on ω_max² of the Lanczos estimate (model §6.2). Default 1e-6.
     pub h_crit_tolerance: f64,
     /// The run is declared unstable when the mechanical energy exceeds this factor times the
     /// energy that entered the system (initial energy plus |external work|). Default 10.

@@ -1,11 +1,10 @@
 //! A persistent team of threads for the time step's parallel loops.
 //!
-//! A step at 28³ elements runs four parallel sections (positions, two colours of element
-//! blocks, the free velocity) separated by short serial stages, about 600 µs in all on this
-//! machine's 2 cores. Through rayon each section paid for waking a pool thread that had gone
-//! to sleep during the serial stages, and its work stealing handed the halves of the nodal
-//! arrays to the two cores at random, so each section found half of its data in the other
-//! core's L2. `decohesion bench` measured both (README, Performance).
+//! A step runs four parallel sections (positions, two colours of element blocks, the free velocity)
+//! separated by short serial stages. Through rayon each section paid for waking a pool thread that
+//! had gone to sleep during the serial stages, and its work stealing handed the halves of the nodal
+//! arrays to the two cores at random, so each section found half of its data in the other core's
+//! L2. `decohesion bench` measured both (docs: performance log).
 //!
 //! The team keeps its threads spinning for [`SPIN`] after each section, so within a run a
 //! section starts in well under a microsecond, and gives every participant a fixed, contiguous

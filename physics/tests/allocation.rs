@@ -1,9 +1,9 @@
-//! The time step allocates nothing once its buffers exist (issue 5: "no allocation in the
-//! step"): a counting global allocator sees zero allocations over 200 steps of the pull-off on
+//! The time step allocates nothing once its buffers exist: a
+//! counting global allocator sees zero allocations over 200 steps of the pull-off on
 //! an explicit two-thread team (14³, interface, prescribed face, both quadratures), h_crit
 //! estimates off (an estimate builds its Lanczos vectors). The team is asked for explicitly, so
 //! a one-core machine tests it too. Then the same over 200 steps of a sheet on a sliding
-//! triangulated mould (issue 13): the closest points come from the nodes' lists of nearby
+//! triangulated mould (model §7.1): the closest points come from the nodes' lists of nearby
 //! triangles, used and rebuilt without allocating (only a tie, which takes parry's full
 //! query, would allocate: the scene has none, which the test checks too).
 

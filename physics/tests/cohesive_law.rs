@@ -1,4 +1,4 @@
-//! The cohesive law through the whole solver (PHYSICS.md §3): one element glued by its bottom
+//! The cohesive law through the whole solver (model §2): one element glued by its bottom
 //! face, pulled slowly by its top face. With ν = 0 the four interface nodes open purely and
 //! equally in the normal direction, so the reaction per unit area must follow
 //! T(δ) = g_N(δ)δ, and at rupture the dissipated energy must equal G_c × area.
@@ -188,7 +188,7 @@ fn assert_peak(law: &StiffnessLaw, t_max: f64, at: f64, rel: f64) {
     );
 }
 
-/// The pull-off law of PHYSICS.md §7 (scenes/pull_off.toml): g_N(0) = 5e8 Pa/m, α_e = 2 mm,
+/// The pull-off law of model §9 (scenes/pull_off.toml): g_N(0) = 5e8 Pa/m, α_e = 2 mm,
 /// u_r = 4 mm.
 #[test]
 fn pull_off_law_by_hand() {
@@ -333,7 +333,7 @@ fn the_table_lists_every_file_of_the_laws_folder() {
 }
 
 /// Every family at its defaults (the explorer's starting law) is admissible in the sense of
-/// PHYSICS.md §3, checked here rather than by the family: g_N(0) > 0, u_r > α_e, g_N = g_N(0)
+/// model §2.5, checked here rather than by the family: g_N(0) > 0, u_r > α_e, g_N = g_N(0)
 /// on [0, α_e], non-increasing, 0 from u_r on (unless the family's g_N only tends to 0); and every parameter has a symbol, a unit and a
 /// meaning for the editor.
 #[test]

@@ -1,4 +1,4 @@
-//! A contact face set that starts inside its mould is refused at load (issue 13's audit; a
+//! A contact face set that starts inside its mould is refused at load (model §7.7; a
 //! glued one already was, `glued_start.rs`): contact acts on velocities, so such a node would
 //! stay inside for the whole run. The tolerance is 1e-6 of the body's size, 1 µm on this 1 m
 //! cube: 0.1 mm inside is refused with the face set, the mould, the node count and the depth;

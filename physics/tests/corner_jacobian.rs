@@ -1,4 +1,4 @@
-//! One-point integration checks the corner Jacobians (issue 13's contact-path audit): the
+//! One-point integration checks the corner Jacobians (model §1.9): the
 //! one-point rule sees F only at the element centre, where an hourglass mode has no gradient,
 //! so an element can turn inside out at its corners while J(0) stays 1.
 //!

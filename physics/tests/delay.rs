@@ -1,4 +1,4 @@
-//! Delayed damage (README, "Delayed damage"; issue 14): α̇ = (u_r/τ_c)(1 − e^{−a⟨α_s − α⟩₊/u_r})
+//! Delayed damage (model §2.9): α̇ = (u_r/τ_c)(1 − e^{−a⟨α_s − α⟩₊/u_r})
 //! at a single node opened at a constant rate, against an independent RK4 integration of the
 //! ODE; the rate bound at every step; the rate effect on the work of separation and the peak
 //! traction; τ_c → 0 gives the rate-independent run bit for bit.
@@ -320,8 +320,8 @@ fn pull_at(speed: f64, tau_c: f64) -> Pull {
     }
 }
 
-/// `scenes/rate_effect.toml` over two decades of pull speed (0.01, 0.1, 1 m/s; the README adds
-/// 1 mm/s): the rate-independent glue (τ_c = 1e-15 s, bit-identical to no delay) dissipates
+/// `scenes/rate_effect.toml` over two decades of pull speed (0.01, 0.1, 1 m/s):
+/// the rate-independent glue (τ_c = 1e-15 s, bit-identical to no delay) dissipates
 /// G_c × area = 23.33 J at every speed (a stable, quasi-static mode-I opening: 1e-3); the
 /// delayed one more, and more the faster, with the peak force; at 0.01 m/s within twice the
 /// steady-lag estimate g_N(0) x (u_r + α_e)/2 × area, x = v τ_c/a = 50 µm (3.2 % of G_c); at 1 m/s

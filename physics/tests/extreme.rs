@@ -1,4 +1,4 @@
-//! The extreme scenes of `scenes/extreme/` (issue 5): each must either run with bounded energy
+//! The extreme scenes of `scenes/extreme/`: each must either run with bounded energy
 //! and admissible physics, or stop early with the solver's diagnostic — never NaN, never a hang,
 //! never a panic. Every test loads the scene file itself; the tolerances are argued where they
 //! are asserted.
@@ -66,7 +66,7 @@ fn glue_dominated_step_at_095_h_crit_runs_bounded() {
 
 #[test]
 fn glue_dominated_factor_105_is_capped_at_h_crit() {
-    // A factor above 1 no longer steps above h_crit (issue 13's audit): h = h_crit, the
+    // A factor above 1 no longer steps above h_crit (model §6.6): h = h_crit, the
     // limit itself, at every step, and the run completes with what 0.95 h_crit gives.
     let mut sim = scene("stiff_glue_h105", &[]);
     assert!(has_warning(
@@ -136,9 +136,9 @@ fn brittle_law_dissipates_g_c() {
     assert!(sim.ledger.max_relative_residual < 1e-3);
     let (gc, d) = (fracture_work(&sim), sim.energies().damage_dissipated);
     assert!((d / gc - 1.0).abs() < 1e-2, "D = {d} J vs G_c A = {gc} J");
-    // As the scene runs, h grows once the glue has torn (issue 16) and is held while it tears:
+    // As the scene runs, h grows once the glue has torn (model §6.6) and is held while it tears:
     // D keeps its bound; the ledger's residual, the trapezoid error of the stored energy
-    // (O(h²), README "Variable step"), keeps main's bound scaled by (h_max/h₀)².
+    // (O(h²), model §5.8), keeps main's bound scaled by (h_max/h₀)².
     let mut grown = scene("brittle", &[]);
     run_finite(&mut grown).unwrap();
     assert_eq!(grown.state_counts().ruptured, grown.interface_nodes.len());
@@ -375,13 +375,13 @@ fn impact_at_100_m_s() {
     assert!(sim.stats.h_crit_estimates > 0);
     assert!(sim.stats.h_crit_min < 0.5 * sim.stats.h_crit_initial);
     assert!(sim.min_jacobian > 0.0);
-    // The ledger pairs exactly across the changes of h (step-change work, README "Variable
-    // step"): what is left is the trapezoid error of the stored energy,
+    // The ledger pairs exactly across the changes of h (step-change work, model
+    // §5.8): what is left is the trapezoid error of the stored energy,
     // Σ [Ψ(Uₙ₊₁) − Ψ(Uₙ) − ½ΔU·(fₙ + fₙ₊₁)], local O(ΔU³ Ψ''') and so O(h²) over the run —
     // large here, where the first steps (h = 8e-5 s against a contact after 1e-5 s) take the
-    // 13-fold stiffening in a few intervals. (The pairing of main before issue 16, the impulse
-    // form without W_Δh, measured 1.5e-2 at this h: part of its step-change error cancelled
-    // this trapezoid error.) Main's bound 0.05 holds at h/2 with the h² factor to spare
+    // 13-fold stiffening in a few intervals. (The impulse form
+    // without W_Δh read less at this h: part of its step-change error cancelled this
+    // trapezoid error.) Main's bound 0.05 holds at h/2 with the h² factor to spare
     // (0.05/4), and halving h divides the residual by 4 (second order; measured 5.1, then 4.3
     // and 4.2 at h/4, h/8), so the bound is the order, not a copied value.
     let coarse = sim.ledger.max_relative_residual;

@@ -1,4 +1,4 @@
-//! Issue 13: glue that forms on contact under a turning, translating mould — a capped
+//! Glue that forms on contact (model §8) under a turning, translating mould — a capped
 //! cylinder rolled along a pad whose top glues where it touches, then lifted off it.
 
 use decohesion_physics::scene::parse_scene;
@@ -176,10 +176,10 @@ fn dist(a: [f64; 3], b: [f64; 3]) -> f64 {
 ///     bound. From then on each anchor x − [u] is the analytic c(t) + R(t)(y₀ − c₀): the pose
 ///     is composed per step (Rodrigues), whose round-off grows at most linearly, a few ε per
 ///     step on the coordinates' scale (0.05 m): bound = steps × 4ε × 0.05 m;
-/// (b) the ledger's residual is O(h²) (README "Model": trapezoid works and the exact discrete
-///     definitions): halving h (h/h_crit = 0.5, 0.25, 0.125; the median step halves exactly)
-///     divides its largest |value| over the run by 4 ± 0.5 (an h³ term up to 12 % of the h²
-///     one); and at the scene's step it is C h² of the run's energy scale E (the largest
+/// (b) the ledger's residual is O(h²) (model §5.3–§5.5: trapezoid works and the exact
+///     discrete definitions): halving h (h/h_crit = 0.5, 0.25, 0.125; the median step halves
+///     exactly) divides its largest |value| over the run by 4 ± 0.5 (an h³ term up to 12 % of
+///     the h² one); and at the scene's step it is C h² of the run's energy scale E (the largest
 ///     energy of the ledger, here the glue's G_c × glued area), with C the constant of the
 ///     finest run (25 % allowed for the h³ term over two halvings). C itself is measured at
 ///     10.8 s⁻²; it is the trapezoid rule's (h²/12)·E/τ² with τ = 1/√(12C) = 88 ms, the time

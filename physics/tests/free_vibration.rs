@@ -1,4 +1,4 @@
-//! Linear-elastic free vibration (PHYSICS.md §5): with Kₙ = ½V_{n−½}ᵀMV_{n+½}, the leapfrog
+//! Linear-elastic free vibration (model §5.2): with Kₙ = ½V_{n−½}ᵀMV_{n+½}, the leapfrog
 //! conserves Kₙ + Ψₙ exactly for a linear system. SVK is linear up to terms of the order of the
 //! strain, so at strain 1e-8 the invariant holds to ~1e-8 relative, far below what any
 //! pairing error (O(h) ~ 1e-1 at h = 0.5 h_crit) would leave.

@@ -151,7 +151,7 @@ fn sliding_block_stops_after_v0_squared_over_2_mu_g() {
         "friction dissipated {:.6} J, ½Mv₀² = {kinetic:.6} J",
         e.friction_dissipated
     );
-    // Ledger: PHYSICS.md §5 expects order 1e-5 at h = 0.5 h_crit; 5e-5.
+    // Ledger: model §5.10 expects order 1e-5 at h = 0.5 h_crit; 5e-5.
     assert!(sim.ledger.max_relative_residual <= 5e-5);
 }
 

@@ -1,4 +1,4 @@
-//! A glued face set and its mould at t = 0 (issue 13's contact-path audit): a face set that
+//! A glued face set and its mould at t = 0 (model §7.7): a face set that
 //! looks away from its mould is refused (it could never tear), glued nodes that start inside
 //! the mould beyond the tolerance are refused, and glued nodes that start off it (or inside
 //! within the tolerance) load with a warning that says how many and how far, and what that does

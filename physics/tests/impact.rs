@@ -163,7 +163,7 @@ fn bar_rebounds_after_2l_over_c_without_penetration() {
         "energy lost {:.6} J, the t₀ impact of the bottom layer accounts for {t0_loss:.6} J",
         e_initial - e_sep
     );
-    // 4. The ledger closes: PHYSICS.md §5 expects a relative residual of order 1e-5 at
+    // 4. The ledger closes: model §5.10 expects a relative residual of order 1e-5 at
     //    h = 0.5 h_crit (the O(h²) bulk term); 5e-5 leaves a factor 5, 1e-3 would be a bug.
     assert!(
         sim.ledger.max_relative_residual <= 5e-5,
@@ -325,7 +325,7 @@ fn dropped_column_scene() {
     // …at the free-fall velocity of the half step before, −g(t − h/2), exactly (1e-9).
     assert!((rows[a0].5 + g * (rows[a0].1 - 0.5 * h)).abs() <= 1e-9 * v_land);
     // Energy is lost only at landings: between them the contact's ledger term does not move
-    // at all (no impulse, no work: exact), and the ledger closes (PHYSICS.md §5: 1e-4).
+    // at all (no impulse, no work: exact), and the ledger closes (model §5.10: 1e-4).
     for (k, r) in rows.iter().enumerate() {
         let in_flight = (k > b0 + 1 && k < a1) || k > landings[1].1 + 1;
         if in_flight {

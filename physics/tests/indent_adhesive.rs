@@ -1,4 +1,4 @@
-//! Issue 13: `scenes/indent_adhesive.toml`, glue that forms on contact — Hertz on loading, a
+//! Glue that forms on contact (model §8), `scenes/indent_adhesive.toml` — Hertz on loading, a
 //! tensile pull-off on lifting, and the hysteresis of the cycle as the glue's damage
 //! dissipation.
 

@@ -1,4 +1,4 @@
-//! Issue 13: malformed `[[mould]]` sections — each error names the file, the key and the value
+//! Malformed `[[mould]]` sections (model §7.1) — each error names the file, the key and the value
 //! and says what is admissible. Each case adds one mould to a valid scene.
 
 use crate::common;

@@ -1,14 +1,13 @@
-//! The closest-point caches of triangulated moulds (issue 13, "cache each node's last
-//! feature"): the bounded query ([`SurfaceMesh::project_cached`], started from the triangle a
-//! node found at its last step, the BVH asked only for a point closer than that triangle's)
-//! and the list query ([`SurfaceMesh::project_near`], from the node's list of nearby
-//! triangles, rebuilt when the node leaves its validity) return the cold query's closest point
-//! and pseudo-normal, bit for bit, whatever the cached triangle — on vertices, edge midpoints
-//! and face centroids (where several triangles tie), off them, along random walks that carry
-//! the caches from point to point, walks that swing in and out of a list's validity, and from
-//! a wrong cached triangle. Each case also asserts that every path of the list query was taken
-//! (from the list, rebuilt, tie). A golden run (`tread_demould`) being unchanged is the
-//! scene-level check.
+//! The closest-point caches of triangulated moulds (the closest point of model §7.5, from each
+//! node's last feature): the bounded query ([`SurfaceMesh::project_cached`], started from the
+//! triangle a node found at its last step, the BVH asked only for a point closer than that
+//! triangle's) and the list query ([`SurfaceMesh::project_near`], from the node's list of nearby
+//! triangles, rebuilt when the node leaves its validity) return the cold query's closest point and
+//! pseudo-normal, bit for bit, whatever the cached triangle — on vertices, edge midpoints and face
+//! centroids (where several triangles tie), off them, along random walks that carry the caches from
+//! point to point, walks that swing in and out of a list's validity, and from a wrong cached
+//! triangle. Each case also asserts that every path of the list query was taken (from the list,
+//! rebuilt, tie). A golden run (`tread_demould`) being unchanged is the scene-level check.
 
 use crate::common;
 use crate::common::scene_file;

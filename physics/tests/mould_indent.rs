@@ -1,5 +1,5 @@
-//! Issue 13: `scenes/indent.toml`, a rigid sphere pressed into a glued rubber pad and lifted —
-//! Hertz on loading, the ledger closing with the sphere's work.
+//! A curved mould (model §7): `scenes/indent.toml`, a rigid sphere pressed into a glued rubber pad
+//! and lifted — Hertz on loading, the ledger closing with the sphere's work.
 
 use crate::common;
 use crate::hertz;

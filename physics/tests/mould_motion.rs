@@ -1,6 +1,6 @@
-//! Issue 13: a body glued to a mould that translates and turns with it (a rigid motion of
-//! everything) — no jump, no strain, no damage, no dissipation; and the ledger, with the mould's
-//! work, closing while a sphere is pressed into a pad.
+//! Moulds in rigid motion (model §7.2, §7.4): a body glued to a mould that translates and turns
+//! with it (a rigid motion of everything) — no jump, no strain, no damage, no dissipation; and the
+//! ledger, with the mould's work, closing while a sphere is pressed into a pad.
 
 use crate::common;
 use crate::common::*;

@@ -1,4 +1,4 @@
-//! Issue 13: triangulated moulds against the analytic shapes they approximate (a plane, a box, a
+//! Triangulated moulds (model §7.1) against the analytic shapes they approximate (a plane, a box, a
 //! sphere), to the facet error derived from the mesh itself; and the surface loader's refusals.
 
 use decohesion_physics::mesh::{cross, dot, norm, sub};

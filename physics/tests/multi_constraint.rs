@@ -1,6 +1,6 @@
-//! Several constraints on one node solved together (issue 13): a node in a cavity corner, a V,
+//! Several constraints on one node solved together (model §3.7): a node in a cavity corner, a V,
 //! or on two moulds gets one local problem over its active constraints
-//! ([`contact_impulses`], PHYSICS.md §8), not constraint after constraint.
+//! ([`contact_impulses`]), not constraint after constraint.
 //!
 //! Frictionless with one surface velocity (here at rest), V is the Euclidean projection of
 //! V_free on the polyhedral cone {v : nᵢ·v ≥ 0}: checked against that projection computed

@@ -1,5 +1,5 @@
-//! Contact and friction on nodes with some components prescribed (issue 13's contact-path
-//! audit): a symmetry plane x = 0 on the friction test's sliding steel block (0.1 m cube,
+//! Contact and friction on nodes with some components prescribed (model §3.5):
+//! a symmetry plane x = 0 on the friction test's sliding steel block (0.1 m cube,
 //! 2×2×2 hex8, ν = 0, μ = 0.3, on the plane z = 0 under gravity), launched at v₀ along y.
 //!
 //! The symmetry condition U_x = 0 on the `x-` face is exact for this block (ν = 0: nothing

@@ -1,4 +1,4 @@
-//! Irreversibility and admissibility as properties (PHYSICS.md §3 and §5): for random
+//! Irreversibility and admissibility as properties (model §2.4, §2.5, §3.2, §5.5): for random
 //! admissible laws and random (non-monotonic, mixed-mode) pull histories, α never decreases,
 //! α ≤ u_r, μ(α) ∈ [0, μ_inf], every damage dissipation increment is ≥ 0, and every contact
 //! impulse applied lies in the Coulomb cone of its node's μ(α). The histories are scaled so

@@ -1,6 +1,6 @@
-//! The reference pull-off test (PHYSICS.md §7) from scenes/pull_off.toml: full rupture at about
+//! The reference pull-off test (model §9) from scenes/pull_off.toml: full rupture at about
 //! a third of the run, a free cube afterwards, a ledger that closes, and its residual falling as
-//! h² (PHYSICS.md §5).
+//! h² (model §5.10).
 
 use crate::common;
 use crate::common::scene_file;
@@ -60,7 +60,7 @@ fn pull_off_tears_off_at_a_third_and_the_ledger_closes() {
         d >= 0.99 * gc_area && d <= 1.08 * gc_area,
         "damage dissipation {d} vs G_c·A {gc_area}"
     );
-    // PHYSICS.md §5: an exact ledger is ~1e-5..1e-4 here; 0.5 % would be a bug.
+    // Model §5.10: an exact ledger is ~1e-5..1e-4 here; 0.5 % would be a bug.
     assert!(
         sim.ledger.max_relative_residual < 1e-3,
         "residual {}",

@@ -1,4 +1,4 @@
-//! The original RCCM law (`rccm`, README "The original RCCM") and the tangential ratio r_T of
+//! The original RCCM law (`rccm`, model §2.10) and the tangential ratio r_T of
 //! the g_N(α) families, at a single node driven along a prescribed jump history with the law's
 //! own stage-8 update: the work of separation is w in modes I, II and at 45° (b = 0), the peak
 //! normal traction √(w C_N) at √(w/C_N); the work grows with the rate when b > 0; β never
@@ -57,7 +57,7 @@ fn drive(law: &StiffnessLaw, jumps: &[[f64; 3]], h: f64) -> Drive {
             .loading()
             .dissipation_increment(1.0, k_prev, k, u_prev, u, N);
         let scale = law.stored_energy(1.0, law.g_n0, u, N).max(1e-300);
-        // PHYSICS.md §5: ΔD ≥ 0 while the loaded jump turns by less than 90° in the step (a
+        // Model §5.5: ΔD ≥ 0 while the loaded jump turns by less than 90° in the step (a
         // history through [u] = 0 turns by 180° there, where the stiffness of a delayed law may
         // still fall).
         if loaded_product(law, u_prev, u) >= 0.0 {
@@ -75,7 +75,7 @@ fn drive(law: &StiffnessLaw, jumps: &[[f64; 3]], h: f64) -> Drive {
     out
 }
 
-/// ũ_N ũ'_N + r [u]_T·[u]'_T, written here from the README's definition.
+/// ũ_N ũ'_N + r [u]_T·[u]'_T, written here from its definition (model §5.5).
 fn loaded_product(law: &StiffnessLaw, a: [f64; 3], b: [f64; 3]) -> f64 {
     let l = law.loading();
     let normal = |u: [f64; 3]| if l.opening_only { u[2].max(0.0) } else { u[2] };

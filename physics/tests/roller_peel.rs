@@ -1,8 +1,8 @@
-//! Issue 13: `scenes/roller_peel.toml` — a turning, translating roller (a capped-cylinder
-//! `[[mould]]`) peels a rubber strip off a fixed plate and winds it up: the clamp's glue anchors
-//! follow the roller's rotation about its moving pivot, the peel force is Kendall's, the front
-//! follows the roller, the damage is G_c per peeled area, no node goes into a mould, and the
-//! ledger closes with the roller's work.
+//! A mould in rigid motion (model §7), `scenes/roller_peel.toml`: a turning, translating roller (a
+//! capped-cylinder `[[mould]]`) peels a rubber strip off a fixed plate and winds it up: the clamp's
+//! glue anchors follow the roller's rotation about its moving pivot, the peel force is Kendall's,
+//! the front follows the roller, the damage is G_c per peeled area, no node goes into a mould, and
+//! the ledger closes with the roller's work.
 
 use crate::common;
 use crate::common::{mean, scene_file, slope};
@@ -212,7 +212,7 @@ fn the_clamp_turns_with_the_roller_and_the_ledger_closes() {
     // rebuilt here from the impulses: to 1e-3 (the rebuild pairs each step's impulses with
     // the velocity at tₙ₊₁, the ledger with the chords of the intervals either side: an
     // O(h) difference on the start-up's fast transients; measured 1.4e-5). The plate is
-    // fixed: no work. PHYSICS.md §5: the ledger closes to ~1e-5; 1e-4.
+    // fixed: no work. Model §5.10: the ledger closes to ~1e-5; 1e-4.
     assert_eq!(works[1].0, "roller");
     let (rebuilt, ledger) = (r.roller_work, works[1].1);
     assert!(

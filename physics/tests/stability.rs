@@ -1,4 +1,4 @@
-//! Stability boundary (PHYSICS.md §6): stable at 0.9 h_crit; a factor above 1 runs at h_crit,
+//! Stability boundary (model §6.1, §6.6): stable at 0.9 h_crit; a factor above 1 runs at h_crit,
 //! never above it; and a step above h_crit (forced here: stiffening between two estimates is
 //! the way a run gets there) is caught with a diagnostic naming the step, the time, h and
 //! h_crit.
@@ -35,7 +35,7 @@ fn stable_below_h_crit() {
 
 #[test]
 fn a_factor_above_1_never_steps_above_h_crit() {
-    // Before issue 13's audit, h = factor × h_crit from the start (1.5 h_crit here), and a
+    // Before the cap of model §6.6, h = factor × h_crit from the start (1.5 h_crit here), and a
     // stiffening run was cut only above 1.05 × factor × h_crit.
     // At h = h_crit itself there is no margin (the pull-off may still stop with the
     // diagnostic, as the warning says); what is asserted is the cap, at every step.

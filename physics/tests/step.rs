@@ -1,6 +1,6 @@
-//! The variable step (issue 16): the cheap, warm-started h_crit estimates against converged
-//! ones where the stiffness changes, and the energy ledger across changes of h (PHYSICS.md §6
-//! and §8, `solver/stable_step.rs`, `solver/ledger.rs`).
+//! The variable step (model §6): the cheap, warm-started h_crit estimates against converged
+//! ones where the stiffness changes, and the energy ledger across changes of h (model §6,
+//! §5.8, `solver/stable_step.rs`, `solver/ledger.rs`).
 
 use crate::common;
 use crate::common::scene_file;
@@ -143,7 +143,7 @@ fn the_step_stays_below_h_crit_under_a_violent_compression() {
 #[test]
 fn the_step_stays_below_h_crit_as_the_torn_cube_vibrates_in_compression() {
     // The pull-off at 10³ to the end: after the rupture the cube snaps back and vibrates
-    // with elements below J = 0.9 (the estimates issue 16 measured at 28³), SVK. At the
+    // with elements below J = 0.9, SVK. At the
     // default factor 0.5 the bound (κ 1.6–2.4 here) certifies the cheap updates; at 0.9 it
     // cannot (κ > 1/(1.05 × 0.9)²) and they are converged, as before.
     for (factor, certifies) in [(0.5, true), (0.9, false)] {

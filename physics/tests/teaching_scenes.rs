@@ -163,7 +163,7 @@ fn peel_front_runs_and_the_force_is_kendall_s() {
         "dissipation rate {:.2} J/m² of peeled area, G_c = {gc}",
         d_rate / (b * v_front)
     );
-    // PHYSICS.md §5: the ledger closes to ~1e-5; 1e-4.
+    // Model §5.10: the ledger closes to ~1e-5; 1e-4.
     assert!(sim.ledger.max_relative_residual <= 1e-4);
 }
 
@@ -639,7 +639,7 @@ fn demould_block_leaves_the_cavity() {
         "a side node {wall_gap_min:.3e} m into a wall"
     );
     // The mould's work is in the ledger: it paid for all of it (nothing else moves), at least
-    // the glue's G_c·A, and the balance closes (PHYSICS.md §5; 5e-4 with contact and friction).
+    // the glue's G_c·A, and the balance closes (model §5.1; 5e-4 with contact and friction).
     assert!(e.plane_work >= gc_area, "plane work {:.4} J", e.plane_work);
     assert!(
         (e.external_work - e.plane_work).abs() <= 1e-9 * e.plane_work,

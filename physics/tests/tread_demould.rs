@@ -1,7 +1,7 @@
-//! Issue 13's flagship, `scenes/tread_demould.toml`: the grooved tread block glued on every
-//! moulded face to the ribbed mould that formed it, the mould drawn away upwards. Every glued
-//! node tears, no node is inside the mould deeper than the travel of the step it entered on, the rib
-//! walls rub (friction dissipated on the mould, reported for it), the ledger closes, and the
+//! The moulds' flagship (model §7), `scenes/tread_demould.toml`: the grooved tread block glued on
+//! every moulded face to the ribbed mould that formed it, the mould drawn away upwards. Every glued
+//! node tears, no node is inside the mould deeper than the travel of the step it entered on, the
+//! rib walls rub (friction dissipated on the mould, reported for it), the ledger closes, and the
 //! glue dissipates its fracture energy over the glued area once.
 
 use crate::common;
@@ -27,7 +27,7 @@ fn tread_demoulds() {
     assert!(sim.start_offsets.is_empty(), "{:?}", sim.start_offsets);
     let ribbed = sim.model.planes.iter().position(|p| p.name == "ribbed");
     let k = ribbed.expect("the scene's mould is `ribbed`");
-    // Contact is a velocity-level condition (Signorini on V_{n+3/2}, PHYSICS.md §4 stage 7)
+    // Contact is a velocity-level condition (Signorini on V_{n+3/2}, model §3.1, §4.7)
     // without position correction, so a node can end inside the mould, and the depth it can
     // reach is derived from the gap's update. On a face of the mould (a plane that translates:
     // the ribbed mould does not turn) g_{n+1} − g_n = h_{n+½} n·(V_{n+½} − v̄) exactly, v̄ the
@@ -101,7 +101,7 @@ fn tread_demoulds() {
         frictions[0].1
     );
     assert_eq!(frictions[0].1, e.friction_dissipated);
-    // PHYSICS.md §5: the ledger closes to O(h²), ~1e-5..1e-4 of the largest energy in the
+    // Model §5.10: the ledger closes to O(h²), ~1e-5..1e-4 of the largest energy in the
     // scene tests; 1e-3 as they use (pull_off, tread, extreme) would still catch a missing
     // term (the friction here is 1 % of the energies, the normal contact 0.3 %).
     assert!(

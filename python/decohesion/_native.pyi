@@ -67,7 +67,7 @@ class Scene:
         """What ``decohesion check`` prints, as a dict: ``file``, ``name``, ``description``,
         ``nodes``, ``elements``, ``smallest_edge`` [m], ``material`` (``model``, ``young`` [Pa],
         ``poisson``, ``density`` [kg/m³], ``lambda`` and ``mu`` [Pa]), ``wave_speed`` c_d [m/s],
-        ``h_crit`` [s] (Lanczos estimate, PHYSICS.md §6), ``h_crit_element`` = L_e/c_d [s],
+        ``h_crit`` [s] (Lanczos estimate, model §6.2), ``h_crit_element`` = L_e/c_d [s],
         ``h_crit_bulk`` [s] or None (the bulk alone, when the glue may set the step),
         ``time_step`` h [s], ``time_step_factor``, ``end_time`` [s], ``expected_steps``,
         ``interfaces`` (one dict per interface: ``faces``, ``family``, ``label``, ``g_n0``
@@ -95,9 +95,9 @@ class Scene:
         """End time of a run [s]."""
 
 class Simulation:
-    """The CD-Lagrange simulation of a scene (PHYSICS.md §4): positions Uₙ at integer times tₙ,
+    """The CD-Lagrange simulation of a scene (model §4): positions Uₙ at integer times tₙ,
     velocities V_{n+½} at half times, the RCCM interface, contact and friction solved node by
-    node, the energy ledger (§5), the stable step re-estimated as the run goes (§6).
+    node, the energy ledger (model §5), the stable step re-estimated as the run goes (model §6).
 
     ``threads``: threads of the element loop (default: every core, above 2048 elements).
     Results do not depend on it. Stepping releases the GIL; Ctrl-C (``KeyboardInterrupt``)
@@ -234,7 +234,7 @@ class Simulation:
         [m]."""
     @property
     def energies(self) -> dict[str, float]:
-        """The energy ledger now (PHYSICS.md §5) [J]: ``kinetic``, ``strain``, ``hourglass``,
+        """The energy ledger now (model §5.1) [J]: ``kinetic``, ``strain``, ``hourglass``,
         ``interface_stored``, ``damage_dissipated``, ``contact_normal_dissipated``,
         ``friction_dissipated``, ``external_work`` (= ``gravity_work`` + ``traction_work`` +
         ``reaction_work`` + ``plane_work``), ``internal_work``, ``residual`` (the balance

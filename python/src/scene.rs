@@ -178,7 +178,7 @@ struct CheckReport {
     material: MaterialReport,
     /// Dilatational wave speed c_d [m/s].
     wave_speed: f64,
-    /// Stable step from the Lanczos estimate of ω_max (PHYSICS.md §6) [s].
+    /// Stable step from the Lanczos estimate of ω_max (model §6.2) [s].
     h_crit: f64,
     /// The element estimate L_e/c_d [s], for comparison.
     h_crit_element: f64,

@@ -116,7 +116,7 @@ def test_check_is_the_command_lines(pull_off, cli):
     assert f"G_c = {rust_e(itf['fracture_energy'], 5)} J/m²" in text
     assert f"peak traction              {rust_e(itf['peak_traction'], 5)} Pa" in text
     assert c["nodes"] == 512 and c["elements"] == 343 and c["warnings"] == []
-    # G_c of the plateau–linear law from its knots, independently (PHYSICS.md §3):
+    # G_c of the plateau–linear law from its knots, independently (model §2.7):
     # ½g₀α_e² + ∫_{α_e}^{u_r} g₀(u_r−δ)/(u_r−α_e)·δ dδ.
     g0, ae, ur = itf["g_n0"], itf["alpha_e"], itf["u_r"]
     gc = 0.5 * g0 * ae**2 + g0 / (ur - ae) * (ur * (ur**2 - ae**2) / 2 - (ur**3 - ae**3) / 3)

@@ -187,7 +187,7 @@ fn print_times(configs: &mut [Config]) -> Vec<(String, Vec<(f64, f64)>)> {
 
 /// Where the step goes: each stage's share of the summed stage times over all repetitions.
 fn print_shares(configs: &[Config]) {
-    println!("share of the step by stage (PHYSICS.md §4), all repetitions:");
+    println!("share of the step by stage (model §4), all repetitions:");
     println!(
         "{:>8} {:>4} {:>11} {:>15} {:>14} {:>17} {:>12}",
         "rule",

@@ -9,7 +9,7 @@
 //! threads/jobs threads of its own (results do not depend on the thread count). On a small
 //! mesh a run's step is serial anyway (below `PARALLEL_MIN_ELEMENTS`), so runs side by side
 //! are the only way to use both cores; on a large one, two one-thread runs also avoid the
-//! parallel sections' synchronisation (README, Performance). A failed run (set-up refused,
+//! parallel sections' synchronisation (docs: performance log). A failed run (set-up refused,
 //! blow-up, diagnostic) is a row with its status; Ctrl-C stops the runs in progress after their
 //! current step (their rows say `cancelled`), starts no other, and writes the rows done.
 

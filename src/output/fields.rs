@@ -1,6 +1,6 @@
 //! Per-element fields at the element centre ξ = 0, computed from the displacement U: the
 //! deformation gradient F, the volume ratio J = det F, the Cauchy stress σ = J⁻¹ F S Fᵀ and its
-//! von Mises equivalent √(3/2 s:s) (PHYSICS.md §2; the material's own
+//! von Mises equivalent √(3/2 s:s) (model §1.2; the material's own
 //! [`Material::cauchy_stress`](crate::material::Material::cauchy_stress) and
 //! [`von_mises_equivalent`]). The one place the outputs compute them: the ParaView cells
 //! ([`crate::vtk`]) and the colours of the recorded surface ([`crate::record`]).

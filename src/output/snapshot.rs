@@ -18,7 +18,7 @@ pub struct Snapshot {
     pub h_crit: f64,
     /// Uₙ of every node [m].
     pub u: Vec<[f64; 3]>,
-    /// V_{n+½} of every node [m/s] (PHYSICS.md §4: Uₙ₊₁ = Uₙ + h V_{n+½}); empty when no
+    /// V_{n+½} of every node [m/s] (model §4.1: Uₙ₊₁ = Uₙ + h V_{n+½}); empty when no
     /// output of the run shows velocities ([`crate::output::Output::velocities`]).
     pub v: Vec<[f64; 3]>,
     /// One entry per interface node, in `Simulation::interface_nodes` order.

@@ -14,7 +14,7 @@ use crate::mesh::norm;
 use crate::model::Model;
 use crate::solver::ContactStatus;
 
-/// Colour of an interface node by the state of its law at α (PHYSICS.md §3): elastic,
+/// Colour of an interface node by the state of its law at α (model §2.8): elastic,
 /// transition, ruptured; dark grey for glue that forms on contact, not formed yet.
 pub fn state_rgb(s: InterfaceState) -> [u8; 3] {
     match s {

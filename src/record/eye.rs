@@ -1,4 +1,4 @@
-//! The 3-D view's default eye (issue 13, "Seeing it"): placed from the scene at t = 0 so that
+//! The 3-D view's default eye: placed from the scene at t = 0 so that
 //! the body and the moulds near it open whole on screen, and written into the blueprint as the
 //! view's `EyeControls3D` property.
 //!

@@ -219,7 +219,7 @@ fn scene_text(rec: &RecordingStream, st: &Statics) -> Result<(), RecordError> {
         "scene/resolved",
         &TextDocument::from_markdown(format!(
             "# Resolved parameters (after --set overrides)\n\n```toml\n{}\n```\n\n\
-             h = {:.5e} s = {:.4} × h_crit (factor {}, h never above h_crit), h_crit = {:.5e} s (Lanczos, PHYSICS.md §6); \
+             h = {:.5e} s = {:.4} × h_crit (factor {}, h never above h_crit), h_crit = {:.5e} s (Lanczos, model §6); \
              {} nodes, {} hex8 elements, {} interface nodes.\n",
             st.resolved,
             st.h,

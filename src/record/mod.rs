@@ -6,7 +6,7 @@
 //! # Timelines
 //! `step` (sequence: the step count n) and `sim_time` (duration: tₙ in seconds).
 //!
-//! # Entity paths (stable; the README lists them with units)
+//! # Entity paths (stable; the user documentation lists them with units)
 //! | path | archetype | when |
 //! |---|---|---|
 //! | `scene/file`, `scene/resolved` | TextDocument | static |
@@ -20,7 +20,7 @@
 //! | `interface/contact_pressure` | Arrows3D: R_c / h [Pa] × arrow scale | frame |
 //! | `interface/contact_normal` | Arrows3D at the nodes in contact (stick, slip): the mould's outward unit normal there × [`NORMAL_FRACTION`] of the body's extent, class = status | frame |
 //! | `contact/nodes`, `contact/pressure`, `contact/normal` | the same for contact-only faces | frame |
-//! | `energy` | Scalars [J], one named series per ledger term (PHYSICS.md §5; hourglass with one-point integration) and the residual | frame |
+//! | `energy` | Scalars [J], one named series per ledger term (model §5.1; hourglass with one-point integration) and the residual | frame |
 //! | `energy/mould_friction` | Scalars [J]: friction dissipated on each mould (several moulds) | frame |
 //! | `balance/relative_residual` | Scalars: residual / largest energy seen | frame |
 //! | `reaction/<faces>_<axis>` | Scalars [N]: reaction of a prescribed displacement | frame |

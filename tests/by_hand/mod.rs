@@ -1,4 +1,4 @@
-//! The hyperelastic laws of PHYSICS.md §2 written out by hand with nalgebra, independently of
+//! The hyperelastic laws of model §1.3–§1.4 written out by hand with nalgebra, independently of
 //! `decohesion::material`: the tests compare the element kernels with them.
 //!
 //! E = ½(FᵀF − I), C = FᵀF, J = det F,

@@ -1,4 +1,4 @@
-//! Stage 7 of PHYSICS.md §4: unilateral contact with Coulomb friction at one node, in closed
+//! Stage 7 (model §4.7, §3): unilateral contact with Coulomb friction at one node, in closed
 //! form (the mass is lumped and the integration nodal, so each node's problem is local).
 //!
 //! Conventions: n is the surface's unit normal pointing into the solid, a gap g > 0 is open,
@@ -7,7 +7,7 @@
 use crate::mesh::{dot, norm};
 use crate::solver::ContactStatus;
 
-/// Stage 7 for one node against one surface (PHYSICS.md §4, paper eqs. 19–20, 22): if gₙ₊₁ ≤ 0
+/// Stage 7 for one node against one surface (model §3.4, paper eqs. 19–20, 22): if gₙ₊₁ ≤ 0
 /// and the relative free velocity approaches (v_N < 0), r_N = −m v_N/W brings v_N to 0; the
 /// trial tangential impulse −m v_T/W sticks if |r_T| ≤ μ r_N, else r_T = −μ r_N v_T/|v_T|.
 ///
@@ -82,7 +82,7 @@ pub fn contact_impulse(
     if vn >= 0.0 {
         return ([0.0; 3], ContactStatus::Open);
     }
-    // Impulses (W R) rather than per-area values: W cancels (PHYSICS.md §4 step 7).
+    // Impulses (W R) rather than per-area values: W cancels (model §3.4).
     // λ: the normal reaction; w: the relative velocity in the tangent space (T_F).
     let (lambda, w) = if all_free {
         let rn = dot(rel, n);
@@ -163,8 +163,8 @@ pub struct JointSolve {
     pub friction_dropped: bool,
 }
 
-/// Stage 7 for one node against several active surfaces together (PHYSICS.md §8, "several
-/// active constraints at one node", generalising §4 step 7): a corner of a cavity, two moulds,
+/// Stage 7 for one node against several active surfaces together (model §3.7,
+/// generalising the closed form of §3.4): a corner of a cavity, two moulds,
 /// a node glued to one mould and touching another.
 ///
 /// **Problem.** Find impulses pᵢ (what the node feels of surface i, on its free components F
@@ -181,7 +181,7 @@ pub struct JointSolve {
 /// the cap with the approach velocity reported.
 ///
 /// **Method.** Frictionless (every μᵢ = 0), the projection exactly, by enumeration of the
-/// active sets (PHYSICS.md §8; [`projection`]). With friction, projected Gauss–Seidel on
+/// active sets (model §3.7; [`projection`]). With friction, projected Gauss–Seidel on
 /// accumulated impulses (as rapier and Bullet): a sweep
 /// visits the constraints in order; for each, its own impulse is taken out of V and the
 /// one-surface problem is solved exactly in closed form with the others held
@@ -254,7 +254,7 @@ pub fn contact_impulses(
 }
 
 /// The frictionless problem of [`contact_impulses`] exactly, by enumeration of the active
-/// sets (PHYSICS.md §8): for each set S of at most dim F constraints, the impulses
+/// sets (model §3.7): for each set S of at most dim F constraints, the impulses
 /// pᵢ = λᵢaᵢ (aᵢ = P_F nᵢ) that bring every nᵢ·(V − v_surface,i), i ∈ S, to 0 solve
 /// G λ = −m b with G_ij = aᵢ·aⱼ, bᵢ = nᵢ·(V_free − v_surface,i) (S skipped when G is singular
 /// to 1e-12); S is admissible when λ ≥ 0 and every constraint holds (to 1e-12 s). The KKT
@@ -485,7 +485,7 @@ mod tests {
         x.map(|c| c / l)
     }
 
-    /// With every component free, the law of PHYSICS.md §4 step 7 written out by hand.
+    /// With every component free, the law of model §3.4 written out by hand.
     #[test]
     fn all_free_is_the_free_law() {
         let mut k = 7;
@@ -495,7 +495,7 @@ mod tests {
             let vp = [0.1 * rnd(&mut k), 0.0, 0.2];
             let mu = 0.5 * (1.0 + rnd(&mut k));
             let (mut a, mut b) = (v0, v0);
-            // PHYSICS.md §4 step 7: r_N = −m v_N, trial −m v_T, Coulomb.
+            // Model §3.4: r_N = −m v_N, trial −m v_T, Coulomb.
             let rel = [a[0] - vp[0], a[1] - vp[1], a[2] - vp[2]];
             let vn = dot(rel, n);
             let vt = [rel[0] - vn * n[0], rel[1] - vn * n[1], rel[2] - vn * n[2]];

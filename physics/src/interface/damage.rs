@@ -1,8 +1,8 @@
-//! The cohesive part of the interface at one node (PHYSICS.md §3, §4 stages 4 and 8, §5):
+//! The cohesive part of the interface at one node (model §2.2–§2.4, §4.4, §4.8, §5.5):
 //! traction R_d = g_N(α)[u], stored energy Ψ_d = ½ W g_N(α)|[u]|², the damage update of eq. 12
 //! and its dissipation increment.
 //!
-//! Generalised (README, "The model in one paragraph"): a law may load the tangential jump with
+//! Generalised (model §2.2, §2.3): a law may load the tangential jump with
 //! g_T = r g_N (r = r_T of the g_N(α) families, C_T/C_N of `rccm`) and the normal jump on opening
 //! only (`rccm`: R_N = C_N β²⟨[u]_N⟩₊). With [u]_N = [u]·n, [u]_T = [u] − [u]_N n and ũ_N the
 //! normal jump the law loads ([u]_N, or ⟨[u]_N⟩₊ on opening only):
@@ -10,13 +10,13 @@
 //! f = (⟨[u]_N⟩₊² + r|[u]_T|²)^½, so that Ψ_d = ½ W g_N(α) f² on opening and the Clausius–Duhem
 //! dissipation −∂Ψ_d/∂α α̇ = −½ W g_N′(α) f² α̇ is ≥ 0 for every r > 0. With r = 1 and both
 //! signs of the normal jump loaded (every g_N(α) family by default) these are the formulas of
-//! PHYSICS.md, evaluated by the same operations.
+//! paper eqs. 15–16, evaluated by the same operations.
 
 use crate::mesh::dot;
 
 /// Damage driving measure f = |[u]| with only the positive part of the normal jump counted:
 /// a negative normal jump can only come from the velocity-level contact's position drift
-/// (PHYSICS.md §3), and must not damage the glue.
+/// (model §2.3, §3.8), and must not damage the glue.
 #[inline]
 pub fn damage_measure(jump: [f64; 3], n: [f64; 3]) -> f64 {
     weighted_damage_measure(jump, n, 1.0)
@@ -32,27 +32,27 @@ pub fn weighted_damage_measure(jump: [f64; 3], n: [f64; 3], r: f64) -> f64 {
 }
 
 /// Eq. 12 evaluated on a configuration: α' = min(u_r, max(α, f)), the largest jump ever
-/// reached, capped at u_r (PHYSICS.md §4 stage 8). α never decreases.
+/// reached, capped at u_r (model §2.4, §4.8). α never decreases.
 #[inline]
 pub fn damage_update(alpha: f64, f: f64, u_r: f64) -> f64 {
     u_r.min(alpha.max(f))
 }
 
-/// Cohesive traction R_d = g_N(α)[u] [Pa] (PHYSICS.md §3, paper eq. 16: one stiffness for
+/// Cohesive traction R_d = g_N(α)[u] [Pa] (model §2.2, paper eq. 16: one stiffness for
 /// the normal and tangential jumps); it acts on the solid as −W R_d.
 #[inline]
 pub fn cohesive_traction(stiffness: f64, jump: [f64; 3]) -> [f64; 3] {
     jump.map(|c| stiffness * c)
 }
 
-/// Interface stored energy of one node, Ψ_d = ½ W g_N(α)|[u]|² [J] (PHYSICS.md §5).
+/// Interface stored energy of one node, Ψ_d = ½ W g_N(α)|[u]|² [J] (model §5.5).
 #[inline]
 pub fn stored_energy(area: f64, stiffness: f64, jump: [f64; 3]) -> f64 {
     0.5 * area * stiffness * dot(jump, jump)
 }
 
 /// Damage dissipation of one node over a step, ΔDₙ = W ½ (g_N(αₙ₋₁) − g_N(αₙ)) [u]ₙ₋₁·[u]ₙ
-/// [J] (PHYSICS.md §5): with it the trapezoid work of the cohesive force is ΔΨ_d + ΔD exactly,
+/// [J] (model §5.5): with it the trapezoid work of the cohesive force is ΔΨ_d + ΔD exactly,
 /// and ΔD ≥ 0 while g_N is non-increasing and the jump turns by less than 90° in a step.
 #[inline]
 pub fn dissipation_increment(
@@ -76,7 +76,8 @@ pub struct Loading {
 }
 
 impl Loading {
-    /// One stiffness for every component, both signs of the normal jump: PHYSICS.md's law.
+    /// One stiffness for every component, both signs of the normal jump: paper eqs. 15–16
+    /// (model §2.2).
     #[inline]
     pub fn isotropic(&self) -> bool {
         self.ratio == 1.0 && !self.opening_only

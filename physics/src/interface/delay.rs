@@ -1,4 +1,4 @@
-//! Delayed damage (README, "Delayed damage"; issue 14): the Allix–Ladevèze delay-effect form
+//! Delayed damage (model §2.9): the Allix–Ladevèze delay-effect form
 //! written for α in metres. The damage no longer jumps to its rate-independent value
 //! α_s = min(u_r, max over the history of f) (eq. 12) but follows it at a bounded rate,
 //!

@@ -1,5 +1,4 @@
-//! What one interface-law family declares, and the table of families (PHYSICS.md §3,
-//! "Stiffness laws a user expects").
+//! What one interface-law family declares, and the table of families (model §2.6).
 //!
 //! A family is one file of `interface/laws/` holding a type that implements [`Family`]: its key
 //! in scene files, its label, its parameters ([`Param`]: symbol, unit, admissible range,
@@ -255,8 +254,8 @@ pub const U_R: Param = Param::number("u_r", "u_r", "m", Range::above(0.0), 4e-3)
     .editor([1e-6, 0.1], true);
 
 /// r_T, shared by the g_N(α) families: g_T(α) = r_T g_N(α) loads the tangential jump, and the
-/// damage measure weighs it, f = (⟨[u]_N⟩₊² + r_T|[u]_T|²)^½ (`damage.rs`), so that G_c is the
-/// work of separation in every mode. Optional, 1 by default (PHYSICS.md's one stiffness).
+/// damage measure weighs it, f = (⟨[u]_N⟩₊² + r_T|[u]_T|²)^½ (`damage.rs`), so that G_c is the work
+/// of separation in every mode. Optional, 1 by default (paper eq. 16's one stiffness; model §2.2).
 pub const R_T: Param = Param::number("r_t", "r_T", "–", Range::above(0.0), 1.0)
     .meaning("tangential/normal stiffness ratio g_T/g_N")
     .editor([0.05, 20.0], true)
@@ -380,7 +379,7 @@ pub trait Family: Sized + Into<LawKind> {
     /// Parameters, in the order an editor shows them.
     const PARAMS: &'static [Param];
 
-    /// The family's own checks (PHYSICS.md §3: g_N non-increasing, g_N(0) > 0, u_r > α_e,
+    /// The family's own checks (model §2.5: g_N non-increasing, g_N(0) > 0, u_r > α_e,
     /// g_N(u_r) = 0, and whatever else the family needs), then its data and knots. `values`
     /// holds every parameter of [`Family::PARAMS`], of the right kind and in its range.
     fn build(values: &ParamValues) -> Result<(Self, Knots), LawError>;
@@ -407,7 +406,7 @@ pub trait Family: Sized + Into<LawKind> {
     const CUT_AT_RUPTURE: bool = true;
 
     /// The normal jump is loaded on opening only (R_N = g_N⟨[u]_N⟩₊, `rccm`); the g_N(α)
-    /// families load both signs (PHYSICS.md §3).
+    /// families load both signs (model §2.2).
     const OPENING_ONLY: bool = false;
 
     /// The tangential ratio r = g_T/g_N of a family that does not take [`R_T`] (`rccm`:
@@ -416,7 +415,7 @@ pub trait Family: Sized + Into<LawKind> {
         1.0
     }
 
-    /// Stage 8 (PHYSICS.md §4) for the family: α at the end of an interval `h` from α, α_s and
+    /// Stage 8 (model §4.8) for the family: α at the end of an interval `h` from α, α_s and
     /// the damage measure f of the next configuration. By default eq. 12, delayed when the
     /// law has a delay ([`StiffnessLaw::rate_independent_or_delayed`]).
     fn next_damage(&self, law: &StiffnessLaw, s: DamageStep, alpha_s: &mut f64) -> f64 {
@@ -429,7 +428,7 @@ pub trait Family: Sized + Into<LawKind> {
     }
 }
 
-/// The data of one stage-8 update at a node (PHYSICS.md §4): α now, the damage measure f of
+/// The data of one stage-8 update at a node (model §4.8): α now, the damage measure f of
 /// the next configuration, the interval h [s] over which it is reached.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct DamageStep {

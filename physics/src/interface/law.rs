@@ -1,4 +1,4 @@
-//! The RCCM interface stiffness law g_N(α) and everything derived from it (PHYSICS.md §3).
+//! The RCCM interface stiffness law g_N(α) and everything derived from it (model §2).
 //!
 //! Conventions: α is the damage variable in metres (the largest jump norm ever reached, capped
 //! at u_r), g_N is a stiffness per unit area in Pa/m, tractions are in Pa, energies per unit area
@@ -37,7 +37,7 @@ pub struct StiffnessLaw {
     delay: Option<Delay>,
 }
 
-/// Why a law is not admissible (PHYSICS.md §3, last paragraph). `key` names the offending
+/// Why a law is not admissible (model §2.5). `key` names the offending
 /// parameter so the scene loader can point at it.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 #[error("{key} = {value}: {reason}")]
@@ -143,7 +143,7 @@ impl StiffnessLaw {
         }
     }
 
-    /// Interface stiffness g_N(α) [Pa/m] (PHYSICS.md §3): g_N(0) on [0, α_e], 0 for α ≥ u_r,
+    /// Interface stiffness g_N(α) [Pa/m] (model §2.6): g_N(0) on [0, α_e], 0 for α ≥ u_r,
     /// non-increasing in between according to the family.
     #[inline]
     pub fn g_n(&self, alpha: f64) -> f64 {
@@ -157,7 +157,7 @@ impl StiffnessLaw {
     }
 
     /// The stiffest spring of the node, max(g_N, g_T)(α) = max(1, r) g_N(α) [Pa/m]: what the
-    /// stable-step estimate (PHYSICS.md §6) puts on the diagonal.
+    /// stable-step estimate (model §6.1) puts on the diagonal.
     #[inline]
     pub fn spring_stiffness(&self, alpha: f64) -> f64 {
         self.g_n(alpha) * self.loading.ratio.max(1.0)
@@ -175,7 +175,7 @@ impl StiffnessLaw {
         damage_update(initial, self.damage_measure(jump, n), self.u_r)
     }
 
-    /// Stage 8 (PHYSICS.md §4): α at the end of an interval `h` over which the jump reaches
+    /// Stage 8 (model §4.8): α at the end of an interval `h` over which the jump reaches
     /// `jump`, from α and α_s (updated here when the law is delayed), by the family's update.
     #[inline]
     pub fn next_damage(
@@ -212,7 +212,7 @@ impl StiffnessLaw {
         self.loading.traction(stiffness, jump, n)
     }
 
-    /// Stored energy Ψ_d of one node [J] (`damage.rs`, PHYSICS.md §5).
+    /// Stored energy Ψ_d of one node [J] (`damage.rs`, model §2.2).
     #[inline]
     pub fn stored_energy(&self, area: f64, stiffness: f64, jump: [f64; 3], n: [f64; 3]) -> f64 {
         self.loading.stored_energy(area, stiffness, jump, n)
@@ -241,7 +241,7 @@ impl StiffnessLaw {
         mu_inf * (1.0 - self.g_n(alpha) / self.g_n0)
     }
 
-    /// Traction under monotonic opening, T(δ) = g_N(δ) δ [Pa] (PHYSICS.md §3).
+    /// Traction under monotonic opening, T(δ) = g_N(δ) δ [Pa] (model §2.7).
     #[inline]
     pub fn traction(&self, delta: f64) -> f64 {
         self.g_n(delta) * delta
@@ -254,7 +254,7 @@ impl StiffnessLaw {
     }
 
     /// Fracture energy G_c = ∫₀^{u_r} g_N(δ) δ dδ [J/m²], in closed form for each family
-    /// (PHYSICS.md §3; the bilinear value is ½ g_N(0) α_e u_r).
+    /// (model §2.7; the bilinear value is ½ g_N(0) α_e u_r).
     pub fn fracture_energy(&self) -> f64 {
         self.kind.fracture_energy(self)
     }
@@ -278,7 +278,7 @@ impl StiffnessLaw {
         best
     }
 
-    /// Elastic / transition / ruptured classification of a node, paper fig. 6 (PHYSICS.md §3).
+    /// Elastic / transition / ruptured classification of a node, paper fig. 6 (model §2.8).
     #[inline]
     pub fn state(&self, alpha: f64) -> InterfaceState {
         if alpha <= self.alpha_e {
@@ -429,7 +429,7 @@ mod tests {
         simpson(f, 0.0, 1.0, 2000)
     }
 
-    /// PHYSICS.md §3: g_N(0) on [0, α_e], non-increasing, 0 from u_r on (for a law cut at
+    /// Model §2.6: g_N(0) on [0, α_e], non-increasing, 0 from u_r on (for a law cut at
     /// u_r); and the values a law gives back build the same law.
     #[test]
     fn every_law_is_admissible_and_rebuilds_from_its_values() {

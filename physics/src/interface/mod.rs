@@ -1,4 +1,4 @@
-//! The RCCM interface of PHYSICS.md §3 at one node: the stiffness law g_N(α) and its families
+//! The RCCM interface of model §2–§3 at one node: the stiffness law g_N(α) and its families
 //! ([`law`], [`family`], one file per family in [`laws`]), the cohesive traction, its energy,
 //! the damage update and its dissipation ([`damage`]), and unilateral contact with Coulomb
 //! friction ([`contact`]).

@@ -138,7 +138,7 @@ impl LaneCorners {
     }
 
     /// Per lane, the lower bound J (1 − C|q|/s)³, s = 2J/‖F‖²_F, of every corner Jacobian
-    /// (PHYSICS.md §2; [`super::corner_bound::corner_lower_bound`], derived there): `det` the
+    /// (model §1.9; [`super::corner_bound::corner_lower_bound`], derived there): `det` the
     /// centre's J = det F that the one-point kernel returned, `work` its F − I = H and
     /// hourglass amplitudes qᵅ. −∞ where the bound does not apply. `ISA`: whole vectors in
     /// the AVX builds ([`super::simd::corner_bound_avx512`], the same bits as lane by lane).

@@ -1,5 +1,5 @@
 //! The full-integration (2×2×2 Gauss) kernel on 8 elements at once, one element per SIMD lane
-//! (PHYSICS.md §2): the parent derivatives of the displacement at the 8 Gauss points by sum
+//! (model §1.5): the parent derivatives of the displacement at the 8 Gauss points by sum
 //! factorisation (`material::tensor`), then for each Gauss point q in turn
 //! H_q = Σₐ uₐ ⊗ ∇ₓNₐ(ξ_q), P_q = P(I + H_q) and J_q on the 8 elements; the forces
 //! fₐ = Σ_q P_q (w_q det J₀ ∇ₓNₐ(ξ_q)) by the transpose, Ψ = Σ_q w_q det J₀ ψ_q, and min_q J_q
@@ -132,7 +132,7 @@ impl Default for FullScratch {
     }
 }
 
-/// Internal nodal forces of 8 elements, fₐ = Σ_q w_q det J₀ P(F_q) ∇ₓNₐ(ξ_q) (PHYSICS.md §2),
+/// Internal nodal forces of 8 elements, fₐ = Σ_q w_q det J₀ P(F_q) ∇ₓNₐ(ξ_q) (model §1.5),
 /// element l in lane l: `u[a][i][l]` the displacement of its node a, `f[a][i].0[l]` its force.
 /// By sum factorisation (`material::tensor`): the parent derivatives D_q = 8 ∂u/∂ξ (T1), then
 /// per point H_q = D_q·(⅛ J₀⁻¹), P_q and Q_q = P_q·(⅛ w_q det J₀ J₀⁻ᵀ), then the forces by the

@@ -1,4 +1,4 @@
-//! The element loop of stage 3 (PHYSICS.md §2, §4): F_int(U) = Σ_e fₑ(U) over node-disjoint
+//! The element loop of stage 3 (model §1.5, §1.6, §4.3): F_int(U) = Σ_e fₑ(U) over node-disjoint
 //! element blocks on the thread team, each block through the full (2×2×2) or one-point kernel
 //! of [`crate::material`] built for the CPU's instruction set ([`simd`]); and the node loop of
 //! stage 5 (free velocity).
@@ -86,7 +86,7 @@ pub struct ElementSums {
     pub min_stress_element: usize,
 }
 
-/// Internal forces of a whole mesh: F_int(U) = Σ_e fₑ(U) (PHYSICS.md §2 and §4 stage 3).
+/// Internal forces of a whole mesh: F_int(U) = Σ_e fₑ(U) (model §1.5 and §4.3).
 /// `f` must be zeroed. Energies are computed only if `energy`. `blocks` come from
 /// [`Mesh::element_blocks`]; `parts` is a buffer for the per-block results (reused, so the
 /// step allocates nothing).
@@ -197,9 +197,9 @@ pub fn assemble_internal_forces(
 /// The smallest positive normal f64: the inversion check (J ≤ 0) is the only reader in the
 /// step, and a skipped group then reports positive bounds (never a bound that underflowed to
 /// 0, which that check would take for an inverted corner). At 0.9, the step control's
-/// compression threshold used before, the bound let no lane group skip the check once the
-/// torn-off body of the 28³ pull-off rang in its hourglass modes (corner J 0.64–0.84 from
-/// t ≈ 0.13 s); here it lets 99.5–100 % skip throughout (README "Performance").
+/// compression threshold used before, the bound let no lane group skip the check once a
+/// torn-off body rang in its hourglass modes (corner J below 0.9); here nearly every group
+/// skips it (model §1.9; docs: performance log).
 pub const CORNER_EXACT_BELOW: f64 = f64::MIN_POSITIVE;
 
 simd_dispatch! {
@@ -590,9 +590,8 @@ const NODAL_BYTES: usize = 72;
 /// Whether the element loops should prefetch each lane group's nodes ([`prefetch_group`]):
 /// when U, V and F_int (72 bytes per node) do not fit in the last-level cache
 /// ([`last_level_cache_bytes`]; 32 MiB where it cannot be read). Measured with the full
-/// AVX2 kernel, two threads, 32 MiB L3: 2.5 % slower at 72³ (28 MB of nodal fields), 5 % at
-/// 56³, 3.5 % faster at 84³ (43 MB), 7 % at 100³ (74 MB): the hints cost issue slots, and only
-/// data coming from memory repays them (README "Prefetching the next lane group").
+/// kernel: slower while the nodal fields fit in the cache, faster once they do not: the hints
+/// cost issue slots, and only data coming from memory repays them (docs: performance log).
 pub fn prefetch_pays(nodes: usize) -> bool {
     nodes.saturating_mul(NODAL_BYTES) > last_level_cache_bytes().unwrap_or(32 << 20)
 }
@@ -639,9 +638,8 @@ fn cache_size_bytes(size: &str) -> Option<usize> {
 /// last one's, in each plane of U and F_int. On a row ([`group_is_row`]) these are the two
 /// ends of its 4 lines of 9 nodes, so every cache line the group touches is asked for; on
 /// other groups, some of their lines. Hints only: nothing is read or written, every value keeps
-/// its bits. At 100³ elements (24 MB per field; with both, more than the 32 MB L3) the gather
-/// and the row adds waited on memory: 24 % of the full AVX2 kernel's samples against 13 % at
-/// 28³ (README "Prefetching the next lane group").
+/// its bits. Where the fields exceed the last-level cache the gather and the row adds wait on
+/// memory (docs: performance log).
 ///
 /// # Safety
 /// `group` holds 8 elements, each in range.

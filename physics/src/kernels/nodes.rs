@@ -1,4 +1,4 @@
-//! Stage 5 on every node (PHYSICS.md §4): the free velocity and the ledger's dot products.
+//! Stage 5 on every node (model §4.5): the free velocity and the ledger's dot products.
 
 // The AVX builds exist on x86_64 only (wasm32 runs the portable one).
 #[cfg_attr(not(target_arch = "x86_64"), allow(unused_imports))]
@@ -101,7 +101,7 @@ unsafe fn free_velocity_impl<const FMA: bool, const ISA: u8>(
 /// Stage 5 at one node, or at 8 in lanes (`T` = [`F64x8`]): V_free = V + (P_int + P_g)/m
 /// from V = `vo`, F_int = `f`, m and 1/m = `im`, and the node's ledger terms
 /// ½ m V·V_free, ½ m V_free·V_free, ½ V·P_int, ½ V_free·P_int, ½ V·P_g, ½ V_free·P_g
-/// (PHYSICS.md §4 stage 5, §5). No fused operation, so every build and lane gives the same bits.
+/// (model §4.5, §5.3). No fused operation, so every build and lane gives the same bits.
 #[inline(always)]
 fn free_velocity_node<T: Real>(
     vo: [T; 3],
@@ -133,7 +133,7 @@ fn free_velocity_node<T: Real>(
     )
 }
 
-/// The internal and gravity impulses of one node over h̄ (PHYSICS.md §4 stage 5):
+/// The internal and gravity impulses of one node over h̄ (model §4.5):
 /// P_int = −h̄ F_int and P_g = h̄ m g [N·s]. Used by the free velocity and by the boundary
 /// pass's ledger corrections, so both take the same bits.
 #[inline(always)]

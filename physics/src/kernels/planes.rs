@@ -1,5 +1,5 @@
 //! A nodal vector field stored by component: the layout of the solver's displacements U,
-//! velocities V and internal forces F_int (stages 1, 3 and 5 of PHYSICS.md §4).
+//! velocities V and internal forces F_int (stages 1, 3 and 5: model §4.1, §4.3, §4.5).
 
 /// A nodal vector field stored by component ("planes"): plane c holds component c of every
 /// node, x₀ x₁ … x_{n−1} | y₀ … | z₀ …, in one allocation.
@@ -8,8 +8,8 @@
 /// of 9 consecutive nodes, and in a plane each line is 9 consecutive numbers, so the element
 /// loop loads each lane vector of displacements with one 8-wide load
 /// ([`super::gather_group`]) and adds the forces of the 8 elements lane against lane, 8 nodes
-/// per vector ([`super::scatter_group`]); with rows both needed a transpose (README,
-/// Performance, "U, V and F_int stored by component"). The node loops run plane against plane.
+/// per vector ([`super::scatter_group`]); with rows both needed a transpose (docs:
+/// performance log). The node loops run plane against plane.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Planes {
     data: Vec<f64>,

@@ -1,4 +1,5 @@
-//! Every build of every kernel against the portable build (PHYSICS.md §2, §4): the full-integration
+//! Every build of every kernel against the portable build (model §1.5, §1.6, §4.5): the
+//! full-integration
 //! and one-point element chunks and the free-velocity node loop, on a box whose elements are
 //! partly distorted (many element classes, lanes changing class between groups) under a large
 //! non-affine displacement, one element of it then inverted.

@@ -1,4 +1,4 @@
-//! The element kernels (PHYSICS.md §2): internal nodal forces and energies of hex8 elements,
+//! The element kernels (model §1.5, §1.6): internal nodal forces and energies of hex8 elements,
 //! with full 2×2×2 integration ([`element_forces`], the 8 Gauss points as the lanes of an
 //! [`F64x8`]) or one point with Flanagan–Belytschko hourglass control, on one element
 //! ([`element_forces_reduced`], `f64`) or on 8 elements at once ([`element_forces_reduced_lanes`],
@@ -62,7 +62,7 @@ pub(crate) fn first_piola_lanes_into<L: Law, const ENERGY: bool, const FMA: bool
 }
 
 /// Internal nodal forces of one element, fₐ = Σ_q w_q det J₀ P(F_q) ∇ₓNₐ(ξ_q)
-/// (PHYSICS.md §2, "Per step and per element only F → E → S → P = F·S → fₐ += w P ∇ₓNₐ"),
+/// (model §1.5: per step and per element only F → E → S → P = F·S → fₐ),
 /// the 8 Gauss points q being the 8 lanes.
 ///
 /// `u` holds the displacements of the 8 nodes. Writes the forces into `f` and returns
@@ -152,7 +152,7 @@ fn full<L: Law, const ENERGY: bool, const FMA: bool>(
 }
 
 /// Internal forces of one element with one-point integration and Flanagan–Belytschko hourglass
-/// control (PHYSICS.md §2, the faster option):
+/// control (model §1.6):
 /// F = I + Σₐ uₐ ⊗ bₐ, fₐ = V P(F) bₐ + k Σᵅ γₐᵅ qᵅ with qᵅ = Σₐ γₐᵅ uₐ,
 /// hourglass energy Ψ_hg = ½ k Σᵅ |qᵅ|². Returns (strain energy V ψ(F), Ψ_hg, J) — the
 /// energies only if `ENERGY`. No fused operation (the stress is [`first_piola`] with
@@ -320,7 +320,7 @@ impl OnePointScratch {
 
 /// ‖F‖²_F = Σᵢⱼ(δᵢⱼ + Hᵢⱼ)² and |q|² = Σᵅ|qᵅ|² from H and the hourglass amplitudes qᵅ: what the
 /// corner bound J (1 − C|q|/s)³, s = 2J/‖F‖²_F, needs besides J (`kernels::corner_bound`,
-/// PHYSICS.md §2). Generic, so that `kernels::flops` counts the operations the kernel runs.
+/// model §1.9). Generic, so that `kernels::flops` counts the operations the kernel runs.
 #[inline(always)]
 pub fn centre_norms_of<T: Real>(h: &Mat3<T>, q: &[[T; 3]; 4]) -> (T, T) {
     let mut f2 = T::splat(0.0);

@@ -1,4 +1,4 @@
-//! The kinematics shared by the element kernels, over any [`Real`] (PHYSICS.md §2, total
+//! The kinematics shared by the element kernels, over any [`Real`] (model §1.2, total
 //! Lagrangian): H = ∂U/∂X = Σₐ uₐ ⊗ gₐ, F = I + H, J = det F, cof F, 2E = H + Hᵀ + HᵀH,
 //! P = S + H·S, the row products P·g, and the hourglass modes qᵅ = Σₐ γₐᵅ uₐ. Each is the one
 //! operation order every kernel that uses it shares; `FMA` says whether its multiply–adds are

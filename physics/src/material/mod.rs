@@ -1,4 +1,4 @@
-//! Hyperelastic bulk materials (PHYSICS.md §2) and the per-element internal-force kernels.
+//! Hyperelastic bulk materials (model §1.3, §1.4) and the per-element internal-force kernels.
 //!
 //! Each constitutive model is written once, over any [`Real`] number type:
 //! [`saint_venant_kirchhoff`] (S and ψ from E) and [`neo_hookean`] (P and ψ from F and J).
@@ -94,7 +94,7 @@ impl Material {
         (Matrix3::from_fn(|i, j| p[i][j]), psi)
     }
 
-    /// Cauchy stress σ = J⁻¹ F S Fᵀ = J⁻¹ P Fᵀ at one point, J = det F (PHYSICS.md §2) [Pa]
+    /// Cauchy stress σ = J⁻¹ F S Fᵀ = J⁻¹ P Fᵀ at one point, J = det F (model §1.2) [Pa]
     /// (post-processing only; J ≤ 0 gives a meaningless or infinite σ, not a panic).
     pub fn cauchy_stress(&self, f: &Matrix3<f64>) -> Matrix3<f64> {
         let (p, _) = self.piola_energy(f);
@@ -127,7 +127,7 @@ impl Law for NeoHookeanLaw {
 }
 
 /// First Piola–Kirchhoff stress P and energy density ψ (ψ only if `ENERGY`, else 0) of the law
-/// `L` at a point deformed by `d` (PHYSICS.md §2): [`saint_venant_kirchhoff`] of
+/// `L` at a point deformed by `d` (model §1.3, §1.4): [`saint_venant_kirchhoff`] of
 /// 2E = H + Hᵀ + HᵀH, then P = F·S = S + H·S, or [`neo_hookean`]; multiply–adds fused when
 /// `FMA` (`d` is formed with the same `FMA`). The one place every evaluation of a stress goes
 /// through.
@@ -164,7 +164,7 @@ macro_rules! with_law {
 }
 pub(crate) use with_law;
 
-/// Saint-Venant–Kirchhoff (PHYSICS.md §2): second Piola–Kirchhoff stress
+/// Saint-Venant–Kirchhoff (model §1.3, paper eq. 9): second Piola–Kirchhoff stress
 /// S = λ tr(E) I + 2μE and energy density ψ = ½λ(tr E)² + μ E:E, from G = 2E
 /// ([`kinematics::doubled_green_lagrange`]): S = ½λ tr(G) I + μG and
 /// ψ = ⅛λ(tr G)² + ¼μ G:G with G:G = (G₀₀² + G₁₁² + G₂₂²) + 2(G₀₁² + G₀₂² + G₁₂²) (G symmetric:
@@ -198,7 +198,7 @@ pub fn saint_venant_kirchhoff<T: Real, const ENERGY: bool, const FMA: bool>(
     (s, psi)
 }
 
-/// Compressible neo-Hookean (PHYSICS.md §2): ψ = ½μ(tr C − 3) − μ ln J + ½λ(ln J)² and
+/// Compressible neo-Hookean (model §1.4): ψ = ½μ(tr C − 3) − μ ln J + ½λ(ln J)² and
 /// S = μ(I − C⁻¹) + λ ln J C⁻¹, C = FᵀF, evaluated as the first Piola–Kirchhoff stress
 /// P = F·S = μ(F − F⁻ᵀ) + λ ln J F⁻ᵀ with F⁻ᵀ = cof(F)/J, i.e. P = μF + (λ ln J − μ)·(1/J)·cof F,
 /// and tr C = Σᵢₖ Fᵢₖ². ψ only if `ENERGY` (else 0). J ≤ 0 (an inverted element) gives NaN or

@@ -1,4 +1,4 @@
-//! Sum factorisation of the trilinear hexahedron at its 2×2×2 Gauss points (PHYSICS.md §2):
+//! Sum factorisation of the trilinear hexahedron at its 2×2×2 Gauss points (model §1.5):
 //! the parent-frame displacement gradient at the 8 points, and its transpose, which turns the
 //! 8 points' stresses into the 8 nodal forces. Both kernels of full integration (the scalar
 //! one, whose lanes are the Gauss points, and the lane one, whose lanes are elements) go
@@ -15,7 +15,7 @@
 //! at (s₁, s₂): 8 ∂u/∂ξ_d does not depend on ξ_d, and at the 4 points (t₁, t₂) ∈ {±g}²
 //! (g = 1/√3) it is a bilinear interpolation, taken one direction at a time as
 //! (a + b) + t (b − a) (the mean and the slope, one multiply–add per point). Then
-//! H_q = Σ_d 8 ∂u/∂ξ_d (ξ_q) ⊗ (⅛ ∂ξ_d/∂X) (PHYSICS.md §2, H = Σₐ uₐ ⊗ ∇ₓNₐ). The forces
+//! H_q = Σ_d 8 ∂u/∂ξ_d (ξ_q) ⊗ (⅛ ∂ξ_d/∂X) (model §1.5, H = Σₐ uₐ ⊗ ∇ₓNₐ). The forces
 //! fₐ = Σ_q w_q det J₀ P_q ∇ₓNₐ(ξ_q) become, with Q_q = w_q det J₀ P_q (⅛ ∂ξ/∂X)ᵀ,
 //!
 //! ```text
@@ -24,7 +24,7 @@
 //!
 //! the transpose of (T1), taken in the reverse order. Per element and component: 36
 //! differences and 9 × 24 flops for the 72 parent derivatives, where Σₐ uₐ ⊗ ∇ₓNₐ point by point
-//! took 8 × 144; the forces likewise (README, Performance, the flop counts).
+//! took 8 × 144; the forces likewise (`kernels::flops` counts them).
 //!
 //! One point on an axis-aligned box: the trilinear field is Σ_M m_M Π_{d ∈ M} ξ_d / 8 over the
 //! subsets M of {ξ, η, ζ}, with the modal amplitudes m_M = Σₐ (Π_{d ∈ M} sₐ^d) uₐ (T3)

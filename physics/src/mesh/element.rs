@@ -1,4 +1,4 @@
-//! The 8-node trilinear hexahedron in the reference configuration (PHYSICS.md §2): shape
+//! The 8-node trilinear hexahedron in the reference configuration (model §1.5): shape
 //! functions, the 2×2×2 Gauss points, and what the total Lagrangian formulation computes once
 //! per element shape — gradients ∇ₓNₐ (the stable-step bound's), ⅛J₀⁻¹ (the full kernel's) and
 //! weights w·det J₀ at the Gauss points ([`GaussData`]),
@@ -94,7 +94,7 @@ pub struct GeometryError {
 }
 
 impl GaussData {
-    /// ∇ₓNₐ = J₀⁻ᵀ ∂Nₐ/∂ξ at the Gauss points, J₀ = ∂X/∂ξ (PHYSICS.md §2: computed once).
+    /// ∇ₓNₐ = J₀⁻ᵀ ∂Nₐ/∂ξ at the Gauss points, J₀ = ∂X/∂ξ (model §1.5: computed once).
     pub fn new(x: &[[f64; 3]; 8]) -> Result<Self, f64> {
         let mut gd = GaussData {
             grad: [[[0.0; 8]; 3]; 8],
@@ -176,7 +176,7 @@ impl GaussData {
         self.wdet.iter().sum()
     }
 
-    /// Consistent-mass row sums per unit density, ∫ Nₐ dV (PHYSICS.md §2, lumped mass) [m³].
+    /// Consistent-mass row sums per unit density, ∫ Nₐ dV (model §1.7, lumped mass) [m³].
     pub fn lumped_volumes(&self) -> [f64; 8] {
         let mut m = [0.0; 8];
         for (q, xi) in gauss_points().iter().enumerate() {
@@ -203,7 +203,7 @@ pub fn hourglass_vectors() -> [[f64; 8]; 4] {
 }
 
 /// Reference data of one element shape for one-point integration with Flanagan–Belytschko
-/// hourglass control (PHYSICS.md §2: "one-point integration with hourglass control").
+/// hourglass control (model §1.6).
 #[derive(Debug, Clone, PartialEq)]
 pub struct CentreData {
     /// Mean gradients bₐ = (1/V) ∫ ∇ₓNₐ dV (FB's uniform gradient; exact by 2×2×2 Gauss) [1/m].
@@ -227,7 +227,7 @@ pub struct CentreData {
     /// check, J_a = det[e_ξ, e_η, e_ζ](x)/det[E_ξ, E_η, E_ζ](X) (`kernels::corners`).
     pub edges: [[f64; 3]; 12],
     pub corner_inv_det: [f64; 8],
-    /// C of the corner bound J_a ≥ J (1 − C|q|/s)³ (PHYSICS.md §2,
+    /// C of the corner bound J_a ≥ J (1 − C|q|/s)³ (model §1.9,
     /// [`crate::kernels::corner_bound::corner_bound_constant`]): with it the one-point kernel
     /// skips the exact corner check where it cannot change what the check reports.
     pub corner_bound: f64,

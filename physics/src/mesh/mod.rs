@@ -1,6 +1,6 @@
 //! Hexahedral meshes: nodes, 8-node trilinear elements, named boundary face sets, and the
-//! reference-configuration quantities that the total Lagrangian formulation computes once
-//! (PHYSICS.md §2): shape-function gradients ∇ₓNₐ and weights w·det J₀ at the Gauss points,
+//! reference-configuration quantities that the total Lagrangian formulation computes once (model
+//! §1.5, §1.7, §2.1): shape-function gradients ∇ₓNₐ and weights w·det J₀ at the Gauss points,
 //! lumped masses, tributary areas of boundary faces.
 //!
 //! Node numbering of an element follows the usual convention: nodes 0–3 on the ζ = −1 face
@@ -170,7 +170,7 @@ impl Mesh {
     }
 
     /// Tributary reference areas W_a = ∫ Nₐ dA over the quads of a face set (2×2 Gauss on each
-    /// bilinear quad), as (node, W) pairs sorted by node (PHYSICS.md §4, step 4: reference W).
+    /// bilinear quad), as (node, W) pairs sorted by node (model §2.1: reference W).
     pub fn nodal_areas(&self, quads: &[[u32; 4]]) -> Vec<(u32, f64)> {
         let mut acc: BTreeMap<u32, f64> = BTreeMap::new();
         let g = 1.0 / 3f64.sqrt();
@@ -263,7 +263,7 @@ impl Mesh {
     }
 
     /// Deformation gradient F = I + Σₐ uₐ ⊗ ∇ₓNₐ at the centre (ξ = 0) of element `e`
-    /// (PHYSICS.md §2), for post-processing (von Mises stress, J) of a displacement field `u`.
+    /// (model §1.2), for post-processing (von Mises stress, J) of a displacement field `u`.
     pub fn centre_deformation_gradient<U: NodalField + ?Sized>(
         &self,
         e: usize,

@@ -1,4 +1,4 @@
-//! The order of the element loop (PHYSICS.md §4 stage 3 on the thread team): slabs across the
+//! The order of the element loop (model §4.3 on the thread team): slabs across the
 //! longest axis, node-disjoint element blocks in two colours, and nodes renumbered slab by slab
 //! so that each thread's share of the nodal arrays stays contiguous.
 

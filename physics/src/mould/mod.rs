@@ -1,8 +1,8 @@
-//! Rigid moulds of any shape (issue 13): the shapes, their closest-point queries, and their
+//! Rigid moulds of any shape (model §7): the shapes, their closest-point queries, and their
 //! prescribed rigid motion ([`motion`]). A `[[plane]]` is the half-space shape.
 //!
-//! **Contact and glue on a curved or faceted mould** (PHYSICS.md §3–4 generalised; the README's
-//! model paragraph says the same): at a point x of the solid, p is the closest point of the
+//! **Contact and glue on a curved or faceted mould** (model §7.1, §7.4, §7.5, generalising
+//! the plane of §2.1 and §3): at a point x of the solid, p is the closest point of the
 //! mould's surface and n the mould's outward unit normal there (pointing out of the mould, into
 //! the solid); the gap is g = n·(x − p) (> 0 open). On a faceted surface n is the
 //! angle-weighted pseudo-normal of the feature p lies on (face: the face's normal; edge: the

@@ -16,7 +16,7 @@ use super::motion::{mat_mul_t, mat_vec, Mat3, Pose, RigidMotion};
 use super::surface::{NearLists, NEAR_CAPACITY, NO_FEATURE};
 
 /// A triangulated mould with at most this many triangles is queried with parry's full query
-/// (its BVH is a few leaves; the lists cost more there: `tread_demould`, README *Performance*).
+/// (its BVH is a few leaves; the lists cost more there; docs: performance log).
 pub const SMALL_SURFACE: usize = 2 * NEAR_CAPACITY;
 use super::Shape;
 use crate::energy::Work;
@@ -176,8 +176,8 @@ impl MouldStep {
         }
     }
 
-    /// Closest point and outward normal of mould `m` at x in the pose `pose` (PHYSICS.md §8,
-    /// *Contact node*); on a triangulated mould of more than [`SMALL_SURFACE`] triangles from
+    /// Closest point and outward normal of mould `m` at x in the pose `pose` (model §7.5);
+    /// on a triangulated mould of more than [`SMALL_SURFACE`] triangles from
     /// the node's list `near` of nearby triangles and its last triangle `feature`
     /// ([`super::SurfaceMesh::project_near`]: the cold query's result at about one triangle
     /// projection), unless `cold`.

@@ -182,7 +182,7 @@ impl SurfaceMesh {
     /// the node stays near where the list was built. `feature` is the node's last triangle, as
     /// for [`SurfaceMesh::project_cached`] (updated).
     ///
-    /// **The list and why it holds the answer** (PHYSICS.md §8, *Contact node*: p is the closest
+    /// **The list and why it holds the answer** (model §7.5: p is the closest
     /// point of x on the surface). Built at x_ref, where the closest triangle T₀ is at the
     /// distance d₀ = dist(x_ref, T₀): the list holds, sorted by r_T = dist(x_ref, T), every
     /// triangle T with r_T ≤ R = d₀ + 2δ (at most [`NEAR_CAPACITY`]; when more, R is lowered

@@ -1,5 +1,5 @@
 //! `[[contact]]` entries: contact with Coulomb friction μ, or, with a `[contact.law]` table,
-//! glue that forms on contact (README "Model"; [`crate::model::Interface::forms_on_contact`]):
+//! glue that forms on contact (model §8; [`crate::model::Interface::forms_on_contact`]):
 //! the same law families as `[interface.law]`, with `mu_inf` (μ(α) = μ_inf(1 − g_N(α)/g_N(0))
 //! once glued, paper eq. 21) and an optional `[contact.delay]`, as an `[[interface]]` takes.
 

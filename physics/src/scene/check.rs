@@ -129,7 +129,7 @@ impl Check<'_> {
     /// mould `plane` if some of its nodes start inside its
     /// mould beyond the tolerance: gap g₀ = n·(X − p) < −δ at the closest mould point p
     /// ([`mould_closest_point`]), δ = [`contact_start_tolerance`]. Contact acts on velocities
-    /// (PHYSICS.md §4 step 7): it stops a node from going deeper but never pushes it out, so a
+    /// (model §3.1, §3.8): it stops a node from going deeper but never pushes it out, so a
     /// node that starts inside stays inside for the whole run, its contact force taking the
     /// interpenetration as the rest state. The message names the face set, the mould, how many
     /// nodes and how deep.

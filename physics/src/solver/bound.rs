@@ -1,5 +1,5 @@
-//! A rigorous upper bound of ω_max² = λ_max(M⁻¹K) at the current state (PHYSICS.md §6: "or a
-//! proven upper bound on ω_max"), element by element: the guard that lets a cheap, warm-started
+//! A rigorous upper bound of ω_max² = λ_max(M⁻¹K) at the current state (model §6.4),
+//! element by element: the guard that lets a cheap, warm-started
 //! Lanczos update stand where it would otherwise be converged (`stable_step.rs`).
 //!
 //! *Derivation.* K is the tangent of F_int at U (total Lagrangian), so for a virtual
@@ -325,7 +325,7 @@ fn scaled_lambda_max(l: &[[f64; 8]; 8], d: &[f64; 8]) -> f64 {
 impl Simulation {
     /// The element bound (B) of ω_max² at the current state [1/s²] (module doc): a proven
     /// upper bound of λ_max(M⁻¹K), K the tangent with the glue springs W g_N(α) (the operator
-    /// the Lanczos estimates, PHYSICS.md §6), so 2/√bound ≤ h_crit. On the step's team;
+    /// the Lanczos estimates, model §6.1), so 2/√bound ≤ h_crit. On the step's team;
     /// deterministic whatever the thread count (a maximum).
     pub fn stiffness_bound(&mut self) -> f64 {
         let mut cache = std::mem::take(&mut self.step_control.bound);

@@ -1,4 +1,4 @@
-//! Stages 4–8 of PHYSICS.md §4 at the boundary nodes: what acts on each node (glue, contact,
+//! Stages 4–8 (model §4.4–§4.8) at the boundary nodes: what acts on each node (glue, contact,
 //! tractions, prescribed components) and the fused pass that applies, node by node, the stage
 //! functions in their order: external tractions, cohesion (4), the free velocity (5) completed,
 //! prescribed components (6), contact (7), the node's ledger halves (summed here, closed in
@@ -396,7 +396,7 @@ impl BoundaryStep<'_> {
         }
     }
 
-    /// The node's forward ledger halves with its final velocity V_{n+3/2} (PHYSICS.md §5), and
+    /// The node's forward ledger halves with its final velocity V_{n+3/2} (model §5.3), and
     /// the corrections of the all-node loop's sums (which used the free velocity).
     #[allow(clippy::too_many_arguments)]
     fn ledger_halves(
@@ -488,7 +488,7 @@ impl BoundaryStep<'_> {
 }
 
 /// Stages 4–8 on boundary nodes `range` (indices into `cx.boundary.nodes`), node by node in the
-/// order of PHYSICS.md §4. `v_all` holds the free velocities of stage 5's node loop on entry
+/// order of model §4.10. `v_all` holds the free velocities of stage 5's node loop on entry
 /// and V_{n+3/2} on exit; `reactions` (one entry per prescribed condition, zeroed) receives
 /// this chunk's reaction forces.
 ///
@@ -532,7 +532,7 @@ unsafe fn boundary_chunk(
 }
 
 impl Simulation {
-    /// Stages 4–8 at every boundary node (PHYSICS.md §4), in fixed chunks on the thread team.
+    /// Stages 4–8 at every boundary node (model §4.4–§4.8), in fixed chunks on the thread team.
     /// `h_bar` = (h_{n+½} + h_{n+3/2})/2 scales forces into impulses, `h_next` = h_{n+3/2} is
     /// the interval the new velocities act over. Needs [`Simulation::prescribed_motion`] and
     /// [`Simulation::free_velocity`] of this step; leaves the chunks' sums and the reactions in

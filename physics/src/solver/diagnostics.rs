@@ -1,5 +1,5 @@
 //! What the user is told: the blow-up diagnostic (where, with which h and h_crit, what to
-//! change; PHYSICS.md §6) and the regime warnings printed before a run.
+//! change; model §6.7) and the regime warnings printed before a run.
 
 use super::setup::StartOffset;
 use super::state::SolverError;
@@ -80,7 +80,7 @@ impl Simulation {
     /// - Near incompressibility (ν ≥ 0.49): K/G = 2(1+ν)/(3(1−2ν)) and c_p/c_s =
     ///   √(2(1−ν)/(1−2ν)); with full integration the hex8 locks volumetrically.
     /// - Interfaces that set the stable step: h_crit with the glue springs W g_N(α) in K
-    ///   (PHYSICS.md §6) at least 1.5× below [`Simulation::h_crit_bulk`], the bulk's alone; the
+    ///   (model §6.1) at least 1.5× below [`Simulation::h_crit_bulk`], the bulk's alone; the
     ///   run is then that many times longer.
     /// - A brittle law, (u_r − α_e)/α_e < 1 %: the softening branch is crossed within a step.
     /// - Elongated elements (aspect ratio ≥ 10): the shortest edge sets the step.

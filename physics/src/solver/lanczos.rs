@@ -1,4 +1,4 @@
-//! Lanczos tridiagonalisation for the stable-step estimate (PHYSICS.md §6): the largest Ritz
+//! Lanczos tridiagonalisation for the stable-step estimate (model §6.2): the largest Ritz
 //! value θ of a symmetric operator, its residual ‖r‖ and Ritz vector.
 //!
 //! The vector work of an iteration runs on the step's thread team in two fused passes over

@@ -1,4 +1,4 @@
-//! Stage 9 of PHYSICS.md §4: the energy ledger of §5 closed for the step, the run statistics
+//! Stage 9 (model §4.9): the energy ledger of model §5 closed for the step, the run statistics
 //! (reactions and their peaks, first damage, full rupture), and the blow-up checks.
 
 use super::state::{SolverError, StateCounts};
@@ -20,8 +20,8 @@ struct InterfaceSums {
     evolving: usize,
 }
 
-/// The weights of a change of step in the interval [tₙ₋₁, tₙ] just taken (PHYSICS.md §8,
-/// README "Variable step"): with h₋ = h_{n−3/2}, h = h_{n−½}, h₊ = h_{n+½},
+/// The weights of a change of step in the interval [tₙ₋₁, tₙ] just taken (model §5.8):
+/// with h₋ = h_{n−3/2}, h = h_{n−½}, h₊ = h_{n+½},
 /// `prev` = (h − h₋)/(2h) = 1 − h̄ₙ₋₁/h and `now` = (h₊ − h)/(2h) = h̄ₙ/h − 1; both 0 at a
 /// constant step.
 #[derive(Clone, Copy)]
@@ -31,13 +31,13 @@ struct StepChange {
 }
 
 impl Simulation {
-    /// Stage 9: the step's work halves into the ledger (trapezoid pairing, PHYSICS.md §5), the
+    /// Stage 9: the step's work halves into the ledger (trapezoid pairing, model §5.3), the
     /// reactions and their peaks, the interface energies and damage dissipation, the ledger's
     /// closing, the run statistics and the blow-up checks (non-finite values, negative damage
     /// dissipation, contact creating energy, energy growing without a source). `first`: the
     /// start of the run, where only the forward halves exist.
     ///
-    /// *Variable step* (PHYSICS.md §8). The impulse form of every work, ½V_{n−½}·(Pₙ₋₁ + Pₙ)
+    /// *Variable step* (model §5.8). The impulse form of every work, ½V_{n−½}·(Pₙ₋₁ + Pₙ)
     /// with Pₙ = h̄ₙFₙ, sums exactly to Kₙ − Kₙ₋₁ at any sequence of steps. The stored-energy
     /// identities (bulk Ψ to O(h²), cohesive Ψ_d + D exactly) hold for the plain trapezoid
     /// ½ΔU·(Fₙ₋₁ + Fₙ), ΔU = h_{n−½}V_{n−½}. The two differ only where h changes, by
@@ -151,7 +151,7 @@ impl Simulation {
         self.kinetic_half = s.kinetic_half;
     }
 
-    /// Each mould's work (issue 13), with the trapezoid pairing of the other works: the
+    /// Each mould's work (model §5.7, §7.6), with the trapezoid pairing of the other works: the
     /// halves b = ½v_m,old·P and a = ½v_m,new·P of every impulse P the mould gives a node —
     /// the glue's −h̄W R_d at the anchor and the contact's W R_c at the contact point — with
     /// v_m the mould's velocity at that point over the interval before and after tₙ₊₁
@@ -284,7 +284,7 @@ impl Simulation {
             .collect()
     }
 
-    /// Σ Ψ_d = Σ W ½ g_N(αₙ)|[u]ₙ|² and Σ ΔDₙ over the interface nodes (PHYSICS.md §5), their
+    /// Σ Ψ_d = Σ W ½ g_N(αₙ)|[u]ₙ|² and Σ ΔDₙ over the interface nodes (model §5.5), their
     /// states, Σ W g_N(αₙ), and where the step changed (`change`) the cohesive step-change
     /// work ½([u]ₙ − [u]ₙ₋₁)·W(prev R_d,ₙ₋₁ − now R_d,ₙ) (the force on the body is −W R_d);
     /// moves [u]ₙ, g_N(αₙ) into the "previous" slots for the next ΔD.
@@ -345,7 +345,7 @@ impl Simulation {
         }
     }
 
-    /// The ledger's blow-up checks (PHYSICS.md §6): non-finite energy, a negative damage
+    /// The ledger's blow-up checks (model §5.9): non-finite energy, a negative damage
     /// dissipation increment `worst`, a negative cumulative contact dissipation, mechanical
     /// energy grown past `energy_growth_limit` × what was supplied.
     fn blow_up_checks(&self, worst: f64) -> Result<(), SolverError> {
@@ -361,7 +361,7 @@ impl Simulation {
                 "negative damage dissipation increment ({worst:.3e} J): the jump turned by more than 90° in one step"
             )));
         }
-        // Contact dissipation is not ≥ 0 step by step with the trapezoid pairing (PHYSICS.md §5),
+        // Contact dissipation is not ≥ 0 step by step with the trapezoid pairing (model §5.6),
         // but it must be cumulatively, to the ledger's own accuracy: 1e-3 of the largest energy.
         let contact = l.contact_normal_dissipated + l.friction_dissipated;
         if contact < -1e-3 * l.max_energy_seen.max(self.energy_floor) {
@@ -404,7 +404,7 @@ fn damage_evolving(law: &crate::interface::law::StiffnessLaw, alpha: f64, alpha_
 }
 
 /// Trapezoid pairing of per-mould works: at the start only the forward halves `a`, then each
-/// step's ½(b + a) pairs (PHYSICS.md §8's ledger, per mould).
+/// step's ½(b + a) pairs (model §7.6, per mould).
 fn push_halves(works: &mut [Work], halves: &[(f64, f64)], first: bool) {
     for (w, &(b, a)) in works.iter_mut().zip(halves) {
         if first {

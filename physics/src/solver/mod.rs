@@ -1,8 +1,8 @@
-//! The CD-Lagrange time step (PHYSICS.md §4) with the RCCM interface, contact, friction,
-//! prescribed displacements, the energy ledger (§5) and the stable-step estimate (§6).
+//! The CD-Lagrange time step (model §4) with the RCCM interface, contact, friction,
+//! prescribed displacements, the energy ledger (model §5) and the stable-step estimate (§6).
 //!
 //! State at integer times tₙ: displacements U, damage α; at half times: velocities V. One call of
-//! [`Simulation::step`] goes from tₙ to tₙ₊₁ through the numbered stages of PHYSICS.md §4, each a
+//! [`Simulation::step`] goes from tₙ to tₙ₊₁ through the numbered stages of model §4, each a
 //! named function:
 //!
 //! | stage | function | file |
@@ -10,7 +10,7 @@
 //! | 1 positions and state | [`Simulation::advance_positions`] | `stages.rs` |
 //! | 2 surfaces, gaps, prescribed values | [`Simulation::surfaces_and_gaps`], [`Simulation::prescribed_motion`] | `stages.rs` |
 //! | 3 internal forces | [`Simulation::internal_forces`] | `stages.rs` |
-//! | §6 next step | [`Simulation::next_time_step`] | `stable_step.rs`, `lanczos.rs`, `stiffness.rs` |
+//! | model §6: next step | [`Simulation::next_time_step`] | `stable_step.rs`, `lanczos.rs`, `stiffness.rs` |
 //! | 5 free velocity, all nodes | [`Simulation::free_velocity`] | `stages.rs` |
 //! | 4–8 at boundary nodes | [`Simulation::boundary_pass`]: per node, tractions, cohesion (4), free velocity (5), prescribed components (6), contact (7), the ledger's halves, damage (8) | `boundary.rs` |
 //! | 9 ledger | [`Simulation::ledger`] | `ledger.rs` |
@@ -141,7 +141,7 @@ pub struct Simulation {
 }
 
 impl Simulation {
-    /// One CD-Lagrange step tₙ → tₙ₊₁ (PHYSICS.md §4, stages 1–9), written with the index of
+    /// One CD-Lagrange step tₙ → tₙ₊₁ (model §4.1–§4.9), written with the index of
     /// the step just completed as n − 1: on entry Uₙ, αₙ, V_{n+½}; on exit Uₙ₊₁, αₙ₊₁, V_{n+3/2}.
     pub fn step(&mut self) -> Result<(), SolverError> {
         let t0 = Instant::now();
@@ -154,7 +154,7 @@ impl Simulation {
         // 3. F_int,ₙ₊₁ from Uₙ₊₁ (parallel element loop); an inverted element stops the run.
         self.internal_forces(true, true)?;
         let t2 = Instant::now();
-        // §6. Re-estimate h_crit as the stiffness changes; fixes h_{n+3/2}.
+        // §6 (model §6.5, §6.6). Re-estimate h_crit as the stiffness changes; fixes h_{n+3/2}.
         let h_next = self.next_time_step();
         let t3 = Instant::now();
         // 2. Surface and prescribed velocities over the interval about to be taken.
@@ -287,7 +287,7 @@ impl Simulation {
 }
 
 /// The element loop of stage 3 over one simulation's mesh, material, rule and team: all that
-/// F_int(U) = Σ_e fₑ(U) needs besides U (PHYSICS.md §2). Borrowed field by field, so the step
+/// F_int(U) = Σ_e fₑ(U) needs besides U (model §1.5). Borrowed field by field, so the step
 /// can write F_int while it holds it.
 struct ElementLoop<'a> {
     model: &'a Model,

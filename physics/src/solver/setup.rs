@@ -1,6 +1,6 @@
-//! Building a simulation: lumped masses (PHYSICS.md §2), the interface, contact, traction and
-//! prescribed entries per boundary node, the first stable-step estimate (§6), and the start of
-//! the leapfrog at t₀ (§4: V_{−½}, then the first impulses give V_{½}).
+//! Building a simulation: lumped masses (model §1.7), the interface, contact, traction and
+//! prescribed entries per boundary node, the first stable-step estimate (model §6), and the start
+//! of the leapfrog at t₀ (model §4.11: V_{−½}, then the first impulses give V_{½}).
 
 use super::boundary::{Boundary, NONE};
 use super::stable_step::{capped_step, StepControl};
@@ -26,7 +26,7 @@ fn face<'a>(mesh: &'a Mesh, name: &str) -> Result<&'a Vec<[u32; 4]>, SolverError
         .ok_or_else(|| SolverError::Setup(format!("no face set named `{name}`")))
 }
 
-/// Lumped nodal masses mₐ = Σ_e ρ₀ Vₐᵉ, the row sums of the consistent mass (PHYSICS.md §2);
+/// Lumped nodal masses mₐ = Σ_e ρ₀ Vₐᵉ, the row sums of the consistent mass (model §1.7);
 /// a node of no element (zero mass) is refused.
 fn lumped_masses(model: &Model, classes: &ElementClasses) -> Result<Vec<f64>, SolverError> {
     let rho = model.material.density;
@@ -45,8 +45,8 @@ fn lumped_masses(model: &Model, classes: &ElementClasses) -> Result<Vec<f64>, So
     Ok(mass)
 }
 
-/// What the glue and the contact need of a rigid mould at one point x at t = 0 (PHYSICS.md §8,
-/// "Rigid moulds", generalised in [`crate::mould`]): the closest point p of the mould's surface
+/// What the glue and the contact need of a rigid mould at one point x at t = 0 (model §7.1,
+/// §7.4, [`crate::mould`]): the closest point p of the mould's surface
 /// to x and the mould's outward unit normal n there (into the solid), so that the gap is
 /// g = n·(x − p). For a plane p is the orthogonal projection and n the plane's normal, the same
 /// at every point; on a faceted surface n is the pseudo-normal of the feature hit.
@@ -143,7 +143,7 @@ impl StartOffset {
 }
 
 /// The glued nodes of every interface, each bonded to its closest mould point y₀ at t₀
-/// ([`mould_closest_point`]), with its tributary reference area W (PHYSICS.md §3, §4 stage 4).
+/// ([`mould_closest_point`]), with its tributary reference area W (model §2.1, §7.4).
 /// The nodes of glue that forms on contact are allocated here too, not yet formed (g_N = 0;
 /// their anchor is set when they form, [`Simulation::form_glue`]).
 fn glued_nodes(model: &Model) -> Result<Vec<InterfaceNode>, SolverError> {
@@ -428,7 +428,7 @@ impl Simulation {
         }
     }
 
-    /// The first h_crit estimate and h = min(factor, 1) × h_crit (PHYSICS.md §6,
+    /// The first h_crit estimate and h = min(factor, 1) × h_crit (model §6.6,
     /// [`capped_step`]); when a glued node's
     /// own spring (ω_i² = W g_N/m) is near the whole system's ω_max, the interface may set the
     /// step: the bulk alone is then measured once, for [`Simulation::advisories`].

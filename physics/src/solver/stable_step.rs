@@ -1,4 +1,4 @@
-//! The stable step of PHYSICS.md §6: h_crit = 2/ω_max with ω_max² = λ_max(M⁻¹K) estimated by
+//! The stable step (model §6): h_crit = 2/ω_max with ω_max² = λ_max(M⁻¹K) estimated by
 //! Lanczos (K·x matrix-free, the directional derivative of F_int, plus the interface springs),
 //! re-estimated as the stiffness changes; and the choice of the next step h_{n+3/2}.
 
@@ -43,7 +43,7 @@ pub(super) const GROWTH_RATIO: f64 = 1.02;
 /// factor × h_crit by more than this, and grows when the target exceeds it by more.
 const STEP_BAND: f64 = 0.05;
 
-/// The step for a time-step factor: h = factor × h_crit, never above h_crit (PHYSICS.md §6:
+/// The step for a time-step factor: h = factor × h_crit, never above h_crit (model §6.1, §6.6:
 /// central differences are unstable above h_crit = 2/ω_max). A factor above 1 is accepted
 /// (scene range (0, 2)) and runs at h = h_crit, the stability limit itself, with no margin for
 /// the estimate or for stiffening between estimates (a warning says so).
@@ -51,7 +51,7 @@ pub(super) fn capped_step(factor: f64, h_crit: f64) -> f64 {
     factor.min(1.0) * h_crit
 }
 
-/// The step controller's state between steps (PHYSICS.md §6 and §8, variable step).
+/// The step controller's state between steps (model §6.5, §6.6).
 #[derive(Debug, Clone, Default)]
 pub(super) struct StepControl {
     /// h_{n−½}, the interval before the one just taken (set at t₀ to the first h) [s].
@@ -67,7 +67,7 @@ pub(super) struct StepControl {
     pub springs_initial: f64,
     /// Glued nodes whose damage is evolving after the last step (stage 9): while there are
     /// any, h does not grow (a step grown while the glue softens enlarges the O(h) error of
-    /// the dissipation pairing ΔD, PHYSICS.md §5).
+    /// the dissipation pairing ΔD, model §5.5).
     pub damage_evolving: usize,
     /// The Jacobian change that triggers an estimate now (0: [`JACOBIAN_RETRIGGER`]).
     pub jacobian_trigger: f64,
@@ -105,11 +105,11 @@ impl Simulation {
     /// some element is compressed below [`JACOBIAN_COMPRESSED`] nor while the glue's damage is
     /// evolving ([`StepControl::damage_evolving`]: a node in transition, a delayed α behind its
     /// target, or the tearing under way, some node damaged and some not ruptured). The step is
-    /// held through the tearing because the dissipation pairing ΔD (PHYSICS.md §5) has an O(h)
-    /// error: grown while the glue tore, the 7³ pull-off's D rose from 1.042 to 1.074 G_c·A;
+    /// held through the tearing because the dissipation pairing ΔD (model §5.5) has an O(h)
+    /// error: grown while the glue tore, the pull-off's D rose above its fixed-step value;
     /// held, D is the fixed-step value, and h grows once the glue has torn. The dead band
     /// keeps estimate noise from moving h. A change of step is exact in the ledger
-    /// ([`Simulation::ledger`], the step-change work of PHYSICS.md §8).
+    /// ([`Simulation::ledger`], the step-change work of model §5.8).
     pub(super) fn next_time_step(&mut self) -> f64 {
         if self.model.scheme.h_crit_update_interval == 0 {
             return self.h;
@@ -329,7 +329,7 @@ impl Simulation {
         est
     }
 
-    /// ω_max² of M⁻¹K at the current state by Lanczos on M^{-½}KM^{-½} (PHYSICS.md §6), K·x
+    /// ω_max² of M⁻¹K at the current state by Lanczos on M^{-½}KM^{-½} (model §6.1, §6.2), K·x
     /// matrix-free as the directional derivative of F_int (forward difference, relative step
     /// 1e-6 of the smallest edge) plus the interface springs W g_N(α) of glued nodes;
     /// prescribed components are removed. Lanczos Ritz values approach λ_max from below, so

@@ -1,4 +1,4 @@
-//! Stages 1, 2, 3 and 5 of PHYSICS.md §4 (the boundary's stages 4–8 are in `boundary.rs`, the
+//! Stages 1, 2, 3 and 5 of model §4 (the boundary's stages 4–8 are in `boundary.rs`, the
 //! ledger's stage 9 in `ledger.rs`), and the per-step buffers they fill.
 
 use super::boundary::BoundarySums;
@@ -33,7 +33,7 @@ pub(super) struct StepScratch {
     /// Sums of the all-node loop (stage 5) and of the boundary pass (4–8), for stage 9.
     pub node_sums: NodeSums,
     pub boundary_sums: BoundarySums,
-    /// The moulds' poses, per-node geometry against curved moulds, and works (issue 13).
+    /// The moulds' poses, per-node geometry against curved moulds, and works (model §7).
     pub moulds: crate::mould::step::MouldStep,
 }
 
@@ -126,7 +126,7 @@ impl Simulation {
         self.mould_gaps();
     }
 
-    /// Stage 3: F_int(Uₙ₊₁) = Σ_e fₑ(Uₙ₊₁) (PHYSICS.md §2) and Ψₙ₊₁; an inverted element
+    /// Stage 3: F_int(Uₙ₊₁) = Σ_e fₑ(Uₙ₊₁) (model §4.3) and Ψₙ₊₁; an inverted element
     /// (J ≤ 0) stops the run. `zeroed`: F_int is already 0 (stage 1 clears it), else it is
     /// cleared here.
     pub(super) fn internal_forces(

@@ -1,5 +1,5 @@
 //! The public data of a simulation: its interface and contact nodes, run statistics, stage
-//! timings, stable-step estimates and errors. Sign conventions (PHYSICS.md §3): the rigid
+//! timings, stable-step estimates and errors. Sign conventions (model §2.1): the rigid
 //! surface's normal n points into the solid, a gap g > 0 is open, impulses and tractions are per
 //! unit reference area (Pa·s, Pa), the damage α and the jump [u] are in metres.
 
@@ -81,7 +81,7 @@ pub struct InterfaceNode {
     pub contact: ContactStatus,
     /// Whether the glue is there: true from t = 0 for an `[[interface]]`; for glue that forms
     /// on contact (`Interface::forms_on_contact`), false until the node first comes into
-    /// contact, and true from then on (README "Model"). While false the node is a contact node
+    /// contact, and true from then on (model §8). While false the node is a contact node
     /// (friction μ of its `[[contact]]` entry): no glue force, g_N = 0, α = 0, no damage, and
     /// its `jump` and `bonded_point` mean nothing.
     pub formed: bool,
@@ -92,7 +92,7 @@ pub struct InterfaceNode {
 
 impl InterfaceNode {
     /// Its state: [`InterfaceState::Unformed`] until glue that forms on contact has formed,
-    /// then fig. 6's classification of α by its law (PHYSICS.md §3: elastic α ≤ α_e,
+    /// then fig. 6's classification of α by its law (model §2.8: elastic α ≤ α_e,
     /// transition α_e < α < u_r, ruptured α ≥ u_r).
     #[inline]
     pub fn state(&self, law: &StiffnessLaw) -> InterfaceState {
@@ -204,7 +204,7 @@ pub struct CornerChecks {
     pub skipped: u64,
 }
 
-/// Result of a stable-step estimate (PHYSICS.md §6).
+/// Result of a stable-step estimate (model §6.2).
 #[derive(Debug, Clone, Copy, Serialize)]
 pub struct StableStep {
     /// Upper estimate of ω_max² = λ_max(M⁻¹K) [1/s²]: Ritz value θ plus its residual bound.

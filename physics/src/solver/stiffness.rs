@@ -1,4 +1,4 @@
-//! The operator of the stable-step estimate (PHYSICS.md §6), y = M^{-½} K M^{-½} q at the
+//! The operator of the stable-step estimate (model §6.1), y = M^{-½} K M^{-½} q at the
 //! current state, and the buffers every estimate reuses (`solver/stable_step.rs`).
 
 use super::boundary::NONE;
@@ -41,7 +41,7 @@ pub(super) struct EstimateCache {
     pub work: LanczosWork,
 }
 
-/// y = M^{-½} K M^{-½} q at `sim`'s state (PHYSICS.md §6): K q matrix-free as the forward
+/// y = M^{-½} K M^{-½} q at `sim`'s state (model §6.1): K q matrix-free as the forward
 /// difference (F_int(U + ε x) − F_int(U))/ε, x = M^{-½} q, with ε = 1e-6 of the smallest edge
 /// over max|x|, plus the interface springs W g_N(α) of glued nodes; prescribed components are
 /// removed (rows and columns zero).

@@ -73,7 +73,7 @@ pub fn ramp(t_end: f64, u_end: f64) -> PiecewiseLinear<1> {
     }
 }
 
-/// The reference pull-off cube of PHYSICS.md §7 with `n` cells per side (same values as
+/// The reference pull-off cube of model §9 with `n` cells per side (same values as
 /// scenes/pull_off.toml).
 pub fn pull_off(n: usize, end_time: f64) -> Model {
     let mut m = bare_box(

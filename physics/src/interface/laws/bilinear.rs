@@ -1,4 +1,4 @@
-//! `bilinear`, the usual linear-softening cohesive law (PHYSICS.md §3): past α_e,
+//! `bilinear`, the usual linear-softening cohesive law (model §2.6): past α_e,
 //! g_N(α) = g_N(0) α_e (u_r − α) / (α (u_r − α_e)), so that T(δ) = g_N(δ)δ falls linearly from
 //! g_N(0)α_e at α_e to 0 at u_r.
 

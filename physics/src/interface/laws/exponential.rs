@@ -1,4 +1,4 @@
-//! `exponential` (PHYSICS.md §3): past α_e, g_N(α) = g_N(0) exp(−k (α − α_e)/(u_r − α_e)), cut
+//! `exponential` (model §2.6): past α_e, g_N(α) = g_N(0) exp(−k (α − α_e)/(u_r − α_e)), cut
 //! to 0 at u_r; k is the decay over the softening range (dimensionless).
 
 use crate::interface::family::{R_T, Family, Knots, Param, ParamValues, Range, ALPHA_E, G_N0, U_R};

@@ -1,4 +1,4 @@
-//! The law families, one file each (PHYSICS.md §3, "Stiffness laws a user expects").
+//! The law families, one file each (model §2.6).
 //!
 //! `physics/build.rs` lists the files of this folder and writes the `mod` lines and one
 //! `families!` line per family; the macro below turns that list into [`LawKind`] (one variant per
@@ -12,7 +12,7 @@ use super::law::StiffnessLaw;
 /// Builds [`LawKind`], its dispatch and [`FAMILIES`] from `index Type => module` lines.
 macro_rules! families {
     ($($index:literal $family:ident => $module:ident,)*) => {
-        /// Which family a law is, with the family's own data (PHYSICS.md §3).
+        /// Which family a law is, with the family's own data (model §2.6).
         #[derive(Debug, Clone, PartialEq)]
         pub enum LawKind {
             $($family($module::$family),)*

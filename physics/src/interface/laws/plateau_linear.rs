@@ -1,4 +1,4 @@
-//! `plateau_linear`, the paper's fig. 5 (PHYSICS.md §3): g_N = g_N(0) on [0, α_e], then a linear
+//! `plateau_linear`, the paper's fig. 5 (model §2.6): g_N = g_N(0) on [0, α_e], then a linear
 //! decrease to 0 at u_r.
 
 use crate::interface::family::{R_T, Family, Knots, Param, ParamValues, ALPHA_E, G_N0, U_R};

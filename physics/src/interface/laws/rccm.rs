@@ -1,5 +1,5 @@
-//! `rccm`, the original RCCM law (Raous–Cangémi–Cocou–Monerie, after Frémond; README, "The
-//! original RCCM"): an adhesion intensity β ∈ [0, 1] (1 sound), R_N = C_N β² ⟨[u]_N⟩₊ on
+//! `rccm`, the original RCCM law (Raous–Cangémi–Cocou–Monerie, after Frémond; model
+//! §2.10): an adhesion intensity β ∈ [0, 1] (1 sound), R_N = C_N β² ⟨[u]_N⟩₊ on
 //! opening, R_T = C_T β² [u]_T, and Frémond's evolution with the Dupré energy w and viscosity b,
 //!
 //! b β̇ = −[w − β (C_N ⟨[u]_N⟩₊² + C_T |[u]_T|²)]⁻,   β irreversible (β̇ ≤ 0).

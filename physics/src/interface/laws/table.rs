@@ -1,4 +1,4 @@
-//! `table` (PHYSICS.md §3): a user table of (α, g_N) points, g_N linear between them. The first
+//! `table` (model §2.6): a user table of (α, g_N) points, g_N linear between them. The first
 //! point is at α = 0 (its g_N is g_N(0)), the last one at α = u_r with g_N = 0; α_e is the end of
 //! the leading plateau.
 

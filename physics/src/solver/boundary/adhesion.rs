@@ -1,5 +1,5 @@
-//! Glue that forms on contact (a `[[contact]]` entry with an adhesive law; README "Model",
-//! the generalisation of PHYSICS.md §3–§5, where glue exists from t = 0 only).
+//! Glue that forms on contact (a `[[contact]]` entry with an adhesive law; model §8,
+//! the generalisation of §2–§5, where glue exists from t = 0 only).
 //!
 //! Until it forms, such a node is a contact node: its interface entry is a unilateral
 //! constraint with the contact's Coulomb μ (stage 7), with no glue force (g_N = 0), no damage

@@ -1,10 +1,9 @@
-//! Stage 7 at a node with several active constraints (PHYSICS.md §8, "several active
-//! constraints at one node"): a node in a cavity corner, touching two moulds, or glued to one
-//! mould and in contact with another gets one local problem over all its active constraints,
-//! solved together by [`contact_impulses`] (projected Gauss–Seidel on accumulated impulses, to
-//! the stated tolerance), instead of constraint after constraint. A node with at most one
-//! active constraint never comes here: it keeps the one-surface closed form of
-//! [`BoundaryStep::contact`] (and so its arithmetic, bit for bit).
+//! Stage 7 at a node with several active constraints (model §3.7): a node in a cavity corner,
+//! touching two moulds, or glued to one mould and in contact with another gets one local problem
+//! over all its active constraints, solved together by [`contact_impulses`] (projected Gauss–Seidel
+//! on accumulated impulses, to the stated tolerance), instead of constraint after constraint. A
+//! node with at most one active constraint never comes here: it keeps the one-surface closed form
+//! of [`BoundaryStep::contact`] (and so its arithmetic, bit for bit).
 
 use super::{BoundaryNode, BoundaryStep, BoundarySums, NodeImpulses, MAX_CONSTRAINTS};
 use crate::interface::contact::{contact_impulses, held_reach, Constraint};

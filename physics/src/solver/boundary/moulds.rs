@@ -1,6 +1,7 @@
-//! Stage 2 against moulds that are not plain planes (issue 13, [`crate::mould`]): each glued
-//! node's anchor, jump and glue normal, each node's closest mould point, normal and gap. Plain
-//! planes keep stage 2 of `stages.rs` untouched (the same arithmetic as before moulds existed).
+//! Stage 2 against moulds that are not plain planes (model §7.4, §7.5; [`crate::mould`]): each
+//! glued node's anchor, jump and glue normal, each node's closest mould point, normal and gap.
+//! Plain planes keep stage 2 of `stages.rs` untouched (the same arithmetic as before moulds
+//! existed).
 
 use super::super::Simulation;
 use crate::mesh::{dot, sub};
