@@ -6,7 +6,7 @@
 BOOK_DIR is the book built by `mdbook build docs` (default: out/book under the repository root).
 Every relative `href` and `src` of every built HTML page must name a file of the built book;
 a `#anchor` must be the id (or the name of an <a>) of an element of the target page. Every
-relative link and image of README.md must name a file of the repository, and a `#anchor` in it
+relative link and image of README.md (and scenes/README.md) must name a file of the repository, and a `#anchor` in it
 a heading of the target Markdown file. External links (http, https, mailto, …) are only counted:
 nothing is fetched. Prints every broken link with its page and exits 1 if there is one.
 """
@@ -177,11 +177,15 @@ def main():
         check_markdown(readme, repo, broken, counts)
     else:
         broken.append(f"README.md: not found in {repo}")
+    # The scene folder's page points into the book too.
+    scenes_readme = os.path.join(repo, "scenes", "README.md")
+    if os.path.isfile(scenes_readme):
+        check_markdown(scenes_readme, repo, broken, counts)
 
     for line in broken:
         print(f"broken: {line}")
     print(
-        f"{pages} HTML pages and README.md: {counts['internal']} relative links checked, "
+        f"{pages} HTML pages, README.md and scenes/README.md: {counts['internal']} relative links checked, "
         f"{len(broken)} broken; {counts['external']} external links not fetched"
     )
     return 1 if broken else 0
