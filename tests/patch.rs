@@ -6,8 +6,6 @@
 //! hourglass control (the hourglass shape vectors are orthogonal to affine fields, so the patch
 //! test holds exactly and the hourglass energy is round-off).
 
-use crate::by_hand;
-
 use crate::by_hand::{piola_energy, stress_scale};
 use decohesion::kernels::{assemble_internal_forces, ElementRule, Planes};
 use decohesion::material::{Material, MaterialModel};

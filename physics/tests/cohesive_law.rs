@@ -12,7 +12,6 @@
 //! traction, G_c), and the table of families by its folder: every file is a family, every
 //! family's defaults are admissible, every family's errors name the key.
 
-use crate::common;
 use crate::common::*;
 use decohesion_physics::law::{families, Knots, ParamValues, StiffnessLaw};
 use decohesion_physics::material::{Material, MaterialModel};

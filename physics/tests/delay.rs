@@ -3,7 +3,6 @@
 //! ODE; the rate bound at every step; the rate effect on the work of separation and the peak
 //! traction; τ_c → 0 gives the rate-independent run bit for bit.
 
-use crate::common;
 use crate::common::*;
 use decohesion_physics::law::{Delay, Knots, StiffnessLaw};
 use decohesion_physics::scene::parse_scene;

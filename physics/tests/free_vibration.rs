@@ -3,7 +3,6 @@
 //! strain, so at strain 1e-8 the invariant holds to ~1e-8 relative, far below what any
 //! pairing error (O(h) ~ 1e-1 at h = 0.5 h_crit) would leave.
 
-use crate::common;
 use crate::common::*;
 use decohesion_physics::material::{Material, MaterialModel};
 use decohesion_physics::solver::Simulation;

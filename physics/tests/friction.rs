@@ -13,9 +13,8 @@
 //! (c) The same with 1.5 μMg: the base slides and the centre of mass accelerates at
 //!     T/M − μg (the test that (b) would fail if the friction were unbounded).
 
-use decohesion_physics::material::{Material, MaterialModel};
-use crate::common;
 use crate::common::{centre_of_mass, face_nodes, on_floor};
+use decohesion_physics::material::{Material, MaterialModel};
 use decohesion_physics::model::{Model, PiecewiseLinear, Traction};
 use decohesion_physics::solver::{ContactStatus, Simulation};
 

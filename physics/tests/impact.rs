@@ -14,10 +14,9 @@
 //! The second test runs the teaching scene scenes/impact.toml, the same bar (a cork column,
 //! ν = 0) dropped from a height, whose landings happen inside the run and inside the ledger.
 
-use decohesion_physics::material::{Material, MaterialModel};
-use crate::common;
 use crate::common::scene_file;
 use crate::common::{face_nodes, on_floor};
+use decohesion_physics::material::{Material, MaterialModel};
 use decohesion_physics::model::Model;
 use decohesion_physics::solver::Simulation;
 

@@ -2,9 +2,8 @@
 //! tensile pull-off on lifting, and the hysteresis of the cycle as the glue's damage
 //! dissipation.
 
-use crate::common;
-use crate::hertz;
 use crate::common::*;
+use crate::hertz;
 use decohesion_physics::scene::load_scene;
 use decohesion_physics::solver::Simulation;
 

@@ -1,9 +1,8 @@
 //! A curved mould (model §7): `scenes/indent.toml`, a rigid sphere pressed into a glued rubber pad
 //! and lifted — Hertz on loading, the ledger closing with the sphere's work.
 
-use crate::common;
-use crate::hertz;
 use crate::common::*;
+use crate::hertz;
 use decohesion_physics::scene::load_scene;
 use decohesion_physics::solver::Simulation;
 

@@ -2,7 +2,6 @@
 //! a third of the run, a free cube afterwards, a ledger that closes, and its residual falling as
 //! h² (model §5.10).
 
-use crate::common;
 use crate::common::scene_file;
 
 use decohesion_physics::scene::load_scene;

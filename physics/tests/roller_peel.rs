@@ -4,7 +4,6 @@
 //! the front follows the roller, the damage is G_c per peeled area, no node goes into a mould, and
 //! the ledger closes with the roller's work.
 
-use crate::common;
 use crate::common::{mean, scene_file, slope};
 use decohesion_physics::model::PiecewiseLinear;
 use decohesion_physics::scene::load_scene;

@@ -1,7 +1,6 @@
 //! The teaching scenes of scenes/: each test loads the scene file itself and checks the
 //! behaviour its `description` promises against the analytic number.
 
-use crate::common;
 use crate::common::centre_of_mass;
 use crate::common::scene_file;
 use crate::common::{mean, slope};

@@ -11,7 +11,6 @@
 //! test's yardstick: the arrival must be within one front width of L/c, and its lag must be the
 //! predicted one.
 
-use crate::common;
 use crate::common::bare_box;
 use decohesion_physics::material::{Material, MaterialModel};
 use decohesion_physics::model::{Model, PiecewiseLinear, PrescribedDisplacement};
