@@ -171,7 +171,7 @@ impl Simulation {
         let factor = m.scheme.time_step_factor;
         if factor > 1.0 {
             out.push(format!(
-                "scheme.time_step_factor = {factor} > 1: the step is capped at h = h_crit, since the central-difference scheme is unstable above it (PHYSICS.md §6); at h_crit itself there is no margin for the estimate or for stiffening between estimates: ≤ 0.9 is safe."
+                "scheme.time_step_factor = {factor} > 1: the step is capped at h = h_crit, since the central-difference scheme is unstable above it (model §6); at h_crit itself there is no margin for the estimate or for stiffening between estimates: ≤ 0.9 is safe."
             ));
         }
         out
