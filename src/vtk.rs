@@ -34,10 +34,10 @@
 //! VTK XML 1.0, `header_type="UInt64"`, every array inline in VTK's base64 `binary` format
 //! (a UInt64 byte count then the little-endian values, one base64 stream), uncompressed; the
 //! reference mesh is encoded once and copied into every frame. Written here rather than with
-//! `vtkio`'s writer, which took 0.75 ms of CPU per frame of the 7³ pull-off cube (38 % of it in
-//! quick-xml escaping the base64 text) against 0.21–0.25 ms here, and tripled that run's wall
-//! time (×1.7 with this writer); `vtkio` reads the files back in the tests (`tests/vtk.rs`), a reader independent of
-//! this writer.
+//! `vtkio`'s writer, which spent much of its CPU time in quick-xml escaping the base64 text,
+//! took several times this writer's CPU per frame and lengthened a run's wall time far more
+//! (docs: performance log); `vtkio` reads the files back in the tests (`tests/vtk.rs`), a
+//! reader independent of this writer.
 //!
 //! # Threads
 //! The run driver ([`crate::driver`]) copies the state once per frame ([`Snapshot`]) and hands

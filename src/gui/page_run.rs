@@ -69,9 +69,9 @@ impl PageRun {
     /// its end time, fails, or was stopped. True while it goes on.
     ///
     /// The stretch keeps the solver at half of the page's time or more when drawing is slow
-    /// (software WebGL: ~100 ms a frame under headless Chromium), at the price of a frame rate
-    /// at least half of what the drawing alone allows; with fast drawing a frame steps for
-    /// `budget`, so the page draws at its own rate and Stop acts within a frame.
+    /// (software WebGL under headless Chromium; docs: performance log), at the price of a
+    /// frame rate at least half of what the drawing alone allows; with fast drawing a frame
+    /// steps for `budget`, so the page draws at its own rate and Stop acts within a frame.
     pub fn advance(&mut self, budget: Duration) -> bool {
         let Some((sim, sampler)) = &mut self.state else {
             return false;

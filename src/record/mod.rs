@@ -203,8 +203,9 @@ pub struct Recorder {
 }
 
 /// Frames that may wait for the logger thread: [`QUEUE_BYTES`] worth of snapshots, at least
-/// one. (At least 4 held 4 × 49 MB of frames on a 10⁶-element body, whose snapshot alone
-/// exceeds the budget; the logger takes 0.3 % of such a run, so one waiting frame keeps up.)
+/// one. (At least 4 held four whole frames of a 10⁶-element body, whose snapshot alone exceeds
+/// the budget; the logger takes a small share of such a run, so one waiting frame keeps up;
+/// docs: performance log.)
 /// Counted with V, as the frames carry it when the run also writes ParaView files.
 fn queue_frames(sim: &Simulation) -> usize {
     (QUEUE_BYTES / Snapshot::bytes(sim)).clamp(1, 4096)

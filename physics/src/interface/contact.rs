@@ -45,11 +45,12 @@ use crate::solver::ContactStatus;
 /// or curved mould the velocity-level constraint lets the gap of a sliding contact drift by
 /// h²(ω×n)·v_T + h²|v_T|²/2R per step; once it reads g > 0 the eq. 19 rule released the node
 /// for one step with its free velocity, which a force pressing it on the mould makes large, and
-/// it entered by h|v_N,free|, which nothing takes back (roller_peel: a drift of 3e-11 m, then
-/// 1.3e-4 m = 12 steps' travel inside the roller for the rest of the run, after a 1e-5
-/// relative change of h). A first contact (`held = None`) keeps eq. 19 at gₙ₊₁ ≤ 0 alone:
-/// predicting it too would spread the stop of an impact over two steps (in the dropped
-/// column, the first landing's loss 12 % above ½ m_b v_b² instead of within 1e-3 of it).
+/// it entered by h|v_N,free|, which nothing takes back (roller_peel: a round-off drift, then
+/// several steps' travel inside the roller for the rest of the run, after a small relative
+/// change of h; docs: performance log). A first contact (`held = None`) keeps eq. 19 at
+/// gₙ₊₁ ≤ 0 alone: predicting it too would spread the stop of an impact over two steps (in
+/// the dropped column, the first landing's loss then far outside the test's 1e-3 of
+/// ½ m_b v_b²; docs: performance log).
 ///
 /// Updates `v` in place (free components only) and returns the impulse W R_c [N·s] and the
 /// status.

@@ -27,7 +27,7 @@ fn det3<T: Real, const FMA: bool>(c0: [T; 3], c1: [T; 3], c2: [T; 3]) -> T {
 /// fold into the code: a loop over them kept a zero-initialised 2.3 kB array of edges (a
 /// `memset` call per lane group) and bounds checks on the table entries. (No
 /// `std::array::from_fn` either: its closures were not inlined into the kernels'
-/// `target_feature` builds, measured 3× slower.)
+/// `target_feature` builds, which ran much slower; docs: performance log.)
 #[inline(always)]
 pub(super) fn corner_jacobians<T: Real, const FMA: bool>(
     edge: impl Fn(usize, usize) -> T,
@@ -172,8 +172,9 @@ impl LaneCorners {
             |a, c| F64x8(u[a][c]),
         );
         // A select, not a conditional store: LLVM kept the store's branches (8 lanes × 8
-        // corners of compares and jumps, 12 % of a one-point step's samples after an unrelated
-        // change) where a select becomes one compare-and-blend (minpd's rule) per corner.
+        // corners of compares and jumps, which an unrelated change brought back into a one-point
+        // step's profile; docs: performance log) where a select becomes one compare-and-blend
+        // (minpd's rule) per corner.
         let mut m = [f64::INFINITY; 8];
         for ja in j {
             for l in 0..8 {

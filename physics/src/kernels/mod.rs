@@ -227,9 +227,8 @@ simd_dispatch! {
 /// `PREFETCH`: the loop asks for the next group's nodes ([`prefetch_group`]); it is the
 /// `prefetch` argument, made a constant by the dispatch, so the loop is compiled once with the
 /// hints and once without. With the flag tested inside the loop, LLVM laid it out so that the
-/// hints stalled on the next group's connectivity and the kernel lost the gain (one thread at
-/// 100³: 56.1–58.6 ns per element against 53.9–54.8 with the hints unconditional, 55.1–57.0
-/// without them).
+/// hints stalled behind the load of the next group's connectivity and the kernel lost the gain
+/// (docs: performance log).
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
 unsafe fn chunk_forces_reduced_impl<const FMA: bool, const ISA: u8, const PREFETCH: bool>(
@@ -407,7 +406,8 @@ unsafe fn chunk_forces_impl<const FMA: bool, const ISA: u8, const PREFETCH: bool
     let mut min_j = f64::INFINITY;
     let mut min_e = 0usize;
     // The portable build (no vector unit assumed) runs every element through the scalar
-    // kernel, whose lanes are the Gauss points: 1.7× faster there than 8 elements in lanes.
+    // kernel, whose lanes are the Gauss points: faster there than 8 elements in lanes (docs:
+    // performance log).
     let lanes_end = if ISA == ISA_PORTABLE {
         0
     } else {
@@ -720,7 +720,8 @@ unsafe fn is_row(elements: &[[u32; 8]], group: &[u32]) -> bool {
 /// Per element e: whether the elements numbered e, …, e + 7 are a row along x ([`is_row`]);
 /// false for the last 7. Computed once per mesh ([`crate::mesh::ElementClasses::row_start`]),
 /// so that the element loops read one flag per lane group ([`group_is_row`]) instead of the 8
-/// connectivity rows that [`is_row`] compares (4.6 % of a one-point AVX2 kernel's samples).
+/// connectivity rows that [`is_row`] compares, a visible share of a one-point kernel's time
+/// (docs: performance log).
 pub fn row_starts(elements: &[[u32; 8]]) -> Vec<bool> {
     let n = elements.len();
     (0..n)

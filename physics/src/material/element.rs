@@ -35,7 +35,8 @@ fn lanes3(x: &[[f64; 8]; 3]) -> [F64x8; 3] {
 /// of H, evaluated point after point on `f64` (fused when `FMA`): a loop over the
 /// lanes with the whole pointwise update inside, which the compiler vectorises across the
 /// lanes. (The same update written on [`F64x8`] tensors left the vectoriser to regroup ~100
-/// separate lane-wise operations, which it did only partly: the full kernel ran ~20 % slower.)
+/// separate lane-wise operations, which it did only partly, and the full kernel ran slower;
+/// docs: performance log.)
 /// P is written into `p` (every component): a kernel that keeps P in its own array avoids a
 /// zeroed temporary and a copy, which the AVX2 build does not keep in registers (two 576-byte
 /// `memset`/`memcpy` calls per point there). Returns (ψ, J) per lane.

@@ -118,8 +118,8 @@ impl GaussData {
                 }
             }
             // The off-diagonal entries of an axis-aligned box come out as ±1e-16 |X| of
-            // cancellation otherwise (measured: 7 to 14 of the 72 at n = 7…100 in a unit cube),
-            // which would hide that J₀ is diagonal.
+            // cancellation otherwise (some of them in a unit cube; docs: performance log), which
+            // would hide that J₀ is diagonal.
             for r in 0..3 {
                 for c in 0..3 {
                     j[(r, c)] = zero_within_rounding(j[(r, c)], magnitude[(r, c)]);

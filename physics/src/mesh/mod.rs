@@ -221,8 +221,8 @@ impl Mesh {
         // The elements around each node (compressed rows): 4 bytes per node and 32 per
         // element. A face is interior when another element holds its 4 nodes; the candidates
         // are the few elements around one of them. (A hash map of every face, as before, took
-        // ~300 bytes per element at its peak: 300 MB at 10⁶ elements, while the recorder starts
-        // beside the solver's setup.)
+        // many times that per element at its peak, while the recorder starts beside the
+        // solver's setup; docs: performance log.)
         let n = self.nodes.len();
         let mut start = vec![0u32; n + 1];
         for conn in &self.elements {

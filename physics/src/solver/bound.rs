@@ -219,8 +219,8 @@ pub(super) struct ElementPass<'a> {
 simd_dispatch! {
     /// max_e (a_e g_e + g_hg,e) over chunk `c` of the elements ([`ELEMENT_CHUNK`] each), the
     /// element part of (B). Built for AVX-512 and AVX2 like the kernels: the pass vectorises
-    /// over the 8 Gauss points, which the baseline x86-64 build did 2 lanes at a time (then
-    /// about 1 ms per bound at 28³, a third of the stable-step estimates' time). No fused
+    /// over the 8 Gauss points, which the baseline x86-64 build did 2 lanes at a time (then a
+    /// large share of the stable-step estimates' time; docs: performance log). No fused
     /// operation is written, so every build gives the same bits.
     fn element_pass_chunk / element_pass_chunk_avx2 / element_pass_chunk_avx512
         / element_pass_chunk_builds

@@ -198,8 +198,8 @@ impl BoundarySums {
 /// came from (interface node, or contact node when `from_interface` is false), whose geometry
 /// gives the mould's velocity and normal where it acts ([`BoundaryStep::glue`],
 /// [`BoundaryStep::surface`]), in the order they acted. One per chunk, [`NodeImpulses::clear`]ed
-/// per node: the slots below the counts are the ones written, and zeroing the 656 bytes per
-/// node took 14 % of the boundary pass (`perf annotate`, one-point 28³ pull-off).
+/// per node: the slots below the counts are the ones written, and zeroing the whole record per
+/// node was a visible share of the boundary pass (docs: performance log).
 #[derive(Default)]
 struct NodeImpulses {
     cohesion: [[f64; 3]; MAX_CONSTRAINTS],

@@ -383,9 +383,9 @@ impl Simulation {
 
 /// Whether the glue is tearing: some node has left the elastic range and some has not yet
 /// ruptured. Between the two the front moves from node to node, and a node still elastic
-/// next to a torn one is about to soften within a few steps (in the 7³ pull-off no node was in
-/// transition at t = 0.097 s, 11 ms before the full rupture: a gate on transition alone let
-/// h grow there and D rose by 3 %).
+/// next to a torn one is about to soften within a few steps (in the 7³ pull-off a moment came
+/// shortly before the full rupture with no node in transition: a gate on transition alone let
+/// h grow there and D rose; docs: performance log).
 /// Unformed nodes (glue that forms on contact, not formed yet) count as not torn, as sound
 /// glue does.
 fn tearing(counts: StateCounts) -> bool {

@@ -193,12 +193,13 @@ impl Simulation {
     /// between θ and λ_max — which a top cluster narrower than ‖r‖ can break (θ converges
     /// towards the cluster's lower members first). Measured against converged estimates
     /// (`physics/tests/step.rs`, where the glue tears), θ + ‖r‖ alone fell short of the
-    /// converged θ_c by up to 5e-3 θ_c; under strong compression (smallest Jacobian below
-    /// [`JACOBIAN_COMPRESSED`]) a few iterations stopped on a lower mode with a small residual,
-    /// up to 12 % short in ω² in the 100 m/s impact. So no margin derived from the Lanczos run
-    /// itself holds. The floor [`UPDATE_MARGIN`] θ (a top cluster of relative width 3e-2) keeps
-    /// the shortfall s small where the glue tears, at a cost of h_crit about 1.5 % below the
-    /// converged value; what makes the step safe is the certificate.
+    /// converged θ_c by a small fraction of θ_c; under strong compression (smallest Jacobian
+    /// below [`JACOBIAN_COMPRESSED`]) a few iterations stopped on a lower mode with a small
+    /// residual, far shorter in ω² in the 100 m/s impact (docs: performance log). So no margin
+    /// derived from the Lanczos run itself holds. The floor [`UPDATE_MARGIN`] θ (a top cluster
+    /// of relative width 3e-2) keeps the shortfall s small where the glue tears, at a cost of
+    /// h_crit about 1.5 % below the converged value; what makes the step safe is the
+    /// certificate.
     ///
     /// *The certificate.* Every update is checked against the element bound
     /// ω_b² ≥ ω_max² ([`Simulation::stiffness_bound`], proven in `solver/bound.rs`): after this
@@ -208,16 +209,16 @@ impl Simulation {
     ///   h_a ≤ 2/ω_b ≤ 2/ω_max = h_crit,true                                          (C)
     ///
     /// makes the step stable now whatever the update's error. The bound overestimates ω_max²
-    /// by κ = ω_b²/ω_max² (measured against converged estimates, `physics/tests/step.rs`:
-    /// 1.5–2.4 along the SVK pull-offs at 7³ and 10³; 1.7–5.7 in the neo-Hookean 100 m/s
-    /// impact, where its modulus grows as 1/λ_min(C); 1.8–2.4 with one point). With the update
+    /// by κ = ω_b²/ω_max² (measured against converged estimates, `physics/tests/step.rs`,
+    /// along the SVK pull-offs at 7³ and 10³, in the neo-Hookean 100 m/s impact, where its
+    /// modulus grows as 1/λ_min(C), and with one point; docs: performance log). With the update
     /// short by a ratio s ≥ 1 in ω², h_a² ω_b² = min(1.05 factor, 1)² · 4 κ s, so (C) holds
     /// when κ s ≤ 1/(1.05 factor)²: 3.6 at the default factor 0.5, which the pull-offs meet at
-    /// every checked update (7³: 20 of 20, 10³: 45 of 45) and the violent impact at 73 of 113;
-    /// never near factor 1. Where (C) fails the estimate is converged (to `h_crit_tolerance`,
-    /// from the update's own Ritz vector), and the next estimate goes straight to the
-    /// converged one until the bound would have certified a converged estimate
-    /// ([`StepControl::try_certify`]). So every step rests on the proof (C) or on a converged
+    /// every checked update and the violent impact at most of them; never near factor 1.
+    /// Where (C) fails the estimate is converged (to `h_crit_tolerance`, from the update's own
+    /// Ritz vector), and the next estimate goes straight to the converged one until the bound
+    /// would have certified a converged estimate ([`StepControl::try_certify`]). So every step
+    /// rests on the proof (C) or on a converged
     /// estimate, never on a measured margin. Between estimates the triggers of
     /// [`Simulation::next_time_step`] follow the stiffening, as before.
     pub fn update_stable_step(&mut self) -> StableStep {

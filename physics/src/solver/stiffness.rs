@@ -192,8 +192,8 @@ impl<'a> StiffnessOperator<'a> {
     /// streaming passes run on the step's team, each participant on its own contiguous share
     /// of the degrees of freedom, the share it has in the step's node loops: U + εx and the
     /// zeroed F are written where the element loop's threads read and add to them (written by
-    /// one thread, they cost the other a transfer from its cache at every assembly, measured
-    /// to double the assembly's time at 28³).
+    /// one thread, they cost the other a transfer from its cache at every assembly, which
+    /// slowed the assembly markedly; docs: performance log).
     pub fn apply(&mut self, q: &[f64], y: &mut [f64]) -> f64 {
         let team = self.sim.team.as_ref();
         let c = &mut *self.cache;
