@@ -21,8 +21,15 @@ use std::path::{Path, PathBuf};
 )]
 struct Cli {
     /// Worker threads for the element loop (default: all cores). Results do not depend on it.
-    #[arg(long, global = true)]
+    #[arg(long, global = true, value_name = "N", help_heading = "Global options")]
     threads: Option<usize>,
+    /// No progress on stderr (run, sweep, tradeoff).
+    ///
+    /// No header, bar, progress lines or advisories of run, no bars or per-run lines of sweep
+    /// and tradeoff. Tables, summaries, warnings about the flags and errors are still printed;
+    /// the commands that show no progress (check, gui, bench) accept it and ignore it.
+    #[arg(long, global = true, help_heading = "Global options")]
+    quiet: bool,
     #[command(subcommand)]
     command: Command,
 }
@@ -39,15 +46,15 @@ enum Command {
         /// Write the summary as JSON to this file (also written when the run fails).
         #[arg(long, value_name = "FILE")]
         summary: Option<PathBuf>,
-        /// No progress output.
-        #[arg(long)]
-        quiet: bool,
         #[command(flatten)]
         record: RecordArgs,
     },
     /// Validate a scene without running it and print derived quantities.
     Check {
+        /// Scene file (TOML), e.g. scenes/pull_off.toml.
         scene: PathBuf,
+        /// Override a scene value, e.g. --set interface.law.u_r=0.02 (same validation as the
+        /// file; repeat for several).
         #[arg(long = "set", value_name = "KEY=VALUE")]
         set: Vec<String>,
     },
@@ -64,23 +71,29 @@ enum Command {
         /// or off [default: the last choice, initially viewer].
         #[arg(long, value_name = "WHERE", value_parser = ["viewer", "file", "off"])]
         record: Option<String>,
-        /// Queue one run per value and overlay them, e.g. --compare u_r=0.003,0.004,0.006 (a
-        /// number parameter of the law, mu_inf, cells, factor or end_time).
+        /// Queue one run per value and overlay them, e.g. --compare
+        /// interface.law.u_r=0.003,0.004,0.006 (m). KEY is a key path as --vary takes it: a
+        /// number parameter of the scene's law (interface.law.NAME, in its unit),
+        /// interface.mu_inf, mesh.cells (cells along the longest side of a box mesh),
+        /// scheme.time_step_factor (h/h_crit) or end_time (s); the short names NAME, mu_inf,
+        /// cells, factor and end_time are aliases.
         #[arg(long, value_name = "KEY=V1,V2,...")]
         compare: Option<String>,
     },
     /// Run a grid of variants of one scene (every combination of the --vary values) and write
     /// every run's summary as CSV and JSON (and a Rerun plot of the observables with --save).
     Sweep {
+        /// Scene file (TOML), e.g. scenes/pull_off.toml.
         scene: PathBuf,
         /// A scene key and its values, e.g. --vary interface.law.u_r=0.003,0.004,0.006 (any key
         /// --set takes; repeat for a grid; values with commas in brackets or quotes stay whole).
         #[arg(long = "vary", value_name = "KEY=V1,V2,...", required = true)]
         vary: Vec<String>,
-        /// Overrides applied to every run.
+        /// Override applied to every run, e.g. --set end_time=0.2 (repeat for several).
         #[arg(long = "set", value_name = "KEY=VALUE")]
         set: Vec<String>,
-        /// Folder of sweep.csv and sweep.json [default: out/sweep_<scene name>].
+        /// Folder of sweep.csv and sweep.json, created if needed [default: out/sweep_<scene
+        /// name>].
         #[arg(long, value_name = "DIR")]
         out: Option<PathBuf>,
         /// Record the observables against the varied values to this .rrd file.
@@ -90,28 +103,38 @@ enum Command {
         /// the threads are shared among them.
         #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..))]
         jobs: Option<u64>,
-        /// No progress output.
-        #[arg(long)]
-        quiet: bool,
     },
     /// Speed against accuracy: run a grid of quadratures × meshes × time steps of one scene,
     /// compare the observables with the finest run, mark the Pareto front.
     Tradeoff {
+        /// Scene file (TOML) with a box mesh, e.g. scenes/pull_off.toml.
         scene: PathBuf,
-        /// Cells along the longest side of the mesh.
-        #[arg(long, default_value = "4,7,14", value_delimiter = ',')]
+        /// Cells along the longest side of the box mesh, comma-separated (the other sides
+        /// scaled in proportion).
+        #[arg(
+            long,
+            value_name = "N,...",
+            default_value = "4,7,14",
+            value_delimiter = ','
+        )]
         cells: Vec<usize>,
-        /// Time-step factors h/h_crit.
-        #[arg(long, default_value = "0.9,0.5,0.25", value_delimiter = ',')]
+        /// Time-step factors h/h_crit (dimensionless, in (0, 2)), comma-separated.
+        #[arg(
+            long,
+            value_name = "F,...",
+            default_value = "0.9,0.5,0.25",
+            value_delimiter = ','
+        )]
         factors: Vec<f64>,
-        /// Quadratures.
-        #[arg(long, default_value = "full,reduced", value_delimiter = ',', value_parser = ["full", "reduced"])]
+        /// Quadratures: full (2×2×2) and/or reduced (one point + hourglass control).
+        #[arg(long, value_name = "RULE,...", default_value = "full,reduced", value_delimiter = ',', value_parser = ["full", "reduced"])]
         integration: Vec<String>,
-        /// Other overrides applied to every run.
+        /// Other override applied to every run, e.g. --set end_time=0.2 (repeat for several).
         #[arg(long = "set", value_name = "KEY=VALUE")]
         set: Vec<String>,
-        /// Prefix of the CSV and JSON outputs [default: out/tradeoff_<scene>].
-        #[arg(long, value_name = "PREFIX")]
+        /// Folder of tradeoff.csv and tradeoff.json, created if needed [default:
+        /// out/tradeoff_<scene name>].
+        #[arg(long, value_name = "DIR")]
         out: Option<PathBuf>,
         /// Also record the frontier plot to this .rrd file.
         #[arg(long, value_name = "FILE.rrd")]
@@ -120,22 +143,37 @@ enum Command {
         #[arg(long)]
         spawn: bool,
     },
-    /// Measure ns per element-step on cubes of n³ hex8 elements (full integration, interface on).
+    /// Measure ns per element-step on cubes of n³ hex8 elements with a scene's physics
+    /// (interface on), for each quadrature.
     Bench {
-        /// Scene whose physics is used; only the mesh size changes.
-        #[arg(long, default_value = "scenes/pull_off.toml")]
+        /// Scene file (TOML) with a box mesh whose physics is used; only the mesh size changes.
+        #[arg(default_value = "scenes/pull_off.toml")]
         scene: PathBuf,
-        /// Cells per side, comma-separated.
-        #[arg(long, default_value = "7,14,28,56", value_delimiter = ',')]
+        /// Deprecated: give the scene as the first argument.
+        #[arg(
+            long = "scene",
+            value_name = "SCENE",
+            hide = true,
+            conflicts_with = "scene"
+        )]
+        scene_flag: Option<PathBuf>,
+        /// Cells per side of the cube, comma-separated.
+        #[arg(
+            long,
+            value_name = "N,...",
+            default_value = "7,14,28,56",
+            value_delimiter = ','
+        )]
         sizes: Vec<usize>,
-        /// Repetitions per size, taken round-robin over the sizes and quadratures (the median is reported)
-        #[arg(long, default_value_t = 5)]
+        /// Repetitions per size, taken round-robin over the sizes and quadratures (the median is
+        /// reported).
+        #[arg(long, value_name = "N", default_value_t = 5)]
         repeats: usize,
         /// Element-steps per repetition (steps = this / elements, at least 10).
-        #[arg(long, default_value_t = 20_000_000)]
+        #[arg(long, value_name = "ELEMENT_STEPS", default_value_t = 20_000_000)]
         work: u64,
         /// Quadratures to measure: full (2×2×2) and/or reduced (one point + hourglass control).
-        #[arg(long, default_value = "full,reduced", value_delimiter = ',', value_parser = ["full", "reduced"])]
+        #[arg(long, value_name = "RULE,...", default_value = "full,reduced", value_delimiter = ',', value_parser = ["full", "reduced"])]
         integration: Vec<String>,
     },
 }
@@ -235,9 +273,8 @@ fn main() {
             scene,
             set,
             summary,
-            quiet,
             record,
-        } => run(&scene, &set, summary.as_deref(), quiet, &record.plan()),
+        } => run(&scene, &set, summary.as_deref(), cli.quiet, &record.plan()),
         Command::Check { scene, set } => check(&scene, &set),
         Command::Sweep {
             scene,
@@ -246,7 +283,6 @@ fn main() {
             out,
             save,
             jobs,
-            quiet,
         } => sweep(SweepArgs {
             scene: &scene,
             vary: &vary,
@@ -254,7 +290,7 @@ fn main() {
             out,
             save,
             jobs: jobs.map(|j| j as usize),
-            quiet,
+            quiet: cli.quiet,
         }),
         Command::Tradeoff {
             scene,
@@ -274,6 +310,7 @@ fn main() {
             out,
             save,
             spawn,
+            cli.quiet,
         ),
         #[cfg(feature = "gui")]
         Command::Gui {
@@ -282,12 +319,6 @@ fn main() {
             record,
             compare,
         } => {
-            if let Some(spec) = &compare {
-                if let Err(e) = decohesion::cli::Vary::parse(spec) {
-                    eprintln!("error: {}", e.to_string().replace("--vary", "--compare"));
-                    std::process::exit(2);
-                }
-            }
             use decohesion::gui::RecordChoice;
             let record = record.map(|r| match r.as_str() {
                 "file" => RecordChoice::File,
@@ -301,16 +332,32 @@ fn main() {
                     std::process::exit(1);
                 }
             }
+            if let Some(spec) = &compare {
+                if let Err(e) = decohesion::gui::check_compare(spec, scene.as_deref()) {
+                    eprintln!("error: --compare {e}");
+                    std::process::exit(2);
+                }
+            }
             decohesion::gui::run_window(scene, run_on_start, record, compare)
                 .map_err(anyhow::Error::msg)
         }
         Command::Bench {
             scene,
+            scene_flag,
             sizes,
             repeats,
             work,
             integration,
-        } => bench(&scene, &sizes, repeats, work, &integration),
+        } => {
+            if scene_flag.is_some() {
+                eprintln!(
+                    "warning: bench --scene is deprecated: give the scene as the first argument \
+                     (decohesion bench SCENE)"
+                );
+            }
+            let scene = scene_flag.unwrap_or(scene);
+            bench(&scene, &sizes, repeats, work, &integration)
+        }
     };
     if let Err(e) = result {
         eprintln!("error: {}", decohesion::cli::error_message(&e));

@@ -160,8 +160,13 @@ pub fn overrides(scene: &Path, c: &Config, extra: &[String]) -> Result<Vec<Strin
     Ok(set)
 }
 
-/// Runs one configuration (no recording).
-pub fn run(scene: &Path, c: &Config, extra: &[String]) -> Result<Row, SceneError> {
+/// Runs one configuration (no recording), calling `on_step` after every step (progress).
+pub fn run(
+    scene: &Path,
+    c: &Config,
+    extra: &[String],
+    on_step: &mut dyn FnMut(&Simulation),
+) -> Result<Row, SceneError> {
     let set = overrides(scene, c, extra)?;
     let s = load_scene(scene, &set)?;
     let elements = s.model.mesh.elements.len();
@@ -174,7 +179,10 @@ pub fn run(scene: &Path, c: &Config, extra: &[String]) -> Result<Row, SceneError
         }
     };
     let t = Instant::now();
-    let outcome = sim.run(|_| true);
+    let outcome = sim.run(|sim| {
+        on_step(sim);
+        true
+    });
     row.wall_seconds = t.elapsed().as_secs_f64();
     row.steps = sim.step_count;
     row.ns_per_element_step =

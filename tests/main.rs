@@ -7,6 +7,7 @@
 mod by_hand;
 mod common;
 
+mod command_line;
 mod gmsh;
 mod golden;
 mod gui;

@@ -1,6 +1,7 @@
 //! `decohesion tradeoff` end to end on a small grid: the reference row is the finest, its
 //! error is 0, every row's error is the largest of its observables' relative errors, the CSV
-//! and JSON agree, and a configuration the scene refuses is reported before anything runs.
+//! and JSON (`tradeoff.csv` and `tradeoff.json` in the `--out` folder) agree, and a
+//! configuration the scene refuses is reported before anything runs.
 
 use std::process::Command;
 
@@ -8,8 +9,9 @@ const BIN: &str = env!("CARGO_BIN_EXE_decohesion");
 
 #[test]
 fn small_grid_marks_reference_and_front() {
-    let dir = std::env::temp_dir().join(format!("decohesion-tradeoff-{}", std::process::id()));
-    let prefix = dir.join("grid");
+    let dir = std::env::temp_dir()
+        .join(format!("decohesion-tradeoff-{}", std::process::id()))
+        .join("grid");
     let out = Command::new(BIN)
         .args([
             "tradeoff",
@@ -21,7 +23,7 @@ fn small_grid_marks_reference_and_front() {
             "--integration",
             "full,reduced",
             "--out",
-            prefix.to_str().unwrap(),
+            dir.to_str().unwrap(),
         ])
         .output()
         .unwrap();
@@ -31,8 +33,7 @@ fn small_grid_marks_reference_and_front() {
         String::from_utf8_lossy(&out.stderr)
     );
     let rows: Vec<serde_json::Value> =
-        serde_json::from_str(&std::fs::read_to_string(prefix.with_extension("json")).unwrap())
-            .unwrap();
+        serde_json::from_str(&std::fs::read_to_string(dir.join("tradeoff.json")).unwrap()).unwrap();
     assert_eq!(rows.len(), 8);
     let refs: Vec<&serde_json::Value> = rows.iter().filter(|r| r["reference"] == true).collect();
     assert_eq!(refs.len(), 1);
@@ -63,7 +64,7 @@ fn small_grid_marks_reference_and_front() {
         let e = row["error_dissipated"].as_f64().unwrap();
         assert!((e - ((d - d_ref) / d_ref).abs()).abs() < 1e-12);
     }
-    let csv = std::fs::read_to_string(prefix.with_extension("csv")).unwrap();
+    let csv = std::fs::read_to_string(dir.join("tradeoff.csv")).unwrap();
     assert_eq!(csv.lines().count(), 9, "header + 8 rows");
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert!(stdout.contains("ref"), "{stdout}");
@@ -95,7 +96,7 @@ fn an_inadmissible_configuration_is_refused_before_running() {
 fn a_mesh_file_is_refused_by_cells_and_sizes() {
     for args in [
         ["tradeoff", "scenes/tread.toml", "--cells", "3"],
-        ["bench", "--scene", "scenes/tread.toml", "--sizes=3"],
+        ["bench", "scenes/tread.toml", "--sizes=3", "--repeats=1"],
     ] {
         let out = Command::new(BIN).args(args).output().unwrap();
         assert!(!out.status.success());

@@ -11,6 +11,8 @@ mod check;
 #[cfg(not(target_arch = "wasm32"))]
 mod peak;
 #[cfg(not(target_arch = "wasm32"))]
+mod progress;
+#[cfg(not(target_arch = "wasm32"))]
 mod run;
 #[cfg(not(target_arch = "wasm32"))]
 mod sweep;

@@ -1,13 +1,14 @@
 //! `decohesion run`: a scene headless through the run driver ([`crate::driver`]), with a
-//! progress bar on a terminal (or a line every 10 % of the simulated time otherwise), Ctrl-C to
-//! stop, the summary printed and written as JSON.
+//! progress bar over simulated time on a terminal (or a line at each tenth of the end time
+//! otherwise), Ctrl-C to stop, the summary printed and written as JSON.
 
+use super::progress::{per_mille, sim_time, tenths, time_bar};
 use crate::driver::{cancel_on_ctrl_c, Driver, Plan, Progress};
 use crate::output::OutputError;
 use crate::scene::load_scene;
 use crate::solver::Simulation;
 use anyhow::{bail, Context, Result};
-use indicatif::{ProgressBar, ProgressStyle};
+use indicatif::ProgressBar;
 use std::io::IsTerminal;
 use std::path::Path;
 use std::sync::atomic::AtomicBool;
@@ -55,14 +56,14 @@ pub fn run(
     Ok(())
 }
 
-/// Progress on stderr: a bar on a terminal, else a line every 10 % of the simulated time
-/// (nothing with `--quiet`).
+/// Progress on stderr over simulated time ([`super::progress`]): a bar on a terminal, else a
+/// line at each tenth of the end time, the last at the end (nothing with `--quiet`).
 struct Terminal {
     bar: Option<ProgressBar>,
     quiet: bool,
     end_time: f64,
-    /// Fraction of the end time of the next line.
-    next_line: f64,
+    /// Tenths of the end time already printed off a terminal.
+    printed: u64,
 }
 
 impl Terminal {
@@ -72,14 +73,7 @@ impl Terminal {
         let expected = (end_time / sim.h).ceil() as u64;
         let tty = std::io::stderr().is_terminal() && !quiet;
         let bar = tty.then(|| {
-            let pb = ProgressBar::new(expected);
-            pb.set_style(
-                ProgressStyle::with_template(
-                    "{spinner} [{elapsed_precise}] {bar:40} {pos}/{len} steps  {msg}  ETA {eta}",
-                )
-                .expect("static template"),
-            );
-            pb
+            time_bar("{spinner} [{elapsed_precise}] {bar:40} {percent:>3} %  {msg}  ETA {eta}")
         });
         if !quiet {
             eprintln!(
@@ -99,7 +93,7 @@ impl Terminal {
             bar,
             quiet,
             end_time,
-            next_line: 0.1,
+            printed: 0,
         }
     }
 }
@@ -107,23 +101,24 @@ impl Terminal {
 impl Progress for Terminal {
     fn step(&mut self, s: &Simulation) {
         if let Some(pb) = &self.bar {
-            if s.step_count.is_multiple_of(16) {
-                pb.set_position(s.step_count);
+            if s.step_count.is_multiple_of(16) || s.finished() {
+                pb.set_position(per_mille(s));
                 let c = s.state_counts();
                 pb.set_message(format!(
-                    "t = {:.4} s, ruptured {}/{}",
-                    s.time,
+                    "t = {}, step {}, ruptured {}/{}",
+                    sim_time(s.time, self.end_time),
+                    s.step_count,
                     c.ruptured,
                     s.interface_nodes.len()
                 ));
             }
-        } else if !self.quiet && s.time >= self.next_line * self.end_time {
-            self.next_line += 0.1;
+        } else if !self.quiet && tenths(s) > self.printed {
+            self.printed = tenths(s);
             let c = s.state_counts();
             eprintln!(
-                "  {:>3.0} %  t = {:.5} s  step {}  ruptured {}/{}  residual {:.2e}",
-                100.0 * s.time / self.end_time,
-                s.time,
+                "  {:>3} %  t = {}  step {}  ruptured {}/{}  residual {:.2e}",
+                10 * self.printed,
+                sim_time(s.time, self.end_time),
                 s.step_count,
                 c.ruptured,
                 s.interface_nodes.len(),

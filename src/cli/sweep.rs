@@ -13,6 +13,7 @@
 //! blow-up, diagnostic) is a row with its status; Ctrl-C stops the runs in progress after their
 //! current step (their rows say `cancelled`), starts no other, and writes the rows done.
 
+use super::progress::{per_mille, sim_time, time_bar};
 use super::sweep_record::log_sweep;
 pub use super::vary::Vary;
 use crate::driver::{cancel_on_ctrl_c, Driver, Plan, Progress};
@@ -264,16 +265,16 @@ impl Bars {
         }
     }
 
-    /// The bar of one run (its steps).
+    /// The bar of one run, over its simulated time ([`super::progress`]).
     fn run_bar(&self, sim: &Simulation, combo: &[String]) -> RunBar {
-        let expected = (sim.model.end_time / sim.h).ceil() as u64;
-        let bar = self.multi.add(ProgressBar::new(expected));
-        bar.set_style(
-            ProgressStyle::with_template("  {bar:30} {pos}/{len} steps  {msg}")
-                .expect("static template"),
-        );
-        bar.set_message(combo.join(" "));
-        RunBar(bar)
+        let bar = self
+            .multi
+            .add(time_bar("  {bar:30} {percent:>3} %  {prefix}  {msg}"));
+        bar.set_prefix(combo.join(" "));
+        RunBar {
+            bar,
+            end_time: sim.model.end_time,
+        }
     }
 
     /// A run ended: the overall bar moves, a line off a terminal.
@@ -294,17 +295,23 @@ impl Bars {
     }
 }
 
-struct RunBar(ProgressBar);
+/// The bar of one run in progress.
+struct RunBar {
+    bar: ProgressBar,
+    end_time: f64,
+}
 
 impl Progress for RunBar {
     fn step(&mut self, s: &Simulation) {
-        if s.step_count.is_multiple_of(64) {
-            self.0.set_position(s.step_count);
+        if s.step_count.is_multiple_of(64) || s.finished() {
+            self.bar.set_position(per_mille(s));
+            self.bar
+                .set_message(format!("t = {}", sim_time(s.time, self.end_time)));
         }
     }
 
     fn stopped(&mut self) {
-        self.0.finish_and_clear();
+        self.bar.finish_and_clear();
     }
 }
 
@@ -319,7 +326,12 @@ fn write_outputs(
         .out
         .clone()
         .unwrap_or_else(|| PathBuf::from(format!("out/sweep_{}", base.model.name)));
-    std::fs::create_dir_all(&dir).with_context(|| format!("creating {}", dir.display()))?;
+    std::fs::create_dir_all(&dir).with_context(|| {
+        format!(
+            "--out {}: cannot create the folder of sweep.csv and sweep.json",
+            dir.display()
+        )
+    })?;
     let (csv_path, json_path) = (dir.join("sweep.csv"), dir.join("sweep.json"));
     std::fs::write(&csv_path, csv(varies, rows))
         .with_context(|| format!("writing {}", csv_path.display()))?;

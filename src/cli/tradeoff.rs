@@ -1,14 +1,23 @@
 //! `decohesion tradeoff`: a grid of quadratures × meshes × time steps of one scene, compared
-//! with the finest run ([`crate::tradeoff`]), printed, written as CSV and JSON, and optionally
-//! recorded ([`crate::record::log_frontier`]).
+//! with the finest run ([`crate::tradeoff`]), printed, written as CSV and JSON into the `--out`
+//! folder (`tradeoff.csv`, `tradeoff.json`), and optionally recorded
+//! ([`crate::record::log_frontier`]).
 
+use super::progress::{per_mille, sim_time, time_bar};
 use crate::record::Sink;
 use crate::scene::load_scene;
 use anyhow::{bail, Context, Result};
+use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget};
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 
-/// Validates every configuration, then runs them with a progress bar and writes the results.
+/// The files the results are written to, in the `--out` folder.
+pub const CSV_FILE: &str = "tradeoff.csv";
+pub const JSON_FILE: &str = "tradeoff.json";
+
+/// Validates every configuration, then runs them with progress (a bar for the grid and one for
+/// the run in progress on a terminal, a line per finished run otherwise, nothing with
+/// `quiet`) and writes the results into the folder `out`.
 #[allow(clippy::too_many_arguments)]
 pub fn tradeoff(
     path: &Path,
@@ -19,6 +28,7 @@ pub fn tradeoff(
     out: Option<PathBuf>,
     save: Option<PathBuf>,
     spawn: bool,
+    quiet: bool,
 ) -> Result<()> {
     use crate::tradeoff::{compare, csv, grid, run as run_one};
     if cells.is_empty() || factors.is_empty() || integrations.is_empty() {
@@ -34,24 +44,46 @@ pub fn tradeoff(
             format!("configuration {} {}³ ×{}", c.integration, c.cells, c.factor)
         })?;
     }
-    let bar = indicatif::ProgressBar::new(configs.len() as u64);
-    if std::io::stderr().is_terminal() {
-        bar.set_style(
-            indicatif::ProgressStyle::with_template(
-                "{spinner} [{elapsed_precise}] {bar:30} {pos}/{len} runs  {msg}",
-            )
-            .expect("static template"),
-        );
+    let tty = std::io::stderr().is_terminal() && !quiet;
+    let multi = MultiProgress::with_draw_target(if tty {
+        ProgressDrawTarget::stderr()
     } else {
-        bar.set_draw_target(indicatif::ProgressDrawTarget::hidden());
-    }
+        ProgressDrawTarget::hidden()
+    });
+    let overall = multi.add(ProgressBar::new(configs.len() as u64));
+    overall.set_style(
+        indicatif::ProgressStyle::with_template(
+            "{spinner} [{elapsed_precise}] {bar:30} {pos}/{len} runs  ETA {eta}",
+        )
+        .expect("static template"),
+    );
     let mut rows = vec![];
-    for c in &configs {
-        bar.set_message(format!("{} {}³ ×{}", c.integration, c.cells, c.factor));
-        rows.push(run_one(path, c, set)?);
-        bar.inc(1);
+    for (k, c) in configs.iter().enumerate() {
+        let name = format!("{} {}³ ×{}", c.integration, c.cells, c.factor);
+        let bar = multi.add(time_bar("  {bar:30} {percent:>3} %  {prefix}  {msg}"));
+        bar.set_prefix(name.clone());
+        let mut on_step = |s: &crate::solver::Simulation| {
+            if s.step_count.is_multiple_of(64) || s.finished() {
+                bar.set_position(per_mille(s));
+                bar.set_message(format!("t = {}", sim_time(s.time, s.model.end_time)));
+            }
+        };
+        let row = run_one(path, c, set, &mut on_step)?;
+        bar.finish_and_clear();
+        overall.inc(1);
+        if !tty && !quiet {
+            eprintln!(
+                "  run {}/{}: {name}  {}",
+                k + 1,
+                configs.len(),
+                row.failure
+                    .as_ref()
+                    .map_or("completed".to_string(), |e| format!("failed: {e}"))
+            );
+        }
+        rows.push(row);
     }
-    bar.finish_and_clear();
+    overall.finish_and_clear();
     compare(&mut rows);
     println!(
         "decohesion tradeoff: {} ({}), {} threads; reference = the finest full-integration run; error = largest relative error of peak force, first damage, full rupture, dissipation",
@@ -60,14 +92,14 @@ pub fn tradeoff(
         rayon::current_num_threads()
     );
     print!("{}", crate::tradeoff::table(&rows));
-    let prefix = out.unwrap_or_else(|| PathBuf::from(format!("out/tradeoff_{}", base.model.name)));
-    if let Some(dir) = prefix.parent() {
-        if !dir.as_os_str().is_empty() {
-            std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
-        }
-    }
-    let csv_path = prefix.with_extension("csv");
-    let json_path = prefix.with_extension("json");
+    let dir = out.unwrap_or_else(|| PathBuf::from(format!("out/tradeoff_{}", base.model.name)));
+    std::fs::create_dir_all(&dir).with_context(|| {
+        format!(
+            "--out {}: cannot create the folder of {CSV_FILE} and {JSON_FILE}",
+            dir.display()
+        )
+    })?;
+    let (csv_path, json_path) = (dir.join(CSV_FILE), dir.join(JSON_FILE));
     std::fs::write(&csv_path, csv(&rows))
         .with_context(|| format!("writing {}", csv_path.display()))?;
     std::fs::write(&json_path, serde_json::to_string_pretty(&rows)?)

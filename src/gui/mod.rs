@@ -32,7 +32,7 @@ pub use history::HistoryRow;
 pub use job::{Job, JobMessage};
 pub use law::{LawSettings, DEFAULT_FAMILY};
 pub use settings::{list_scenes, RecordChoice, SceneEntry, Settings};
-pub use state::{App, Curve, Status, CHECK_MAX_ELEMENTS};
+pub use state::{check_compare, variant_key, App, Curve, Status, CHECK_MAX_ELEMENTS};
 
 use state::Persisted;
 

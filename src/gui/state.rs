@@ -27,9 +27,101 @@ pub const CHECK_MAX_ELEMENTS: usize = 25_000;
 /// Progress of a run over simulated time, for the live plot.
 pub type Curve = RunCurve;
 
-/// Settings keys the explorer can vary over queued runs ([`App::queue_variants`]) besides the
-/// number parameters of the law.
-pub const VARIANT_KEYS: [&str; 4] = ["mu_inf", "cells", "factor", "end_time"];
+/// Settings the explorer can vary over queued runs ([`App::queue_variants`]) besides the
+/// number parameters of the law (`interface.law.NAME`, alias `NAME`): the key path as
+/// `sweep --vary` and `--set` take it, and its short name. `mesh.cells` is the number of cells
+/// along the longest side of a box mesh (the other sides scaled in proportion), as
+/// `tradeoff --cells` takes it.
+pub const VARIANT_KEYS: [(&str, &str); 4] = [
+    ("interface.mu_inf", "mu_inf"),
+    ("mesh.cells", "cells"),
+    ("scheme.time_step_factor", "factor"),
+    ("end_time", "end_time"),
+];
+
+/// The prefix of the law's parameters in a key path.
+const LAW_PREFIX: &str = "interface.law.";
+
+/// The number parameters of a law family (none for an unknown family).
+fn number_params(spec: Option<&'static crate::law::FamilySpec>) -> Vec<&'static str> {
+    spec.map_or(&[][..], |f| f.params)
+        .iter()
+        .filter(|p| matches!(p.kind, crate::law::ParamKind::Number(_)))
+        .map(|p| p.key)
+        .collect()
+}
+
+/// The short name of the compared key `key` (a key path or its short name): a number parameter
+/// of the law (`params`, of the family `family`, or of any family when it is not known yet) or
+/// one of [`VARIANT_KEYS`]. The error lists what is admissible.
+pub fn variant_key(key: &str, family: Option<&str>, params: &[&str]) -> Result<String, String> {
+    let param = key.strip_prefix(LAW_PREFIX).unwrap_or(key);
+    if params.contains(&param) {
+        return Ok(param.to_string());
+    }
+    if let Some((_, short)) = VARIANT_KEYS.iter().find(|(p, s)| key == *p || key == *s) {
+        return Ok(short.to_string());
+    }
+    let law = match family {
+        Some(f) => format!("of the `{f}` law"),
+        None => "of the scene's law".to_string(),
+    };
+    let paths: Vec<&str> = VARIANT_KEYS.iter().map(|k| k.0).collect();
+    let shorts: Vec<&str> = VARIANT_KEYS.iter().map(|k| k.1).collect();
+    Err(format!(
+        "`{key}` cannot be compared: admissible are {LAW_PREFIX}NAME for a number parameter \
+         {law} (NAME: {}), {} (short names: NAME, {})",
+        params.join(", "),
+        paths.join(", "),
+        shorts.join(", ")
+    ))
+}
+
+/// Parses `key=v1,v2,…` of *compare values of* and `gui --compare`: the short name of the key
+/// ([`variant_key`]) and the values, which must be numbers. The error names the key and the
+/// value (without the flag, which the caller adds).
+fn parse_compare(
+    spec: &str,
+    family: Option<&str>,
+    params: &[&str],
+) -> Result<(String, Vec<f64>), String> {
+    let vary = crate::cli::Vary::parse(spec).map_err(|e| e.to_string().replace("--vary ", ""))?;
+    let key = variant_key(&vary.key, family, params)?;
+    let values = vary
+        .values
+        .iter()
+        .map(|v| match v.parse::<f64>() {
+            Ok(x) if x.is_finite() => Ok(x),
+            _ => Err(format!("{} = `{v}`: not a number", vary.key)),
+        })
+        .collect::<Result<Vec<f64>, String>>()?;
+    Ok((key, values))
+}
+
+/// Checks `gui --compare key=v1,v2,…` before the window opens: the syntax, the key (against
+/// the law of `scene`, or of any family when no scene is given: the window then checks it
+/// against the law it opens with) and that the values are numbers. The window checks each
+/// value against the scene when it queues the runs.
+pub fn check_compare(spec: &str, scene: Option<&str>) -> Result<(), String> {
+    match scene {
+        Some(path) => {
+            let mut settings = Settings::default();
+            settings.take_scene(&super::settings::open_scene(path)?);
+            let params = number_params(settings.law.spec());
+            parse_compare(spec, Some(&settings.law.family), &params)?;
+        }
+        None => {
+            let mut params: Vec<&str> = crate::law::families()
+                .iter()
+                .flat_map(|f| number_params(Some(f)))
+                .collect();
+            params.sort_unstable();
+            params.dedup();
+            parse_compare(spec, None, &params)?;
+        }
+    }
+    Ok(())
+}
 
 /// Wall time a run in the page steps per frame before the frame is drawn: the page stays
 /// responsive (≥ ~40 frames per second with the drawing) and Stop acts at the next frame.
@@ -364,39 +456,29 @@ impl App {
         rows.into_iter().zip(labels).collect()
     }
 
-    /// Queues one run per value of `key` (a number parameter of the edited law, or one of
-    /// [`VARIANT_KEYS`]), the other settings as they are now; the runs start one after the
-    /// other and are ticked for comparison. Nothing is queued if a value is refused.
+    /// Queues one run per value of `key` (a number parameter of the edited law or one of
+    /// [`VARIANT_KEYS`], as a key path or its short name: [`variant_key`]), the other settings
+    /// as they are now; the runs start one after the other and are ticked for comparison.
+    /// Nothing is queued if a value is refused.
     pub fn queue_variants(&mut self, key: &str, values: &[f64]) -> Result<(), String> {
-        let is_param = self.settings.law.spec().is_some_and(|f| {
-            f.params
-                .iter()
-                .any(|p| p.key == key && matches!(p.kind, crate::law::ParamKind::Number(_)))
-        });
+        let params = number_params(self.settings.law.spec());
+        let short = variant_key(key, Some(&self.settings.law.family), &params)?;
         let mut variants = vec![];
         for &v in values {
             let mut s = self.settings.clone();
-            match key {
+            match short.as_str() {
                 "mu_inf" => s.law.mu_inf = v,
                 "cells" if v >= 1.0 && v.fract() == 0.0 && s.cells > 0 => s.cells = v as usize,
                 "factor" => s.factor = v,
                 "end_time" => s.end_time = v,
-                _ if is_param => {
-                    s.law.values.0.insert(key.to_string(), v.into());
-                }
                 "cells" => {
                     return Err(format!(
-                        "cells = {v}: a whole number ≥ 1, on a scene with a box mesh"
+                        "{key} = {v}: must be a whole number ≥ 1 (cells along the longest side), \
+                         on a scene with a box mesh"
                     ))
                 }
-                _ => {
-                    let params = self.settings.law.params().0.into_keys().collect::<Vec<_>>();
-                    return Err(format!(
-                        "`{key}` cannot be varied here: admissible are the parameters of the                          `{}` law ({}) and {}",
-                        self.settings.law.family,
-                        params.join(", "),
-                        VARIANT_KEYS.join(", ")
-                    ));
+                param => {
+                    s.law.values.0.insert(param.to_string(), v.into());
                 }
             }
             s.law.law().map_err(|e| format!("{key} = {v}: {e}"))?;
@@ -410,23 +492,16 @@ impl App {
         Ok(())
     }
 
-    /// [`App::queue_variants`] from `key=v1,v2,…` (as `decohesion sweep --vary` takes it);
-    /// the error names the key and the value.
+    /// [`App::queue_variants`] from `key=v1,v2,…` (as `decohesion sweep --vary` takes it, the
+    /// key a path or its short name); the error names the key and the value.
     pub fn queue_spec(&mut self, spec: &str) -> Result<(), String> {
         if spec.trim().is_empty() {
-            return Err("write key=v1,v2,… first, e.g. u_r=0.003,0.004,0.006".into());
+            return Err("write key=v1,v2,… first, e.g. interface.law.u_r=0.003,0.004,0.006".into());
         }
-        let vary =
-            crate::cli::Vary::parse(spec).map_err(|e| e.to_string().replace("--vary ", ""))?;
-        let values = vary
-            .values
-            .iter()
-            .map(|v| match v.parse::<f64>() {
-                Ok(x) if x.is_finite() => Ok(x),
-                _ => Err(format!("{} = `{v}`: not a number", vary.key)),
-            })
-            .collect::<Result<Vec<f64>, String>>()?;
-        self.queue_variants(&vary.key, &values)
+        let params = number_params(self.settings.law.spec());
+        let (_, values) = parse_compare(spec, Some(&self.settings.law.family), &params)?;
+        let key = spec.split_once('=').map_or(spec, |(k, _)| k).trim();
+        self.queue_variants(key, &values)
     }
 
     /// Starts the next queued run, if any; true if one started.
@@ -567,10 +642,10 @@ mod tests {
 
     /// Queued variants: a key the explorer cannot vary and an inadmissible value are refused
     /// naming the key, the value and what is admissible, and nothing is queued; two values of
-    /// u_r run one after the other and are both ticked, labelled by u_r alone. Each row carries
-    /// its curve, ending at the run's end with its counts; once every node is ruptured its
-    /// mean α is u_r (eq. 12 caps α at u_r); the larger u_r dissipates more (G_c grows with
-    /// u_r at fixed g_N(0) and α_e).
+    /// u_r (given by its key path) run one after the other and are both ticked, labelled by u_r
+    /// alone. Each row carries its curve, ending at the run's end with its counts; once every
+    /// node is ruptured its mean α is u_r (eq. 12 caps α at u_r); the larger u_r dissipates
+    /// more (G_c grows with u_r at fixed g_N(0) and α_e).
     #[test]
     fn queued_variants_are_run_and_compared() {
         let root = Path::new(env!("CARGO_MANIFEST_DIR"));
@@ -580,7 +655,10 @@ mod tests {
         app.settings.record = RecordChoice::Off;
         let e = app.queue_spec("young=1e6,2e6").unwrap_err();
         assert!(
-            e.contains("`young` cannot be varied") && e.contains("u_r"),
+            e.contains("`young` cannot be compared")
+                && e.contains("interface.law.NAME")
+                && e.contains("u_r")
+                && e.contains("scheme.time_step_factor"),
             "{e}"
         );
         let e = app.queue_spec("u_r=0.003,0.001").unwrap_err();
@@ -589,7 +667,7 @@ mod tests {
         assert!(e.contains("`x`: not a number"), "{e}");
         assert!(app.queue.is_empty() && app.job.is_none());
 
-        app.queue_spec("u_r=0.003,0.006").unwrap();
+        app.queue_spec("interface.law.u_r=0.003,0.006").unwrap();
         let started = Instant::now();
         while app.poll() {
             assert!(started.elapsed() < Duration::from_secs(60), "no end");

@@ -265,13 +265,15 @@ impl App {
             ui.label("compare values of");
             ui.add(
                 egui::TextEdit::singleline(&mut self.variants_text)
-                    .hint_text("u_r=0.003,0.004,0.006")
+                    .hint_text("interface.law.u_r=0.003,0.004,0.006")
                     .desired_width(260.0),
             )
             .on_hover_text(format!(
-                "key=v1,v2,…: a number parameter of the law or one of {}; one run per value, \
-                 the others as set, overlaid below",
-                super::state::VARIANT_KEYS.join(", ")
+                "key=v1,v2,…, the key as `sweep --vary` takes it: interface.law.NAME for a \
+                 number parameter of the law, or one of {} (short names: NAME, {}); one run per \
+                 value, the others as set, overlaid below",
+                super::state::VARIANT_KEYS.map(|k| k.0).join(", "),
+                super::state::VARIANT_KEYS.map(|k| k.1).join(", ")
             ));
             if ui.button("queue runs").clicked() {
                 let spec = self.variants_text.clone();
