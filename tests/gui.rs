@@ -3,8 +3,6 @@
 //! adds a history row; Stop during a run leaves a complete recording; the ParaView option writes
 //! frames that read back with the run's outcome.
 
-use crate::common;
-
 use crate::common::capture::{read_capture, steps_with};
 use crate::common::paraview::{read_pvd, read_vtu, state_counts};
 use decohesion::gui::{App, RecordChoice, Status};

@@ -5,8 +5,6 @@
 //! nodal forces are exactly those of the constant stress: Σₐ fₐ ⊗ Xₐ = V P (the virtual work
 //! of every homogeneous δu = G X) and Σₐ fₐ = 0, the strain energy is ψ V and J = det F.
 
-use crate::by_hand;
-
 use crate::by_hand::{deformations, lame, piola_energy, stress_scale};
 use decohesion::material::{
     element_forces, element_forces_reduced, element_forces_reduced_lanes, hourglass_stiffness,

@@ -3,8 +3,6 @@
 //! contact and none elsewhere, for glued and contact-only nodes; and a turning mould's logged
 //! rotation against its analytic pose. The file is read back with the SDK's chunk store.
 
-use crate::common;
-
 use crate::common::capture::{read_capture, rows};
 use crate::common::cli::{decohesion_ok, scratch};
 use crate::common::turning;

@@ -2,8 +2,6 @@
 //! run's summary (its `warnings` and the `glued_start_offsets` field with the count and the
 //! largest offset) and the recording's run log.
 
-use crate::common;
-
 use crate::common::capture::read_capture;
 use crate::common::cli::{decohesion, scratch, summary};
 

@@ -4,8 +4,6 @@
 //! value (read back with the SDK, and checked by `rerun rrd verify` when the CLI is installed);
 //! a failed run is a row; Ctrl-C writes the rows done.
 
-use crate::common;
-
 use crate::common::capture::read_capture;
 use crate::common::cli::{decohesion, scratch, summary, BIN};
 use serde_json::Value;

@@ -2,8 +2,6 @@
 //! with its own files, a fixed one written once, a moving one at every frame, placed by the
 //! step's pose. Read back with vtkio and quick-xml, readers independent of the writer.
 
-use crate::common;
-
 use crate::common::cli::{decohesion_ok, scratch};
 use crate::common::paraview::{read_pvd, read_pvd_parts, read_vtu};
 use crate::common::turning;

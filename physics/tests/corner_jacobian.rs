@@ -9,7 +9,6 @@
 //! x-edge stretches by 2V₀t s_η, its other edges keep their length and direction in the edge
 //! determinant): the four corners with s_η = −1 (nodes 0, 1, 4, 5) invert at t = 1/(2V₀).
 
-use crate::common;
 use crate::common::bare_box;
 use decohesion_physics::material::{Material, MaterialModel};
 use decohesion_physics::mesh::HEX_CORNERS;

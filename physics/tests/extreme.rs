@@ -3,7 +3,6 @@
 //! never a panic. Every test loads the scene file itself; the tolerances are argued where they
 //! are asserted.
 
-use crate::common;
 use crate::common::face_nodes;
 use crate::common::scene_file;
 use decohesion_physics::scene::load_scene;

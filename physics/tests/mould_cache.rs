@@ -9,7 +9,6 @@
 //! triangle. Each case also asserts that every path of the list query was taken (from the list,
 //! rebuilt, tie). A golden run (`tread_demould`) being unchanged is the scene-level check.
 
-use crate::common;
 use crate::common::scene_file;
 
 use decohesion_physics::mould::surface::{read_stl, NearLists, NearStats, NO_FEATURE};

@@ -2,7 +2,6 @@
 //! with it (a rigid motion of everything) — no jump, no strain, no damage, no dissipation; and the
 //! ledger, with the mould's work, closing while a sphere is pressed into a pad.
 
-use crate::common;
 use crate::common::*;
 use decohesion_physics::material::{Material, MaterialModel};
 use decohesion_physics::model::*;

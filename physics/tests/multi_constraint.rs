@@ -9,7 +9,6 @@
 //! s = |V_free|); in a 60° V a sweep contracts the error by cos²120° = 1/4, so what is left is
 //! below ε s/3: the tolerance 1e-12 s.
 
-use crate::common;
 use crate::common::{bare_box, mould};
 use decohesion_physics::interface::contact::{
     contact_impulses, Constraint, JointSolve, JOINT_TOLERANCE,

@@ -9,9 +9,8 @@
 //! (as the solver did) lets those nodes sink through the floor under their share of the
 //! block's weight and slide without friction on that edge.
 
-use decohesion_physics::material::{Material, MaterialModel};
-use crate::common;
 use crate::common::{centre_of_mass, face_nodes, on_floor};
+use decohesion_physics::material::{Material, MaterialModel};
 use decohesion_physics::model::PiecewiseLinear;
 use decohesion_physics::model::PrescribedDisplacement;
 use decohesion_physics::solver::{ContactStatus, Simulation};

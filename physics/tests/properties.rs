@@ -5,7 +5,6 @@
 //! that they do damage the glue: at least half of the cases must take some node past α_e (a
 //! property test whose histories never leave the elastic range would test nothing).
 
-use crate::common;
 use crate::common::*;
 use decohesion_physics::law::{Knots, ParamValues, StiffnessLaw};
 use decohesion_physics::material::{Material, MaterialModel};

@@ -3,7 +3,6 @@
 //! integration, held by the stiffness k = κ(λ+2μ)VΣb·b/8; its energy is stored in the ledger,
 //! which still closes; the pull-off still tears off like with full integration.
 
-use crate::common;
 use crate::common::*;
 use decohesion_physics::material::{
     element_forces, element_forces_reduced, hourglass_stiffness, Material, MaterialModel,

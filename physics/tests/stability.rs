@@ -3,7 +3,6 @@
 //! the way a run gets there) is caught with a diagnostic naming the step, the time, h and
 //! h_crit.
 
-use crate::common;
 use crate::common::scene_file;
 
 use decohesion_physics::scene::load_scene;

@@ -2,7 +2,6 @@
 //! ones where the stiffness changes, and the energy ledger across changes of h (model §6,
 //! §5.8, `solver/stable_step.rs`, `solver/ledger.rs`).
 
-use crate::common;
 use crate::common::scene_file;
 use decohesion_physics::scene::load_scene;
 use decohesion_physics::solver::Simulation;

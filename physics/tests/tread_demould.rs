@@ -4,7 +4,6 @@
 //! rib walls rub (friction dissipated on the mould, reported for it), the ledger closes, and the
 //! glue dissipates its fracture energy over the glued area once.
 
-use crate::common;
 use crate::common::*;
 use decohesion_physics::scene::{load_scene, parse_scene};
 use decohesion_physics::solver::Simulation;
