@@ -6,6 +6,9 @@
 
 mod by_hand;
 mod common;
+/// Records for the validation report (`scripts/validation.sh`); the physics tests include the same file.
+#[path = "common/validation.rs"]
+mod validation;
 
 mod command_line;
 mod gmsh;

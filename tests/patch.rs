@@ -7,6 +7,7 @@
 //! test holds exactly and the hourglass energy is round-off).
 
 use crate::by_hand::{piola_energy, stress_scale};
+use crate::validation::{record, Tol};
 use decohesion::kernels::{assemble_internal_forces, ElementRule, Planes};
 use decohesion::material::{Material, MaterialModel};
 use decohesion::mesh::Mesh;
@@ -76,7 +77,8 @@ fn forces(
     (f.to_rows(), asm.strain)
 }
 
-fn check_patch(f_def: Matrix3<f64>) {
+/// The patch test under the homogeneous deformation `f_def` (the validation report's `case`).
+fn check_patch(case: &str, f_def: Matrix3<f64>) {
     let mesh = distorted_mesh();
     let volume = 1.0 * 1.2 * 0.9;
     for (model, rule) in [MaterialModel::Svk, MaterialModel::NeoHookean]
@@ -89,6 +91,15 @@ fn check_patch(f_def: Matrix3<f64>) {
         // Round-off of P (see `stress_scale`), over 27 elements and ~64 nodes: 1e-12 of the
         // scale leaves a margin of ~10³; a formula error is 10¹⁰ times larger.
         let scale = stress_scale(5e6, 0.45, &f_def);
+        let source = "patch test (exact for the trilinear element; P, ψ by hand)";
+        record(
+            case,
+            &format!("strain energy, {model:?}, {rule:?} [J]"),
+            psi_exact * volume,
+            source,
+            psi,
+            Tol::Abs(1e-12 * scale * volume),
+        );
         // Energy: ψ × volume.
         assert!(
             (psi - psi_exact * volume).abs() <= 1e-12 * scale * volume,
@@ -97,14 +108,28 @@ fn check_patch(f_def: Matrix3<f64>) {
         );
         // Interior nodes: Σ over the surrounding elements cancels exactly for a constant P,
         // up to the round-off of ~8 forces of size |P|·area.
-        for (i, x) in mesh.nodes.iter().enumerate() {
-            let on_boundary = x[0].abs() < 1e-12
+        let on_boundary = |x: &[f64; 3]| {
+            x[0].abs() < 1e-12
                 || (x[0] - 1.0).abs() < 1e-12
                 || x[1].abs() < 1e-12
                 || (x[1] - 1.2).abs() < 1e-12
                 || x[2].abs() < 1e-12
-                || (x[2] - 0.9).abs() < 1e-12;
-            if !on_boundary {
+                || (x[2] - 0.9).abs() < 1e-12
+        };
+        let interior_max = (mesh.nodes.iter().zip(&f))
+            .filter(|(x, _)| !on_boundary(x))
+            .flat_map(|(_, fi)| fi.iter().map(|c| c.abs()))
+            .fold(0.0f64, f64::max);
+        record(
+            case,
+            &format!("largest interior nodal force, {model:?}, {rule:?} [N]"),
+            0.0,
+            source,
+            interior_max,
+            Tol::Abs(1e-12 * scale),
+        );
+        for (i, x) in mesh.nodes.iter().enumerate() {
+            if !on_boundary(x) {
                 for c in 0..3 {
                     assert!(
                         f[i][c].abs() <= 1e-12 * scale,
@@ -120,6 +145,14 @@ fn check_patch(f_def: Matrix3<f64>) {
         for (x, fa) in mesh.nodes.iter().zip(&f) {
             vp += Vector3::from(*fa) * Vector3::from(*x).transpose();
         }
+        record(
+            case,
+            &format!("largest |V⁻¹ Σ f ⊗ X − P|, {model:?}, {rule:?} [Pa]"),
+            0.0,
+            source,
+            (vp / volume - p).abs().max(),
+            Tol::Abs(1e-12 * scale),
+        );
         assert!(
             (vp / volume - p).abs().max() <= 1e-12 * scale,
             "{model:?} {rule:?}: V⁻¹ Σ f ⊗ X = {} vs P by hand {p}",
@@ -130,19 +163,26 @@ fn check_patch(f_def: Matrix3<f64>) {
 
 #[test]
 fn homogeneous_stretch() {
-    check_patch(Matrix3::new(1.3, 0.0, 0.0, 0.0, 0.9, 0.0, 0.0, 0.0, 1.05));
+    check_patch(
+        "patch_stretch",
+        Matrix3::new(1.3, 0.0, 0.0, 0.0, 0.9, 0.0, 0.0, 0.0, 1.05),
+    );
 }
 
 #[test]
 fn homogeneous_shear() {
-    check_patch(Matrix3::new(1.0, 0.4, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0));
+    check_patch(
+        "patch_shear",
+        Matrix3::new(1.0, 0.4, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0),
+    );
 }
 
 #[test]
 fn homogeneous_compression_and_shear() {
-    check_patch(Matrix3::new(
-        0.85, 0.1, 0.0, -0.05, 0.95, 0.2, 0.0, 0.0, 0.9,
-    ));
+    check_patch(
+        "patch_compression_shear",
+        Matrix3::new(0.85, 0.1, 0.0, -0.05, 0.95, 0.2, 0.0, 0.0, 0.9),
+    );
 }
 
 #[test]
@@ -161,6 +201,23 @@ fn large_rotation_gives_no_stress() {
         // Objectivity: E = 0 up to round-off, so |f| ≲ 1e-15·E·area; ψ is a cancellation of
         // O(1) terms (tr C − 3 for neo-Hookean): a few ulps times E·V, hence 1e-13·E·V.
         let fmax = f.iter().flatten().fold(0.0f64, |m, v| m.max(v.abs()));
+        let source = "analytic (objectivity: no stress under a rigid rotation)";
+        record(
+            "patch_rotation",
+            &format!("largest nodal force, {model:?}, {rule:?} [N]"),
+            0.0,
+            source,
+            fmax,
+            Tol::Abs(1e-8 * mat.young * 0.1),
+        );
+        record(
+            "patch_rotation",
+            &format!("strain energy, {model:?}, {rule:?} [J]"),
+            0.0,
+            source,
+            psi,
+            Tol::Abs(1e-13 * mat.young * 1.08),
+        );
         assert!(
             fmax <= 1e-8 * mat.young * 0.1,
             "{model:?} {rule:?}: max force {fmax}"

@@ -14,6 +14,7 @@
 //!     T/M − μg (the test that (b) would fail if the friction were unbounded).
 
 use crate::common::{centre_of_mass, face_nodes, on_floor};
+use crate::validation::{curve, record, Tol};
 use decohesion_physics::material::{Material, MaterialModel};
 use decohesion_physics::model::{Model, PiecewiseLinear, Traction};
 use decohesion_physics::solver::{ContactStatus, Simulation};
@@ -78,12 +79,27 @@ fn sliding_block_stops_after_v0_squared_over_2_mu_g() {
     let kinetic = 0.5 * mass * v0 * v0;
     let h0 = sim.h;
     let mut stopped_at = None;
+    // (t, v_cm) for the report's curve (V_{n+½} at tₙ + h/2).
+    let mut v_cm = vec![];
     while !sim.finished() {
         sim.step().expect("stable run");
+        v_cm.push((sim.time + 0.5 * sim.h, centre_of_mass(&sim, &sim.v, 0)));
         if stopped_at.is_none() && centre_of_mass(&sim, &sim.v, 0) <= 0.0 {
             stopped_at = Some(sim.time);
         }
     }
+    let ts: Vec<f64> = v_cm.iter().map(|p| p.0).collect();
+    curve(
+        "friction_block",
+        "sliding",
+        &ts,
+        &v_cm.iter().map(|p| p.1).collect::<Vec<_>>(),
+        &ts.iter()
+            .map(|&t| (v0 - MU * G * t).max(0.0))
+            .collect::<Vec<_>>(),
+        "t [s]",
+        "centre-of-mass velocity [m/s]",
+    );
     let stopped_at = stopped_at.expect("the block never stopped");
     let travelled = centre_of_mass(&sim, &sim.u, 0);
     let v_end = centre_of_mass(&sim, &sim.v, 0);
@@ -109,12 +125,28 @@ fn sliding_block_stops_after_v0_squared_over_2_mu_g() {
     // left is the start (the t₀ friction impulse acts on a half step before t₀: at most
     // v₀h/2 = 2.5e-6 m, 1.5e-5 of d) and the last step (≤ μg h² ≈ 1e-10 m). 1e-4 of d covers
     // these six times over. (A 4×4×4 mesh does worse, 7.6e-4: see the chatter note below.)
+    record(
+        "friction_block",
+        "sliding distance [m]",
+        distance,
+        "Coulomb friction (v₀²/(2μg))",
+        travelled,
+        Tol::Rel(1e-4),
+    );
     assert!(
         (travelled / distance - 1.0).abs() <= 1e-4,
         "slid {travelled:.7} m, v₀²/(2μg) = {distance:.7} m"
     );
     // The stop itself: the crossing of v_cm = 0 is blurred by the base's vibration, and the
     // last millimetres per second see partial stick; 1 % of v₀/μg.
+    record(
+        "friction_block",
+        "stop time [s]",
+        stop_time,
+        "Coulomb friction (v₀/(μg))",
+        stopped_at,
+        Tol::Rel(1e-2),
+    );
     assert!(
         (stopped_at / stop_time - 1.0).abs() <= 1e-2,
         "stopped at {stopped_at:.5} s, v₀/(μg) = {stop_time:.5} s"
@@ -144,6 +176,14 @@ fn sliding_block_stops_after_v0_squared_over_2_mu_g() {
         e.contact_normal_dissipated <= 1e-3 * kinetic,
         "normal contact dissipated {:.3e} J while sliding",
         e.contact_normal_dissipated
+    );
+    record(
+        "friction_block",
+        "friction dissipation [J]",
+        kinetic,
+        "Coulomb friction (½Mv₀²)",
+        e.friction_dissipated,
+        Tol::Rel(1e-3),
     );
     assert!(
         (e.friction_dissipated / kinetic - 1.0).abs() <= 1e-3,
@@ -220,6 +260,14 @@ fn block_under_subcritical_traction_sticks() {
     // residual vibration of the ramp), the friction force balances the traction. 1 %: the
     // vibration left after a 20-period ramp is ~1/(2π·20) of the load in amplitude, and
     // averages over 30 periods.
+    record(
+        "friction_block",
+        "friction force when sticking at 0.3 μMg [N]",
+        -force,
+        "Coulomb friction (static balance)",
+        friction,
+        Tol::Rel(1e-2),
+    );
     assert!(
         (friction / -force - 1.0).abs() <= 1e-2,
         "mean friction {friction:.4} N against a traction of {force:.4} N"
@@ -249,6 +297,14 @@ fn block_under_supercritical_traction_slides_at_t_over_m_minus_mu_g() {
     // Slipping base: friction = μ × normal = μMg, so v_cm = (T/M − μg)t. Only the first
     // shear-wave transits, while the base still sticks and friction is below μMg, can add to
     // it: ≤ μMg × 10 H/c_s = 3e-4 s of it, 6e-3 of the result at r − 1 = 0.5 over 0.05 s: 1 %.
+    record(
+        "friction_block",
+        "velocity when sliding at 1.5 μMg [m/s]",
+        v_expected,
+        "Coulomb friction ((T/M − μg)t)",
+        v,
+        Tol::Rel(1e-2),
+    );
     assert!(
         (v / v_expected - 1.0).abs() <= 1e-2,
         "centre-of-mass velocity {v:.6} m/s, expected (T/M − μg)t = {v_expected:.6} m/s"

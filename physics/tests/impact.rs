@@ -16,6 +16,7 @@
 
 use crate::common::scene_file;
 use crate::common::{face_nodes, on_floor};
+use crate::validation::{curve, record, Tol};
 use decohesion_physics::material::{Material, MaterialModel};
 use decohesion_physics::model::Model;
 use decohesion_physics::solver::Simulation;
@@ -69,6 +70,8 @@ fn bar_rebounds_after_2l_over_c_without_penetration() {
     let (first, mut last, mut last_step) = (0.0, 0.0, 0u64);
     // (step, K + Ψ, contact normal dissipation, centre-of-mass z-velocity)
     let mut history = vec![];
+    // (t, centre-of-mass z-velocity) for the report's curve.
+    let mut v_history = vec![];
     // Gap from positions, independent of the solver's own gap.
     let mut min_gap = f64::INFINITY;
     while !sim.finished() {
@@ -88,6 +91,7 @@ fn bar_rebounds_after_2l_over_c_without_penetration() {
             e.contact_normal_dissipated,
             p / mass,
         ));
+        v_history.push((sim.time, p / mass));
     }
     let duration = last - first;
     // From the step after the last impulse on, the impulse's forward half is in the ledger.
@@ -123,6 +127,53 @@ fn bar_rebounds_after_2l_over_c_without_penetration() {
         sim.ledger.max_relative_residual,
     );
 
+    let ts: Vec<f64> = v_history.iter().map(|p| p.0 / transit).collect();
+    curve(
+        "bar_impact",
+        "centre of mass",
+        &ts,
+        &v_history.iter().map(|p| p.1).collect::<Vec<_>>(),
+        &ts.iter()
+            .map(|&t| if t < 2.0 { -V0 } else { V0 })
+            .collect::<Vec<_>>(),
+        "t / (L/c)",
+        "centre-of-mass velocity [m/s]",
+    );
+    record(
+        "bar_impact",
+        "contact duration [s]",
+        2.0 * transit,
+        "analytic (1-D impact, 2L/c)",
+        duration,
+        Tol::Abs(front_width * element_transit + sim.h),
+    );
+    record(
+        "bar_impact",
+        "energy lost [J]",
+        t0_loss,
+        "analytic (inelastic stop of the bottom layer, ½ m_b v₀²)",
+        e_initial - e_sep,
+        Tol::Abs(5e-5 * e_initial),
+    );
+    record(
+        "bar_impact",
+        "rebound velocity [m/s]",
+        V0,
+        "analytic (continuum: v₀; ringing bound 1 − (L_e/L)^{2/3})",
+        v_cm,
+        Tol::Between(
+            (1.0 - (1.0 / CELLS as f64).powf(2.0 / 3.0)) * V0,
+            (2.0 * e_sep * (1.0 + 1e-9) / mass).sqrt(),
+        ),
+    );
+    record(
+        "ledger_bar_impact",
+        "largest relative residual of the energy balance",
+        0.0,
+        "energy balance (model §5.10)",
+        sim.ledger.max_relative_residual,
+        Tol::Abs(5e-5),
+    );
     // 1. Contact lasts 2L/c. The release front that ends it has travelled 2L = 2N elements and
     //    is spread over its Airy width w = (2N(1 − r²)/8)^{1/3} L_e (1.96 L_e here, see
     //    tests/wave_speed.rs); the last impulse is resolved to one step h = L_e/(2c).
@@ -314,6 +365,30 @@ fn dropped_column_scene() {
     );
     let (a0, b0) = landings[0];
     let a1 = landings[1].0;
+    record(
+        "impact_scene",
+        "first landing [s]",
+        t_fall,
+        "analytic (free fall, √(2h/g))",
+        rows[a0].1,
+        Tol::Between(t_fall, t_fall + h),
+    );
+    record(
+        "impact_scene",
+        "first contact duration [s]",
+        transit,
+        "analytic (1-D impact, 2L/c)",
+        rows[b0].1 - rows[a0].1,
+        Tol::Abs(front_width * element + h),
+    );
+    record(
+        "impact_scene",
+        "energy lost at the first landing [J]",
+        losses[0].1,
+        "analytic (inelastic stop of the bottom layer, ½ m_b v²)",
+        losses[0].0,
+        Tol::Rel(1e-3),
+    );
     // First landing at √(2h/g): leapfrog integrates the free fall exactly, so the first
     // position on or below the floor is the first step at or after t_fall.
     assert!(

@@ -4,6 +4,7 @@
 
 use crate::common::*;
 use crate::hertz;
+use crate::validation::{self, record, Tol};
 use decohesion_physics::scene::load_scene;
 use decohesion_physics::solver::Simulation;
 
@@ -89,11 +90,39 @@ fn hertz_loading_adhesive_pull_off_and_the_glue_s_hysteresis() {
         .filter(|p| p.0 < 0.1)
         .map(|p| (p.1, p.2))
         .collect();
-    hertz::check_loading(&load);
+    hertz::check_loading("hertz_adhesive", &load);
     // (b)
     let pi = std::f64::consts::PI;
     let pull_off = -curve.iter().map(|p| p.2).fold(f64::INFINITY, f64::min);
     let (jkr, dmt) = (1.5 * pi * r * w, 2.0 * pi * r * w);
+    let deltas: Vec<f64> = curve.iter().map(|p| 1e3 * p.1).collect();
+    let e_star = 1e6 / (1.0 - 0.3 * 0.3);
+    validation::curve(
+        "hertz_adhesive",
+        "cycle",
+        &deltas,
+        &curve.iter().map(|p| p.2).collect::<Vec<_>>(),
+        &curve
+            .iter()
+            .map(|p| {
+                if p.0 < 0.1 {
+                    4.0 / 3.0 * e_star * r.sqrt() * p.1.max(0.0).powf(1.5)
+                } else {
+                    f64::NAN
+                }
+            })
+            .collect::<Vec<_>>(),
+        "indentation δ [mm]",
+        "force F [N] (Hertz on loading)",
+    );
+    record(
+        "hertz_adhesive",
+        "pull-off force [N] (reference: the band's middle, 1.75πRw)",
+        0.5 * (jkr + dmt),
+        "JKR 1971 (1.5πRw) / DMT 1975 (2πRw), Maugis 1992",
+        pull_off,
+        Tol::Between(jkr, dmt),
+    );
     assert!(
         pull_off >= jkr && pull_off <= dmt,
         "pull-off {pull_off:.4} N outside [{jkr:.4}, {dmt:.4}] N"
@@ -121,6 +150,14 @@ fn hertz_loading_adhesive_pull_off_and_the_glue_s_hysteresis() {
         "formed {formed:e}, torn {ruptured:e} m²"
     );
     let d_quarter = en.damage_dissipated;
+    record(
+        "hertz_adhesive",
+        "damage dissipation on the quarter [J]",
+        w * ruptured,
+        "G_c × the torn area",
+        d_quarter,
+        Tol::Rel(0.01),
+    );
     assert!(
         (d_quarter - w * ruptured).abs() <= 0.01 * d_quarter,
         "D {d_quarter:e} J, G_c × torn area {:e} J",
@@ -129,6 +166,14 @@ fn hertz_loading_adhesive_pull_off_and_the_glue_s_hysteresis() {
     let delta_max = curve.iter().map(|p| p.1).fold(0.0, f64::max);
     let a = (r * delta_max).sqrt();
     let hertz_area = pi * a * a / 4.0;
+    record(
+        "hertz_adhesive",
+        "torn area on the quarter [m²]",
+        hertz_area,
+        "Hertz 1882 (contact area πRδ_max, quarter)",
+        ruptured,
+        Tol::Abs(pi * a * dx / 2f64.sqrt()),
+    );
     assert!(
         (ruptured - hertz_area).abs() <= pi * a * dx / 2f64.sqrt(),
         "torn {ruptured:e} m², Hertz contact {hertz_area:e} m²"

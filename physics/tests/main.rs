@@ -5,6 +5,9 @@
 
 mod common;
 mod hertz;
+/// Records for the validation report (`scripts/validation.sh`), shared with the root tests.
+#[path = "../../tests/common/validation.rs"]
+mod validation;
 
 mod bad_input;
 mod cohesive_law;

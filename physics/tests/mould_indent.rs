@@ -3,6 +3,7 @@
 
 use crate::common::*;
 use crate::hertz;
+use crate::validation::{record, Tol};
 use decohesion_physics::scene::load_scene;
 use decohesion_physics::solver::Simulation;
 
@@ -54,7 +55,7 @@ fn indent() -> (Curve, Curve, Simulation) {
 #[test]
 fn hertz_on_loading_and_the_work_of_the_cycle() {
     let (load, unload, sim) = indent();
-    hertz::check_loading(&load);
+    hertz::check_loading("hertz_indent", &load);
     // The cycle: ∮F dδ by the trapezoid over load then unload.
     let cycle: Vec<(f64, f64)> = load.iter().chain(&unload).copied().collect();
     let loop_area: f64 = cycle
@@ -68,6 +69,14 @@ fn hertz_on_loading_and_the_work_of_the_cycle() {
     let works = sim.mould_works();
     assert_eq!(works[1].0, "ball");
     let ball = 4.0 * works[1].1;
+    record(
+        "hertz_indent",
+        "loop area ∮F dδ [J] (tolerance 5 % of the work in)",
+        ball,
+        "the sphere's work (energy ledger)",
+        loop_area,
+        Tol::Abs(0.05 * work_in),
+    );
     assert!(
         (ball - loop_area).abs() <= 0.05 * work_in,
         "mould work {ball:e} J, loop {loop_area:e} J, in {work_in:e} J"
@@ -78,6 +87,14 @@ fn hertz_on_loading_and_the_work_of_the_cycle() {
         (4.0 * kept - ball).abs() <= 1e-9 * 4.0 * work_in,
         "kept {kept:e} vs work {:e}",
         ball / 4.0
+    );
+    record(
+        "ledger_indent",
+        "relative residual of the energy balance at the end",
+        0.0,
+        "energy balance (model §5.10)",
+        en.relative_residual,
+        Tol::Abs(1e-9),
     );
     assert!(
         en.relative_residual.abs() <= 1e-9,

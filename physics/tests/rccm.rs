@@ -8,6 +8,8 @@
 use decohesion_physics::law::{families, Delay, Knots, ParamValues, StiffnessLaw};
 use proptest::prelude::*;
 
+use crate::validation::{record, Tol};
+
 const N: [f64; 3] = [0.0, 0.0, 1.0];
 
 fn rccm(c_n: f64, c_t: f64, w: f64, b: f64) -> StiffnessLaw {
@@ -113,6 +115,14 @@ fn work_of_separation_is_w_in_every_mode() {
         let b_end = beta(&law, run.alpha);
         assert!((b_end - 1e-6).abs() < 1e-8, "mode {mode}: β = {b_end}");
         let expected = w * (1.0 - b_end);
+        record(
+            "rccm",
+            &format!("dissipated energy, mode {mode} [J/m²]"),
+            expected,
+            "Frémond's RCCM, closed form at b = 0 (w(1 − β))",
+            run.dissipated,
+            Tol::Abs(1e-6 * w),
+        );
         assert!(
             (run.dissipated - expected).abs() < 1e-6 * w,
             "mode {mode}: dissipated {} vs w(1 − β) = {expected}",
@@ -126,6 +136,14 @@ fn work_of_separation_is_w_in_every_mode() {
         );
         // The peak of |R| is √(w C_eff)·(C-weighted direction) at s₀: in mode I √(w C_N).
         if mode == "I" {
+            record(
+                "rccm",
+                "peak normal traction, mode I [Pa]",
+                (w * c_n).sqrt(),
+                "Frémond's RCCM, closed form (√(w C_N))",
+                run.peak.0,
+                Tol::Rel(1e-12),
+            );
             assert!(
                 (run.peak.0 / (w * c_n).sqrt() - 1.0).abs() < 1e-12,
                 "{:?}",
@@ -156,6 +174,14 @@ fn viscous_rccm_spends_more_the_faster_it_opens() {
     for p in runs.windows(2) {
         assert!(p[1] > p[0], "not growing with the rate: {runs:?}");
     }
+    record(
+        "rccm",
+        "b > 0: energy spent at 1e-6 m/s, the rate-independent limit [J/m²]",
+        w * (1.0 - 1e-4),
+        "Frémond's RCCM, closed form at b = 0 (w(1 − β), β = 1e-4)",
+        runs[0],
+        Tol::Rel(1e-3),
+    );
     assert!(
         (runs[0] / (w * (1.0 - 1e-4)) - 1.0).abs() < 1e-3,
         "{runs:?}"

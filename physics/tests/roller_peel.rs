@@ -5,6 +5,7 @@
 //! the ledger closes with the roller's work.
 
 use crate::common::{mean, scene_file, slope};
+use crate::validation::{curve, record, Tol};
 use decohesion_physics::model::PiecewiseLinear;
 use decohesion_physics::scene::load_scene;
 use decohesion_physics::solver::Simulation;
@@ -321,6 +322,30 @@ fn the_steady_peel_is_kendall_s_and_follows_the_roller() {
     // The steady peel force against Kendall at the measured angle. 3 %, as the peel scene's:
     // the force drops by ~half each time a node pair lets go (2 mm apart), and the window
     // holds ~20 of them; the direction of the mean force is the arm's to the same accuracy.
+    let ts: Vec<f64> = r.samples.iter().map(|s| s.t).collect();
+    curve(
+        "roller_peel",
+        "peel force",
+        &ts,
+        &r.samples
+            .iter()
+            .map(|s| dot(s.force, s.force).sqrt())
+            .collect::<Vec<_>>(),
+        &r.samples
+            .iter()
+            .map(|s| if s.t >= 0.06 { kendall } else { f64::NAN })
+            .collect::<Vec<_>>(),
+        "t [s]",
+        "|F| on the roller [N]",
+    );
+    record(
+        "roller_peel",
+        "steady peel force |F| [N]",
+        kendall,
+        "Kendall 1975 (with stretch and kinetic terms, at the measured θ)",
+        f_abs,
+        Tol::Rel(0.03),
+    );
     assert!(
         (f_abs / kendall - 1.0).abs() <= 0.03,
         "peel force {f_abs:.3} N, Kendall {kendall:.3} N at θ = {:.2}°",
@@ -334,6 +359,14 @@ fn the_steady_peel_is_kendall_s_and_follows_the_roller() {
     // the wound strip's neutral one to O((t/2R)²) = 1 %); the lag between the roller's travel
     // and the front moves by at most two elements (each end of the window is known to one).
     let rel = |a: f64, b: f64| (a / b - 1.0).abs();
+    record(
+        "roller_peel",
+        "front speed [m/s]",
+        fed,
+        "analytic (ω(R + t/2)/(1 + ε), the wound strip)",
+        v_front,
+        Tol::Rel(0.02),
+    );
     assert!(
         rel(v_front, fed) <= 0.02,
         "front {v_front} m/s, fed {fed} m/s"
@@ -346,6 +379,14 @@ fn the_steady_peel_is_kendall_s_and_follows_the_roller() {
     // Damage: G_c per unit of peeled area in the steady state (2 %, as the front speed), and
     // in all between G_c times the ruptured area and G_c times it plus the transition zone's,
     // with the pull-off test's margins for the discrete rupture steps (0.99, 1.08).
+    record(
+        "roller_peel",
+        "dissipation per peeled area [J/m²]",
+        gc,
+        "G_c (steady front)",
+        per_area,
+        Tol::Rel(0.02),
+    );
     assert!(rel(per_area, gc) <= 0.02, "{per_area} J/m² vs G_c = {gc}");
     assert!(
         d >= 0.99 * gc * ruptured && d <= 1.08 * gc * (ruptured + transition),
