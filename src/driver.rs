@@ -1,11 +1,13 @@
 //! The run driver: one loop for the command line (`decohesion run`, [`crate::cli::run`]) and
 //! the explorer's job thread ([`crate::gui`]). It opens the outputs of a run (ParaView files,
 //! the Rerun recording), steps the simulation, takes one [`Snapshot`] per output frame at the
-//! cadence of its [`FrameClock`] and hands it to every output, reports progress, stops on
+//! cadence of its [`FrameClock`] and hands it to every output (and the state after every step
+//! to the outputs that take per-step scalars: the `--series` CSV), reports progress, stops on
 //! cancellation (Ctrl-C, Stop) or on an output's error, and finishes every output whatever the
 //! outcome, so the recording and the ParaView index are complete; then it builds the run's
 //! [`RunSummary`] with the outputs' reports.
 
+use crate::output::series::SeriesWriter;
 use crate::output::{Cadence, Ending, FrameClock, Output, OutputError, OutputReport, Snapshot};
 use crate::record::{ColourField, Recorder, Sink};
 use crate::report::RunSummary;
@@ -26,6 +28,9 @@ pub struct Plan {
     pub paraview: Option<PathBuf>,
     /// A Rerun recording to this sink, the surface coloured by this field.
     pub recording: Option<(Sink, ColourField)>,
+    /// The time series of the run's scalars to this CSV file (`--series`): a row every step,
+    /// or at `cadence` when it is not the default ([`SeriesWriter`]).
+    pub series: Option<PathBuf>,
 }
 
 /// Told of every step, on the solver thread: the command line's progress bar, the explorer's
@@ -55,14 +60,17 @@ pub struct Driver {
     spent: Duration,
     /// Some output shows velocities: the snapshots copy V ([`Output::velocities`]).
     velocities: bool,
+    /// Some output takes the frames ([`Output::frames`]): else no snapshot is copied.
+    frames: bool,
     /// When the run started (set-up included), for the summary's wall time.
     started: Instant,
 }
 
 impl Driver {
     /// Opens the outputs of `plan` for a simulation that is set up, and takes the frame of the
-    /// current state (step 0). ParaView first: a directory that cannot be written is refused
-    /// before a viewer starts or a capture file is created. `started` is when the run started.
+    /// current state (step 0). ParaView first, then the series: a directory or a file that
+    /// cannot be written is refused before a viewer starts or a capture file is created.
+    /// `started` is when the run started.
     pub fn open(
         plan: &Plan,
         scene: &Scene,
@@ -73,16 +81,22 @@ impl Driver {
             Some(dir) => Some(VtkWriter::new(dir, sim)?),
             None => None,
         };
+        let series = match &plan.series {
+            Some(path) => Some(SeriesWriter::new(path, plan.cadence, sim)?),
+            None => None,
+        };
         let mut outputs: Vec<Box<dyn Output>> = Vec::new();
         if let Some((sink, colour)) = &plan.recording {
             outputs.push(Box::new(Recorder::new(sink.clone(), scene, sim, *colour)?));
         }
         // The recording's error comes first when both fail.
         outputs.extend(paraview.map(|w| Box::new(w) as Box<dyn Output>));
+        outputs.extend(series.map(|w| Box::new(w) as Box<dyn Output>));
         Driver::with_outputs(outputs, plan.cadence, sim, started)
     }
 
-    /// A driver over outputs built by the caller; takes the frame of the current state.
+    /// A driver over outputs built by the caller; tells them of the current state and takes
+    /// its frame.
     pub fn with_outputs(
         outputs: Vec<Box<dyn Output>>,
         cadence: Cadence,
@@ -91,18 +105,36 @@ impl Driver {
     ) -> Result<Driver, OutputError> {
         let mut driver = Driver {
             velocities: outputs.iter().any(|o| o.velocities()),
+            frames: outputs.iter().any(|o| o.frames()),
             outputs,
             clock: FrameClock::new(cadence, sim.model.end_time),
             spent: Duration::ZERO,
             started,
         };
+        driver.step(sim, false)?;
         driver.frame(sim)?;
         Ok(driver)
     }
 
-    /// The snapshot of `sim` if its step was not taken yet and there is an output to take it.
+    /// Tells every output of the state of `sim` after a step ([`Output::step`]; `last`: the
+    /// final state): every output is told, also when another fails; the first error is
+    /// returned.
+    fn step(&mut self, sim: &Simulation, last: bool) -> Result<(), OutputError> {
+        let started = Instant::now();
+        let mut told = Ok(());
+        for output in self.outputs.iter_mut() {
+            let r = output.step(sim, last);
+            if told.is_ok() {
+                told = r;
+            }
+        }
+        self.spent += started.elapsed();
+        told
+    }
+
+    /// The snapshot of `sim` if its step was not taken yet and some output takes frames.
     fn snapshot(&mut self, sim: &Simulation) -> Option<Arc<Snapshot>> {
-        (self.clock.take(sim.step_count, sim.time) && !self.outputs.is_empty())
+        (self.clock.take(sim.step_count, sim.time) && self.frames)
             .then(|| Arc::new(Snapshot::capture(sim, self.spent, self.velocities)))
     }
 
@@ -156,6 +188,10 @@ impl Driver {
                 break Err(e);
             }
             let s = &*sim;
+            if let Err(e) = self.step(s, false) {
+                output_error = Some(e);
+                break Err(cancelled(s));
+            }
             if self.clock.due(s.step_count, s.time) {
                 if let Err(e) = self.frame(s) {
                     output_error = Some(e);
@@ -168,6 +204,9 @@ impl Driver {
             }
         };
         progress.stopped();
+        if let Err(e) = self.step(sim, true) {
+            output_error.get_or_insert(e);
+        }
         let last = self.snapshot(sim);
         let end = Ending {
             step: sim.step_count,
@@ -189,6 +228,7 @@ impl Driver {
             match r {
                 OutputReport::Recording(r) => summary.recording = Some(r),
                 OutputReport::Paraview(p) => summary.paraview = Some(p),
+                OutputReport::Series(s) => summary.series = Some(s),
             }
         }
         Finished {

@@ -28,8 +28,9 @@ pub mod driver;
 /// package).
 #[cfg(feature = "gui")]
 pub mod gui;
-/// What the outputs share: frame cadence, snapshot, per-element fields, writer threads (on
-/// wasm32 without the outputs themselves: the explorer's view may read the fields).
+/// What the outputs share: frame cadence, snapshot, per-element fields, writer threads, and the
+/// time series of the scalars (on wasm32 without the outputs themselves: the explorer's view
+/// may read the fields).
 pub mod output;
 /// Rerun recording (live or `.rrd`): reads a simulation, is not read by the physics.
 #[cfg(not(target_arch = "wasm32"))]

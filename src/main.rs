@@ -178,7 +178,8 @@ enum Command {
     },
 }
 
-/// Where and how often to record: Rerun (one sink) and/or ParaView files (no flag: neither).
+/// Where and how often to record: Rerun (one sink), ParaView files and/or the CSV time series
+/// (no flag: none).
 #[derive(clap::Args)]
 struct RecordArgs {
     /// Record to this .rrd file (open it with `rerun FILE.rrd`). Complete even when the run
@@ -196,13 +197,21 @@ struct RecordArgs {
     /// cancelled. Can be combined with --save, --spawn or --connect.
     #[arg(long, value_name = "DIR")]
     vtk: Option<PathBuf>,
-    /// Record a frame (Rerun and --vtk) every N steps (1 = every step). Default: 200 frames
-    /// over the scene's end time, plus step 0 and the last step.
+    /// Record a frame (Rerun, --vtk and --series rows) every N steps (1 = every step). Default:
+    /// 200 frames over the scene's end time, plus step 0 and the last step (--series: every
+    /// step).
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..), conflicts_with = "fps")]
     every: Option<u64>,
-    /// Record F frames per second of simulated time (Rerun and --vtk).
+    /// Record F frames per second of simulated time (Rerun, --vtk and --series rows).
     #[arg(long, value_name = "F", value_parser = positive_f64, allow_negative_numbers = true)]
     fps: Option<f64>,
+    /// Write the run's scalars to this CSV file, one row per step (with --every or --fps, at
+    /// the frames' steps instead), streamed as the run goes: time, step, h, each prescribed
+    /// condition's imposed displacement and reaction, each mould's force and moment, every
+    /// energy of the ledger, the interface's state and contact counts; units in the header.
+    /// Complete up to the last step when the run fails or is cancelled with Ctrl-C.
+    #[arg(long, value_name = "FILE.csv")]
+    series: Option<PathBuf>,
     /// Field that colours the surface: displacement (|U|, m), von_mises (Pa), jacobian (J).
     #[arg(long, value_name = "FIELD", default_value = "displacement")]
     colour: decohesion::record::ColourField,
@@ -243,6 +252,7 @@ impl RecordArgs {
             cadence: self.cadence(),
             paraview: self.vtk.clone(),
             recording: self.sink().map(|s| (s, self.colour)),
+            series: self.series.clone(),
         }
     }
 }

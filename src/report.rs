@@ -67,6 +67,10 @@ pub struct RunSummary {
     /// What went to ParaView files (`--vtk`).
     #[cfg(not(target_arch = "wasm32"))]
     pub paraview: Option<crate::vtk::VtkReport>,
+    /// What went to the time series (`--series`); absent without it.
+    #[cfg(not(target_arch = "wasm32"))]
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub series: Option<crate::output::series::SeriesReport>,
     /// Interfaces whose glued nodes start off their mould beyond the tolerance, or inside it:
     /// per interface the count and the largest offset ([`crate::solver::StartOffset`]; also a
     /// warning). Absent when every glued node starts on its mould.
@@ -145,6 +149,8 @@ impl RunSummary {
             warnings: sim.advisories(),
             #[cfg(not(target_arch = "wasm32"))]
             paraview: None,
+            #[cfg(not(target_arch = "wasm32"))]
+            series: None,
             glued_start_offsets: sim.start_offsets.clone(),
             mould_work: if moulds_listed {
                 sim.mould_works()

@@ -9,11 +9,25 @@ damage — driven from Python.
 >>> sim.alpha                          # damage α of every interface node [m], numpy (m,)
 >>> sim.run(save="out/pull_off.rrd")   # to the end time, recorded like `decohesion run --save`
 >>> sim.summary()["time_full_rupture"]
+>>> sim.history["F_z_plus_z [N]"]      # the reaction at every step [N], as `run --series`
 
 Units are SI (m, s, kg, N, Pa, J). The classes are written in Rust (``decohesion._native``);
 their documentation with every array's shape, dtype and unit is in ``_native.pyi``.
 """
 
+from typing import Any
+
 from ._native import Scene, Simulation, SolverError, __version__
 
-__all__ = ["Scene", "Simulation", "SolverError", "__version__"]
+__all__ = ["Scene", "Simulation", "SolverError", "__version__", "history_frame"]
+
+
+def history_frame(sim: Simulation) -> Any:
+    """``sim.history`` as a pandas DataFrame (one row per step, the ``--series`` columns) when
+    pandas can be imported, else the dict of numpy arrays itself."""
+    history = sim.history
+    try:
+        import pandas
+    except ImportError:
+        return history
+    return pandas.DataFrame(history)

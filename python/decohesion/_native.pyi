@@ -118,6 +118,7 @@ class Simulation:
         every: Optional[int] = None,
         fps: Optional[float] = None,
         colour: str = "displacement",
+        series: Union[str, os.PathLike[str], None] = None,
     ) -> None:
         """Steps until tₙ reaches ``until`` [s] (default: the scene's end time; the last step is
         the first at or past it), through the command line's run driver:
@@ -130,7 +131,9 @@ class Simulation:
         - ``every`` (steps) or ``fps`` (frames per simulated second): the frame cadence of
           both; by default 200 frames over the end time, plus the first and the last step;
         - ``colour``: ``"displacement"``, ``"von_mises"`` or ``"jacobian"`` (the recording's
-          surface colour).
+          surface colour);
+        - ``series``: the run's scalars to this CSV file, as ``--series`` (a row per step, or at
+          ``every``/``fps`` when given); ``history`` has them whatever this is.
 
         The recording and the ParaView index are finished whatever the outcome: on
         ``SolverError``, on Ctrl-C (``KeyboardInterrupt`` is raised after they are written) and
@@ -147,7 +150,28 @@ class Simulation:
         ``imposed_displacement`` [m], ``time`` [s]), ``time_first_damage``,
         ``time_full_rupture`` [s] or None, ``final_counts``, ``energies`` (as
         ``energies``), ``max_relative_residual``, ``stage_seconds``, ``recording`` and
-        ``paraview`` (what the last ``run`` wrote, or None), ``warnings``."""
+        ``paraview`` (what the last ``run`` wrote, or None), ``series`` (when the last ``run``
+        wrote one), ``warnings``."""
+    @property
+    def history(self) -> dict[str, npt.NDArray[Any]]:
+        """The scalars of every step taken since the simulation was made, step 0 included, by
+        ``step`` and ``run`` alike (a failed step's state too): the columns of ``decohesion run
+        --series`` keyed by their CSV names with units, each a (rows,) array, float64 (int64
+        for ``step [-]`` and the ``n_… [-]`` counts), equal to the CSV's values bit for bit:
+
+        - ``t [s]``, ``step [-]``, ``h [s]`` (the step about to be taken);
+        - per prescribed condition ``<faces>_<axis>`` (``z+`` written ``z_plus``): ``u_… [m]``,
+          the imposed displacement, and ``F_… [N]``, its reaction;
+        - per mould: ``F_mould_<name>_x [N]`` (``_y``, ``_z``), the force the body exerted on
+          it over the last step, and ``M_mould_<name>_x [N m]`` …, its moment about the mould's
+          pivot;
+        - the ledger's terms [J] (the keys of ``energies``, plus ``step_change_work``) and
+          ``relative_residual [-]``; with several moulds ``friction_mould_<name> [J]``;
+        - ``n_elastic``, ``n_transition``, ``n_ruptured``, ``n_unformed`` interface nodes by
+          state and ``n_open``, ``n_stick``, ``n_slip`` nodes by contact status [-].
+
+        A row takes about 8 bytes per column per step; ``decohesion.history_frame(sim)`` gives
+        a pandas DataFrame."""
     @property
     def t(self) -> float:
         """Time tₙ [s]."""

@@ -92,18 +92,21 @@ pub fn solver_error(py: Python<'_>, e: &RustSolverError, file: &str) -> PyErr {
 }
 
 /// An output's error as `OSError` with the command line's words: when the outputs are opened
-/// (`opening`) "starting the recording: …" or the ParaView error itself, else "recording: …" or
-/// "ParaView output: …" (the run stopped, or the output could not be finished).
+/// (`opening`) "starting the recording: …", the ParaView error itself or "series: …", else
+/// "recording: …", "ParaView output: …" or "series: …" (the run stopped, or the output could
+/// not be finished).
 pub fn output_error(e: &OutputError, opening: bool) -> PyErr {
     let prefix = match (e, opening) {
         (OutputError::Recording(_), true) => "starting the recording: ",
         (OutputError::Paraview(_), true) => "",
         (OutputError::Recording(_), false) => "recording: ",
         (OutputError::Paraview(_), false) => "ParaView output: ",
+        (OutputError::Series(_), _) => "series: ",
     };
     let message = match e {
         OutputError::Recording(e) => with_sources(e),
         OutputError::Paraview(e) => with_sources(e),
+        OutputError::Series(e) => with_sources(e),
     };
     PyOSError::new_err(format!("{prefix}{message}"))
 }

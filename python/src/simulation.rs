@@ -2,7 +2,9 @@
 //! releases the GIL (`Python::detach`) and looks at Python's signals every
 //! [`SIGNAL_INTERVAL`] between steps, so Ctrl-C stops a run after the current step; `run()` goes
 //! through the command line's run driver ([`Driver`]), whose outputs are the command line's
-//! (`save=` → the `--save` recording, `vtk=` → the `--vtk` files), finished whatever the outcome.
+//! (`save=` → the `--save` recording, `vtk=` → the `--vtk` files, `series=` → the `--series`
+//! CSV), finished whatever the outcome. Every step's scalars are kept in [`History`] (the
+//! `--series` columns and values): `Simulation.history`.
 
 use crate::arrays::{array, column, vectors};
 use crate::errors::{output_error, solver_error};
@@ -10,6 +12,7 @@ use crate::scene::Scene;
 use crate::to_python;
 use decohesion::driver::{Driver, Plan, Progress};
 use decohesion::law::InterfaceState;
+use decohesion::output::series::{History, SeriesReport};
 use decohesion::output::{Cadence, OutputError};
 use decohesion::record::{ColourField, RecordingReport, Sink};
 use decohesion::report::RunSummary;
@@ -43,6 +46,9 @@ pub struct Simulation {
     /// What the last run() recorded.
     recording: Option<RecordingReport>,
     paraview: Option<VtkReport>,
+    series: Option<SeriesReport>,
+    /// A row of scalars per step taken, step 0 included (the `--series` rows).
+    history: History,
 }
 
 #[pymethods]
@@ -64,6 +70,8 @@ impl Simulation {
             }
             sim.use_threads(n as usize);
         }
+        let mut history = History::new(&sim);
+        history.push(&sim);
         Ok(Simulation {
             scene,
             sim,
@@ -72,6 +80,8 @@ impl Simulation {
             wall: started.elapsed(),
             recording: None,
             paraview: None,
+            series: None,
+            history,
         })
     }
 
@@ -85,11 +95,14 @@ impl Simulation {
         }
         self.resume(py)?;
         let started = Instant::now();
-        let sim = &mut self.sim;
+        let (sim, history) = (&mut self.sim, &mut self.history);
         let stop = py.detach(|| {
             let mut watch = Watch::new(None);
             for _ in 0..n {
-                if let Err(e) = sim.step() {
+                let stepped = sim.step();
+                // The failed state too, as the driver's last row (`--series`).
+                history.push(sim);
+                if let Err(e) = stepped {
                     return Err(Stop::Solver(e));
                 }
                 if watch.signalled(sim) {
@@ -110,7 +123,7 @@ impl Simulation {
     }
 
     /// Steps to `until` (default: the end time) through the command line's run driver.
-    #[pyo3(signature = (until = None, progress = true, save = None, vtk = None, every = None, fps = None, colour = "displacement"))]
+    #[pyo3(signature = (until = None, progress = true, save = None, vtk = None, every = None, fps = None, colour = "displacement", series = None))]
     #[allow(clippy::too_many_arguments)]
     fn run(
         &mut self,
@@ -122,6 +135,7 @@ impl Simulation {
         every: Option<i64>,
         fps: Option<f64>,
         colour: &str,
+        series: Option<PathBuf>,
     ) -> PyResult<()> {
         let until = until.unwrap_or(self.sim.model.end_time);
         if !until.is_finite() {
@@ -136,6 +150,7 @@ impl Simulation {
                 Some(p) => Some((Sink::Save(p), colour_field(colour)?)),
                 None => None,
             },
+            series,
         };
         self.resume(py)?;
         let bar = match progress {
@@ -143,20 +158,26 @@ impl Simulation {
             false => None,
         };
         let started = Instant::now();
-        let (scene, sim) = (&self.scene, &mut self.sim);
+        let (scene, sim, history) = (&self.scene, &mut self.sim, &mut self.history);
         let (finished, signal) = py
             .detach(|| {
                 let driver = Driver::open(&plan, scene, sim, started)?;
                 let cancel = AtomicBool::new(false);
                 let mut watch = Watch::new(bar.as_ref());
                 watch.cancel = Some(&cancel);
+                watch.history = Some(history);
                 let finished = driver.run_until(sim, until, &cancel, &mut watch);
+                // The final state, also when the last step failed (the driver's last row).
+                if let Some(h) = watch.history.take() {
+                    h.push(sim);
+                }
                 Ok::<_, OutputError>((finished, watch.signal))
             })
             .map_err(|e| output_error(&e, true))?;
         self.wall += started.elapsed();
         self.recording = finished.summary.recording;
         self.paraview = finished.summary.paraview;
+        self.series = finished.summary.series;
         // The solver's failure first, then the signal (KeyboardInterrupt), then an output's.
         let result = match (finished.outcome, signal, finished.output_error) {
             (Err(SolverError::Cancelled { step, time }), signal, output) => {
@@ -188,7 +209,27 @@ impl Simulation {
         }
         s.recording = self.recording.clone();
         s.paraview = self.paraview.clone();
+        s.series = self.series.clone();
         to_python(py, &s)
+    }
+
+    /// The scalars of every step taken, step 0 included: a dict of the `--series` column names
+    /// (`"t [s]"`, …) to (rows,) arrays, float64 (int64 for the step and the counts).
+    #[getter]
+    fn history<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let h = &self.history;
+        let dict = pyo3::types::PyDict::new(py);
+        for ((name, values), integer) in (h.columns.names.iter())
+            .zip(&h.values)
+            .zip(&h.columns.integer)
+        {
+            let array = match integer {
+                true => column(py, values.iter().map(|&v| v as i64))?,
+                false => column(py, values.iter().copied())?,
+            };
+            dict.set_item(name, array)?;
+        }
+        Ok(dict.into_any())
     }
 
     /// tₙ [s].
@@ -439,6 +480,8 @@ struct Watch<'a> {
     cancel: Option<&'a AtomicBool>,
     /// The exception a signal handler (or the progress bar) raised.
     signal: Option<PyErr>,
+    /// Where each step's row goes (`run()`).
+    history: Option<&'a mut History>,
 }
 
 impl<'a> Watch<'a> {
@@ -448,6 +491,7 @@ impl<'a> Watch<'a> {
             bar,
             cancel: None,
             signal: None,
+            history: None,
         }
     }
 
@@ -483,6 +527,9 @@ impl<'a> Watch<'a> {
 
 impl Progress for Watch<'_> {
     fn step(&mut self, sim: &Solver) {
+        if let Some(h) = self.history.as_deref_mut() {
+            h.push(sim);
+        }
         self.signalled(sim);
     }
 }

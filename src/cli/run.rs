@@ -32,6 +32,7 @@ pub fn run(
     let driver = Driver::open(plan, &scene, &sim, wall).map_err(|e| match e {
         OutputError::Recording(e) => anyhow::Error::new(e).context("starting the recording"),
         OutputError::Paraview(e) => anyhow::Error::new(e),
+        OutputError::Series(e) => anyhow::Error::new(e).context("--series"),
     })?;
     // Ctrl-C: stop after the current step, then write the recording, the ParaView index and
     // the summary.
@@ -48,6 +49,7 @@ pub fn run(
     match done.output_error {
         Some(OutputError::Recording(e)) => bail!(anyhow::Error::new(e).context("recording")),
         Some(OutputError::Paraview(e)) => bail!(anyhow::Error::new(e).context("ParaView output")),
+        Some(OutputError::Series(e)) => bail!(anyhow::Error::new(e).context("--series")),
         None => {}
     }
     if let Err(e) = done.outcome {

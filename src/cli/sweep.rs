@@ -217,6 +217,7 @@ impl Runner<'_> {
             cadence: Cadence::Default,
             paraview: None,
             recording: None,
+            series: None,
         };
         let driver = match Driver::open(&plan, &scene, &sim, started) {
             Ok(d) => d,

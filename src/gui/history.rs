@@ -282,6 +282,7 @@ pub fn output_error_text(e: &OutputError) -> String {
     match e {
         OutputError::Recording(e) => format!("recording: {e}"),
         OutputError::Paraview(e) => format!("ParaView files: {e}"),
+        OutputError::Series(e) => format!("series: {e}"),
     }
 }
 

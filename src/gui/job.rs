@@ -237,6 +237,7 @@ fn run_job(
             Path::new(&settings.output_dir).join(format!("run{id:03}_{stem}_vtk"))
         }),
         recording: sink.map(|s| (s, ColourField::Displacement)),
+        series: None,
     };
     let driver = match Driver::open(&plan, scene, &sim, started) {
         Ok(d) => d,

@@ -2,9 +2,12 @@
 //! ([`crate::vtk`]): when a frame is due ([`Cadence`], [`FrameClock`]), the state a frame shows
 //! ([`Snapshot`], copied once per frame by the run driver, [`crate::driver`]), the per-element
 //! fields both show ([`fields`]), the writer threads ([`worker`]) and the interface an output
-//! offers the driver ([`Output`]). Uses neither the Rerun SDK nor any file format itself.
+//! offers the driver ([`Output`]). Uses neither the Rerun SDK nor any file format itself,
+//! except the time series of the run's scalars ([`series`], `--series FILE.csv`).
 
 pub mod fields;
+#[cfg(not(target_arch = "wasm32"))]
+pub mod series;
 pub mod snapshot;
 pub mod surface;
 pub mod worker;
@@ -17,7 +20,9 @@ use crate::solver::SolverError;
 #[cfg(not(target_arch = "wasm32"))]
 use {
     crate::record::{RecordError, RecordingReport},
+    crate::solver::Simulation,
     crate::vtk::{VtkError, VtkReport},
+    series::{SeriesError, SeriesReport},
     std::sync::Arc,
 };
 
@@ -29,10 +34,24 @@ pub trait Output {
     /// Takes one frame. An error stops the run; the output is still finished.
     fn frame(&mut self, snapshot: &Arc<Snapshot>) -> Result<(), OutputError>;
 
+    /// Told of the state after every step (and of step 0 when the driver opens, before its
+    /// frame), whether or not a frame is due, and once more of the final state (`last`) before
+    /// [`Output::finish`]; for an output of per-step scalars (the time series), which reads
+    /// them from `sim` without a snapshot. An error stops the run. Default: nothing.
+    fn step(&mut self, _sim: &Simulation, _last: bool) -> Result<(), OutputError> {
+        Ok(())
+    }
+
     /// Whether this output shows the velocities: only then do the snapshots copy V (half of a
     /// snapshot: 24 MB of a 10⁶-element body's 49 MB). The Rerun recording draws U alone.
     fn velocities(&self) -> bool {
         false
+    }
+
+    /// Whether this output takes the frames' snapshots: the driver copies none when no output
+    /// does (the time series alone reads the state at [`Output::step`]).
+    fn frames(&self) -> bool {
+        true
     }
 
     /// Ends the output whatever the outcome of the run: `last` is the final state when it was
@@ -62,6 +81,7 @@ pub struct Ending<'a> {
 pub enum OutputReport {
     Recording(RecordingReport),
     Paraview(VtkReport),
+    Series(SeriesReport),
 }
 
 /// The error of one output, naming which.
@@ -72,6 +92,8 @@ pub enum OutputError {
     Recording(#[from] RecordError),
     #[error("{0}")]
     Paraview(#[from] VtkError),
+    #[error("{0}")]
+    Series(#[from] SeriesError),
 }
 
 /// Memory that frames waiting for an output's writer thread may take before the solver waits

@@ -20,19 +20,8 @@ use rerun::{
     RecordingStream, Rgba32, SeriesLines, TextDocument, TextLog, ViewCoordinates,
 };
 
-/// A name usable as one entity path part: `z+` → `z_plus`.
-pub(super) fn path_part(s: &str) -> String {
-    let mut out = String::new();
-    for ch in s.chars() {
-        match ch {
-            '+' => out.push_str("_plus"),
-            '-' => out.push_str("_minus"),
-            c if c.is_ascii_alphanumeric() || c == '_' => out.push(c),
-            _ => out.push('_'),
-        }
-    }
-    out
-}
+/// A name usable as one entity path part: `z+` → `z_plus` (the series' column names too).
+pub(super) use crate::output::series::name_part as path_part;
 
 pub(super) const AXES: [&str; 3] = ["x", "y", "z"];
 
