@@ -6,8 +6,8 @@
 #![cfg_attr(target_arch = "wasm32", no_main)]
 #![cfg(not(target_arch = "wasm32"))]
 
-use clap::{Parser, Subcommand};
-use decohesion::cli::{bench, check, run, sweep, tradeoff, SweepArgs};
+use clap::{CommandFactory, Parser, Subcommand};
+use decohesion::cli::{bench, check, reference, run, sweep, tradeoff, SweepArgs};
 use decohesion::driver::Plan;
 use decohesion::record::{Cadence, Sink};
 use decohesion::scene::load_scene;
@@ -47,7 +47,9 @@ enum Command {
     },
     /// Validate a scene without running it and print derived quantities.
     Check {
+        /// Scene file (TOML), e.g. scenes/pull_off.toml.
         scene: PathBuf,
+        /// Override a scene value, e.g. --set interface.law.u_r=0.02 (same validation as the file).
         #[arg(long = "set", value_name = "KEY=VALUE")]
         set: Vec<String>,
     },
@@ -71,6 +73,7 @@ enum Command {
     /// Run a grid of variants of one scene (every combination of the --vary values) and write
     /// every run's summary as CSV and JSON (and a Rerun plot of the observables with --save).
     Sweep {
+        /// Scene file (TOML) the runs vary, e.g. scenes/pull_off.toml.
         scene: PathBuf,
         /// A scene key and its values, e.g. --vary interface.law.u_r=0.003,0.004,0.006 (any key
         /// --set takes; repeat for a grid; values with commas in brackets or quotes stay whole).
@@ -96,6 +99,7 @@ enum Command {
     /// Speed against accuracy: run a grid of quadratures × meshes × time steps of one scene,
     /// compare the observables with the finest run, mark the Pareto front.
     Tradeoff {
+        /// Scene file (TOML) the runs vary, e.g. scenes/pull_off.toml.
         scene: PathBuf,
         /// Cells along the longest side of the mesh.
         #[arg(long, default_value = "4,7,14", value_delimiter = ',')]
@@ -136,6 +140,16 @@ enum Command {
         /// Quadratures to measure: full (2×2×2) and/or reduced (one point + hourglass control).
         #[arg(long, default_value = "full,reduced", value_delimiter = ',', value_parser = ["full", "reduced"])]
         integration: Vec<String>,
+    },
+    /// Print a reference page generated from the code, as Markdown: every key of a scene file
+    /// (`scenes`) or every subcommand and option of this command (`cli`).
+    Reference {
+        /// Which page: scenes (docs/src/reference/scenes.md) or cli (docs/src/reference/cli.md).
+        #[arg(value_parser = ["scenes", "cli"])]
+        page: String,
+        /// Write the page to this file (its folder created if needed) instead of standard output.
+        #[arg(long, value_name = "FILE")]
+        out: Option<PathBuf>,
     },
 }
 
@@ -309,6 +323,13 @@ fn main() {
             work,
             integration,
         } => bench(&scene, &sizes, repeats, work, &integration),
+        Command::Reference { page, out } => {
+            let text = match page.as_str() {
+                "scenes" => reference::scenes(),
+                _ => reference::cli(&Cli::command()),
+            };
+            reference::emit(&text, out.as_deref())
+        }
     };
     if let Err(e) = result {
         eprintln!("error: {}", decohesion::cli::error_message(&e));
