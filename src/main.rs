@@ -6,8 +6,8 @@
 #![cfg_attr(target_arch = "wasm32", no_main)]
 #![cfg(not(target_arch = "wasm32"))]
 
-use clap::{Parser, Subcommand};
-use decohesion::cli::{bench, check, run, sweep, tradeoff, SweepArgs};
+use clap::{CommandFactory, Parser, Subcommand};
+use decohesion::cli::{bench, check, reference, run, sweep, tradeoff, SweepArgs};
 use decohesion::driver::Plan;
 use decohesion::record::{Cadence, Sink};
 use decohesion::scene::load_scene;
@@ -175,6 +175,16 @@ enum Command {
         /// Quadratures to measure: full (2×2×2) and/or reduced (one point + hourglass control).
         #[arg(long, value_name = "RULE,...", default_value = "full,reduced", value_delimiter = ',', value_parser = ["full", "reduced"])]
         integration: Vec<String>,
+    },
+    /// Print a reference page generated from the code, as Markdown: every key of a scene file
+    /// (`scenes`) or every subcommand and option of this command (`cli`).
+    Reference {
+        /// Which page: scenes (docs/src/reference/scenes.md) or cli (docs/src/reference/cli.md).
+        #[arg(value_parser = ["scenes", "cli"])]
+        page: String,
+        /// Write the page to this file (its folder created if needed) instead of standard output.
+        #[arg(long, value_name = "FILE")]
+        out: Option<PathBuf>,
     },
 }
 
@@ -367,6 +377,13 @@ fn main() {
             }
             let scene = scene_flag.unwrap_or(scene);
             bench(&scene, &sizes, repeats, work, &integration)
+        }
+        Command::Reference { page, out } => {
+            let text = match page.as_str() {
+                "scenes" => reference::scenes(),
+                _ => reference::cli(&Cli::command()),
+            };
+            reference::emit(&text, out.as_deref())
         }
     };
     if let Err(e) = result {

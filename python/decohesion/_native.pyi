@@ -12,6 +12,7 @@ from typing import Any, Mapping, Optional, Union
 import numpy as np
 import numpy.typing as npt
 
+#: The package's version, the crate's (``python/Cargo.toml``).
 __version__: str
 
 #: A scene value for ``overrides``: what a TOML value can be.
@@ -38,7 +39,8 @@ class SolverError(RuntimeError):
 
 class Scene:
     """A scene: the model of ``decohesion run SCENE``, validated. Every key, its unit, default
-    and admissible range: ``scenes/README.md``.
+    and admissible range: the scene reference, ``docs/src/reference/scenes.md``
+    (``decohesion reference scenes``).
 
     A scene that cannot be loaded raises ``ValueError`` with the command line's message, which
     names the file, the key, the value and what is admissible (a file that cannot be read:
@@ -78,9 +80,11 @@ class Scene:
         them). Sets the simulation up (a Lanczos estimate): a set-up error is a
         ``ValueError``."""
     @property
-    def name(self) -> str: ...
+    def name(self) -> str:
+        """The scene's name (the file's stem unless the scene sets ``name``)."""
     @property
-    def description(self) -> str: ...
+    def description(self) -> str:
+        """The scene's ``description`` (empty if it has none)."""
     @property
     def file(self) -> str:
         """The file name used in messages."""
@@ -105,7 +109,9 @@ class Simulation:
     one thread steps a simulation, using that same simulation from another thread raises
     ``RuntimeError`` (it is borrowed); other simulations and other Python code run freely."""
 
-    def __init__(self, scene: Scene, threads: Optional[int] = None) -> None: ...
+    def __init__(self, scene: Scene, threads: Optional[int] = None) -> None:
+        """Sets the simulation of ``scene`` up at t = 0 (the stable step estimated). A set-up
+        error is a ``ValueError``; ``threads`` < 1 too."""
     def step(self, n: int = 1) -> None:
         """Takes ``n`` steps, also past the end time. Raises ``SolverError`` on a blow-up and
         ``KeyboardInterrupt`` on Ctrl-C (after the current step)."""
@@ -191,7 +197,8 @@ class Simulation:
     def finished(self) -> bool:
         """True once tₙ has reached the end time."""
     @property
-    def scene(self) -> Scene: ...
+    def scene(self) -> Scene:
+        """The scene simulated."""
     @property
     def threads(self) -> int:
         """Threads that run the step's loops."""
@@ -215,8 +222,10 @@ class Simulation:
         """Node index of each interface (glued) node, shape (m,), int64."""
     @property
     def alpha(self) -> npt.NDArray[np.float64]:
-        """Damage αₙ of the interface nodes (largest jump norm reached, ≤ u_r), shape (m,),
-        float64 [m]."""
+        """Damage αₙ of the interface nodes, shape (m,), float64 [m]: the largest damage measure
+        reached (PHYSICS.md §3, eq. 12), at most u_r for the g_N(α) families, approached with
+        a lag under ``[interface.delay]``; for ``rccm`` the equivalent opening u₀/√β, which
+        goes on past u_r; 0 on nodes whose glue has not formed (state 3)."""
     @property
     def gap(self) -> npt.NDArray[np.float64]:
         """Normal gap gₙ of the interface nodes (> 0 open), shape (m,), float64 [m]."""
@@ -229,8 +238,11 @@ class Simulation:
         float64 [Pa]."""
     @property
     def interface_state(self) -> npt.NDArray[np.int8]:
-        """State of the interface nodes (paper fig. 6), shape (m,), int8: 0 elastic (α ≤ α_e),
-        1 transition, 2 ruptured (α ≥ u_r)."""
+        """State of the interface nodes, shape (m,), int8: 0 elastic (α ≤ α_e), 1 transition
+        (α_e < α < u_r), 2 ruptured (α ≥ u_r) — the glue's states of paper fig. 6 — and 3
+        unformed: a node of glue that forms on contact (a ``[[contact]]`` entry with a
+        ``[contact.law]``) that has not touched the mould yet (contact with Coulomb ``mu``, no
+        glue)."""
     @property
     def interface_contact(self) -> npt.NDArray[np.int8]:
         """Contact status of the interface nodes in the last step, shape (m,), int8: 0 open,
@@ -265,4 +277,6 @@ class Simulation:
         residual) and ``relative_residual`` [-]."""
     @property
     def state_counts(self) -> dict[str, int]:
-        """Interface nodes per state now: ``elastic``, ``transition``, ``ruptured``."""
+        """Interface nodes per state now: ``elastic``, ``transition``, ``ruptured``, and
+        ``unformed`` (state 3 of ``interface_state``) only when some glue that forms on contact
+        has nodes not formed yet."""

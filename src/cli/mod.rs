@@ -1,6 +1,7 @@
 //! The subcommands of the `decohesion` command, behind its argument parsing (`src/main.rs`):
 //! `run` ([`run()`], through the run driver), `check`, `sweep` (a grid of runs, [`sweep()`]),
-//! `tradeoff`, `bench`.
+//! `tradeoff`, `bench`, `reference` (the reference pages generated from the code,
+//! [`reference`]).
 //!
 //! On wasm32 (the web page) only [`Vary`] and [`PALETTE`] exist, which the explorer uses.
 
@@ -12,6 +13,8 @@ mod check;
 mod peak;
 #[cfg(not(target_arch = "wasm32"))]
 mod progress;
+#[cfg(not(target_arch = "wasm32"))]
+pub mod reference;
 #[cfg(not(target_arch = "wasm32"))]
 mod run;
 #[cfg(not(target_arch = "wasm32"))]

@@ -6,6 +6,7 @@
 use super::assemble::Attachments;
 use super::check::Check;
 use super::error::SceneError;
+use super::keys;
 use super::raw::RawContact;
 use crate::mesh::Mesh;
 use crate::model::{ContactFaces, Interface};
@@ -32,7 +33,7 @@ impl Check<'_> {
         c: RawContact,
     ) -> Result<ContactEntry, SceneError> {
         let (faces, plane) = self.on_plane(mesh, attached, &key, &c.faces, &c.plane)?;
-        self.require(c.mu >= 0.0, format!("{key}.mu"), c.mu, "must be ≥ 0")?;
+        self.admit(&keys::CONTACT_MU, format!("{key}.mu"), c.mu)?;
         self.contact_start(mesh, &attached.planes[plane], &key, &faces)?;
         let Some(law) = c.law else {
             if let Some(mu_inf) = c.mu_inf {
@@ -57,12 +58,7 @@ impl Check<'_> {
             }));
         };
         let mu_inf = c.mu_inf.unwrap_or(0.0);
-        self.require(
-            mu_inf >= 0.0,
-            format!("{key}.mu_inf"),
-            mu_inf,
-            "must be ≥ 0 (the friction coefficient of torn glue)",
-        )?;
+        self.admit(&keys::CONTACT_MU_INF, format!("{key}.mu_inf"), mu_inf)?;
         let law = self.delayed_law(&key, law, c.delay)?;
         self.glued_faces_face_mould(mesh, &attached.planes[plane], &key, &faces)?;
         self.attach(attached, &faces, plane, key)?;

@@ -5,6 +5,7 @@
 use super::adhesion::ContactEntry;
 use super::check::Check;
 use super::error::{num, SceneError};
+use super::keys;
 use super::raw::{
     RawDisplacement, RawInterface, RawMaterial, RawPlane, RawScene, RawScheme, RawTraction,
 };
@@ -24,12 +25,7 @@ pub(super) struct Attachments<'p> {
 
 impl Check<'_> {
     pub(super) fn model(&self, raw: RawScene, default_name: String) -> Result<Model, SceneError> {
-        self.require(
-            raw.end_time > 0.0,
-            "end_time",
-            raw.end_time,
-            "must be > 0 s",
-        )?;
+        self.admit(&keys::END_TIME, "end_time", raw.end_time)?;
         let mesh = self.mesh(&raw.mesh)?;
         let material = self.material(&raw.material)?;
         let scheme = self.scheme(&raw.scheme)?;
@@ -157,24 +153,9 @@ impl Check<'_> {
 
     /// `[material]`: E > 0, −1 < ν < 0.5, ρ > 0; SVK unless `model` says otherwise.
     fn material(&self, mat: &RawMaterial) -> Result<Material, SceneError> {
-        self.require(
-            mat.young > 0.0,
-            "material.young",
-            mat.young,
-            "must be > 0 Pa",
-        )?;
-        self.require(
-            mat.poisson > -1.0 && mat.poisson < 0.5,
-            "material.poisson",
-            mat.poisson,
-            "must satisfy -1 < ν < 0.5 (0.5 is incompressible; use 0.49 at most)",
-        )?;
-        self.require(
-            mat.density > 0.0,
-            "material.density",
-            mat.density,
-            "must be > 0 kg/m³",
-        )?;
+        self.admit(&keys::YOUNG, "material.young", mat.young)?;
+        self.admit(&keys::POISSON, "material.poisson", mat.poisson)?;
+        self.admit(&keys::DENSITY, "material.density", mat.density)?;
         Ok(Material::new(
             mat.model.unwrap_or(MaterialModel::Svk),
             mat.young,
@@ -194,29 +175,15 @@ impl Check<'_> {
             integration: s.integration.unwrap_or(d.integration),
             hourglass_coefficient: s.hourglass_coefficient.unwrap_or(d.hourglass_coefficient),
         };
-        let f = scheme.time_step_factor;
-        self.require(
-            f > 0.0 && f < 2.0,
-            "scheme.time_step_factor",
-            f,
-            "must be in (0, 2) (above 1 the scheme is unstable)",
-        )?;
-        let tol = scheme.h_crit_tolerance;
-        self.require(
-            tol > 0.0 && tol <= 1e-2,
-            "scheme.h_crit_tolerance",
-            tol,
-            "must be in (0, 0.01]",
-        )?;
-        let g = scheme.energy_growth_limit;
-        self.require(g > 1.0, "scheme.energy_growth_limit", g, "must be > 1")?;
-        let k = scheme.hourglass_coefficient;
-        self.require(
-            (0.0..=1.0).contains(&k),
-            "scheme.hourglass_coefficient",
-            k,
-            "must be in [0, 1] (typical 0.03–0.1)",
-        )?;
+        let checked = [
+            (&keys::TIME_STEP_FACTOR, scheme.time_step_factor),
+            (&keys::H_CRIT_TOLERANCE, scheme.h_crit_tolerance),
+            (&keys::ENERGY_GROWTH_LIMIT, scheme.energy_growth_limit),
+            (&keys::HOURGLASS_COEFFICIENT, scheme.hourglass_coefficient),
+        ];
+        for (doc, value) in checked {
+            self.admit(doc, format!("scheme.{}", doc.key), value)?;
+        }
         Ok(scheme)
     }
 
@@ -248,17 +215,11 @@ impl Check<'_> {
         it: RawInterface,
     ) -> Result<Interface, SceneError> {
         let (faces, plane) = self.on_plane(mesh, attached, &key, &it.faces, &it.plane)?;
-        self.require(
-            it.mu_inf >= 0.0,
-            format!("{key}.mu_inf"),
-            it.mu_inf,
-            "must be ≥ 0",
-        )?;
-        self.require(
-            it.initial_damage >= 0.0,
+        self.admit(&keys::INTERFACE_MU_INF, format!("{key}.mu_inf"), it.mu_inf)?;
+        self.admit(
+            &keys::INITIAL_DAMAGE,
             format!("{key}.initial_damage"),
             it.initial_damage,
-            "must be ≥ 0 m (the damage α₀ at t = 0; ≥ u_r means ruptured from the start)",
         )?;
         let law = self.delayed_law(&key, it.law, it.delay)?;
         self.glued_faces_face_mould(mesh, &attached.planes[plane], &key, &faces)?;
@@ -379,16 +340,14 @@ impl Check<'_> {
             "must be finite (m/s)",
         )?;
         let ramp = d.ramp.unwrap_or(0.0);
-        let ramp_key = format!("{key}.ramp");
-        self.require(
-            ramp.is_finite() && ramp >= 0.0,
-            ramp_key,
-            ramp,
-            "must be ≥ 0 s",
-        )?;
+        self.admit(&keys::RAMP, format!("{key}.ramp"), ramp)?;
         let n = d.ramp_steps.unwrap_or(4);
-        if n == 0 {
-            return Err(self.invalid(format!("{key}.ramp_steps"), "0".into(), "must be ≥ 1"));
+        if !keys::RAMP_STEPS.admits(f64::from(n)) {
+            return Err(self.invalid(
+                format!("{key}.ramp_steps"),
+                n.to_string(),
+                keys::RAMP_STEPS.must(),
+            ));
         }
         let mut rows = vec![(0.0, [0.0])];
         if ramp > 0.0 {

@@ -2,6 +2,7 @@
 //! that must exist (face sets, planes) and piecewise-linear histories.
 
 use super::error::{num, SceneError};
+use super::keys::KeyDoc;
 use crate::mesh::{dot, sub, Mesh};
 use crate::model::{PiecewiseLinear, RigidPlane};
 use crate::solver::mould_closest_point;
@@ -53,6 +54,22 @@ impl Check<'_> {
             Ok(())
         } else {
             Err(self.invalid(key, num(value), reason))
+        }
+    }
+
+    /// `Ok` if the number `value` at `key` is admissible for the key `doc` of the table of keys
+    /// ([`KeyDoc::admits`]), else an [`SceneError::Invalid`] that says what is
+    /// ([`KeyDoc::must`]).
+    pub fn admit(
+        &self,
+        doc: &KeyDoc,
+        key: impl Into<String>,
+        value: f64,
+    ) -> Result<(), SceneError> {
+        if doc.admits(value) {
+            Ok(())
+        } else {
+            Err(self.invalid(key, num(value), doc.must()))
         }
     }
 

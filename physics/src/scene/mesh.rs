@@ -4,6 +4,7 @@
 
 use super::check::Check;
 use super::error::{num, SceneError};
+use super::keys::{self, KeyDoc, ShapeDoc, MOULD_SHAPES};
 use super::raw::{RawFaceSet, RawMesh, RawMould};
 use crate::mesh::Mesh;
 use crate::model::RigidPlane;
@@ -12,7 +13,7 @@ use crate::mould::{Shape, SurfaceMesh};
 use std::sync::Arc;
 
 /// Largest mesh a scene may ask for, in elements.
-const MAX_ELEMENTS: u128 = 50_000_000;
+pub(super) const MAX_ELEMENTS: u128 = 50_000_000;
 
 /// The two forms, for messages.
 const FORMS: &str = "a mesh is either a Gmsh file (`file`, optional `scale`) or a box \
@@ -100,12 +101,7 @@ impl Check<'_> {
             ));
         }
         let scale = m.scale.unwrap_or(1.0);
-        self.require(
-            scale > 0.0,
-            "mesh.scale",
-            scale,
-            "must be > 0 (metres per mesh unit)",
-        )?;
+        self.admit(&keys::MESH_SCALE, "mesh.scale", scale)?;
         let path = self.dir.join(file);
         let mut mesh = crate::gmsh::read_msh_with(&path, self.read)
             .map_err(|e| self.invalid("mesh.file", format!("{file:?}"), e.to_string()))?;
@@ -136,9 +132,8 @@ impl Check<'_> {
         let size = m.size.ok_or_else(|| missing("size"))?;
         let cells = m.cells.ok_or_else(|| missing("cells"))?;
         for a in 0..3 {
-            let key = format!("mesh.size[{a}]");
-            self.require(size[a] > 0.0, key, size[a], "must be > 0 m")?;
-            if cells[a] < 1 {
+            self.admit(&keys::MESH_SIZE, format!("mesh.size[{a}]"), size[a])?;
+            if !keys::MESH_CELLS.admits(cells[a] as f64) {
                 return Err(self.invalid(
                     format!("mesh.cells[{a}]"),
                     cells[a].to_string(),
@@ -158,16 +153,6 @@ impl Check<'_> {
     }
 }
 
-/// The keys of `[[mould]]` each shape takes (besides `name`, `shape`, `pivot`, `velocity`,
-/// `angular_velocity`).
-const SHAPE_KEYS: [(&str, &[&str]); 5] = [
-    ("half_space", &["point", "normal"]),
-    ("box", &["centre", "size"]),
-    ("sphere", &["centre", "radius"]),
-    ("cylinder", &["centre", "axis", "radius", "length"]),
-    ("surface", &["file", "group", "scale"]),
-];
-
 impl Check<'_> {
     /// `mould[i]`: a rigid mould of any shape ([`crate::mould`]) and its prescribed motion.
     /// Every key the shape needs must be there and no key of another shape; lengths > 0, axes
@@ -184,8 +169,9 @@ impl Check<'_> {
             ("file", m.file.as_ref().map(|f| format!("{f:?}"))),
             ("group", m.group.as_ref().map(|g| format!("{g:?}"))),
         ];
-        let shapes: Vec<&str> = SHAPE_KEYS.iter().map(|s| s.0).collect();
-        let Some((_, keys)) = SHAPE_KEYS.iter().find(|s| s.0 == m.shape) else {
+        let shapes: Vec<&str> = MOULD_SHAPES.iter().map(|s| s.shape).collect();
+        let Some(ShapeDoc { keys: taken, .. }) = MOULD_SHAPES.iter().find(|s| s.shape == m.shape)
+        else {
             return Err(self.invalid(
                 format!("{key}.shape"),
                 format!("{:?}", m.shape),
@@ -193,14 +179,14 @@ impl Check<'_> {
             ));
         };
         for (k, v) in given.iter().chain([("scale", m.scale.map(num))].iter()) {
-            if let (Some(v), false) = (v, keys.contains(k)) {
+            if let (Some(v), false) = (v, taken.contains(k)) {
                 return Err(self.invalid(
                     format!("{key}.{k}"),
                     v.clone(),
                     format!(
                         "a {} mould takes {} (and pivot, velocity, angular_velocity)",
                         m.shape,
-                        keys.join(", ")
+                        taken.join(", ")
                     ),
                 ));
             }
@@ -208,12 +194,12 @@ impl Check<'_> {
         let need = |k: &str| {
             self.missing(
                 format!("{key}.{k}"),
-                format!("a {} mould needs {}", m.shape, keys.join(", ")),
+                format!("a {} mould needs {}", m.shape, taken.join(", ")),
             )
         };
-        let positive = |k: &str, x: Option<f64>| -> Result<f64, SceneError> {
+        let positive = |doc: &KeyDoc, k: &str, x: Option<f64>| -> Result<f64, SceneError> {
             let x = x.ok_or_else(|| need(k))?;
-            self.require(x > 0.0, format!("{key}.{k}"), x, "must be > 0 m")?;
+            self.admit(doc, format!("{key}.{k}"), x)?;
             Ok(x)
         };
         let (mut point, mut normal) = ([0.0; 3], [0.0; 3]);
@@ -229,7 +215,7 @@ impl Check<'_> {
             "box" => {
                 let size = m.size.ok_or_else(|| need("size"))?;
                 for a in 0..3 {
-                    positive(&format!("size[{a}]"), Some(size[a]))?;
+                    positive(&keys::MOULD_SIZE, &format!("size[{a}]"), Some(size[a]))?;
                 }
                 Shape::Box {
                     centre: m.centre.ok_or_else(|| need("centre"))?,
@@ -238,13 +224,13 @@ impl Check<'_> {
             }
             "sphere" => Shape::Sphere {
                 centre: m.centre.ok_or_else(|| need("centre"))?,
-                radius: positive("radius", m.radius)?,
+                radius: positive(&keys::MOULD_RADIUS, "radius", m.radius)?,
             },
             "cylinder" => Shape::Cylinder {
                 centre: m.centre.ok_or_else(|| need("centre"))?,
                 axis: self.unit(&format!("{key}.axis"), m.axis.ok_or_else(|| need("axis"))?)?,
-                radius: positive("radius", m.radius)?,
-                half_length: 0.5 * positive("length", m.length)?,
+                radius: positive(&keys::MOULD_RADIUS, "radius", m.radius)?,
+                half_length: 0.5 * positive(&keys::MOULD_LENGTH, "length", m.length)?,
             },
             _ => Shape::Surface(Arc::new(self.surface(&key, &m)?)),
         };
@@ -294,12 +280,7 @@ impl Check<'_> {
             )
         })?;
         let scale = m.scale.unwrap_or(1.0);
-        self.require(
-            scale > 0.0,
-            format!("{key}.scale"),
-            scale,
-            "must be > 0 (metres per file unit)",
-        )?;
+        self.admit(&keys::MOULD_SCALE, format!("{key}.scale"), scale)?;
         let bad = |e: String| self.invalid(format!("{key}.file"), format!("{file:?}"), e);
         let bytes =
             (self.read)(&self.dir.join(file)).map_err(|e| bad(format!("cannot read it: {e}")))?;

@@ -1,5 +1,6 @@
 //! Scene files: TOML text → validated [`Model`]. Every key, its unit, default and admissible
-//! range is documented in `scenes/README.md`.
+//! range is in the table of keys ([`keys`]), which `decohesion reference scenes` renders as
+//! `docs/src/reference/scenes.md`.
 //!
 //! Pipeline: parse the text into a `toml::Table`, apply the `--set` overrides to it
 //! (`overrides.rs`), print it back (`Scene::resolved`), deserialize that into the raw serde
@@ -13,6 +14,7 @@ mod adhesion;
 mod assemble;
 mod check;
 mod error;
+pub mod keys;
 mod law;
 mod mesh;
 mod overrides;

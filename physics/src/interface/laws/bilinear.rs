@@ -12,6 +12,7 @@ pub struct Bilinear;
 impl Family for Bilinear {
     const KEY: &'static str = "bilinear";
     const LABEL: &'static str = "bilinear (linear-softening traction)";
+    const DESCRIPTION: &'static str = "Linear-softening traction: past α_e, g_N(α) = g_N(0) α_e (u_r − α) / (α (u_r − α_e)), so that T = g_N δ falls linearly from g_N(0) α_e at α_e to 0 at u_r.";
     const PARAMS: &'static [Param] = &[
         G_N0,
         ALPHA_E.narrowed(

@@ -11,6 +11,8 @@ pub struct PlateauLinear;
 impl Family for PlateauLinear {
     const KEY: &'static str = "plateau_linear";
     const LABEL: &'static str = "plateau–linear (paper fig. 5)";
+    const DESCRIPTION: &'static str =
+        "g_N = g_N(0) on [0, α_e], then linear to 0 at u_r.";
     const PARAMS: &'static [Param] = &[G_N0, ALPHA_E, U_R, R_T];
 
     /// Admissible as soon as g_N(0) > 0, α_e ≥ 0 and u_r > α_e: g_N is then non-increasing

@@ -69,6 +69,7 @@ impl Rccm {
 impl Family for Rccm {
     const KEY: &'static str = "rccm";
     const LABEL: &'static str = "RCCM (original: β, C_N, C_T, w, b)";
+    const DESCRIPTION: &'static str = "The original RCCM law: adhesion intensity β ∈ [0, 1], R_N = C_N β² ⟨[u]_N⟩₊ on opening, R_T = C_T β² [u]_T, Frémond's evolution b β̇ = −[w − β (C_N ⟨[u]_N⟩₊² + C_T |[u]_T|²)]⁻. Its α (recorded, `initial_damage`) is the equivalent opening u₀/√β, u₀ = √(w/C_N): elastic while β = 1, ruptured once β ≤ 0.05; g_N = C_N β² is not cut at u_r.";
     const PARAMS: &'static [Param] = &[C_N, C_T, W, B];
     const CUT_AT_RUPTURE: bool = false;
     const OPENING_ONLY: bool = true;

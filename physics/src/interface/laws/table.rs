@@ -18,7 +18,7 @@ const POINTS: Param = Param {
     symbol: "(α, g_N)",
     unit: "m, Pa/m",
     meaning: "rows [α, g_N]: first α = 0, last g_N = 0 at α = u_r",
-    note: "",
+    note: "≥ 2 rows; first α = 0 with g_N > 0; α strictly increasing; g_N non-increasing; last g_N = 0 (its α is u_r)",
     optional: false,
     kind: ParamKind::Points {
         default: &[[0.0, 5e8], [2e-3, 5e8], [4e-3, 0.0]],
@@ -28,6 +28,7 @@ const POINTS: Param = Param {
 impl Family for Table {
     const KEY: &'static str = "table";
     const LABEL: &'static str = "table of points";
+    const DESCRIPTION: &'static str = "g_N linear between the user's points (α, g_N): the first at α = 0 (its g_N is g_N(0)), the last at α = u_r with g_N = 0; α_e is the end of the leading plateau.";
     const PARAMS: &'static [Param] = &[POINTS, R_T];
 
     /// Checks the table: ≥ 2 points, finite, first α = 0, g_N(0) > 0, α strictly increasing,
