@@ -465,7 +465,7 @@ mod tests {
             -2.5e17,
         ];
         let mut line = String::new();
-        push_line(&mut line, &values);
+        push_line(&mut line, &values, &[false; 9]);
         assert!(line.ends_with('\n'));
         let back: Vec<f64> = (line.trim_end().split(','))
             .map(|s| s.parse().unwrap())
