@@ -4,6 +4,11 @@
 //! its own. A file of `tests/` that is neither listed here nor in `Cargo.toml` fails
 //! [`every_test_file_is_built`].
 
+// The two example generators (tread_block, ribbed_mould), modules of this binary through
+// gmsh.rs and ribbed_mould.rs, each include the dimensions they share as a module of their own,
+// as they do when built as examples.
+#![allow(clippy::duplicate_mod)]
+
 mod by_hand;
 mod common;
 /// Records for the validation report (`scripts/validation.sh`); the physics tests include the same file.

@@ -5,18 +5,18 @@
 
 #[allow(dead_code)]
 #[path = "../examples/ribbed_mould.rs"]
-mod ribbed_mould;
+mod generator;
 
 use decohesion::scene::load_scene;
 use std::collections::BTreeSet;
 
 #[test]
 fn ribbed_mould_file_is_reproducible() {
-    let committed = std::fs::read_to_string(ribbed_mould::PATH).unwrap();
+    let committed = std::fs::read_to_string(generator::PATH).unwrap();
     assert!(
-        committed == ribbed_mould::text(),
+        committed == generator::text(),
         "{} differs from what `cargo run --example ribbed_mould` writes: regenerate it",
-        ribbed_mould::PATH
+        generator::PATH
     );
 }
 

@@ -9,8 +9,6 @@
 //! - a run that fails (an inverted element) and one cancelled by Ctrl-C leave a complete file;
 //! - a file that cannot be created is refused before the run starts.
 
-use crate::common;
-
 use crate::common::cli::{decohesion, decohesion_ok, scratch, summary, BIN};
 use decohesion::output::surface::mould::body_box;
 use decohesion::scene::load_scene;
