@@ -1,6 +1,6 @@
 //! The reference pages generated from the code (`decohesion reference scenes|cli`) are the
 //! committed ones under `docs/src/reference/`, so that they cannot drift from the code; and the
-//! scene page says what the loader does where the hand-written `scenes/README.md` did not.
+//! scene page says what the loader does with the law families and moulds as the code has them.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -79,8 +79,8 @@ fn section(page: &str, title: &str) -> String {
         .join("\n")
 }
 
-/// `rccm` takes C_N, C_T, w, b (the README said g_n0, alpha_e, u_r); `[[interface]].plane`
-/// names a plane or a mould (the README said planes only); every family has its section.
+/// `rccm` takes C_N, C_T, w, b (not g_n0, alpha_e, u_r); `[[interface]].plane`
+/// names a plane or a mould (not only a plane); every family has its section.
 #[test]
 fn the_scene_page_says_what_the_loader_does() {
     let page = generate("scenes");

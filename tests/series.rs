@@ -1,4 +1,4 @@
-//! `decohesion run --series FILE.csv` (issue 40): the run's scalars as a CSV time series.
+//! `decohesion run --series FILE.csv`: the run's scalars as a CSV time series.
 //! - `roller_peel` whole, a row per step: the header's units, time and step in order, the
 //!   roller's force and moment there and nonzero, the last row equal to the summary to the bit,
 //!   and the roller's force in the steady peel Kendall's (the check of

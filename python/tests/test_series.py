@@ -1,4 +1,4 @@
-"""`Simulation.history` (issue 40): the scalars of every step, the columns of `decohesion run
+"""`Simulation.history`: the scalars of every step, the columns of `decohesion run
 --series`, equal to the command line's CSV bit for bit."""
 
 from __future__ import annotations
