@@ -11,6 +11,8 @@
 
 mod by_hand;
 mod common;
+#[path = "common/listing.rs"]
+mod listing;
 /// Records for the validation report (`scripts/validation.sh`); the physics tests include the same file.
 #[path = "common/validation.rs"]
 mod validation;
@@ -35,27 +37,10 @@ mod tradeoff;
 mod vtk;
 mod vtk_moulds;
 
-/// Every `tests/*.rs` is a module of this binary or a test binary of its own in `Cargo.toml`:
-/// with `autotests = false`, a file added to `tests/` and listed nowhere would never run.
+/// Every `tests/*.rs` is a module of this binary or a test binary of its own in `Cargo.toml`.
 #[test]
 fn every_test_file_is_built() {
-    let root = env!("CARGO_MANIFEST_DIR");
-    let main = std::fs::read_to_string(format!("{root}/tests/main.rs")).unwrap();
-    let manifest = std::fs::read_to_string(format!("{root}/Cargo.toml")).unwrap();
-    let mut missing = Vec::new();
-    for entry in std::fs::read_dir(format!("{root}/tests")).unwrap() {
-        let path = entry.unwrap().path();
-        if path.extension().is_none_or(|e| e != "rs") {
-            continue;
-        }
-        let stem = path.file_stem().unwrap().to_str().unwrap().to_string();
-        let listed = stem == "main"
-            || main.lines().any(|l| l.trim() == format!("mod {stem};"))
-            || manifest.contains(&format!("path = \"tests/{stem}.rs\""));
-        if !listed {
-            missing.push(stem);
-        }
-    }
+    let missing = listing::unlisted_test_files(env!("CARGO_MANIFEST_DIR"));
     assert!(
         missing.is_empty(),
         "tests/{{{}}}.rs: add `mod NAME;` to tests/main.rs (or a [[test]] to Cargo.toml)",

@@ -5,6 +5,8 @@
 
 mod common;
 mod hertz;
+#[path = "../../tests/common/listing.rs"]
+mod listing;
 /// Records for the validation report (`scripts/validation.sh`), shared with the root tests.
 #[path = "../../tests/common/validation.rs"]
 mod validation;
@@ -39,27 +41,10 @@ mod teaching_scenes;
 mod tread_demould;
 mod wave_speed;
 
-/// Every `tests/*.rs` is a module of this binary or a test binary of its own in `Cargo.toml`:
-/// with `autotests = false`, a file added to `tests/` and listed nowhere would never run.
+/// Every `tests/*.rs` is a module of this binary or a test binary of its own in `Cargo.toml`.
 #[test]
 fn every_test_file_is_built() {
-    let root = env!("CARGO_MANIFEST_DIR");
-    let main = std::fs::read_to_string(format!("{root}/tests/main.rs")).unwrap();
-    let manifest = std::fs::read_to_string(format!("{root}/Cargo.toml")).unwrap();
-    let mut missing = Vec::new();
-    for entry in std::fs::read_dir(format!("{root}/tests")).unwrap() {
-        let path = entry.unwrap().path();
-        if path.extension().is_none_or(|e| e != "rs") {
-            continue;
-        }
-        let stem = path.file_stem().unwrap().to_str().unwrap().to_string();
-        let listed = stem == "main"
-            || main.lines().any(|l| l.trim() == format!("mod {stem};"))
-            || manifest.contains(&format!("path = \"tests/{stem}.rs\""));
-        if !listed {
-            missing.push(stem);
-        }
-    }
+    let missing = listing::unlisted_test_files(env!("CARGO_MANIFEST_DIR"));
     assert!(
         missing.is_empty(),
         "tests/{{{}}}.rs: add `mod NAME;` to tests/main.rs (or a [[test]] to Cargo.toml)",
