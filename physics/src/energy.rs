@@ -111,6 +111,50 @@ pub struct EnergySnapshot {
     pub relative_residual: f64,
 }
 
+impl EnergySnapshot {
+    /// The names of the ledger's terms [J] (the fields of this struct, as the summary's
+    /// `energies` keys), in the order of [`EnergySnapshot::terms`]; `relative_residual` [-] is
+    /// not among them.
+    pub const TERMS: [&'static str; 15] = [
+        "kinetic",
+        "strain",
+        "hourglass",
+        "interface_stored",
+        "damage_dissipated",
+        "contact_normal_dissipated",
+        "friction_dissipated",
+        "external_work",
+        "gravity_work",
+        "traction_work",
+        "reaction_work",
+        "plane_work",
+        "internal_work",
+        "step_change_work",
+        "residual",
+    ];
+
+    /// The ledger's terms [J] in the order of [`EnergySnapshot::TERMS`].
+    pub fn terms(&self) -> [f64; 15] {
+        [
+            self.kinetic,
+            self.strain,
+            self.hourglass,
+            self.interface_stored,
+            self.damage_dissipated,
+            self.contact_normal_dissipated,
+            self.friction_dissipated,
+            self.external_work,
+            self.gravity_work,
+            self.traction_work,
+            self.reaction_work,
+            self.plane_work,
+            self.internal_work,
+            self.step_change_work,
+            self.residual,
+        ]
+    }
+}
+
 impl Ledger {
     /// Total external work: gravity, tractions, reactions of prescribed displacements, moving planes.
     pub fn external_work(&self) -> f64 {

@@ -13,6 +13,7 @@
 
 use super::snapshot::mould_loads;
 use super::{Cadence, Ending, FrameClock, Output, OutputError, OutputReport, Snapshot};
+use crate::energy::EnergySnapshot;
 use crate::solver::{ContactStatus, Simulation};
 use std::fs::File;
 use std::io::Write;
@@ -26,25 +27,8 @@ pub const FLUSH_BYTES: usize = 64 << 10;
 /// little and a killed process loses at most this much.
 pub const FLUSH_WALL: Duration = Duration::from_millis(250);
 
-/// The names of the ledger's terms as columns [J] (the summary's `energies` keys), in the
-/// order of [`energy_values`]; `relative_residual` [-] follows them.
-pub const ENERGY_COLUMNS: [&str; 15] = [
-    "kinetic",
-    "strain",
-    "hourglass",
-    "interface_stored",
-    "damage_dissipated",
-    "contact_normal_dissipated",
-    "friction_dissipated",
-    "external_work",
-    "gravity_work",
-    "traction_work",
-    "reaction_work",
-    "plane_work",
-    "internal_work",
-    "step_change_work",
-    "residual",
-];
+/// The ledger's terms as columns [J]: [`EnergySnapshot::TERMS`], then `relative_residual` [-].
+pub const ENERGY_COLUMNS: [&str; 15] = EnergySnapshot::TERMS;
 
 const AXES: [&str; 3] = ["x", "y", "z"];
 
@@ -158,7 +142,7 @@ impl Columns {
             out.extend(mm);
         }
         let e = sim.energies();
-        out.extend(energy_values(&e));
+        out.extend(e.terms());
         out.push(e.relative_residual);
         if self.mould_friction {
             out.extend(sim.mould_frictions().into_iter().map(|(_, d)| d));
@@ -198,27 +182,6 @@ impl Columns {
         line.push('\n');
         line
     }
-}
-
-/// The ledger's terms in the order of [`ENERGY_COLUMNS`] [J].
-pub fn energy_values(e: &crate::energy::EnergySnapshot) -> [f64; 15] {
-    [
-        e.kinetic,
-        e.strain,
-        e.hourglass,
-        e.interface_stored,
-        e.damage_dissipated,
-        e.contact_normal_dissipated,
-        e.friction_dissipated,
-        e.external_work,
-        e.gravity_work,
-        e.traction_work,
-        e.reaction_work,
-        e.plane_work,
-        e.internal_work,
-        e.step_change_work,
-        e.residual,
-    ]
 }
 
 /// Appends one CSV line of `values`: the whole numbers of the `integer` columns as integers
