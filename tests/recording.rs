@@ -9,7 +9,7 @@ use crate::common::capture::{read_capture, scalars, steps_with};
 use std::path::PathBuf;
 use std::process::Command;
 
-use crate::common::cli::{decohesion, summary, BIN};
+use crate::common::cli::{decohesion, interrupt_cancelled, summary, BIN};
 
 fn scratch(name: &str) -> PathBuf {
     common::cli::scratch("rec", name)
@@ -201,20 +201,7 @@ fn ctrl_c_finishes_the_capture() {
         .spawn()
         .unwrap();
     std::thread::sleep(std::time::Duration::from_secs(3));
-    let kill = Command::new("kill")
-        .args(["-INT", &child.id().to_string()])
-        .status()
-        .unwrap();
-    assert!(kill.success());
-    let out = child.wait_with_output().unwrap();
-    assert!(!out.status.success(), "a cancelled run is not a success");
-    let s = summary(&json);
-    assert_eq!(
-        s["status"],
-        "cancelled",
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let s = interrupt_cancelled(child, &json);
     let steps = s["steps"].as_i64().unwrap();
     let store = read_capture(&rrd);
     let frames = steps_with(&store, "/body/surface", positions());

@@ -9,7 +9,7 @@
 //! - a run that fails (an inverted element) and one cancelled by Ctrl-C leave a complete file;
 //! - a file that cannot be created is refused before the run starts.
 
-use crate::common::cli::{decohesion, decohesion_ok, scratch, summary, BIN};
+use crate::common::cli::{decohesion, decohesion_ok, interrupt_cancelled, scratch, summary, BIN};
 use decohesion::output::surface::mould::body_box;
 use decohesion::scene::load_scene;
 use std::path::Path;
@@ -332,20 +332,7 @@ fn ctrl_c_leaves_a_complete_series() {
     while header(&csv) < 3 && waited.elapsed().as_secs() < 60 {
         std::thread::sleep(std::time::Duration::from_millis(50));
     }
-    let kill = Command::new("kill")
-        .args(["-INT", &child.id().to_string()])
-        .status()
-        .unwrap();
-    assert!(kill.success());
-    let out = child.wait_with_output().unwrap();
-    assert!(!out.status.success(), "a cancelled run is not a success");
-    let sum = summary(&json);
-    assert_eq!(
-        sum["status"],
-        "cancelled",
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let sum = interrupt_cancelled(child, &json);
     let s = Series::read(&csv);
     check_every_step(&s);
     assert_eq!(s.last("step [-]"), sum["steps"].as_f64().unwrap());

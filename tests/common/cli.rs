@@ -1,7 +1,7 @@
 //! Running the `decohesion` binary from tests: scratch folders, the command, its JSON summary.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::{Child, Command, Output};
 
 pub const BIN: &str = env!("CARGO_BIN_EXE_decohesion");
 
@@ -37,4 +37,24 @@ pub fn decohesion_ok(args: &[&str]) -> Output {
 /// The `--summary` JSON file at `path`.
 pub fn summary(path: &Path) -> serde_json::Value {
     serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+}
+
+/// Sends SIGINT (Ctrl-C) to a running `decohesion` and waits for it: the run must end as not a
+/// success, its summary at `summary_path` saying `cancelled`. Returns that summary.
+pub fn interrupt_cancelled(child: Child, summary_path: &Path) -> serde_json::Value {
+    let kill = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(kill.success());
+    let out = child.wait_with_output().unwrap();
+    assert!(!out.status.success(), "a cancelled run is not a success");
+    let s = summary(summary_path);
+    assert_eq!(
+        s["status"],
+        "cancelled",
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    s
 }
