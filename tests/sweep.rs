@@ -178,6 +178,11 @@ fn verify(rrd: &Path) {
     } else if let Some(p) = decohesion::record::find_on_path("rerun") {
         p
     } else {
+        // CI installs the CLI before the tests (`.ci/run`): there, a missing CLI is a failure.
+        assert!(
+            std::env::var("CI").is_err(),
+            "CI is set and no rerun CLI was found in {venv}/bin or on PATH (rerun-sdk==0.36.3)"
+        );
         eprintln!("no rerun CLI (install rerun-sdk==0.36.3): `rrd verify` skipped, read back only");
         return;
     };
