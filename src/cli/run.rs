@@ -26,6 +26,9 @@ pub fn run(
     plan: &Plan,
 ) -> Result<()> {
     let wall = Instant::now();
+    if let Some(p) = summary_path {
+        check_writable(p)?;
+    }
     let scene = load_scene(path, set)?;
     let mut sim = Simulation::new(scene.model.clone())
         .with_context(|| format!("setting up {}", path.display()))?;
@@ -55,6 +58,41 @@ pub fn run(
     if let Err(e) = done.outcome {
         bail!(e);
     }
+    Ok(())
+}
+
+/// Refuses, before the run, a summary path that cannot be written: a directory, or a file in
+/// a folder that is missing or not writable (a probe file is created there and removed). The
+/// summary itself is written after the run, as it holds the run's results.
+fn check_writable(p: &Path) -> Result<()> {
+    let refuse = |why: String| {
+        anyhow::anyhow!(
+            "cannot write the summary (--summary) to {}: {why}",
+            p.display()
+        )
+    };
+    if p.is_dir() {
+        return Err(refuse("it is a directory".into()));
+    }
+    let name = p.file_name().ok_or_else(|| refuse("no file name".into()))?;
+    let dir = match p.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    if !dir.is_dir() {
+        return Err(refuse(format!("{} is not a directory", dir.display())));
+    }
+    let probe = dir.join(format!(
+        ".{}.probe-{}",
+        name.to_string_lossy(),
+        std::process::id()
+    ));
+    std::fs::OpenOptions::new()
+        .write(true)
+        .create_new(true)
+        .open(&probe)
+        .map_err(|e| refuse(format!("{e}")))?;
+    std::fs::remove_file(&probe).ok();
     Ok(())
 }
 
