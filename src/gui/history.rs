@@ -333,6 +333,43 @@ pub fn csv(rows: &[HistoryRow]) -> String {
     s
 }
 
+/// The runs' curves as CSV, one line per kept sample of every run ([`RunCurve`]), in the
+/// units of the header: the run's id (the `id` of [`csv`]), simulated time, the imposed
+/// displacement of the first prescribed condition and its reaction (the force curve), mean
+/// damage α, the node counts by state and the balance residual. Empty fields where a value is
+/// NaN (no prescribed condition, no interface, the end sample's residual).
+pub fn curves_csv(rows: &[HistoryRow]) -> String {
+    let mut s = String::from(
+        "run,t_s,displacement_m,reaction_N,mean_alpha_m,elastic,transition,ruptured,unformed,\
+         relative_residual\n",
+    );
+    let num = |v: f64| {
+        if v.is_nan() {
+            String::new()
+        } else {
+            format!("{v:e}")
+        }
+    };
+    for r in rows {
+        for p in &r.curve.points {
+            s.push_str(&format!(
+                "{},{:e},{},{},{},{},{},{},{},{}\n",
+                r.id,
+                p.t,
+                num(p.displacement),
+                num(p.reaction),
+                num(p.mean_alpha),
+                p.counts.elastic,
+                p.counts.transition,
+                p.counts.ruptured,
+                p.counts.unformed,
+                num(p.residual),
+            ));
+        }
+    }
+    s
+}
+
 /// Writes the history as CSV to `path` (its folder created if needed).
 #[cfg(not(target_arch = "wasm32"))]
 pub fn export_csv(rows: &[HistoryRow], path: &Path) -> Result<(), String> {

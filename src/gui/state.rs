@@ -550,6 +550,13 @@ impl App {
         self.save_file("history.csv", &text);
     }
 
+    /// Saves the curves of the runs as CSV (`curves.csv`, [`super::history::curves_csv`]): the
+    /// force–displacement curve and the node counts over time of every run in the history.
+    pub fn save_curves_csv(&mut self) {
+        let text = super::history::curves_csv(&self.history);
+        self.save_file("curves.csv", &text);
+    }
+
     /// Saves the summary of history row `i` as JSON (`runNNN_<scene>_summary.json`, what
     /// `decohesion run --summary` writes), if the run is of this session.
     pub fn save_summary(&mut self, i: usize) {
@@ -605,7 +612,7 @@ mod tests {
         }
         assert_eq!(app.status, Status::Ended("finished".into()));
         assert_eq!(app.history.len(), 1);
-        let row = &app.history[0];
+        let row = app.history[0].clone();
         assert_eq!((row.interface_nodes, row.counts.ruptured), (16, 16));
         assert!(
             row.max_relative_residual < 1e-2,
@@ -625,6 +632,37 @@ mod tests {
         let text = std::fs::read_to_string(&csv).unwrap();
         assert_eq!(text.lines().count(), 2, "{text}");
         assert!(text.lines().nth(1).unwrap().contains(",completed,"));
+        // The curves: one line per kept sample, in time order, the last at the run's end with
+        // its counts.
+        app.settings.output_dir = dir.display().to_string();
+        app.save_curves_csv();
+        let text = std::fs::read_to_string(dir.join("curves.csv")).unwrap();
+        let lines: Vec<&str> = text.lines().collect();
+        assert!(
+            lines[0].starts_with("run,t_s,displacement_m,reaction_N,"),
+            "{}",
+            lines[0]
+        );
+        assert_eq!(lines.len(), 1 + row.curve.points.len());
+        let fields = |l: &str| -> Vec<String> { l.split(',').map(str::to_string).collect() };
+        let times: Vec<f64> = lines[1..]
+            .iter()
+            .map(|l| fields(l)[1].parse().unwrap())
+            .collect();
+        assert!(times.windows(2).all(|w| w[0] < w[1]));
+        assert_eq!(times.last().copied(), Some(row.simulated_time));
+        let last = fields(lines.last().unwrap());
+        assert_eq!(last[7].parse::<usize>().unwrap(), row.counts.ruptured);
+        // The pull: the imposed displacement grows from 0, the reaction is finite throughout.
+        let column = |k: usize| -> Vec<f64> {
+            lines[1..]
+                .iter()
+                .map(|l| fields(l)[k].parse().unwrap())
+                .collect()
+        };
+        let (u, f) = (column(2), column(3));
+        assert!(u.windows(2).all(|w| w[0] <= w[1]) && u[u.len() - 1] > 0.0);
+        assert!(f.iter().all(|x| x.is_finite()) && f.iter().any(|&x| x != 0.0));
         std::fs::remove_dir_all(&dir).ok();
 
         let law = app.settings.law.clone();

@@ -308,6 +308,19 @@ impl App {
             {
                 self.save_history_csv();
             }
+            if ui
+                .add_enabled(
+                    !self.history.is_empty(),
+                    egui::Button::new("export curves (CSV)"),
+                )
+                .on_hover_text(
+                    "every run's samples over time: displacement, reaction, mean damage, node \
+                     counts (curves.csv)",
+                )
+                .clicked()
+            {
+                self.save_curves_csv();
+            }
             let summary = sel.is_some_and(|i| self.history[i].summary_json.is_some());
             if ui
                 .add_enabled(summary, egui::Button::new("save summary (JSON)"))
