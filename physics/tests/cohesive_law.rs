@@ -385,12 +385,8 @@ fn every_family_builds_an_admissible_law_from_its_defaults() {
             );
             assert!(law.g_n(b) <= law.g_n(a), "{law}: g_N grows at {b} m");
         }
-        // A law not cut at u_r (`rccm`) marks the ruptured state there: under 1 % of g_N(0).
-        if law.cut_at_rupture() {
-            assert_eq!(law.g_n(law.u_r), 0.0, "{law}");
-        } else {
-            assert!(law.g_n(law.u_r) < 0.01 * law.g_n0, "{law}");
-        }
+        // Every family is cut at u_r (`rccm` there sets β < β_min to 0).
+        assert_eq!(law.g_n(law.u_r), 0.0, "{law}");
         assert_eq!(law.spec().key, f.key);
         assert!(!f.label.is_empty());
         for p in f.params {

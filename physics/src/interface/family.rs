@@ -415,10 +415,6 @@ pub trait Family: Sized + Into<LawKind> {
     /// interior maximum); [`StiffnessLaw::peak_traction`] also samples [0, u_r].
     fn peak_candidates(&self, _law: &StiffnessLaw, _consider: &mut dyn FnMut(f64)) {}
 
-    /// g_N is cut to 0 at u_r (every g_N(α) family); `false` for a law whose stiffness only
-    /// tends to 0 (`rccm`: its u_r marks the ruptured state, its g_N goes on past it).
-    const CUT_AT_RUPTURE: bool = true;
-
     /// The normal jump is loaded on opening only (R_N = g_N⟨[u]_N⟩₊, `rccm`); the g_N(α)
     /// families load both signs (model §2.2).
     const OPENING_ONLY: bool = false;
@@ -564,12 +560,7 @@ fn build<F: Family>(given: &ParamValues) -> Result<StiffnessLaw, LawError> {
         opening_only: F::OPENING_ONLY,
         nonnegative_dissipation: false,
     };
-    Ok(StiffnessLaw::from_parts(
-        own.into(),
-        knots,
-        loading,
-        F::CUT_AT_RUPTURE,
-    ))
+    Ok(StiffnessLaw::from_parts(own.into(), knots, loading))
 }
 
 #[cfg(test)]
@@ -608,9 +599,6 @@ mod tests {
                 }
             }
         }
-        let rccm = family("rccm").expect("the rccm family");
-        let ruptured = format!("β ≤ {}", super::super::laws::rccm::BETA_RUPTURED);
-        assert!(rccm.description.contains(&ruptured), "{}", rccm.description);
     }
 
     /// The defaults build (the explorer's starting law), and an optional parameter left out

@@ -31,8 +31,6 @@ pub struct StiffnessLaw {
     pub u_r: f64,
     /// How the jump is loaded: g_T/g_N and the normal jump on opening only (`damage.rs`).
     loading: Loading,
-    /// g_N = 0 from u_r on ([`Family::CUT_AT_RUPTURE`]).
-    cut: bool,
     /// `[interface.delay]`, if any: the damage follows eq. 12 at a bounded rate.
     delay: Option<Delay>,
 }
@@ -70,14 +68,13 @@ impl StiffnessLaw {
     }
 
     /// The law of `kind` with these knots and loading, checked by its family.
-    pub(super) fn from_parts(kind: LawKind, knots: Knots, loading: Loading, cut: bool) -> Self {
+    pub(super) fn from_parts(kind: LawKind, knots: Knots, loading: Loading) -> Self {
         StiffnessLaw {
             kind,
             g_n0: knots.g_n0,
             alpha_e: knots.alpha_e,
             u_r: knots.u_r,
             loading,
-            cut,
             delay: None,
         }
     }
@@ -100,12 +97,6 @@ impl StiffnessLaw {
     /// The delay of `[interface.delay]`, if any.
     pub fn delay(&self) -> Option<Delay> {
         self.delay
-    }
-
-    /// Whether g_N = 0 from u_r on ([`Family::CUT_AT_RUPTURE`]; `false` for `rccm`, whose u_r
-    /// marks the ruptured state and whose stiffness only tends to 0).
-    pub fn cut_at_rupture(&self) -> bool {
-        self.cut
     }
 
     /// How the jump is loaded: g_T/g_N and whether the normal jump is loaded on opening only;
@@ -150,7 +141,7 @@ impl StiffnessLaw {
         if alpha <= self.alpha_e {
             return self.g_n0;
         }
-        if alpha >= self.u_r && self.cut {
+        if alpha >= self.u_r {
             return 0.0;
         }
         self.kind.softening(self, alpha)
@@ -429,8 +420,7 @@ mod tests {
         simpson(f, 0.0, 1.0, 2000)
     }
 
-    /// Model §2.6: g_N(0) on [0, α_e], non-increasing, 0 from u_r on (for a law cut at
-    /// u_r); and the values a law gives back build the same law.
+    /// Model §2.6: g_N(0) on [0, α_e], non-increasing, 0 from u_r on; and the values a law gives back build the same law.
     #[test]
     fn every_law_is_admissible_and_rebuilds_from_its_values() {
         for law in &laws() {
@@ -443,9 +433,7 @@ mod tests {
                 assert!(g <= previous && g >= 0.0, "{law}: g_N grows at step {i}");
                 previous = g;
             }
-            if law.cut {
-                assert_eq!(law.g_n(law.u_r), 0.0, "{law}");
-            }
+            assert_eq!(law.g_n(law.u_r), 0.0, "{law}");
             assert_eq!(
                 &StiffnessLaw::build(law.spec().key, &law.values()).unwrap(),
                 law

@@ -15,18 +15,17 @@
 //! eq. 12 without the cap, so the work of separation is w in every mode (T(δ) = C_N δ up to u₀,
 //! then w²/(C_N δ³)): peak √(w C_N) at δ = u₀.
 //!
-//! **States.** β never reaches 0 at a finite opening (with b = 0, β = u₀²/f²), so the knots are
-//! α_e = u₀ (elastic while β = 1) and u_r = u₀/√β_r with β_r = [`BETA_RUPTURED`]: a node is
-//! ruptured once β ≤ 0.05, its stiffness 0.25 % of C_N and, at b = 0 in mode I, 97.5 % of w
-//! spent (what is left is β w/2). g_N is not cut there: the springs go on to β → 0.
+//! **States and rupture.** β reaches 0 at no finite opening (with b = 0, β = u₀²/f²), so the law
+//! takes a parameter β_min ∈ (0, 1) (model §2.10): a β that falls below β_min is set to 0 and the
+//! node is ruptured. The knots are α_e = u₀ (elastic while β = 1) and u_r = u₀/√β_min, and g_N
+//! is cut at u_r like every family's. At b = 0 in mode I the work of separation is then
+//! w(1 − β_min/2): the traction's work up to u_r, of which β_min w/2 is still stored there and
+//! released by the cut.
 
 use crate::interface::family::{DamageStep, Family, Knots, Param, ParamValues, Range};
 use crate::interface::law::{LawError, StiffnessLaw};
 
-/// β at which a node counts as ruptured (module doc).
-pub const BETA_RUPTURED: f64 = 0.05;
-
-/// C_N, C_T, w, b of the law (C_N is also its g_N(0)).
+/// C_N, C_T, w, b, β_min of the law (C_N is also its g_N(0)).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Rccm {
     /// Normal stiffness C_N [Pa/m].
@@ -37,6 +36,8 @@ pub struct Rccm {
     pub w: f64,
     /// Frémond's viscosity b [J·s/m²] (0: rate-independent).
     pub b: f64,
+    /// Adhesion intensity below which β is set to 0, the node ruptured [-].
+    pub beta_min: f64,
 }
 
 const C_N: Param = Param::number("c_n", "C_N", "Pa/m", Range::above(0.0), 5e8)
@@ -52,6 +53,16 @@ const B: Param = Param::number("b", "b", "J·s/m²", Range::at_least(0.0), 0.0)
     .meaning("Frémond's viscosity (0: rate-independent)")
     .editor([0.0, 1e3], true)
     .optional();
+const BETA_MIN: Param = Param::number(
+    "beta_min",
+    "β_min",
+    "-",
+    Range::between(0.0, true, 1.0, true),
+    0.05,
+)
+.meaning("adhesion intensity below which β is set to 0: the node is ruptured")
+.editor([1e-4, 0.5], true)
+.optional();
 
 impl Rccm {
     /// β = min(1, (u₀/α)²) of an equivalent opening α (module doc).
@@ -69,13 +80,13 @@ impl Rccm {
 impl Family for Rccm {
     const KEY: &'static str = "rccm";
     const LABEL: &'static str = "RCCM (original: β, C_N, C_T, w, b)";
-    const DESCRIPTION: &'static str = "The original RCCM law: adhesion intensity β ∈ [0, 1], R_N = C_N β² ⟨[u]_N⟩₊ on opening, R_T = C_T β² [u]_T, Frémond's evolution b β̇ = −[w − β (C_N ⟨[u]_N⟩₊² + C_T |[u]_T|²)]⁻. Its α (recorded, `initial_damage`) is the equivalent opening u₀/√β, u₀ = √(w/C_N): elastic while β = 1, ruptured once β ≤ 0.05; g_N = C_N β² is not cut at u_r.";
-    const PARAMS: &'static [Param] = &[C_N, C_T, W, B];
-    const CUT_AT_RUPTURE: bool = false;
+    const DESCRIPTION: &'static str = "The original RCCM law: adhesion intensity β ∈ [0, 1], R_N = C_N β² ⟨[u]_N⟩₊ on opening, R_T = C_T β² [u]_T, Frémond's evolution b β̇ = −[w − β (C_N ⟨[u]_N⟩₊² + C_T |[u]_T|²)]⁻. Its α (recorded, `initial_damage`) is the equivalent opening u₀/√β, u₀ = √(w/C_N): elastic while β = 1; a β below β_min is set to 0 (ruptured, g_N cut at u_r = u₀/√β_min), so the work of separation is w(1 − β_min/2).";
+    const PARAMS: &'static [Param] = &[C_N, C_T, W, B, BETA_MIN];
     const OPENING_ONLY: bool = true;
 
-    /// C_N, C_T, w > 0 and b ≥ 0 (their ranges) are all it needs: g_N = C_N β² is then
-    /// non-increasing in α and Frémond's update never raises β.
+    /// C_N, C_T, w > 0, b ≥ 0 and 0 < β_min < 1 (their ranges) are all it needs: g_N = C_N β²
+    /// is then non-increasing in α (and 0 from u_r = u₀/√β_min on) and Frémond's update never
+    /// raises β.
     fn build(values: &ParamValues) -> Result<(Self, Knots), LawError> {
         let (c_n, w) = (values.number(C_N.key)?, values.number(W.key)?);
         let u0 = (w / c_n).sqrt();
@@ -84,11 +95,12 @@ impl Family for Rccm {
             c_t: values.number(C_T.key)?,
             w,
             b: values.number(B.key)?,
+            beta_min: values.number(BETA_MIN.key)?,
         };
         let knots = Knots {
             g_n0: c_n,
             alpha_e: u0,
-            u_r: u0 / BETA_RUPTURED.sqrt(),
+            u_r: u0 / own.beta_min.sqrt(),
         };
         Ok((own, knots))
     }
@@ -99,18 +111,20 @@ impl Family for Rccm {
             .with(C_T.key, self.c_t)
             .with(W.key, self.w)
             .with(B.key, self.b)
+            .with(BETA_MIN.key, self.beta_min)
     }
 
-    /// g_N(α) = C_N β² = C_N (u₀/α)⁴ past u₀, not cut at u_r.
+    /// g_N(α) = C_N β² = C_N (u₀/α)⁴ past u₀ (0 from u_r on: the cut every family has).
     #[inline]
     fn softening(&self, law: &StiffnessLaw, alpha: f64) -> f64 {
         let beta = Rccm::beta(law, alpha);
         law.g_n0 * beta * beta
     }
 
-    /// The work of separation ∫₀^∞ T dδ = ½ C_N u₀² + ∫_{u₀}^∞ w²/(C_N δ³) dδ = w.
+    /// The work of separation ∫₀^{u_r} T dδ = ½ C_N u₀² + ∫_{u₀}^{u_r} w²/(C_N δ³) dδ
+    /// = w/2 + (w/2)(1 − u₀²/u_r²) = w(1 − β_min/2).
     fn fracture_energy(&self, _law: &StiffnessLaw) -> f64 {
-        self.w
+        self.w * (1.0 - 0.5 * self.beta_min)
     }
 
     /// r = C_T/C_N.
