@@ -86,6 +86,10 @@ pub struct RunSummary {
     /// `mould_work`.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub mould_friction: Vec<(String, f64)>,
+    /// Delayed laws: the negative ΔD the ledger took as 0 ([`crate::solver::DamageClamped`]);
+    /// absent when nothing was.
+    #[serde(default, skip_serializing_if = "crate::solver::DamageClamped::is_none")]
+    pub damage_clamped: crate::solver::DamageClamped,
 }
 
 impl RunSummary {
@@ -162,6 +166,7 @@ impl RunSummary {
             } else {
                 vec![]
             },
+            damage_clamped: sim.stats.damage_clamped,
         }
     }
 

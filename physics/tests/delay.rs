@@ -411,3 +411,33 @@ fn rate_effect_scene_spans_rate_independent_to_strongly_delayed() {
         previous = Some(delayed);
     }
 }
+
+/// Model §5.5: a delayed law's ΔD can be negative at a step where the loaded jump reverses (α
+/// still grows, the product [u]ₙ₋₁·[u]ₙ < 0); the ledger books 0 there and reports the amount.
+/// At such a step the booked value is 0 and the clamped amount is minus the exact form
+/// ½W(g_N⁻ − g_N)[u]ₙ₋₁·[u]ₙ, written here; at a step that loads on (product > 0) nothing is
+/// clamped and the booked value is the exact form. Equalities to the bit: the same operations.
+#[test]
+fn a_negative_delayed_dissipation_is_booked_as_zero_and_reported() {
+    let law = delayed(1e-3, 5.0);
+    let n = [0.0, 0.0, 1.0];
+    let (area, k_before, k) = (0.25, law.g_n0, 0.5 * law.g_n0);
+    let exact = |a: [f64; 3], b: [f64; 3]| {
+        0.5 * area * (k_before - k) * (a[0] * b[0] + a[1] * b[1] + a[2] * b[2])
+    };
+    let (up, down) = ([0.0, 0.0, 2e-4], [0.0, 0.0, -1e-4]);
+    let (booked, clamped) = law
+        .loading()
+        .booked_dissipation(area, k_before, k, up, down, n);
+    assert!(exact(up, down) < 0.0);
+    assert_eq!((booked, clamped), (0.0, -exact(up, down)));
+    let (booked, clamped) = law
+        .loading()
+        .booked_dissipation(area, k_before, k, up, up, n);
+    assert_eq!((booked, clamped), (exact(up, up), 0.0));
+    // The rate-independent law books the exact form, negative or not, and clamps nothing.
+    let (booked, clamped) = glue()
+        .loading()
+        .booked_dissipation(area, k_before, k, up, down, n);
+    assert_eq!((booked, clamped), (exact(up, down), 0.0));
+}

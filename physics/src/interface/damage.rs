@@ -137,15 +137,32 @@ impl Loading {
         jump: [f64; 3],
         n: [f64; 3],
     ) -> f64 {
+        self.booked_dissipation(area, stiffness_before, stiffness, jump_before, jump, n)
+            .0
+    }
+
+    /// [`Loading::dissipation_increment`] and what taking it as ≥ 0 added to the exact form:
+    /// (ΔD booked, ΔD booked − ΔD exact), the second 0 but where a delayed law's ΔD < 0 was
+    /// taken as 0 (what the ledger reports as clamped).
+    #[inline]
+    pub fn booked_dissipation(
+        &self,
+        area: f64,
+        stiffness_before: f64,
+        stiffness: f64,
+        jump_before: [f64; 3],
+        jump: [f64; 3],
+        n: [f64; 3],
+    ) -> (f64, f64) {
         let dd = if self.isotropic() {
             dissipation_increment(area, stiffness_before, stiffness, jump_before, jump)
         } else {
             0.5 * area * (stiffness_before - stiffness) * self.product(jump_before, jump, n)
         };
-        if self.nonnegative_dissipation {
-            dd.max(0.0)
+        if self.nonnegative_dissipation && dd < 0.0 {
+            (0.0, -dd)
         } else {
-            dd
+            (dd, 0.0)
         }
     }
 }

@@ -168,6 +168,16 @@ impl Simulation {
                 joint.worst_approach.max(0.0)
             ));
         }
+        let clamped = &self.stats.damage_clamped;
+        if !clamped.is_none() {
+            out.push(format!(
+                "delayed damage: at {} steps a negative damage dissipation ΔD (the loaded jump reversing while α still grows, a first-order error of the time step, model §5.5) was taken as 0: {:.3e} J in all ({:.2e} of the damage dissipated), at most {:.3e} J in one step; the balance residual carries it. A smaller scheme.time_step_factor shrinks it.",
+                clamped.steps,
+                clamped.energy,
+                clamped.energy / self.ledger.damage_dissipated.max(f64::MIN_POSITIVE),
+                clamped.largest_step
+            ));
+        }
         let factor = m.scheme.time_step_factor;
         if factor > 1.0 {
             out.push(format!(

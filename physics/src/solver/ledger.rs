@@ -18,6 +18,10 @@ struct InterfaceSums {
     step_change: f64,
     /// Glued nodes whose damage is evolving ([`damage_evolving`]).
     evolving: usize,
+    /// Σ of what taking a delayed law's ΔD as ≥ 0 added to it ([`Loading::booked_dissipation`]).
+    ///
+    /// [`Loading::booked_dissipation`]: crate::interface::damage::Loading::booked_dissipation
+    clamped: f64,
 }
 
 /// The weights of a change of step in the interval [tₙ₋₁, tₙ] just taken (model §5.8):
@@ -72,6 +76,12 @@ impl Simulation {
         self.push_work(first, internal, itf.step_change);
         self.push_mould_work(first);
         self.push_mould_friction(first);
+        if itf.clamped > 0.0 {
+            self.stats.damage_clamped.energy += itf.clamped;
+            self.stats.damage_clamped.steps += 1;
+            let worst = &mut self.stats.damage_clamped.largest_step;
+            *worst = worst.max(itf.clamped);
+        }
         let l = &mut self.ledger;
         l.interface_stored = itf.stored;
         l.damage_dissipated += itf.dissipated;
@@ -297,6 +307,7 @@ impl Simulation {
             springs: 0.0,
             step_change: 0.0,
             evolving: 0,
+            clamped: 0.0,
         };
         for j in 0..self.interface_nodes.len() {
             let n = self.glue_normal(j);
@@ -304,7 +315,7 @@ impl Simulation {
             let spec = &self.model.interfaces[itf.interface as usize];
             let law = &spec.law;
             out.stored += law.stored_energy(itf.area, itf.stiffness, itf.jump, n);
-            let dd = law.loading().dissipation_increment(
+            let (dd, clamped) = law.loading().booked_dissipation(
                 itf.area,
                 itf.prev_stiffness,
                 itf.stiffness,
@@ -312,6 +323,7 @@ impl Simulation {
                 itf.jump,
                 n,
             );
+            out.clamped += clamped;
             out.worst = out.worst.min(dd);
             out.dissipated += dd;
             out.springs += itf.area * itf.stiffness;
@@ -396,7 +408,7 @@ fn tearing(counts: StateCounts) -> bool {
 /// Whether a glued node's damage is evolving, the state in which the step is held
 /// ([`super::stable_step::StepControl::damage_evolving`]): softening, α_e < α < u_r (fig. 6's
 /// transition, the same classification for every family: for `rccm` α_e = u₀ and u_r =
-/// u₀/√β_r), or, with a delayed law, α still behind its rate-independent target α_s (the
+/// u₀/√β_min), or, with a delayed law, α still behind its rate-independent target α_s (the
 /// damage keeps growing while α ≤ α_e or after the jump has turned back).
 fn damage_evolving(law: &crate::interface::law::StiffnessLaw, alpha: f64, alpha_s: f64) -> bool {
     law.state(alpha) == crate::interface::law::InterfaceState::Transition

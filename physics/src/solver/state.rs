@@ -193,6 +193,26 @@ pub struct RunStats {
     /// One-point integration: lane groups of the steps' element loops, and those whose exact
     /// corner check the bound skipped (stage 3 only, not the stable-step estimates).
     pub corner_checks: CornerChecks,
+    /// Delayed laws: the negative ΔD taken as 0 (model §5.5), over the run.
+    pub damage_clamped: DamageClamped,
+}
+
+/// What the ledger added to the damage dissipation by taking a delayed law's negative ΔD as 0
+/// (model §5.5: at a step where the loaded jump reverses, a first-order error of the time
+/// discretisation): the sum over the run [J], the steps where it happened and the largest sum
+/// of one step [J]. All 0 without a delayed law. The balance residual carries the same amount.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, serde::Deserialize)]
+pub struct DamageClamped {
+    pub energy: f64,
+    pub steps: u64,
+    pub largest_step: f64,
+}
+
+impl DamageClamped {
+    /// Nothing was clamped.
+    pub fn is_none(&self) -> bool {
+        self.steps == 0
+    }
 }
 
 /// Lane groups of 8 elements through the one-point kernel, and those that skipped the exact
