@@ -19,6 +19,15 @@ pub struct StepHistory {
     /// Of those, the cheap updates that the element bound certified (the step below 2/ω_b);
     /// the others were converged.
     pub h_crit_certified: u64,
+    /// Estimates meant to converge (the first among them) that stopped on the Lanczos
+    /// iteration cap; the step then rests on the element bound where it is the larger ω².
+    /// Absent when 0.
+    #[serde(skip_serializing_if = "is_zero")]
+    pub h_crit_unconverged: u64,
+}
+
+fn is_zero(n: &u64) -> bool {
+    *n == 0
 }
 
 /// What a run produced, as printed at the end and written by `--summary`.
@@ -90,6 +99,11 @@ pub struct RunSummary {
     /// absent when nothing was.
     #[serde(default, skip_serializing_if = "crate::solver::DamageClamped::is_none")]
     pub damage_clamped: crate::solver::DamageClamped,
+    /// Stage 7's joint solves at nodes with several active constraints: how many, their sweeps,
+    /// those that fell back to the frictionless projection (`friction_dropped`) and those that
+    /// did not converge even so (`capped`). Absent when there were none.
+    #[serde(skip_serializing_if = "crate::interface::contact::JointStats::is_empty")]
+    pub joint_contact: crate::interface::contact::JointStats,
 }
 
 impl RunSummary {
@@ -127,6 +141,7 @@ impl RunSummary {
                 h_crit_estimates: sim.stats.h_crit_estimates,
                 h_crit_iterations: sim.stats.h_crit_estimate_iterations,
                 h_crit_certified: sim.stats.h_crit_certified,
+                h_crit_unconverged: sim.stats.h_crit_unconverged,
             },
             simulated_time: sim.time,
             wall_seconds,
@@ -167,6 +182,7 @@ impl RunSummary {
                 vec![]
             },
             damage_clamped: sim.stats.damage_clamped,
+            joint_contact: sim.stats.joint_contact,
         }
     }
 

@@ -256,3 +256,27 @@ fn the_element_bound_holds_with_one_point_integration() {
     assert!(checked >= 10, "{checked} checks");
     assert!(sim.min_jacobian < 0.9 || sim.stats.h_crit_min < 0.9 * sim.stats.h_crit_initial);
 }
+
+/// An estimate meant to converge that stops on the Lanczos cap (model §6.4): with
+/// h_crit_tolerance = 1e-300 the stagnation test is never met in the 300 iterations the 7³
+/// pull-off allows (1,536 degrees of freedom, more than 300), so the first estimate is counted
+/// unconverged, the step rests on the proven element bound ω_b² (larger than the Ritz estimate,
+/// which is below ω_max² ≤ ω_b²), h_crit = 2/ω_b to the bit, and the advisories say so.
+#[test]
+fn an_unconverged_estimate_takes_the_proven_bound() {
+    let mut sim = scene("pull_off.toml", &["scheme.h_crit_tolerance=1e-300"]);
+    assert_eq!(sim.stats.h_crit_unconverged, 1);
+    let bound = sim.stiffness_bound();
+    assert_eq!(sim.h_crit, 2.0 / bound.sqrt());
+    let warnings = sim.advisories();
+    assert!(
+        warnings
+            .iter()
+            .any(|w| w.contains("stopped on the Lanczos iteration cap")
+                && w.contains("h_crit_tolerance = 1e-300")),
+        "{warnings:?}"
+    );
+    // The default tolerance converges: nothing counted.
+    let sim = scene("pull_off.toml", &[]);
+    assert_eq!(sim.stats.h_crit_unconverged, 0);
+}

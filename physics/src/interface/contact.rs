@@ -447,7 +447,7 @@ fn sweeps(
 /// the solves that hit [`JOINT_MAX_SWEEPS`] without friction too,
 /// and among those the largest last change and approach velocity left, relative to s
 /// ([`JointSolve`]).
-#[derive(Default, Clone, Copy, Debug, PartialEq)]
+#[derive(Default, Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct JointStats {
     pub nodes: u64,
     pub sweeps: u64,
@@ -458,6 +458,11 @@ pub struct JointStats {
 }
 
 impl JointStats {
+    /// No joint solve was made.
+    pub fn is_empty(&self) -> bool {
+        self.nodes == 0
+    }
+
     pub fn merge(mut self, o: JointStats) -> JointStats {
         self.nodes += o.nodes;
         self.sweeps += o.sweeps;

@@ -168,6 +168,13 @@ impl Simulation {
                 joint.worst_approach.max(0.0)
             ));
         }
+        let unconverged = self.stats.h_crit_unconverged;
+        if unconverged > 0 {
+            out.push(format!(
+                "stable step: {unconverged} h_crit estimate(s) stopped on the Lanczos iteration cap before meeting scheme.h_crit_tolerance = {:e}; each took the proven element bound (model §6.4) where it gave the smaller step. A looser tolerance, or a mesh with fewer degrees of freedom per estimate, avoids it.",
+                m.scheme.h_crit_tolerance
+            ));
+        }
         let clamped = &self.stats.damage_clamped;
         if !clamped.is_none() {
             out.push(format!(

@@ -57,12 +57,14 @@ pub(super) struct LanczosStop {
 }
 
 /// A Lanczos run's result: the tridiagonal's diagonal α, the largest Ritz value θ, its residual
-/// β_j|s_j| and the eigenvector s of T.
+/// β_j|s_j| and the eigenvector s of T; `converged` when it stopped on its test (or on an
+/// invariant subspace, or with the whole space spanned), not on `max_iter`.
 pub(super) struct LanczosOut {
     pub alphas: Vec<f64>,
     pub theta: f64,
     pub resid: f64,
     pub s: Vec<f64>,
+    pub converged: bool,
 }
 
 impl LanczosOut {
@@ -74,6 +76,7 @@ impl LanczosOut {
             ritz_value: self.theta,
             h_crit: 2.0 / omega_sq.sqrt(),
             iterations: self.alphas.len(),
+            converged: self.converged,
         }
     }
 }
@@ -196,6 +199,8 @@ pub(super) fn lanczos(
     let mut beta_prev = 0.0;
     let mut last_theta = f64::NAN;
     let mut result = (0.0, 0.0, vec![1.0]);
+    // The run is converged unless it checks and stops on max_iter short of the whole space.
+    let mut converged = true;
     for j in 0..max_iter {
         if let Some((s, y)) = accumulate.as_mut() {
             let (y, q, sj) = (SharedSlice::new(y), &q[..], s[j]);
@@ -225,10 +230,12 @@ pub(super) fn lanczos(
         let done = j + 1 == max_iter || b <= 1e-14 * a.abs();
         if accumulate.is_none() && ((j + 1) % stop.check_every == 0 || done) {
             let (theta, resid, s) = top_ritz_pair(&alphas, &betas);
-            let converged = (theta - last_theta).abs() <= stop.tol * theta.abs()
+            let met = (theta - last_theta).abs() <= stop.tol * theta.abs()
                 || (stop.residual > 0.0 && resid <= stop.residual * theta.abs());
             result = (theta, resid, s);
-            if converged || done {
+            if met || done {
+                // Stopped on max_iter short of the whole space and of an invariant subspace.
+                converged = met || j + 1 >= n || b <= 1e-14 * a.abs();
                 break;
             }
             last_theta = theta;
@@ -247,6 +254,7 @@ pub(super) fn lanczos(
         theta: result.0,
         resid: result.1,
         s: result.2,
+        converged,
     }
 }
 
@@ -381,5 +389,47 @@ mod tests {
             res <= 1e-6 * lambda * norm,
             "‖Ay − θy‖ = {res:.3e}, ‖y‖ = {norm}"
         );
+        assert!(out.converged);
+    }
+
+    /// `converged` says why a run stopped: on the 1-D Laplacian of order 400 (λ_max clustered,
+    /// gaps O(1/n²)), 10 iterations do not meet a 1e-12 test, so the run stops on max_iter
+    /// unconverged; 40 iterations of the order-40 operator span its whole space (converged
+    /// whatever the test); a loose test met before max_iter is converged.
+    #[test]
+    fn a_run_stopped_by_its_cap_is_not_converged() {
+        let laplacian = |n: usize| {
+            move |q: &[f64], y: &mut [f64]| {
+                for k in 0..n {
+                    let left = if k > 0 { q[k - 1] } else { 0.0 };
+                    let right = if k + 1 < n { q[k + 1] } else { 0.0 };
+                    y[k] = 2.0 * q[k] - left - right;
+                }
+                q.iter().zip(y.iter()).map(|(a, b)| a * b).sum()
+            }
+        };
+        let run = |n: usize, max_iter: usize, tol: f64| {
+            let start: Vec<f64> = (0..n).map(|k| ((k * 7919) % 101) as f64 - 50.0).collect();
+            let stop = LanczosStop {
+                max_iter,
+                tol,
+                residual: 0.0,
+                check_every: 5,
+            };
+            let mut apply = laplacian(n);
+            let out = lanczos(
+                &mut apply,
+                &start,
+                &stop,
+                None,
+                None,
+                &mut LanczosWork::default(),
+            );
+            (out.converged, out.alphas.len())
+        };
+        assert_eq!(run(400, 10, 1e-12), (false, 10));
+        assert_eq!(run(40, 40, 1e-300), (true, 40));
+        let (converged, iterations) = run(400, 300, 1e-2);
+        assert!(converged && iterations < 300, "{iterations}");
     }
 }

@@ -262,10 +262,10 @@ impl Simulation {
                 op.add_local_start(element);
             }
         });
-        let converged = StableStep {
+        let converged = self.proven(StableStep {
             iterations: iterations + out.alphas.len(),
             ..out.stable_step()
-        };
+        });
         if !cheap {
             // Would the bound have certified this estimate? Then the next one tries the cheap
             // update again (the bound's looseness κ moves with the compression).
@@ -356,6 +356,33 @@ impl Simulation {
         let out = self.run_estimate(springs, false, stop, |op, _| {
             op.start_vector(warm.as_deref())
         });
-        out.stable_step()
+        if springs {
+            self.proven(out.stable_step())
+        } else {
+            out.stable_step()
+        }
+    }
+
+    /// An estimate meant to be converged, as the step may rest on it: unchanged when its
+    /// Lanczos run converged; else counted ([`RunStats::h_crit_unconverged`]) and raised to the
+    /// proven element bound ω_b² ≥ ω_max² ([`Simulation::stiffness_bound`], model §6.4) when
+    /// that is the larger, so an unconverged Ritz value never sets a step above 2/ω_b.
+    ///
+    /// [`RunStats::h_crit_unconverged`]: super::RunStats::h_crit_unconverged
+    fn proven(&mut self, est: StableStep) -> StableStep {
+        if est.converged {
+            return est;
+        }
+        self.stats.h_crit_unconverged += 1;
+        let bound = self.stiffness_bound();
+        if bound > est.omega_max_sq {
+            StableStep {
+                omega_max_sq: bound,
+                h_crit: 2.0 / bound.sqrt(),
+                ..est
+            }
+        } else {
+            est
+        }
     }
 }

@@ -195,6 +195,9 @@ pub struct RunStats {
     pub corner_checks: CornerChecks,
     /// Delayed laws: the negative ΔD taken as 0 (model §5.5), over the run.
     pub damage_clamped: DamageClamped,
+    /// h_crit estimates meant to converge that stopped on the Lanczos iteration cap instead;
+    /// each took the proven element bound where it was the larger ω² (model §6.4).
+    pub h_crit_unconverged: u64,
 }
 
 /// What the ledger added to the damage dissipation by taking a delayed law's negative ΔD as 0
@@ -234,4 +237,6 @@ pub struct StableStep {
     /// h_crit = 2/ω_max [s].
     pub h_crit: f64,
     pub iterations: usize,
+    /// The Lanczos run stopped on its convergence test, not on its iteration cap.
+    pub converged: bool,
 }
