@@ -289,7 +289,7 @@ pub fn output_error_text(e: &OutputError) -> String {
 /// The history as CSV: a header, then one line per run.
 pub fn csv(rows: &[HistoryRow]) -> String {
     let mut s = String::from(
-        "id,scene,family,g_n0_Pa_per_m,alpha_e_m,u_r_m,mu_inf,cells,time_step_factor,end_time_s,material,integration,\
+        "id,scene,family,interface,g_n0_Pa_per_m,alpha_e_m,u_r_m,mu_inf,cells,time_step_factor,end_time_s,material,integration,\
          status,steps,simulated_time_s,time_first_damage_s,time_full_rupture_s,peak_force_N,\
          damage_dissipated_J,max_relative_residual,elastic,transition,ruptured,unformed,wall_s,recording,paraview,error\n",
     );
@@ -299,10 +299,11 @@ pub fn csv(rows: &[HistoryRow]) -> String {
         let st = &r.settings;
         let knots = st.law.knots();
         s.push_str(&format!(
-            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{:e},{},{},{},{:e},{:e},{},{},{},{},{:.3},{},{},{}\n",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{:e},{},{},{},{:e},{:e},{},{},{},{},{:.3},{},{},{}\n",
             r.id,
             quote(&st.scene),
             st.law.family,
+            quote(&st.interface_label()),
             opt(knots.map(|k| k.g_n0)),
             opt(knots.map(|k| k.alpha_e)),
             opt(knots.map(|k| k.u_r)),

@@ -12,9 +12,39 @@ use egui_plot::{Legend, Line, Plot};
 const RED: egui::Color32 = egui::Color32::from_rgb(220, 50, 50);
 
 impl App {
+    /// With several `[[interface]]`s, which one the editor edits (named by face set and
+    /// mould): picking one loads its law from the scene file; the others run with their own.
+    fn interface_picker(&mut self, ui: &mut egui::Ui) {
+        if self.settings.interfaces.len() < 2 {
+            return;
+        }
+        let mut picked = None;
+        egui::ComboBox::from_label("edited interface")
+            .selected_text(self.settings.interface_label())
+            .show_ui(ui, |ui| {
+                for (k, label) in self.settings.interfaces.iter().enumerate() {
+                    let text = format!("{k}: {label}");
+                    if ui
+                        .selectable_label(k == self.settings.interface, text)
+                        .clicked()
+                    {
+                        picked = Some(k);
+                    }
+                }
+            })
+            .response
+            .on_hover_text(
+                "the law below is this interface's; the other interfaces keep the scene's own laws",
+            );
+        if let Some(k) = picked {
+            self.edit_interface(k);
+        }
+    }
+
     /// The law editor: family, its parameters, μ_inf, and what the law gives.
     pub(super) fn law_ui(&mut self, ui: &mut egui::Ui) {
         ui.heading("Interface law");
+        self.interface_picker(ui);
         let law = &mut self.settings.law;
         family_picker(ui, law);
         if let Some(spec) = law.spec() {

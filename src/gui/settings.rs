@@ -50,6 +50,14 @@ pub struct Settings {
     pub paraview: bool,
     /// Folder of saved recordings, ParaView files and CSV exports.
     pub output_dir: String,
+    /// The `[[interface]]` whose law the editor edits (index in the scene file); the others
+    /// keep the scene's own.
+    #[serde(default)]
+    pub interface: usize,
+    /// Each `[[interface]]` of the scene, named by its face set and mould, for the picker
+    /// and the history.
+    #[serde(default)]
+    pub interfaces: Vec<String>,
 }
 
 impl Default for Settings {
@@ -67,6 +75,8 @@ impl Default for Settings {
             record: RecordChoice::Viewer,
             paraview: false,
             output_dir: "out/gui".into(),
+            interface: 0,
+            interfaces: vec![],
         }
     }
 }
@@ -184,9 +194,16 @@ impl Settings {
     /// Takes the law and run settings of a scene (the scene file stays `self.scene`).
     pub fn take_scene(&mut self, scene: &Scene) {
         let m = &scene.model;
-        if let Some(itf) = m.interfaces.first() {
-            self.law.take(&itf.law, itf.mu_inf);
+        self.interfaces = (m.interfaces.iter())
+            .map(|itf| {
+                let mould = m.planes.get(itf.plane).map_or("?", |p| p.name.as_str());
+                format!("{} on {mould}", itf.faces)
+            })
+            .collect();
+        if self.interface >= m.interfaces.len() {
+            self.interface = 0;
         }
+        self.take_interface(scene, self.interface);
         self.cells = scene_cells(scene).unwrap_or(0);
         self.factor = m.scheme.time_step_factor;
         self.integration = match m.scheme.integration {
@@ -201,6 +218,22 @@ impl Settings {
         };
     }
 
+    /// Edits the law of `[[interface]]` number `k` of `scene` from now on (its law and μ_inf
+    /// loaded into the editor); nothing when there is no such interface.
+    pub fn take_interface(&mut self, scene: &Scene, k: usize) {
+        if let Some(itf) = scene.model.interfaces.get(k) {
+            self.interface = k;
+            self.law.take(&itf.law, itf.mu_inf);
+        }
+    }
+
+    /// The edited interface named for the history: `k: faces on mould`, empty without one.
+    pub fn interface_label(&self) -> String {
+        self.interfaces
+            .get(self.interface)
+            .map_or(String::new(), |l| format!("{}: {l}", self.interface))
+    }
+
     /// The scene file with these settings applied, as TOML text.
     pub fn scene_text(&self) -> Result<String, String> {
         let text = read_scene(&self.scene)?;
@@ -208,15 +241,14 @@ impl Settings {
         let s = self;
         let law = s.law.to_toml()?;
         if let Some(toml::Value::Array(itfs)) = doc.get_mut("interface") {
-            for itf in itfs.iter_mut() {
-                if let toml::Value::Table(t) = itf {
-                    t.insert("law".into(), toml::Value::Table(law.clone()));
-                    match s.law.delay_toml() {
-                        Some(d) => t.insert("delay".into(), toml::Value::Table(d)),
-                        None => t.remove("delay"),
-                    };
-                    t.insert("mu_inf".into(), s.law.mu_inf.into());
-                }
+            // Only the edited interface takes the editor's law; the others keep their own.
+            if let Some(toml::Value::Table(t)) = itfs.get_mut(s.interface) {
+                t.insert("law".into(), toml::Value::Table(law));
+                match s.law.delay_toml() {
+                    Some(d) => t.insert("delay".into(), toml::Value::Table(d)),
+                    None => t.remove("delay"),
+                };
+                t.insert("mu_inf".into(), s.law.mu_inf.into());
             }
         }
         if let Some(toml::Value::Table(mesh)) = doc.get_mut("mesh") {

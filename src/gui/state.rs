@@ -236,6 +236,18 @@ impl App {
         }
     }
 
+    /// Edits the law of `[[interface]]` `k` of the scene from now on, loaded from the scene
+    /// file (the edits of the previous one are dropped).
+    pub fn edit_interface(&mut self, k: usize) {
+        match super::settings::open_scene(&self.settings.scene) {
+            Ok(scene) => {
+                self.settings.take_interface(&scene, k);
+                self.validation = None;
+            }
+            Err(e) => self.notes.push(e),
+        }
+    }
+
     /// The settings of history row `i`, to run them again.
     pub fn load_row(&mut self, i: usize) {
         if let Some(row) = self.history.get(i) {
@@ -676,6 +688,39 @@ mod tests {
         app.load_row(0);
         assert_eq!(app.settings.law, law);
         assert_eq!(app.blocker(), None);
+    }
+
+    /// `roller_peel` has two interfaces (the peel on the plate, the clamp on the roller): the
+    /// editor edits one at a time, and the other keeps its own law. Editing interface 1 (the
+    /// clamp) leaves the peel's law as the scene file has it, and the history row names the
+    /// edited interface.
+    #[test]
+    fn the_editor_edits_one_interface_at_a_time() {
+        let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+        let mut app = App::default();
+        app.load_scene(&root.join("scenes/roller_peel.toml").display().to_string());
+        assert!(app.notes.is_empty(), "{:?}", app.notes);
+        assert_eq!(app.settings.interfaces, ["z- on plate", "clamp on roller"]);
+        assert_eq!(app.settings.interface, 0);
+        let file = app.scene().unwrap();
+        let laws = |scene: &Scene| -> Vec<String> {
+            (scene.model.interfaces.iter())
+                .map(|i| i.law.to_string())
+                .collect()
+        };
+        let original = laws(&file);
+        // The peel law loaded by default; the clamp's once picked.
+        app.edit_interface(1);
+        assert_eq!(app.settings.interface, 1);
+        assert_eq!(app.settings.law.law().unwrap().to_string(), original[1]);
+        let u_r = app.settings.law.knots().unwrap().u_r;
+        (app.settings.law.values.0).insert("u_r".into(), (2.0 * u_r).into());
+        let edited = laws(&app.scene().unwrap());
+        assert_eq!(edited[0], original[0], "the peel law must not change");
+        assert_ne!(edited[1], original[1]);
+        assert_eq!(app.settings.interface_label(), "1: clamp on roller");
+        let row = HistoryRow::failed(1, &app.settings, "not run".into(), web_time::Instant::now());
+        assert!(super::super::history::csv(&[row]).contains(",\"1: clamp on roller\","));
     }
 
     /// Queued variants: a key the explorer cannot vary and an inadmissible value are refused

@@ -379,7 +379,12 @@ impl App {
                                 .unwrap_or_default(),
                         );
                         let law = st.law.law();
-                        ui.label(&st.law.family).on_hover_text(match &law {
+                        let on = st.interface_label();
+                        let family = match on.is_empty() || st.interfaces.len() < 2 {
+                            true => st.law.family.clone(),
+                            false => format!("{} (interface {on})", st.law.family),
+                        };
+                        ui.label(family).on_hover_text(match &law {
                             Ok(l) => l.to_string(),
                             Err(e) => e.clone(),
                         });
