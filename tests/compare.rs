@@ -238,9 +238,12 @@ fn series_of_two_runs_compared_column_by_column() {
     );
 }
 
-/// A series of 40 rows 0.1 s apart whose force steps from 0 to 1000 N at row `at`.
+/// A series of 40 rows 0.1 s apart whose force steps from 0 to 1000 N at row `at` (its column
+/// named with a comma and a quote, quoted as the series writes such a name).
 fn step_series(path: &Path, at: usize) {
-    let mut s = String::from("t [s],step [-],h [s],F_z [N],kinetic [J],relative_residual [-]\n");
+    let mut s = String::from(
+        "t [s],step [-],h [s],\"F_mould_a,\"\"b\"\"_z [N]\",kinetic [J],relative_residual [-]\n",
+    );
     for k in 0..40 {
         let f = if k >= at { 1000.0 } else { 0.0 };
         s.push_str(&format!("{},{k},0.1,{f},1.0,0.0\n", k as f64 * 0.1));
@@ -259,7 +262,7 @@ fn a_step_one_row_apart_is_the_same_ten_rows_apart_it_moved() {
     assert_eq!(code, 0, "{rows:?}");
     let (code, rows) = compare_json(&a, &far, &[]);
     assert_eq!(code, 1);
-    let r = row(&rows, "F_z");
+    let r = row(&rows, "F_mould_a,\"b\"_z");
     assert_eq!(r["verdict"], "moved");
     assert_eq!(r["difference"].as_f64(), Some(1000.0));
 }

@@ -67,8 +67,8 @@ impl Series {
     /// Reads a `run --series` CSV text: a header `t [s],step [-],…` and rows of numbers.
     pub fn parse(text: &str) -> Result<Series, String> {
         let mut lines = text.lines();
-        let header: Vec<&str> = lines.next().unwrap_or("").split(',').collect();
-        if header.first() != Some(&"t [s]") {
+        let header = header_names(lines.next().unwrap_or(""));
+        if header.first().map(String::as_str) != Some("t [s]") {
             return Err("not a time series: the first line must be the header of run --series, starting `t [s],`".into());
         }
         let mut rows: Vec<Vec<f64>> = Vec::new();
@@ -95,7 +95,7 @@ impl Series {
                 let (name, unit) = h
                     .strip_suffix(']')
                     .and_then(|n| n.rsplit_once(" ["))
-                    .unwrap_or((h, ""));
+                    .unwrap_or((h.as_str(), ""));
                 Column {
                     name: name.to_string(),
                     quantity: quantity(name, unit),
@@ -130,6 +130,26 @@ impl Series {
         let samples = self.columns.first().map_or(0, |c| c.t.len()) as f64;
         largest(self, Quantity::Residual) * e_max + samples * f64::EPSILON * e_max
     }
+}
+
+/// The names of a CSV header line: split at commas, a quoted name (RFC 4180, as the series
+/// writes a name holding a comma or a quote) kept whole with its doubled quotes undone.
+fn header_names(line: &str) -> Vec<String> {
+    let (mut names, mut name, mut quoted) = (Vec::new(), String::new(), false);
+    let mut chars = line.chars().peekable();
+    while let Some(c) = chars.next() {
+        match (c, quoted) {
+            ('"', true) if chars.peek() == Some(&'"') => {
+                chars.next();
+                name.push('"');
+            }
+            ('"', _) => quoted = !quoted,
+            (',', false) => names.push(std::mem::take(&mut name)),
+            (c, _) => name.push(c),
+        }
+    }
+    names.push(name);
+    names
 }
 
 /// B's value at time `t`, linearly interpolated (`t` within B's times).
