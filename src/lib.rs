@@ -20,6 +20,8 @@ pub use decohesion_physics::{
 /// The `decohesion` subcommands behind the command line's parsing (run, check, tradeoff, bench);
 /// on wasm32 only what the explorer shares with it (the `--vary` parser, the series colours).
 pub mod cli;
+/// `decohesion compare`: two results observable by observable, each within a physical tolerance.
+pub mod compare;
 /// The run driver: the outputs of a run, its loop, cancellation, progress, the summary.
 #[cfg(not(target_arch = "wasm32"))]
 pub mod driver;

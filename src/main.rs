@@ -7,7 +7,7 @@
 #![cfg(not(target_arch = "wasm32"))]
 
 use clap::{CommandFactory, Parser, Subcommand};
-use decohesion::cli::{bench, check, reference, run, sweep, tradeoff, SweepArgs};
+use decohesion::cli::{bench, check, compare, reference, run, sweep, tradeoff, SweepArgs};
 use decohesion::driver::Plan;
 use decohesion::record::{Cadence, Sink};
 use decohesion::scene::load_scene;
@@ -175,6 +175,39 @@ enum Command {
         /// Quadratures to measure: full (2×2×2) and/or reduced (one point + hourglass control).
         #[arg(long, value_name = "RULE,...", default_value = "full,reduced", value_delimiter = ',', value_parser = ["full", "reduced"])]
         integration: Vec<String>,
+    },
+    /// Compare two run results observable by observable, each within a physical tolerance: two
+    /// summaries (run --summary, or golden files tests/golden/*.json), two time series (run
+    /// --series, .csv) or two Rerun captures (run --save, .rrd).
+    ///
+    /// Prints a table (observable, A, B, difference, tolerance, ok/MOVED) and exits 0 when
+    /// every observable is within its tolerance, 1 when one moved beyond it, 2 when a file
+    /// cannot be compared (missing, not a summary/series/capture, two different kinds) or a
+    /// --tol is bad. Default tolerances: energies within the larger run's balance residual
+    /// (max_relative_residual × its largest energy) plus round-off; event times (first damage,
+    /// full rupture, a peak's time) within two steps; peak reactions within 2 h/t_peak
+    /// (relative); time steps and h_crit 2 %; the step count 1 % + 2; final state counts one
+    /// node; max_relative_residual a factor 2; status, error and mesh sizes equal. Series and
+    /// captures: each value of A against B over A's time ± two rows; energies as above,
+    /// reactions 1 % of the largest force (moment), displacements 1 % of the column's largest value, counts one node.
+    Compare {
+        /// The reference result: a summary (.json), a series (.csv) or a capture (.rrd).
+        a: PathBuf,
+        /// The result compared with it, of the same kind.
+        b: PathBuf,
+        /// Override a tolerance, e.g. --tol energies.damage_dissipated=0.5%, --tol times=1e-4,
+        /// --tol warnings=exact (repeat for several). KEY: an observable as the table names it,
+        /// or a group (energies, times, peaks, h, steps, counts, residual, status, mesh;
+        /// series: reactions, displacements). VALUE: a number ≥ 0 (absolute, in the
+        /// observable's unit), N% (relative to the larger magnitude; a series: to the
+        /// column's largest value, a force or moment column's to the largest force or moment),
+        /// exact, or ignore (shown, not judged).
+        #[arg(long = "tol", value_name = "KEY=VALUE")]
+        tol: Vec<String>,
+        /// Print the comparison as JSON (every row with its tolerance, the allowed difference and
+        /// the reason) instead of the table.
+        #[arg(long)]
+        json: bool,
     },
     /// Print a reference page generated from the code, as Markdown: every key of a scene file
     /// (`scenes`) or every subcommand and option of this command (`cli`).
@@ -378,6 +411,7 @@ fn main() {
             let scene = scene_flag.unwrap_or(scene);
             bench(&scene, &sizes, repeats, work, &integration)
         }
+        Command::Compare { a, b, tol, json } => std::process::exit(compare(&a, &b, &tol, json)),
         Command::Reference { page, out } => {
             let text = match page.as_str() {
                 "scenes" => reference::scenes(),

@@ -18,6 +18,7 @@ mod listing;
 mod validation;
 
 mod command_line;
+mod compare;
 mod gmsh;
 mod golden;
 mod gui;

@@ -1,6 +1,6 @@
 //! The subcommands of the `decohesion` command, behind its argument parsing (`src/main.rs`):
 //! `run` ([`run()`], through the run driver), `check`, `sweep` (a grid of runs, [`sweep()`]),
-//! `tradeoff`, `bench`, `reference` (the reference pages generated from the code,
+//! `tradeoff`, `bench`, `compare` (two results, [`compare()`]), `reference` (the reference pages generated from the code,
 //! [`reference`]).
 //!
 //! On wasm32 (the web page) only [`Vary`] and [`PALETTE`] exist, which the explorer uses.
@@ -9,6 +9,8 @@
 mod bench;
 #[cfg(not(target_arch = "wasm32"))]
 mod check;
+#[cfg(not(target_arch = "wasm32"))]
+pub mod compare;
 #[cfg(not(target_arch = "wasm32"))]
 mod peak;
 #[cfg(not(target_arch = "wasm32"))]
@@ -28,7 +30,8 @@ mod vary;
 pub use vary::{Vary, PALETTE};
 #[cfg(not(target_arch = "wasm32"))]
 pub use {
-    bench::bench, check::check, run::run, sweep::sweep, sweep::SweepArgs, tradeoff::tradeoff,
+    bench::bench, check::check, compare::compare, run::run, sweep::sweep, sweep::SweepArgs,
+    tradeoff::tradeoff,
 };
 
 /// What `decohesion` prints after `error: `: the message of `e` and of each of its causes,
