@@ -26,7 +26,8 @@
 //! AVX-512 builds do the same arithmetic and give the same bits (`physics/src/kernels/tests.rs`
 //! asserts it kernel by kernel on a CPU that runs both); the portable build rounds a·b + c
 //! twice and differs by round-off (that test bounds it at 1e-12 relative). The golden files
-//! are generated on x86-64 with AVX2 and FMA: the hashes and the summaries' bits hold on x86-64
+//! are generated on x86-64 and pass there with either fused build (`DECOHESION_ISA=avx2` and
+//! `avx512` on a CPU that has AVX-512F): the hashes and the summaries' bits hold on x86-64
 //! hosts with AVX2 + FMA or AVX-512F + FMA (Haswell / Zen and later), with the same libm (the
 //! transcendental functions come from the platform's C library). They do not hold on a CPU
 //! without AVX2 or FMA, nor on another architecture (aarch64: portable), nor with
