@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The browser test of the web page (issue 17): headless Chromium, driven through chromedriver's
+"""The browser test of the web page: headless Chromium, driven through chromedriver's
 HTTP API (WebDriver) with the standard library only.
 
     python3 web/test_page.py [--site out/site] [--native BIN] [--screenshot screenshots/web.png]
