@@ -35,6 +35,7 @@ mod pull_off;
 mod rccm;
 mod reduced;
 mod roller_peel;
+mod rubber;
 mod stability;
 mod step;
 mod teaching_scenes;
