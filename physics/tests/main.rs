@@ -36,6 +36,7 @@ mod rccm;
 mod reduced;
 mod roller_peel;
 mod rubber;
+mod rubber_runs;
 mod stability;
 mod step;
 mod teaching_scenes;
