@@ -258,7 +258,11 @@ pub fn rubber_piola<T: Real, const ENERGY: bool>(r: &Rubber, f: &Mat3<T>, j: T) 
 /// - P = P_iso + U′(J) cof F, ψ = ψ_iso + U(J), F⁻ᵀ = cof F / J.
 ///
 /// J ≤ 0 (an inverted element) gives NaN or infinities: the caller checks J.
-#[inline]
+///
+/// Never inlined: one out-of-line copy serves every kernel, ISA and lane (the kernels call it
+/// lane by lane), where inlining it would compile the eigen solve and the powers into each
+/// of them.
+#[inline(never)]
 pub fn piola_energy<const ENERGY: bool>(
     r: &Rubber,
     f: &[[f64; 3]; 3],
