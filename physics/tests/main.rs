@@ -35,6 +35,8 @@ mod pull_off;
 mod rccm;
 mod reduced;
 mod roller_peel;
+mod rubber;
+mod rubber_runs;
 mod stability;
 mod step;
 mod teaching_scenes;

@@ -68,7 +68,9 @@ class Scene:
     def check(self) -> dict[str, Any]:
         """What ``decohesion check`` prints, as a dict: ``file``, ``name``, ``description``,
         ``nodes``, ``elements``, ``smallest_edge`` [m], ``material`` (``model``, ``young`` [Pa],
-        ``poisson``, ``density`` [kg/m³], ``lambda`` and ``mu`` [Pa]), ``wave_speed`` c_d [m/s],
+        ``poisson``, ``density`` [kg/m³], ``lambda`` and ``mu`` [Pa] — a rubber's small-strain
+        limit — and ``rubber``: None, or a dict of the rubber's family constants ``iso``,
+        ``bulk`` K [Pa] and ``volumetric``), ``wave_speed`` c_d [m/s],
         ``h_crit`` [s] (Lanczos estimate, model §6.2), ``h_crit_element`` = L_e/c_d [s],
         ``h_crit_bulk`` [s] or None (the bulk alone, when the glue may set the step),
         ``time_step`` h [s], ``time_step_factor``, ``end_time`` [s], ``expected_steps``,

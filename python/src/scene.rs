@@ -202,6 +202,8 @@ struct MaterialReport {
     density: f64,
     lambda: f64,
     mu: f64,
+    /// A rubber's constants (model §1.10): the family's, `bulk` K [Pa], `volumetric`.
+    rubber: Option<decohesion::material::rubber::Rubber>,
 }
 
 #[derive(Serialize)]
@@ -271,6 +273,7 @@ impl CheckReport {
                 density: mat.density,
                 lambda: mat.lambda,
                 mu: mat.mu,
+                rubber: mat.rubber,
             },
             wave_speed: mat.wave_speed(),
             h_crit: sim.h_crit,

@@ -26,6 +26,10 @@ pub fn check(path: &Path, set: &[String]) -> Result<()> {
         "  material                     {:?}, E = {:.4e} Pa, ν = {}, ρ = {} kg/m³, λ = {:.4e} Pa, μ = {:.4e} Pa",
         mat.model, mat.young, mat.poisson, mat.density, mat.lambda, mat.mu
     );
+    if let Some(r) = &mat.rubber {
+        println!("  rubber (model §1.10)         {r}");
+        println!("                               (E, ν, λ, μ above: its small-strain limit; hourglass modulus 11μ₀; no element bound of the stable step, every estimate converged)");
+    }
     println!("  wave speed c_d               {:.4} m/s", mat.wave_speed());
     println!(
         "  h_crit (Lanczos, §6)         {:.5e} s   (L_e/c_d = {:.5e} s would be {:+.1} % off)",

@@ -161,6 +161,30 @@ fn scene_section(out: &mut String, s: &SectionDoc) {
         ],
         &rows,
     );
+    if s.path == "material" {
+        let rows: Vec<Vec<String>> = crate::material::rubber::RUBBERS
+            .iter()
+            .map(|r| {
+                let keys: Vec<String> = (r.params.iter())
+                    .map(|p| {
+                        let optional = if p.optional { " (0 if left out)" } else { "" };
+                        format!("`{}` {} [{}]{optional}", p.key, p.symbol, p.unit)
+                    })
+                    .collect();
+                vec![
+                    format!("`{}`", r.key),
+                    r.label.to_string(),
+                    keys.join(", "),
+                    r.energy.to_string(),
+                ]
+            })
+            .collect();
+        out.push_str(
+            "The rubber models (model §1.10), ψ = ψ_iso(C̄) + U(J), and the keys each takes \
+             besides `bulk` or `poisson`, `volumetric` and `density`:\n\n",
+        );
+        table(out, &["model", "family", "keys", "ψ_iso"], &rows);
+    }
     if s.path == "mould" {
         let rows: Vec<Vec<String>> = MOULD_SHAPES
             .iter()

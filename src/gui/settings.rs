@@ -38,7 +38,7 @@ pub struct Settings {
     pub end_time: f64,
     /// Frames per run logged to Rerun.
     pub frames: u32,
-    /// "svk" or "neo_hookean".
+    /// The model's key in scene files (`svk`, `neo_hookean`, a rubber's family).
     pub material: String,
     /// "full" (2×2×2) or "reduced" (one point + hourglass control).
     pub integration: String,
@@ -212,10 +212,7 @@ impl Settings {
         };
         self.hourglass = m.scheme.hourglass_coefficient;
         self.end_time = m.end_time;
-        self.material = match m.material.model {
-            crate::material::MaterialModel::Svk => "svk".into(),
-            crate::material::MaterialModel::NeoHookean => "neo_hookean".into(),
-        };
+        self.material = m.material.model.key().into();
     }
 
     /// Edits the law of `[[interface]]` number `k` of `scene` from now on (its law and μ_inf

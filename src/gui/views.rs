@@ -131,15 +131,29 @@ impl App {
                     .text("frames per run (Rerun)"),
             );
         }
+        // The models that take the scene's parameters: E and ν (SVK, neo-Hookean) swap; a
+        // rubber's constants belong to its family (the table of rubber families), so a rubber
+        // scene lists its own model only.
+        use crate::material::MaterialModel;
+        let current = MaterialModel::from_key(&s.material);
+        let rubber = current.and_then(MaterialModel::rubber_spec);
         egui::ComboBox::from_label("material")
             .selected_text(s.material.as_str())
             .show_ui(ui, |ui| {
-                ui.selectable_value(
-                    &mut s.material,
-                    "svk".to_string(),
-                    "svk (Saint-Venant–Kirchhoff)",
-                );
-                ui.selectable_value(&mut s.material, "neo_hookean".to_string(), "neo_hookean");
+                for model in MaterialModel::ALL {
+                    let label = match (model, model.rubber_spec()) {
+                        (MaterialModel::Svk, _) => "svk (Saint-Venant–Kirchhoff)".to_string(),
+                        (_, Some(spec)) => format!("{} ({})", spec.key, spec.label),
+                        (_, None) => model.key().to_string(),
+                    };
+                    let takes_scene = match rubber {
+                        None => model.rubber_spec().is_none(),
+                        Some(_) => Some(model) == current,
+                    };
+                    if takes_scene {
+                        ui.selectable_value(&mut s.material, model.key().to_string(), label);
+                    }
+                }
             });
         ui.horizontal(|ui| {
             ui.label("integration");

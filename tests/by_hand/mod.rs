@@ -43,6 +43,7 @@ pub fn piola_energy(
             let psi = mu / 2.0 * (c.trace() - 3.0) - mu * ln_j + lambda / 2.0 * ln_j * ln_j;
             (s, psi)
         }
+        rubber => panic!("{rubber:?}: the (E, ν) laws only; the rubbers' own formulas are in physics/tests/rubber.rs"),
     };
     (f * s, psi)
 }

@@ -19,10 +19,11 @@ use super::tensor::{
 use super::{first_piola, with_law, Law, Material};
 use crate::mesh::{CentreData, GaussData};
 
-/// Hourglass stiffness of one element, k = κ M V Σₐ bₐ·bₐ / 8 with M = λ + 2μ [N/m]
+/// Hourglass stiffness of one element, k = κ M V Σₐ bₐ·bₐ / 8 [N/m] with
+/// M = [`Material::hourglass_modulus`] (λ + 2μ; 11μ₀ for a rubber, model §1.10)
 /// (Flanagan–Belytschko stiffness form; κ is the scene's `scheme.hourglass_coefficient`).
 pub fn hourglass_stiffness(mat: &Material, cd: &CentreData, kappa: f64) -> f64 {
-    kappa * mat.p_wave_modulus() * cd.volume * cd.bb / 8.0
+    kappa * mat.hourglass_modulus() * cd.volume * cd.bb / 8.0
 }
 
 /// The three components of a per-lane vector (`x[j][lane]`) as [`F64x8`]s.

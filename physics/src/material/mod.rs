@@ -1,7 +1,10 @@
-//! Hyperelastic bulk materials (model §1.3, §1.4) and the per-element internal-force kernels.
+//! Hyperelastic bulk materials (model §1.3, §1.4, §1.10) and the per-element internal-force
+//! kernels.
 //!
 //! Each constitutive model is written once, over any [`Real`] number type:
-//! [`saint_venant_kirchhoff`] (S and ψ from E) and [`neo_hookean`] (P and ψ from F and J).
+//! [`saint_venant_kirchhoff`] (S and ψ from E), [`neo_hookean`] (P and ψ from F and J) and the
+//! nearly incompressible rubbers of [`rubber`] (one file per isochoric family, one kernel law
+//! for all of them).
 //! [`first_piola`] picks one by a [`Law`] type ([`with_law!`] turns a [`MaterialModel`] into
 //! one), and everything that evaluates a stress goes through it: the pointwise
 //! [`Material::piola_energy`] (post-processing and tests) and the kernels of [`element`] — full
@@ -15,6 +18,7 @@
 pub mod element;
 mod kinematics;
 pub mod real;
+pub mod rubber;
 mod tensor;
 
 pub(crate) use element::first_piola_lanes_into;
@@ -34,6 +38,10 @@ use kinematics::{cofactor, doubled_green_lagrange, f_times_s, id};
 use nalgebra::Matrix3;
 use serde::{Deserialize, Serialize};
 
+/// A rubber's hourglass modulus in units of its initial shear modulus μ₀
+/// ([`Material::hourglass_modulus`]): 2(1 − ν)/(1 − 2ν) at ν = 0.45.
+pub const RUBBER_HOURGLASS_SHEAR: f64 = 11.0;
+
 /// Constitutive model.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
@@ -42,9 +50,53 @@ pub enum MaterialModel {
     Svk,
     /// Compressible neo-Hookean ([`neo_hookean`]).
     NeoHookean,
+    /// Neo-Hookean with the isochoric/volumetric split ([`rubber::neo_hookean`]).
+    IsochoricNeoHookean,
+    /// Mooney–Rivlin ([`rubber::mooney_rivlin`]).
+    MooneyRivlin,
+    /// Ogden ([`rubber::ogden`]).
+    Ogden,
+    /// Yeoh ([`rubber::yeoh`]).
+    Yeoh,
 }
 
-/// An isotropic hyperelastic material with its Lamé constants.
+impl MaterialModel {
+    /// Every model, in the order of their keys' declaration.
+    pub const ALL: [MaterialModel; 6] = [
+        MaterialModel::Svk,
+        MaterialModel::NeoHookean,
+        MaterialModel::IsochoricNeoHookean,
+        MaterialModel::MooneyRivlin,
+        MaterialModel::Ogden,
+        MaterialModel::Yeoh,
+    ];
+
+    /// The key of the model in scene files (`svk`, `mooney_rivlin`).
+    pub fn key(self) -> &'static str {
+        match self {
+            MaterialModel::Svk => "svk",
+            MaterialModel::NeoHookean => "neo_hookean",
+            MaterialModel::IsochoricNeoHookean => rubber::neo_hookean::SPEC.key,
+            MaterialModel::MooneyRivlin => rubber::mooney_rivlin::SPEC.key,
+            MaterialModel::Ogden => rubber::ogden::SPEC.key,
+            MaterialModel::Yeoh => rubber::yeoh::SPEC.key,
+        }
+    }
+
+    /// The model of that key.
+    pub fn from_key(key: &str) -> Option<MaterialModel> {
+        MaterialModel::ALL.into_iter().find(|m| m.key() == key)
+    }
+
+    /// A rubber family's row ([`rubber::RUBBERS`]), None for SVK and the compressible
+    /// neo-Hookean (which take E and ν).
+    pub fn rubber_spec(self) -> Option<&'static rubber::RubberSpec> {
+        rubber::rubber_spec(self.key())
+    }
+}
+
+/// An isotropic hyperelastic material with its Lamé constants (for a rubber, those of its
+/// small-strain limit).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Material {
     pub model: MaterialModel,
@@ -58,6 +110,8 @@ pub struct Material {
     pub lambda: f64,
     /// Shear modulus μ = E/(2(1+ν)) [Pa].
     pub mu: f64,
+    /// The rubber's constants (model §1.10), for the rubber models only.
+    pub rubber: Option<rubber::Rubber>,
 }
 
 impl Material {
@@ -71,6 +125,53 @@ impl Material {
             density,
             lambda: young * poisson / ((1.0 + poisson) * (1.0 - 2.0 * poisson)),
             mu: young / (2.0 * (1.0 + poisson)),
+            rubber: None,
+        }
+    }
+
+    /// A rubber material (model §1.10) and the constants of its small-strain limit: μ = μ₀,
+    /// λ = K − ⅔μ₀, E = 9Kμ₀/(3K + μ₀), ν = (3K − 2μ₀)/(2(3K + μ₀)). Validity (μ₀ > 0,
+    /// K > 0, ρ > 0) is checked by the scene loader.
+    pub fn rubber(r: rubber::Rubber, density: f64) -> Self {
+        let model = match r.iso {
+            rubber::Isochoric::NeoHookean(_) => MaterialModel::IsochoricNeoHookean,
+            rubber::Isochoric::MooneyRivlin(_) => MaterialModel::MooneyRivlin,
+            rubber::Isochoric::Ogden(_) => MaterialModel::Ogden,
+            rubber::Isochoric::Yeoh(_) => MaterialModel::Yeoh,
+        };
+        let (mu, k) = (r.mu0(), r.bulk);
+        Material {
+            model,
+            young: 9.0 * k * mu / (3.0 * k + mu),
+            poisson: (3.0 * k - 2.0 * mu) / (2.0 * (3.0 * k + mu)),
+            density,
+            lambda: k - 2.0 / 3.0 * mu,
+            mu,
+            rubber: Some(r),
+        }
+    }
+
+    /// A material of `model` with typical constants (flop counts, tests): E = 5 MPa, ν = 0.3,
+    /// ρ = 1000 kg/m³ for SVK and the compressible neo-Hookean; for a rubber, its family's
+    /// material of [`rubber::examples`].
+    pub fn example(model: MaterialModel) -> Self {
+        rubber::examples()
+            .into_iter()
+            .map(|r| Material::rubber(r, 1000.0))
+            .find(|m| m.model == model)
+            .unwrap_or_else(|| Material::new(model, 5e6, 0.3, 1000.0))
+    }
+
+    /// The modulus M_hg of the one-point element's hourglass stiffness k = κ M_hg V Σₐ bₐ·bₐ/8
+    /// (model §1.6, §1.10): λ + 2μ for SVK and the compressible neo-Hookean; for a rubber
+    /// [`RUBBER_HOURGLASS_SHEAR`] μ₀, the λ + 2μ = 2μ(1 − ν)/(1 − 2ν) of a material of the
+    /// same shear modulus at ν = 0.45 (the shipped scenes' SVK), so that the hourglass
+    /// stiffness follows the shear modulus and not the bulk modulus, which would lock the
+    /// element near incompressibility.
+    pub fn hourglass_modulus(&self) -> f64 {
+        match self.rubber {
+            None => self.p_wave_modulus(),
+            Some(r) => RUBBER_HOURGLASS_SHEAR * r.mu0(),
         }
     }
 
@@ -108,41 +209,63 @@ impl Material {
     }
 }
 
-/// A constitutive model as a type, so that a kernel generic over it is compiled once per model
+/// The stress code a kernel is compiled for: one per [`Law`] type.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum KernelLaw {
+    Svk,
+    NeoHookean,
+    /// Every rubber model (model §1.10): one kernel, the family matched at run time (all the
+    /// lanes of a kernel share one material, so the branch is uniform).
+    Rubber,
+}
+
+/// A constitutive model as a type, so that a kernel generic over it is compiled once per law
 /// as straight-line code ([`with_law!`] picks the type of a [`MaterialModel`]).
 pub trait Law {
-    const MODEL: MaterialModel;
+    const KERNEL: KernelLaw;
 }
 
 /// [`MaterialModel::Svk`] as a [`Law`].
 pub struct SvkLaw;
 impl Law for SvkLaw {
-    const MODEL: MaterialModel = MaterialModel::Svk;
+    const KERNEL: KernelLaw = KernelLaw::Svk;
 }
 
 /// [`MaterialModel::NeoHookean`] as a [`Law`].
 pub struct NeoHookeanLaw;
 impl Law for NeoHookeanLaw {
-    const MODEL: MaterialModel = MaterialModel::NeoHookean;
+    const KERNEL: KernelLaw = KernelLaw::NeoHookean;
+}
+
+/// The rubber models ([`rubber`]) as one [`Law`]: one more copy of each kernel for all of
+/// them, not one per family.
+pub struct RubberLaw;
+impl Law for RubberLaw {
+    const KERNEL: KernelLaw = KernelLaw::Rubber;
 }
 
 /// First Piola–Kirchhoff stress P and energy density ψ (ψ only if `ENERGY`, else 0) of the law
-/// `L` at a point deformed by `d` (model §1.3, §1.4): [`saint_venant_kirchhoff`] of
-/// 2E = H + Hᵀ + HᵀH, then P = F·S = S + H·S, or [`neo_hookean`]; multiply–adds fused when
-/// `FMA` (`d` is formed with the same `FMA`). The one place every evaluation of a stress goes
-/// through.
+/// `L` at a point deformed by `d` (model §1.3, §1.4, §1.10): [`saint_venant_kirchhoff`] of
+/// 2E = H + Hᵀ + HᵀH, then P = F·S = S + H·S, or [`neo_hookean`], or
+/// [`rubber::rubber_piola`]; multiply–adds fused when `FMA` (`d` is formed with the same
+/// `FMA`; the rubbers write none). The one place every evaluation of a stress goes through.
 #[inline(always)]
 pub fn first_piola<L: Law, T: Real, const ENERGY: bool, const FMA: bool>(
     mat: &Material,
     d: &Deformation<T>,
 ) -> (Mat3<T>, T) {
-    match L::MODEL {
-        MaterialModel::Svk => {
+    match L::KERNEL {
+        KernelLaw::Svk => {
             let g = doubled_green_lagrange::<T, FMA>(&d.h);
             let (s, psi) = saint_venant_kirchhoff::<T, ENERGY, FMA>(mat.lambda, mat.mu, &g);
             (f_times_s::<T, FMA>(&d.h, &s), psi)
         }
-        MaterialModel::NeoHookean => neo_hookean::<T, ENERGY>(mat.lambda, mat.mu, &d.f, d.j),
+        KernelLaw::NeoHookean => neo_hookean::<T, ENERGY>(mat.lambda, mat.mu, &d.f, d.j),
+        KernelLaw::Rubber => match &mat.rubber {
+            Some(r) => rubber::rubber_piola::<T, ENERGY>(r, &d.f, d.j),
+            // `Material::rubber` is the one constructor of a rubber model's material.
+            None => unreachable!("a rubber model's material holds its constants"),
+        },
     }
 }
 
@@ -157,6 +280,13 @@ macro_rules! with_law {
             }
             $crate::material::MaterialModel::NeoHookean => {
                 type $law = $crate::material::NeoHookeanLaw;
+                $body
+            }
+            $crate::material::MaterialModel::IsochoricNeoHookean
+            | $crate::material::MaterialModel::MooneyRivlin
+            | $crate::material::MaterialModel::Ogden
+            | $crate::material::MaterialModel::Yeoh => {
+                type $law = $crate::material::RubberLaw;
                 $body
             }
         }
@@ -274,7 +404,7 @@ mod tests {
                     psi8.0[l].to_bits(),
                     psi.to_bits(),
                     "{:?} lane {l}",
-                    L::MODEL
+                    L::KERNEL
                 );
                 for i in 0..3 {
                     for j in 0..3 {
@@ -283,9 +413,12 @@ mod tests {
                 }
             }
         }
-        for model in [MaterialModel::Svk, MaterialModel::NeoHookean] {
-            let mat = Material::new(model, 5e6, 0.45, 1100.0);
-            with_law!(model, L => {
+        let mut materials: Vec<Material> = [MaterialModel::Svk, MaterialModel::NeoHookean]
+            .map(|model| Material::new(model, 5e6, 0.45, 1100.0))
+            .to_vec();
+        materials.extend(rubber::examples().map(|r| Material::rubber(r, 1100.0)));
+        for mat in materials {
+            with_law!(mat.model, L => {
                 check::<L, false>(&mat);
                 check::<L, true>(&mat);
             });

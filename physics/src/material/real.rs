@@ -16,6 +16,14 @@ pub trait Real:
     fn ln(self) -> Self;
     /// `self`·b + c, fused (one rounding) when `FMA`, else a product then a sum.
     fn fmadd<const FMA: bool>(self, b: Self, c: Self) -> Self;
+    /// `f` applied to each lane: the N inputs of a lane in, its M outputs out. For what has no
+    /// lane-wise form written here (cube roots, powers, eigenvalues: the rubber materials,
+    /// `material::rubber`); on [`F64x8`] it is `f` lane after lane, so every lane has the bits
+    /// of `f` on `f64`.
+    fn per_lane<const N: usize, const M: usize>(
+        x: [Self; N],
+        f: impl Fn([f64; N]) -> [f64; M],
+    ) -> [Self; M];
 }
 
 impl Real for f64 {
@@ -34,6 +42,13 @@ impl Real for f64 {
         } else {
             self * b + c
         }
+    }
+    #[inline(always)]
+    fn per_lane<const N: usize, const M: usize>(
+        x: [f64; N],
+        f: impl Fn([f64; N]) -> [f64; M],
+    ) -> [f64; M] {
+        f(x)
     }
 }
 
@@ -108,6 +123,20 @@ impl Real for F64x8 {
             r[l] = self.0[l].fmadd::<FMA>(b.0[l], r[l]);
         }
         F64x8(r)
+    }
+    #[inline(always)]
+    fn per_lane<const N: usize, const M: usize>(
+        x: [F64x8; N],
+        f: impl Fn([f64; N]) -> [f64; M],
+    ) -> [F64x8; M] {
+        let mut out = [F64x8([0.0; 8]); M];
+        for l in 0..8 {
+            let y = f(std::array::from_fn(|k| x[k].0[l]));
+            for (o, y) in out.iter_mut().zip(y) {
+                o.0[l] = y;
+            }
+        }
+        out
     }
 }
 

@@ -6,10 +6,7 @@ use super::adhesion::ContactEntry;
 use super::check::Check;
 use super::error::{num, SceneError};
 use super::keys;
-use super::raw::{
-    RawDisplacement, RawInterface, RawMaterial, RawPlane, RawScene, RawScheme, RawTraction,
-};
-use crate::material::{Material, MaterialModel};
+use super::raw::{RawDisplacement, RawInterface, RawPlane, RawScene, RawScheme, RawTraction};
 use crate::mesh::{dot, Mesh};
 use crate::model::{
     Interface, Model, PiecewiseLinear, PrescribedDisplacement, RigidPlane, SchemeParams, Traction,
@@ -148,19 +145,6 @@ impl Check<'_> {
                 v(n_face),
                 v(n_mould)
             ),
-        ))
-    }
-
-    /// `[material]`: E > 0, −1 < ν < 0.5, ρ > 0; SVK unless `model` says otherwise.
-    fn material(&self, mat: &RawMaterial) -> Result<Material, SceneError> {
-        self.admit(&keys::YOUNG, "material.young", mat.young)?;
-        self.admit(&keys::POISSON, "material.poisson", mat.poisson)?;
-        self.admit(&keys::DENSITY, "material.density", mat.density)?;
-        Ok(Material::new(
-            mat.model.unwrap_or(MaterialModel::Svk),
-            mat.young,
-            mat.poisson,
-            mat.density,
         ))
     }
 

@@ -625,21 +625,14 @@ pub const SECTIONS: &[SectionDoc] = &[
         path: "material",
         array: false,
         presence: "required",
-        about: "The body's isotropic hyperelastic material.",
-        keys: &[
-            KeyDoc::new(
-                "model",
-                "string",
-                "",
-                "constitutive model: Saint-Venant–Kirchhoff (`svk`) or compressible neo-Hookean \
-                 (`neo_hookean`)",
-            )
-            .default_text("\"svk\"")
-            .choices(&["svk", "neo_hookean"]),
-            YOUNG,
-            POISSON,
-            DENSITY,
-        ],
+        about: "The body's isotropic hyperelastic material: Saint-Venant–Kirchhoff or the \
+                compressible neo-Hookean from E and ν, or a nearly incompressible rubber \
+                (model §1.10) from its family's parameters and its bulk modulus K (`bulk`, or \
+                `poisson` ν through the initial shear modulus μ₀). Each rubber is checked for \
+                Drucker stability over stretches 0.1 to 10 in uniaxial, equibiaxial and planar \
+                tension: an unstable set at rest (μ₀ ≤ 0) is refused, an instability further out \
+                is a warning that names the first unstable stretch and the mode.",
+        keys: super::material_keys::MATERIAL_KEYS,
     },
     SectionDoc {
         path: "scheme",
@@ -1092,6 +1085,10 @@ mod tests {
             Some(c)
         };
         assert_eq!(sorted(key("material", "model")), names::<MaterialModel>());
+        assert_eq!(
+            sorted(key("material", "volumetric")),
+            names::<crate::material::rubber::Volumetric>()
+        );
         assert_eq!(sorted(key("scheme", "integration")), names::<Integration>());
         assert_eq!(sorted(key("displacement", "component")), names::<Axis>());
         let shapes: Vec<&str> = MOULD_SHAPES.iter().map(|s| s.shape).collect();

@@ -7,8 +7,9 @@
 //! structs (`raw.rs`: unknown keys and wrong types are refused here, with the key path and toml's
 //! line and column), refuse any non-finite number, then check ranges and cross-references
 //! (`check.rs`) while building the model types: the mesh (`mesh.rs`), the laws (`law.rs`, from
-//! the table of law families) and the rest (`assemble.rs`). Every error ([`SceneError`],
-//! `error.rs`) names the file, the key path, the offending value and what is admissible.
+//! the table of law families), the material (`material.rs`, from the table of rubber families)
+//! and the rest (`assemble.rs`). Every error ([`SceneError`], `error.rs`) names the file, the
+//! key path, the offending value and what is admissible.
 
 mod adhesion;
 mod assemble;
@@ -16,6 +17,8 @@ mod check;
 mod error;
 pub mod keys;
 mod law;
+mod material;
+pub mod material_keys;
 mod mesh;
 mod overrides;
 mod raw;

@@ -4,6 +4,7 @@
 //! `pub` for the sibling modules only.
 
 use super::error::SceneError;
+use crate::material::rubber::Volumetric;
 use crate::material::MaterialModel;
 use crate::model::Integration;
 use serde::de::DeserializeOwned;
@@ -82,9 +83,17 @@ pub struct RawFaceSet {
 #[serde(deny_unknown_fields)]
 pub struct RawMaterial {
     pub model: Option<MaterialModel>,
-    pub young: f64,
-    pub poisson: f64,
+    pub young: Option<f64>,
+    pub poisson: Option<f64>,
     pub density: f64,
+    pub bulk: Option<f64>,
+    pub volumetric: Option<Volumetric>,
+    pub c10: Option<f64>,
+    pub c01: Option<f64>,
+    pub c20: Option<f64>,
+    pub c30: Option<f64>,
+    pub mu: Option<Vec<f64>>,
+    pub alpha: Option<Vec<f64>>,
 }
 
 #[derive(Deserialize, Default)]

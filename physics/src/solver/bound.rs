@@ -58,6 +58,10 @@ pub(super) struct BoundCache {
 ///
 /// Both give 3λ + 2μ at F = I (a pure dilatation G = I attains it). Clipped at 0; a
 /// non-positive J gives +∞ (an inverted element: no bound).
+///
+/// The rubber models (model §1.10) declare no bound: +∞, and [`Simulation::stiffness_bound`]
+/// then certifies no update, so every estimate of the stable step is a converged Lanczos
+/// estimate (model §6.4).
 #[inline(always)]
 pub fn modulus_bound(mat: &Material, f: &[[f64; 3]; 3]) -> f64 {
     let mut c = [[0.0; 3]; 3];
@@ -68,6 +72,10 @@ pub fn modulus_bound(mat: &Material, f: &[[f64; 3]; 3]) -> f64 {
     }
     let (lambda, mu) = (mat.lambda, mat.mu);
     let a = match mat.model {
+        MaterialModel::IsochoricNeoHookean
+        | MaterialModel::MooneyRivlin
+        | MaterialModel::Ogden
+        | MaterialModel::Yeoh => return f64::INFINITY,
         MaterialModel::Svk => {
             let c_hat = gershgorin(&c);
             let tr_c = c[0][0] + c[1][1] + c[2][2];
@@ -166,6 +174,10 @@ fn modulus_lanes(mat: &Material, f: &[[[f64; 8]; 3]; 3]) -> [f64; 8] {
     let (lambda, mu) = (mat.lambda, mat.mu);
     let mut a: Lanes = [0.0; 8];
     match mat.model {
+        MaterialModel::IsochoricNeoHookean
+        | MaterialModel::MooneyRivlin
+        | MaterialModel::Ogden
+        | MaterialModel::Yeoh => return [f64::INFINITY; 8],
         MaterialModel::Svk => {
             for q in 0..8 {
                 let c_hat = gershgorin_lane(&c, q);
@@ -328,8 +340,12 @@ impl Simulation {
     /// the Lanczos estimates, model §6.1), so 2/√bound ≤ h_crit. On the step's team;
     /// deterministic whatever the thread count (a maximum).
     pub fn stiffness_bound(&mut self) -> f64 {
-        let mut cache = std::mem::take(&mut self.step_control.bound);
         let mat = self.model.material;
+        if mat.rubber.is_some() {
+            // No bound declared ([`modulus_bound`]): nothing to certify with.
+            return f64::INFINITY;
+        }
+        let mut cache = std::mem::take(&mut self.step_control.bound);
         let full = self.model.scheme.integration == Integration::Full;
         let classes = &self.classes;
         if cache.class_g.len() != classes.data.len() {

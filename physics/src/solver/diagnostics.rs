@@ -77,6 +77,9 @@ impl Simulation {
     /// Plain-words warnings about the regime of this model, for the user before the run: the
     /// parameters are admissible, but the results or the cost need reading with care.
     ///
+    /// - A rubber whose constants fail Drucker's stability somewhere over the stretches
+    ///   checked ([`crate::material::rubber::drucker::check`]): the first unstable stretch of
+    ///   each mode.
     /// - Near incompressibility (ν ≥ 0.49): K/G = 2(1+ν)/(3(1−2ν)) and c_p/c_s =
     ///   √(2(1−ν)/(1−2ν)); with full integration the hex8 locks volumetrically.
     /// - Interfaces that set the stable step: h_crit with the glue springs W g_N(α) in K
@@ -91,8 +94,29 @@ impl Simulation {
         let m = &self.model;
         let mat = &m.material;
         let mut out = Vec::new();
+        if let Some(r) = &mat.rubber {
+            let unstable = crate::material::rubber::drucker::check(r);
+            if !unstable.is_empty() {
+                let at: Vec<String> = unstable.iter().map(|i| i.to_string()).collect();
+                out.push(format!(
+                    "material: the {} constants are not Drucker-stable over the stretches checked (0.1 to 10 in uniaxial, equibiaxial and planar tension): first unstable stretch in {}. Beyond it the stress falls as the stretch grows; keep the deformation below it or refit the constants.",
+                    r.iso.spec().label,
+                    at.join(", ")
+                ));
+            }
+        }
         let nu = mat.poisson;
-        if nu >= 0.49 {
+        if nu >= 0.49 && mat.rubber.is_some() {
+            let k_over_g = 2.0 * (1.0 + nu) / (3.0 * (1.0 - 2.0 * nu));
+            let cp_over_cs = (2.0 * (1.0 - nu) / (1.0 - 2.0 * nu)).sqrt();
+            let quadrature = match m.scheme.integration {
+                Integration::Full => "with full 2×2×2 integration the hex8 locks volumetrically: it is far too stiff in bending and in any deformation that keeps the volume; use scheme.integration = \"reduced\" (a rubber's hourglass stiffness follows its shear modulus, model §1.10)",
+                Integration::Reduced => "one-point integration does not lock volumetrically, and a rubber's hourglass stiffness κ·11μ₀ follows its shear modulus (model §1.10)",
+            };
+            out.push(format!(
+                "the rubber is nearly incompressible (K/μ₀ = {k_over_g:.0}, small-strain ν = {nu:.4}): {quadrature}. The stable step follows the pressure wave, c_p = {cp_over_cs:.1} c_s."
+            ));
+        } else if nu >= 0.49 {
             let k_over_g = 2.0 * (1.0 + nu) / (3.0 * (1.0 - 2.0 * nu));
             let cp_over_cs = (2.0 * (1.0 - nu) / (1.0 - 2.0 * nu)).sqrt();
             // The hourglass stiffness κ(λ+2μ) grows with λ: scaled to the default's share of the

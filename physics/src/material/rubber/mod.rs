@@ -1,0 +1,370 @@
+//! Nearly incompressible rubber materials (model §1.10): the isochoric/volumetric split
+//! ψ(F) = ψ_iso(C̄) + U(J), C̄ = J^{-2/3} C, with one file per isochoric family —
+//! [`neo_hookean`], [`mooney_rivlin`], [`yeoh`] (functions of the invariants Ī₁, Ī₂) and
+//! [`ogden`] (of the principal stretches) — and the volumetric energy [`Volumetric`].
+//!
+//! A family declares its row of [`RUBBERS`] (key, label, parameters with symbol, unit and
+//! admissible range), how it is built from a scene's values, its initial shear modulus μ₀ and
+//! its stress. The kernels see one law type for all of them (`material::RubberLaw`): all lanes
+//! of a kernel share one material, so the `match` on the family is uniform, and the kernels are
+//! not compiled once more per family. The stress is written on `f64` ([`piola_energy`]) and
+//! applied lane by lane ([`Real::per_lane`]): no fused operation is written, so every build
+//! gives the same bits.
+//!
+//! [`drucker`] checks the stability of the isochoric part over the stretches of the three
+//! standard tests.
+
+pub mod drucker;
+mod eigen;
+pub mod mooney_rivlin;
+pub mod neo_hookean;
+pub mod ogden;
+pub mod yeoh;
+
+use super::real::{Mat3, Real};
+use crate::interface::family::Range;
+use serde::{Deserialize, Serialize};
+
+pub use eigen::symmetric_eigen;
+
+/// The volumetric energy U(J) (model §1.10).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Volumetric {
+    /// U = ½K(J − 1)², U′ = K(J − 1) (Abaqus' and LS-DYNA's default form).
+    #[default]
+    Quadratic,
+    /// U = ½K(ln J)², U′ = K ln J / J (grows without bound as J → 0).
+    Log,
+}
+
+impl Volumetric {
+    /// (U(J), U′(J)) for the bulk modulus `k`.
+    #[inline(always)]
+    pub fn energy_slope(self, k: f64, j: f64) -> (f64, f64) {
+        match self {
+            Volumetric::Quadratic => {
+                let d = j - 1.0;
+                (0.5 * k * d * d, k * d)
+            }
+            Volumetric::Log => {
+                let l = j.ln();
+                (0.5 * k * l * l, k * l / j)
+            }
+        }
+    }
+}
+
+/// The isochoric family and its constants.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Isochoric {
+    NeoHookean(neo_hookean::NeoHookean),
+    MooneyRivlin(mooney_rivlin::MooneyRivlin),
+    Yeoh(yeoh::Yeoh),
+    Ogden(ogden::Ogden),
+}
+
+impl Isochoric {
+    /// The initial shear modulus μ₀ (the small-strain limit of the family) [Pa].
+    pub fn initial_shear_modulus(&self) -> f64 {
+        match self {
+            Isochoric::NeoHookean(m) => m.initial_shear_modulus(),
+            Isochoric::MooneyRivlin(m) => m.initial_shear_modulus(),
+            Isochoric::Yeoh(m) => m.initial_shear_modulus(),
+            Isochoric::Ogden(m) => m.initial_shear_modulus(),
+        }
+    }
+
+    /// The family's row of [`RUBBERS`].
+    pub fn spec(&self) -> &'static RubberSpec {
+        let key = match self {
+            Isochoric::NeoHookean(_) => neo_hookean::SPEC.key,
+            Isochoric::MooneyRivlin(_) => mooney_rivlin::SPEC.key,
+            Isochoric::Yeoh(_) => yeoh::SPEC.key,
+            Isochoric::Ogden(_) => ogden::SPEC.key,
+        };
+        rubber_spec(key).expect("every family has its row")
+    }
+}
+
+/// A rubber material: the isochoric family, the bulk modulus K and the volumetric form.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Rubber {
+    pub iso: Isochoric,
+    /// Bulk modulus K [Pa].
+    pub bulk: f64,
+    pub volumetric: Volumetric,
+}
+
+impl Rubber {
+    /// The initial shear modulus μ₀ [Pa].
+    pub fn mu0(&self) -> f64 {
+        self.iso.initial_shear_modulus()
+    }
+}
+
+/// As `check` prints it: `Mooney–Rivlin: C₁₀ = 3.0000e5 Pa, C₀₁ = 5.0000e4 Pa; μ₀ = …, K = …
+/// (K/μ₀ = 50), U = ½K(J − 1)²`.
+impl std::fmt::Display for Rubber {
+    fn fmt(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        let spec = self.iso.spec();
+        let list = |x: &[f64]| {
+            let v: Vec<String> = x.iter().map(|x| format!("{x:.4e}")).collect();
+            format!("[{}]", v.join(", "))
+        };
+        let values: Vec<String> = match &self.iso {
+            Isochoric::NeoHookean(m) => vec![format!("C₁₀ = {:.4e} Pa", m.c10)],
+            Isochoric::MooneyRivlin(m) => vec![
+                format!("C₁₀ = {:.4e} Pa", m.c10),
+                format!("C₀₁ = {:.4e} Pa", m.c01),
+            ],
+            Isochoric::Yeoh(m) => vec![
+                format!("C₁₀ = {:.4e} Pa", m.c10),
+                format!("C₂₀ = {:.4e} Pa", m.c20),
+                format!("C₃₀ = {:.4e} Pa", m.c30),
+            ],
+            Isochoric::Ogden(m) => vec![
+                format!("μᵢ = {} Pa", list(&m.mu[..m.n])),
+                format!("αᵢ = {}", list(&m.alpha[..m.n])),
+            ],
+        };
+        let u = match self.volumetric {
+            Volumetric::Quadratic => "½K(J − 1)²",
+            Volumetric::Log => "½K(ln J)²",
+        };
+        write!(
+            f,
+            "{}: {}; μ₀ = {:.4e} Pa, K = {:.4e} Pa (K/μ₀ = {:.0}), U = {u}",
+            spec.label,
+            values.join(", "),
+            self.mu0(),
+            self.bulk,
+            self.bulk / self.mu0()
+        )
+    }
+}
+
+/// K from Poisson's ratio and the initial shear modulus, K = 2μ₀(1 + ν)/(3(1 − 2ν)) (the
+/// small-strain relation; infinite at ν = ½).
+pub fn bulk_from_poisson(mu0: f64, nu: f64) -> f64 {
+    2.0 * mu0 * (1.0 + nu) / (3.0 * (1.0 - 2.0 * nu))
+}
+
+/// One parameter of a rubber family as scene files and the reference see it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RubberParam {
+    /// Key in `[material]` (`c10`).
+    pub key: &'static str,
+    /// Symbol in messages (`C₁₀`).
+    pub symbol: &'static str,
+    pub unit: &'static str,
+    pub meaning: &'static str,
+    /// Admissible values (each entry of a list).
+    pub range: Range,
+    /// A list of 1 to 3 numbers (Ogden's μᵢ, αᵢ) rather than one.
+    pub list: bool,
+    /// A scene may leave it out; it is then 0.
+    pub optional: bool,
+}
+
+/// What a rubber family declares: its key (`material.model`), label and parameters.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RubberSpec {
+    pub key: &'static str,
+    pub label: &'static str,
+    /// ψ_iso and μ₀, in words and symbols.
+    pub energy: &'static str,
+    pub params: &'static [RubberParam],
+}
+
+/// The rubber families, in the order of their keys.
+pub const RUBBERS: &[RubberSpec] = &[
+    neo_hookean::SPEC,
+    mooney_rivlin::SPEC,
+    ogden::SPEC,
+    yeoh::SPEC,
+];
+
+/// The row of [`RUBBERS`] of that key.
+pub fn rubber_spec(key: &str) -> Option<&'static RubberSpec> {
+    RUBBERS.iter().find(|s| s.key == key)
+}
+
+/// Why a family's values are not admissible: the key, the value as shown, what is admissible.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ParamError {
+    pub key: &'static str,
+    pub value: String,
+    pub reason: String,
+}
+
+/// The numbers a scene gave for a family's parameters, by key (lists as given).
+pub trait RubberValues {
+    /// The number at `key` (None when absent).
+    fn number(&self, key: &str) -> Option<f64>;
+    /// The list at `key` (None when absent).
+    fn list(&self, key: &str) -> Option<Vec<f64>>;
+}
+
+/// `x` at `p` checked against its range (0 when absent and optional).
+pub(crate) fn admit(p: &RubberParam, x: Option<f64>, family: &str) -> Result<f64, ParamError> {
+    match x {
+        None if p.optional => Ok(0.0),
+        None => Err(ParamError {
+            key: p.key,
+            value: "(missing)".into(),
+            reason: format!("the `{family}` model takes {} [{}]", p.symbol, p.unit),
+        }),
+        Some(x) if !p.range.contains(x) => Err(ParamError {
+            key: p.key,
+            value: format!("{x:?}"),
+            reason: format!("{} must be finite and {} ({})", p.symbol, p.range, p.unit),
+        }),
+        Some(x) => Ok(x),
+    }
+}
+
+/// Any finite number.
+pub(crate) const FINITE: Range = Range::between(f64::NEG_INFINITY, true, f64::INFINITY, true);
+
+/// First Piola–Kirchhoff stress P and energy density ψ (ψ only if `ENERGY`, else 0) of a
+/// rubber material over any [`Real`] (model §1.10): [`piola_energy`] lane by lane
+/// ([`Real::per_lane`]), F and J = det F the kernel's.
+#[inline(always)]
+pub fn rubber_piola<T: Real, const ENERGY: bool>(r: &Rubber, f: &Mat3<T>, j: T) -> (Mat3<T>, T) {
+    let x: [T; 10] = [
+        f[0][0], f[0][1], f[0][2], f[1][0], f[1][1], f[1][2], f[2][0], f[2][1], f[2][2], j,
+    ];
+    let y = T::per_lane(x, |x| {
+        let f = [[x[0], x[1], x[2]], [x[3], x[4], x[5]], [x[6], x[7], x[8]]];
+        let (p, psi) = piola_energy::<ENERGY>(r, &f, x[9]);
+        [
+            p[0][0], p[0][1], p[0][2], p[1][0], p[1][1], p[1][2], p[2][0], p[2][1], p[2][2], psi,
+        ]
+    });
+    (
+        [[y[0], y[1], y[2]], [y[3], y[4], y[5]], [y[6], y[7], y[8]]],
+        y[9],
+    )
+}
+
+/// P = ∂ψ/∂F and ψ of the split ψ = ψ_iso(C̄) + U(J) at one point (model §1.10):
+///
+/// - invariant families (ψ_iso(Ī₁, Ī₂), ψ₁ = ∂ψ_iso/∂Ī₁, ψ₂ = ∂ψ_iso/∂Ī₂, Ī₁ = J^{-2/3} I₁,
+///   Ī₂ = J^{-4/3} I₂, I₂ = ½(I₁² − tr C²)):
+///   P_iso = 2ψ₁ J^{-2/3}(F − ⅓I₁F⁻ᵀ) + 2ψ₂ J^{-4/3}(I₁F − FC − ⅔I₂F⁻ᵀ);
+/// - Ogden ([`ogden::Ogden::stress`]), from the principal stretches;
+/// - P = P_iso + U′(J) cof F, ψ = ψ_iso + U(J), F⁻ᵀ = cof F / J.
+///
+/// J ≤ 0 (an inverted element) gives NaN or infinities: the caller checks J.
+///
+/// Never inlined: one out-of-line copy serves every kernel, ISA and lane (the kernels call it
+/// lane by lane), where inlining it would compile the eigen solve and the powers into each
+/// of them.
+#[inline(never)]
+pub fn piola_energy<const ENERGY: bool>(
+    r: &Rubber,
+    f: &[[f64; 3]; 3],
+    j: f64,
+) -> ([[f64; 3]; 3], f64) {
+    let cof = super::kinematics::cofactor(f);
+    let j13 = j.cbrt();
+    let j23 = 1.0 / (j13 * j13);
+    let (mut p, psi_iso) = match &r.iso {
+        Isochoric::Ogden(o) => o.stress::<ENERGY>(f, j23),
+        Isochoric::NeoHookean(m) => invariant_stress::<ENERGY>(f, &cof, j, j23, |i1, _| m.psi(i1)),
+        Isochoric::MooneyRivlin(m) => {
+            invariant_stress::<ENERGY>(f, &cof, j, j23, |i1, i2| m.psi(i1, i2))
+        }
+        Isochoric::Yeoh(m) => invariant_stress::<ENERGY>(f, &cof, j, j23, |i1, _| m.psi(i1)),
+    };
+    let (u, du) = r.volumetric.energy_slope(r.bulk, j);
+    for i in 0..3 {
+        for k in 0..3 {
+            p[i][k] += du * cof[i][k];
+        }
+    }
+    (p, if ENERGY { psi_iso + u } else { 0.0 })
+}
+
+/// The isochoric P of an invariant family, `psi(Ī₁, Ī₂)` = (ψ_iso, ψ₁, ψ₂) (formula of
+/// [`piola_energy`]); returns (P_iso, ψ_iso).
+#[inline(always)]
+fn invariant_stress<const ENERGY: bool>(
+    f: &[[f64; 3]; 3],
+    cof: &[[f64; 3]; 3],
+    j: f64,
+    j23: f64,
+    psi: impl Fn(f64, f64) -> (f64, f64, f64),
+) -> ([[f64; 3]; 3], f64) {
+    let c = right_cauchy_green(f);
+    let i1 = c[0][0] + c[1][1] + c[2][2];
+    let mut cc = 0.0;
+    for row in &c {
+        for x in row {
+            cc += x * x;
+        }
+    }
+    let i2 = 0.5 * (i1 * i1 - cc);
+    let (w, w1, w2) = psi(j23 * i1, j23 * j23 * i2);
+    let a = 2.0 * w1 * j23;
+    let b = 2.0 * w2 * j23 * j23;
+    let mut p = [[0.0; 3]; 3];
+    for i in 0..3 {
+        for k in 0..3 {
+            let finv_t = cof[i][k] / j;
+            let fc = f[i][0] * c[0][k] + f[i][1] * c[1][k] + f[i][2] * c[2][k];
+            p[i][k] = a * (f[i][k] - i1 / 3.0 * finv_t)
+                + b * (i1 * f[i][k] - fc - 2.0 / 3.0 * i2 * finv_t);
+        }
+    }
+    (p, if ENERGY { w } else { 0.0 })
+}
+
+/// C = FᵀF.
+#[inline(always)]
+pub(crate) fn right_cauchy_green(f: &[[f64; 3]; 3]) -> [[f64; 3]; 3] {
+    std::array::from_fn(|i| {
+        std::array::from_fn(|k| f[0][i] * f[0][k] + f[1][i] * f[1][k] + f[2][i] * f[2][k])
+    })
+}
+
+/// One material of each family, with both volumetric forms among them (tests and examples):
+/// K/μ₀ = 50, a filled rubber's.
+pub fn examples() -> [Rubber; 4] {
+    let rubber = |iso: Isochoric, volumetric| Rubber {
+        bulk: 50.0 * iso.initial_shear_modulus(),
+        iso,
+        volumetric,
+    };
+    [
+        rubber(
+            Isochoric::NeoHookean(neo_hookean::NeoHookean { c10: 0.4e6 }),
+            Volumetric::Quadratic,
+        ),
+        rubber(
+            Isochoric::MooneyRivlin(mooney_rivlin::MooneyRivlin {
+                c10: 0.3e6,
+                c01: 0.05e6,
+            }),
+            Volumetric::Log,
+        ),
+        rubber(
+            Isochoric::Yeoh(yeoh::Yeoh {
+                c10: 0.5e6,
+                c20: -0.02e6,
+                c30: 0.001e6,
+            }),
+            Volumetric::Quadratic,
+        ),
+        rubber(
+            Isochoric::Ogden(ogden::Ogden {
+                n: 3,
+                mu: [0.63e6, 0.0012e6, -0.01e6],
+                alpha: [1.3, 5.0, -2.0],
+            }),
+            Volumetric::Log,
+        ),
+    ]
+}

@@ -1,0 +1,165 @@
+//! `[material]`: Saint-Venant–Kirchhoff and the compressible neo-Hookean from (E, ν); the rubber
+//! models (model §1.10) from their family's parameters (the table
+//! [`crate::material::rubber::RUBBERS`]) and the bulk modulus K, given or through ν.
+
+use super::check::Check;
+use super::error::{num, SceneError};
+use super::keys;
+use super::raw::RawMaterial;
+use crate::material::rubber::{
+    bulk_from_poisson, mooney_rivlin, neo_hookean, ogden, yeoh, Isochoric, ParamError, Rubber,
+    RubberValues,
+};
+use crate::material::{Material, MaterialModel};
+
+/// The keys of `[material]` that only the rubber models take, and what each scene gave.
+fn rubber_keys(m: &RawMaterial) -> [(&'static str, Option<String>); 8] {
+    let n = |x: Option<f64>| x.map(num);
+    let l = |x: &Option<Vec<f64>>| x.as_ref().map(|v| format!("{v:?}"));
+    [
+        ("bulk", n(m.bulk)),
+        (
+            "volumetric",
+            m.volumetric.map(|v| format!("{v:?}").to_lowercase()),
+        ),
+        ("c10", n(m.c10)),
+        ("c01", n(m.c01)),
+        ("c20", n(m.c20)),
+        ("c30", n(m.c30)),
+        ("mu", l(&m.mu)),
+        ("alpha", l(&m.alpha)),
+    ]
+}
+
+impl RubberValues for RawMaterial {
+    fn number(&self, key: &str) -> Option<f64> {
+        match key {
+            "c10" => self.c10,
+            "c01" => self.c01,
+            "c20" => self.c20,
+            "c30" => self.c30,
+            _ => None,
+        }
+    }
+
+    fn list(&self, key: &str) -> Option<Vec<f64>> {
+        match key {
+            "mu" => self.mu.clone(),
+            "alpha" => self.alpha.clone(),
+            _ => None,
+        }
+    }
+}
+
+impl Check<'_> {
+    /// `[material]`: SVK unless `model` says otherwise. SVK and neo-Hookean: E > 0,
+    /// −1 < ν < 0.5, ρ > 0, no rubber key. A rubber: its family's parameters (each in its
+    /// range, μ₀ > 0), `bulk` K > 0 or `poisson` −1 < ν < 0.5 (one of the two), no `young`,
+    /// no other family's key.
+    pub(super) fn material(&self, mat: &RawMaterial) -> Result<Material, SceneError> {
+        let model = mat.model.unwrap_or(MaterialModel::Svk);
+        let Some(spec) = model.rubber_spec() else {
+            let takes = format!(
+                "the `{}` model takes `young` E [Pa], `poisson` ν and `density` ρ₀",
+                model.key()
+            );
+            if let Some((key, value)) = rubber_keys(mat)
+                .into_iter()
+                .find_map(|(k, v)| Some((k, v?)))
+            {
+                return Err(self.invalid(
+                    format!("material.{key}"),
+                    value,
+                    format!("{takes}; `{key}` is a parameter of the rubber models (`model` = isochoric_neo_hookean, mooney_rivlin, ogden or yeoh)"),
+                ));
+            }
+            let young = mat
+                .young
+                .ok_or_else(|| self.missing("material.young", takes.clone()))?;
+            self.admit(&keys::YOUNG, "material.young", young)?;
+            let poisson = mat
+                .poisson
+                .ok_or_else(|| self.missing("material.poisson", takes.clone()))?;
+            self.admit(&keys::POISSON, "material.poisson", poisson)?;
+            self.admit(&keys::DENSITY, "material.density", mat.density)?;
+            return Ok(Material::new(model, young, poisson, mat.density));
+        };
+        let params: Vec<&str> = spec.params.iter().map(|p| p.key).collect();
+        let takes = format!(
+            "the `{}` model takes {}, `bulk` K [Pa] or `poisson` ν, `volumetric` and `density`",
+            spec.key,
+            params
+                .iter()
+                .map(|k| format!("`{k}`"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
+        if let Some(young) = mat.young {
+            return Err(self.invalid(
+                "material.young",
+                num(young),
+                format!("{takes}: its small-strain E follows from μ₀ and K"),
+            ));
+        }
+        let foreign = rubber_keys(mat).into_iter().find_map(|(k, v)| {
+            let common = matches!(k, "bulk" | "volumetric");
+            (!common && !params.contains(&k)).then_some((k, v?))
+        });
+        if let Some((key, value)) = foreign {
+            return Err(self.invalid(format!("material.{key}"), value, takes));
+        }
+        let param_error =
+            |e: ParamError| self.invalid(format!("material.{}", e.key), e.value, e.reason);
+        let iso = match model {
+            MaterialModel::IsochoricNeoHookean => Isochoric::NeoHookean(
+                neo_hookean::NeoHookean::from_values(mat).map_err(param_error)?,
+            ),
+            MaterialModel::MooneyRivlin => Isochoric::MooneyRivlin(
+                mooney_rivlin::MooneyRivlin::from_values(mat).map_err(param_error)?,
+            ),
+            MaterialModel::Ogden => {
+                Isochoric::Ogden(ogden::Ogden::from_values(mat).map_err(param_error)?)
+            }
+            MaterialModel::Yeoh => {
+                Isochoric::Yeoh(yeoh::Yeoh::from_values(mat).map_err(param_error)?)
+            }
+            MaterialModel::Svk | MaterialModel::NeoHookean => unreachable!("not a rubber"),
+        };
+        let mu0 = iso.initial_shear_modulus();
+        let bulk = match (mat.bulk, mat.poisson) {
+            (Some(_), Some(nu)) => {
+                return Err(self.invalid(
+                    "material.poisson",
+                    num(nu),
+                    "give the bulk modulus once: `bulk` K [Pa] or `poisson` ν, not both",
+                ))
+            }
+            (Some(k), None) => {
+                self.admit(&super::material_keys::BULK, "material.bulk", k)?;
+                k
+            }
+            (None, Some(nu)) => {
+                self.require(
+                    nu > -1.0 && nu < 0.5,
+                    "material.poisson",
+                    nu,
+                    "a rubber's bulk modulus K = 2μ₀(1 + ν)/(3(1 − 2ν)) must be finite and positive: -1 < ν < 0.5 (0.49 to 0.4999 for a rubber; ν = 0.5, incompressible, would make K infinite and the stable step zero), or give `bulk` K > 0 [Pa] directly",
+                )?;
+                bulk_from_poisson(mu0, nu)
+            }
+            (None, None) => {
+                return Err(self.missing(
+                    "material.bulk",
+                    format!("{takes}: the bulk modulus, as `bulk` K [Pa] or through `poisson` ν (K = 2μ₀(1 + ν)/(3(1 − 2ν)))"),
+                ))
+            }
+        };
+        self.admit(&keys::DENSITY, "material.density", mat.density)?;
+        let rubber = Rubber {
+            iso,
+            bulk,
+            volumetric: mat.volumetric.unwrap_or_default(),
+        };
+        Ok(Material::rubber(rubber, mat.density))
+    }
+}
