@@ -195,7 +195,7 @@ impl Simulation {
         let unconverged = self.stats.h_crit_unconverged;
         if unconverged > 0 {
             out.push(format!(
-                "stable step: {unconverged} h_crit estimate(s) stopped on the Lanczos iteration cap before meeting scheme.h_crit_tolerance = {:e}; each took the proven element bound (model §6.4) where it gave the smaller step. A looser tolerance, or a mesh with fewer degrees of freedom per estimate, avoids it.",
+                "stable step: {unconverged} h_crit estimate(s) stopped on the Lanczos iteration cap before meeting scheme.h_crit_tolerance = {:e}; each took the proven element bound (model §6.4) where it gave the smaller step (a material without a pointwise bound, a rubber, has none: its estimate stood). A looser tolerance, or a mesh with fewer degrees of freedom per estimate, avoids it.",
                 m.scheme.h_crit_tolerance
             ));
         }

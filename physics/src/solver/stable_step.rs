@@ -366,7 +366,8 @@ impl Simulation {
     /// An estimate meant to be converged, as the step may rest on it: unchanged when its
     /// Lanczos run converged; else counted ([`RunStats::h_crit_unconverged`]) and raised to the
     /// proven element bound ω_b² ≥ ω_max² ([`Simulation::stiffness_bound`], model §6.4) when
-    /// that is the larger, so an unconverged Ritz value never sets a step above 2/ω_b.
+    /// that is finite and the larger, so an unconverged Ritz value never sets a step above
+    /// 2/ω_b.
     ///
     /// [`RunStats::h_crit_unconverged`]: super::RunStats::h_crit_unconverged
     fn proven(&mut self, est: StableStep) -> StableStep {
@@ -375,7 +376,9 @@ impl Simulation {
         }
         self.stats.h_crit_unconverged += 1;
         let bound = self.stiffness_bound();
-        if bound > est.omega_max_sq {
+        // +∞ where the material has no pointwise bound (the rubbers, model §1.10): no proof to
+        // fall back on, the estimate stands (counted and warned about).
+        if bound.is_finite() && bound > est.omega_max_sq {
             StableStep {
                 omega_max_sq: bound,
                 h_crit: 2.0 / bound.sqrt(),
