@@ -41,17 +41,9 @@ use decohesion::solver::Simulation;
 use serde_json::Value;
 use std::path::{Path, PathBuf};
 
-/// Summary keys that measure the machine, not the physics.
-const TIMING_KEYS: [&str; 8] = [
-    "wall_seconds",
-    "step_wall_seconds",
-    "element_steps_per_second",
-    "ns_per_element_step",
-    "stage_seconds",
-    "threads",
-    "recording",
-    "paraview",
-];
+// The summary keys that measure the machine or the outputs, not the physics: the ones
+// `compare` leaves out too.
+use decohesion::compare::summary::TIMING_KEYS;
 
 /// FNV-1a over the bits of a sequence of f64.
 fn hash_bits(values: impl Iterator<Item = f64>) -> String {
