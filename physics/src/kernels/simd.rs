@@ -132,6 +132,11 @@ impl Isa {
 /// builds give the same bits. The choice is made once per process, so a given machine always
 /// takes the same path and results stay bit-identical whatever the thread count. In tests,
 /// `$builds()` lists every build this CPU runs.
+///
+/// Each build is the function `run` of a module of its own (`$name` for the portable build,
+/// `$avx2`, `$avx512`): rustc splits a crate into codegen units by module, so the builds of a
+/// kernel, each a large function once its inlined body is in, are optimised by LLVM in parallel
+/// rather than one after another in one unit.
 macro_rules! simd_dispatch {
     ($(#[$doc:meta])* $vis:vis fn $name:ident / $avx2:ident / $avx512:ident / $builds:ident
         => $imp:ident($($arg:ident: $ty:ty),* $(,)?) -> $ret:ty $(, const by $flag:ident)?) => {
@@ -140,25 +145,45 @@ macro_rules! simd_dispatch {
         $vis unsafe fn $name($($arg: $ty),*) -> $ret {
             #[cfg(target_arch = "x86_64")]
             match $crate::kernels::simd::Isa::chosen() {
-                $crate::kernels::simd::Isa::Avx512 => return $avx512($($arg),*),
-                $crate::kernels::simd::Isa::Avx2 => return $avx2($($arg),*),
+                $crate::kernels::simd::Isa::Avx512 => return $avx512::run($($arg),*),
+                $crate::kernels::simd::Isa::Avx2 => return $avx2::run($($arg),*),
                 $crate::kernels::simd::Isa::Portable => {}
             }
-            simd_dispatch!(@call $imp, false, ISA_PORTABLE, [$($flag)?], ($($arg),*))
+            $name::run($($arg),*)
         }
 
-        #[cfg(target_arch = "x86_64")]
-        #[target_feature(enable = "avx2,fma")]
-        #[allow(clippy::too_many_arguments)]
-        unsafe fn $avx2($($arg: $ty),*) -> $ret {
-            simd_dispatch!(@call $imp, true, ISA_AVX2, [$($flag)?], ($($arg),*))
+        /// The portable build of the function of the same name.
+        mod $name {
+            #[allow(unused_imports)]
+            use super::*;
+            #[allow(clippy::too_many_arguments)]
+            pub(super) unsafe fn run($($arg: $ty),*) -> $ret {
+                simd_dispatch!(@call $imp, false, ISA_PORTABLE, [$($flag)?], ($($arg),*))
+            }
         }
 
+        /// The AVX2 build.
         #[cfg(target_arch = "x86_64")]
-        #[target_feature(enable = "avx512f,avx2,fma")]
-        #[allow(clippy::too_many_arguments)]
-        unsafe fn $avx512($($arg: $ty),*) -> $ret {
-            simd_dispatch!(@call $imp, true, ISA_AVX512, [$($flag)?], ($($arg),*))
+        mod $avx2 {
+            #[allow(unused_imports)]
+            use super::*;
+            #[target_feature(enable = "avx2,fma")]
+            #[allow(clippy::too_many_arguments)]
+            pub(super) unsafe fn run($($arg: $ty),*) -> $ret {
+                simd_dispatch!(@call $imp, true, ISA_AVX2, [$($flag)?], ($($arg),*))
+            }
+        }
+
+        /// The AVX-512 build.
+        #[cfg(target_arch = "x86_64")]
+        mod $avx512 {
+            #[allow(unused_imports)]
+            use super::*;
+            #[target_feature(enable = "avx512f,avx2,fma")]
+            #[allow(clippy::too_many_arguments)]
+            pub(super) unsafe fn run($($arg: $ty),*) -> $ret {
+                simd_dispatch!(@call $imp, true, ISA_AVX512, [$($flag)?], ($($arg),*))
+            }
         }
 
         /// Every build of the kernel this CPU runs, named: "portable" first, then "avx2" and
@@ -166,19 +191,15 @@ macro_rules! simd_dispatch {
         #[cfg(test)]
         #[allow(clippy::type_complexity)]
         pub(super) fn $builds() -> Vec<(&'static str, unsafe fn($($ty),*) -> $ret)> {
-            #[allow(clippy::too_many_arguments)]
-            unsafe fn portable($($arg: $ty),*) -> $ret {
-                simd_dispatch!(@call $imp, false, ISA_PORTABLE, [$($flag)?], ($($arg),*))
-            }
             let mut builds: Vec<(&'static str, unsafe fn($($ty),*) -> $ret)> =
-                vec![("portable", portable)];
+                vec![("portable", $name::run)];
             #[cfg(target_arch = "x86_64")]
             if std::is_x86_feature_detected!("fma") {
                 if std::is_x86_feature_detected!("avx2") {
-                    builds.push(("avx2", $avx2));
+                    builds.push(("avx2", $avx2::run));
                 }
                 if std::is_x86_feature_detected!("avx512f") {
-                    builds.push(("avx512", $avx512));
+                    builds.push(("avx512", $avx512::run));
                 }
             }
             builds
