@@ -20,8 +20,8 @@ use std::path::PathBuf;
 use std::sync::mpsc::TryRecvError;
 use std::time::Duration;
 
-/// Above this many elements the window does not estimate h_crit while settings are edited
-/// (set-up and Lanczos estimate: 40 ms at 20³, 130 ms at 28³ here); the run does it.
+/// Above this many elements the window does not estimate h_crit while settings are edited (the
+/// set-up and the Lanczos estimate would hold the window for a visible time); the run does it.
 pub const CHECK_MAX_ELEMENTS: usize = 25_000;
 
 /// Progress of a run over simulated time, for the live plot.

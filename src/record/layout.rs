@@ -5,6 +5,7 @@
 
 use super::geometry::Geometry;
 use super::{log_err, ColourField, RecordError, Statics, ARROW_FRACTION, NORMAL_FRACTION};
+use crate::energy::EnergySnapshot;
 use crate::law::InterfaceState;
 use crate::model::{Model, RigidPlane, Shape};
 use crate::output::surface::mould::{body_box, mould_drawing};
@@ -25,22 +26,19 @@ pub(super) use crate::output::series::name_part as path_part;
 
 pub(super) const AXES: [&str; 3] = ["x", "y", "z"];
 
-/// The ledger terms logged as the instances of `energy` [J], in this order.
-pub(super) const ENERGY_TERMS: [&str; 13] = [
-    "kinetic",
-    "strain",
-    "hourglass",
-    "interface_stored",
-    "damage_dissipated",
-    "contact_normal_dissipated",
-    "friction_dissipated",
-    "external_work",
-    "gravity_work",
-    "traction_work",
-    "reaction_work",
-    "plane_work",
-    "residual",
-];
+/// The ledger terms the recording does not draw: the internal work and the work of step
+/// changes are parts of the balance the residual already shows.
+const ENERGY_NOT_DRAWN: [&str; 2] = ["internal_work", "step_change_work"];
+
+/// The ledger terms logged as the instances of `energy` [J], in the order of
+/// [`EnergySnapshot::TERMS`], with each term's value in `e`: every term but
+/// [`ENERGY_NOT_DRAWN`].
+pub(super) fn energy_terms(e: &EnergySnapshot) -> impl Iterator<Item = (&'static str, f64)> {
+    EnergySnapshot::TERMS
+        .into_iter()
+        .zip(e.terms())
+        .filter(|(name, _)| !ENERGY_NOT_DRAWN.contains(name))
+}
 
 /// The friction dissipated on each mould [J] (`Simulation::mould_frictions`), one instance per
 /// mould in `model.planes` order, in the energy view: logged when there are several moulds
@@ -409,7 +407,11 @@ fn series_names(
     alpha_per_node: bool,
 ) -> Result<(), RecordError> {
     let mut styles: Vec<(String, SeriesLines)> = vec![
-        ("energy".into(), SeriesLines::new().with_names(ENERGY_TERMS)),
+        (
+            "energy".into(),
+            SeriesLines::new()
+                .with_names(energy_terms(&EnergySnapshot::default()).map(|(name, _)| name)),
+        ),
         (
             "interface/count".into(),
             // A fourth line, unformed, only where glue forms on contact (`Logger::step`).

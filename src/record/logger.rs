@@ -5,7 +5,8 @@
 use super::eye::scene_eye;
 use super::geometry::Geometry;
 use super::layout::{
-    log_static, mould_force_path, mould_moment_path, moving, path_part, AXES, MOULD_FRICTION,
+    energy_terms, log_static, mould_force_path, mould_moment_path, moving, path_part, AXES,
+    MOULD_FRICTION,
 };
 use super::stream::Stream;
 use super::{ColourField, Msg, RecordError, Sink, Statics, ALPHA_PER_NODE_MAX};
@@ -107,24 +108,8 @@ impl Logger {
         let cols = &mut self.stream.columns;
         // One row of every scalar series.
         let e = &s.energies;
-        cols.scalars(
-            "energy",
-            &[
-                e.kinetic,
-                e.strain,
-                e.hourglass,
-                e.interface_stored,
-                e.damage_dissipated,
-                e.contact_normal_dissipated,
-                e.friction_dissipated,
-                e.external_work,
-                e.gravity_work,
-                e.traction_work,
-                e.reaction_work,
-                e.plane_work,
-                e.residual,
-            ],
-        );
+        let energies: Vec<f64> = energy_terms(e).map(|(_, v)| v).collect();
+        cols.scalars("energy", &energies);
         cols.scalars("balance/relative_residual", &[e.relative_residual]);
         if m.planes.len() > 1 {
             cols.scalars(MOULD_FRICTION, &s.mould_friction);
