@@ -129,3 +129,27 @@ fn the_valid_inputs_load() {
         load(corpus.template.stl.replace("{file}", stl), "stl_scene.toml");
     }
 }
+
+proptest::proptest! {
+    /// No byte string makes the Gmsh or the STL reader panic: the corpus's valid mesh and
+    /// surfaces (ASCII and binary) with a stretch of bytes replaced by arbitrary ones.
+    #[test]
+    fn mutated_meshes_and_surfaces_never_panic(
+        which in 0usize..3,
+        at in 0usize..4096,
+        cut in 0usize..64,
+        insert in proptest::collection::vec(proptest::num::u8::ANY, 0..16),
+    ) {
+        let files = ["valid/one_hex.msh", "valid/box.stl", "valid/box_binary.stl"];
+        let bytes = std::fs::read(corpus::dir().join(files[which])).unwrap();
+        let at = at % (bytes.len() + 1);
+        let end = (at + cut).min(bytes.len());
+        let mut b = bytes[..at].to_vec();
+        b.extend(&insert);
+        b.extend(&bytes[end..]);
+        let _ = parse_msh(&b, "fuzz.msh");
+        if let Ok((v, t)) = read_stl(&b, "fuzz.stl") {
+            let _ = SurfaceMesh::new("fuzz.stl", None, 1.0, v, t, &|k| format!("facet {k}"));
+        }
+    }
+}
