@@ -21,7 +21,13 @@ use std::path::{Path, PathBuf};
 )]
 struct Cli {
     /// Worker threads for the element loop (default: all cores). Results do not depend on it.
-    #[arg(long, global = true, value_name = "N", help_heading = "Global options")]
+    #[arg(
+        long,
+        global = true,
+        value_name = "N",
+        help_heading = "Global options",
+        allow_negative_numbers = true
+    )]
     threads: Option<usize>,
     /// No progress on stderr (run, sweep, tradeoff).
     ///
@@ -101,7 +107,7 @@ enum Command {
         save: Option<PathBuf>,
         /// Runs at a time [default: the threads (--threads or the cores), at most the runs];
         /// the threads are shared among them.
-        #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..))]
+        #[arg(long, value_name = "N", value_parser = positive_u64)]
         jobs: Option<u64>,
     },
     /// Speed against accuracy: run a grid of quadratures × meshes × time steps of one scene,
@@ -115,7 +121,9 @@ enum Command {
             long,
             value_name = "N,...",
             default_value = "4,7,14",
-            value_delimiter = ','
+            value_delimiter = ',',
+            value_parser = positive_usize,
+            allow_negative_numbers = true
         )]
         cells: Vec<usize>,
         /// Time-step factors h/h_crit (dimensionless, in (0, 2)), comma-separated.
@@ -123,7 +131,9 @@ enum Command {
             long,
             value_name = "F,...",
             default_value = "0.9,0.5,0.25",
-            value_delimiter = ','
+            value_delimiter = ',',
+            value_parser = positive_f64,
+            allow_negative_numbers = true
         )]
         factors: Vec<f64>,
         /// Quadratures: full (2×2×2) and/or reduced (one point + hourglass control).
@@ -162,15 +172,17 @@ enum Command {
             long,
             value_name = "N,...",
             default_value = "7,14,28,56",
-            value_delimiter = ','
+            value_delimiter = ',',
+            value_parser = positive_usize,
+            allow_negative_numbers = true
         )]
         sizes: Vec<usize>,
         /// Repetitions per size, taken round-robin over the sizes and quadratures (the median is
         /// reported).
-        #[arg(long, value_name = "N", default_value_t = 5)]
+        #[arg(long, value_name = "N", default_value_t = 5, value_parser = positive_usize, allow_negative_numbers = true)]
         repeats: usize,
         /// Element-steps per repetition (steps = this / elements, at least 10).
-        #[arg(long, value_name = "ELEMENT_STEPS", default_value_t = 20_000_000)]
+        #[arg(long, value_name = "ELEMENT_STEPS", default_value_t = 20_000_000, value_parser = positive_u64, allow_negative_numbers = true)]
         work: u64,
         /// Quadratures to measure: full (2×2×2) and/or reduced (one point + hourglass control).
         #[arg(long, value_name = "RULE,...", default_value = "full,reduced", value_delimiter = ',', value_parser = ["full", "reduced"])]
@@ -243,7 +255,7 @@ struct RecordArgs {
     /// Record a frame (Rerun, --vtk and --series rows) every N steps (1 = every step). Default:
     /// 200 frames over the scene's end time, plus step 0 and the last step (--series: every
     /// step).
-    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..), conflicts_with = "fps")]
+    #[arg(long, value_name = "N", value_parser = positive_u64, conflicts_with = "fps", allow_negative_numbers = true)]
     every: Option<u64>,
     /// Record F frames per second of simulated time (Rerun, --vtk and --series rows).
     #[arg(long, value_name = "F", value_parser = positive_f64, allow_negative_numbers = true)]
@@ -258,6 +270,18 @@ struct RecordArgs {
     /// Field that colours the surface: displacement (|U|, m), von_mises (Pa), jacobian (J).
     #[arg(long, value_name = "FIELD", default_value = "displacement")]
     colour: decohesion::record::ColourField,
+}
+
+fn positive_usize(s: &str) -> Result<usize, String> {
+    match s.trim().parse::<i128>() {
+        Ok(v) if v >= 1 => usize::try_from(v).map_err(|_| format!("{v} is too large")),
+        Ok(v) => Err(format!("must be an integer ≥ 1 (got {v})")),
+        Err(e) => Err(format!("not an integer: {e}")),
+    }
+}
+
+fn positive_u64(s: &str) -> Result<u64, String> {
+    positive_usize(s).map(|v| v as u64)
 }
 
 fn positive_f64(s: &str) -> Result<f64, String> {

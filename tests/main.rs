@@ -11,12 +11,16 @@
 
 mod by_hand;
 mod common;
+/// The bad-input corpus's table, shared with the physics tests.
+#[path = "common/corpus.rs"]
+mod corpus;
 #[path = "common/listing.rs"]
 mod listing;
 /// Records for the validation report (`scripts/validation.sh`); the physics tests include the same file.
 #[path = "common/validation.rs"]
 mod validation;
 
+mod bad_input_cli;
 mod command_line;
 mod compare;
 mod gmsh;

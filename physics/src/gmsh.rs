@@ -294,6 +294,13 @@ impl FileNodes {
                 if out.index.insert(t, out.coords.len()).is_some() {
                     return Err(err.at(format!("node tag {t} is defined twice")));
                 }
+                if ![n.x, n.y, n.z].iter().all(|c| c.is_finite()) {
+                    return Err(err.at(format!(
+                        "node {t} has a non-finite coordinate ({}, {}, {}): every coordinate \
+                         must be a finite number",
+                        n.x, n.y, n.z
+                    )));
+                }
                 out.coords.push([n.x, n.y, n.z]);
             }
         }

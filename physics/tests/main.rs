@@ -4,6 +4,9 @@
 //! neither listed here nor in `Cargo.toml` fails [`every_test_file_is_built`].
 
 mod common;
+/// The bad-input corpus's table, shared with the root tests.
+#[path = "../../tests/common/corpus.rs"]
+mod corpus;
 mod hertz;
 #[path = "../../tests/common/listing.rs"]
 mod listing;
@@ -12,6 +15,7 @@ mod listing;
 mod validation;
 
 mod bad_input;
+mod bad_input_corpus;
 mod cohesive_law;
 mod contact_start;
 mod corner_jacobian;

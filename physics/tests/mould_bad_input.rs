@@ -3,6 +3,10 @@
 
 use crate::common;
 use crate::common::scene_file;
+use crate::corpus;
+use decohesion_physics::mould::open_surface_warnings;
+use decohesion_physics::mould::surface::{read_stl, WELD_TOLERANCE};
+use decohesion_physics::mould::SurfaceMesh;
 use decohesion_physics::scene::parse_scene;
 
 /// The scene's name in messages: a file of `scenes/`, so that mould files resolve there.
@@ -158,4 +162,108 @@ fn plane_and_mould_names_are_one_namespace() {
             "must be unique (`plane[0]` has it already)",
         ],
     );
+}
+
+/// An STL file of the bad-input corpus (`tests/data/bad_input/`), read and checked.
+fn stl(file: &str) -> Result<SurfaceMesh, String> {
+    let bytes = std::fs::read(corpus::dir().join(file)).unwrap();
+    let (v, t) = read_stl(&bytes, file).map_err(|e| e.to_string())?;
+    SurfaceMesh::new(file, None, 1.0, v, t, &|k| format!("facet {k}")).map_err(|e| e.to_string())
+}
+
+/// The unit cube's 12 outward triangles, three vertices of their own each, vertex j of
+/// triangle k moved along x by `shift(3k + j)`.
+fn cube_soup(shift: &dyn Fn(usize) -> f64) -> (Vec<[f64; 3]>, Vec<[u32; 3]>) {
+    let corner = |i: usize| [(i & 1) as f64, (i >> 1 & 1) as f64, (i >> 2) as f64];
+    let quads = [
+        [0, 2, 3, 1],
+        [4, 5, 7, 6],
+        [0, 1, 5, 4],
+        [2, 6, 7, 3],
+        [0, 4, 6, 2],
+        [1, 3, 7, 5],
+    ];
+    let mut vertices = Vec::new();
+    for [a, b, c, d] in quads {
+        for tri in [[a, b, c], [a, c, d]] {
+            for i in tri {
+                let mut x = corner(i);
+                x[0] += shift(vertices.len());
+                vertices.push(x);
+            }
+        }
+    }
+    let triangles = (0..12u32).map(|k| [3 * k, 3 * k + 1, 3 * k + 2]).collect();
+    (vertices, triangles)
+}
+
+/// Corners written twice a little apart are one vertex within the weld tolerance
+/// (10⁻⁶ × the diagonal √3 here), and stay apart beyond it.
+#[test]
+fn vertices_within_the_weld_tolerance_are_welded() {
+    let diagonal = 3f64.sqrt();
+    let near = |i: usize| 0.9 * WELD_TOLERANCE * diagonal * (i % 5) as f64 / 5.0;
+    let (v, t) = cube_soup(&near);
+    let s = SurfaceMesh::new("cube", None, 1.0, v, t, &|k| format!("triangle {k}")).unwrap();
+    assert_eq!((s.open_edges, s.mesh.vertices().len()), (0, 8));
+    // Inside the closed cube, 0.2 below its top face: the gap is −0.2 along the top's normal.
+    let p = s.project([0.5, 0.5, 0.8]);
+    assert_eq!(p.normal, [0.0, 0.0, 1.0]);
+    let far = |i: usize| 1e-4 * (i % 5) as f64;
+    let (v, t) = cube_soup(&far);
+    let s = SurfaceMesh::new("cube", None, 1.0, v, t, &|k| format!("triangle {k}")).unwrap();
+    assert!(s.open_edges > 0, "{} open edges", s.open_edges);
+    // The corpus's box whose facets repeat their corners 1e-12 apart, as two writers would.
+    let s = stl("valid/box_jittered.stl").unwrap();
+    assert_eq!((s.open_edges, s.mesh.vertices().len()), (0, 8));
+}
+
+/// A surface with a rim is accepted, its open edges counted, and the warning names them.
+#[test]
+fn open_edges_are_counted_and_reported() {
+    assert_eq!(stl("valid/box.stl").unwrap().open_edges, 0);
+    assert_eq!(stl("valid/box_open.stl").unwrap().open_edges, 4);
+    let corpus = crate::corpus::corpus();
+    let text = corpus.template.stl.replace("{file}", "valid/box_open.stl");
+    let file = corpus::dir().join("stl_scene.toml").display().to_string();
+    let scene = parse_scene(&text, &file, &[]).unwrap();
+    let warnings = open_surface_warnings(&scene.model.planes);
+    assert_eq!(warnings.len(), 1, "{warnings:?}");
+    assert_has(
+        &warnings[0],
+        &["mould `wall`", "valid/box_open.stl", "is open (4 edges"],
+    );
+}
+
+/// Two triangles folded onto each other across their edge: the edge's pseudo-normal n₁ + n₂
+/// is zero and the gap NaN; refused, naming both. So is a vertex where two triangles meet
+/// tip to tip facing opposite ways (its pseudo-normal is zero, no edge shared).
+#[test]
+fn folded_surfaces_are_refused_naming_the_triangles() {
+    for file in ["stl/folded_pair.stl", "stl/folded_sheet.stl"] {
+        let e = stl(file).unwrap_err();
+        assert_has(
+            &e,
+            &[
+                file,
+                "facet 0 and facet 1 share an edge and face opposite ways",
+                "folds back",
+            ],
+        );
+    }
+    let e = stl("stl/bowtie_vertex.stl").unwrap_err();
+    assert_has(
+        &e,
+        &["the normals of the triangles around a vertex cancel (facet 0, facet 1)"],
+    );
+}
+
+/// A NaN or an infinite coordinate is refused with the facet and the vertex, not taken for a
+/// degenerate triangle.
+#[test]
+fn non_finite_coordinates_are_refused_naming_the_facet() {
+    let e = stl("stl/ascii_nan_vertex.stl").unwrap_err();
+    assert_has(&e, &["facet 0 has a non-finite coordinate at its vertex 0"]);
+    let e = stl("stl/binary_inf_vertex.stl").unwrap_err();
+    assert_has(&e, &["facet 5 has a non-finite coordinate at its vertex 0"]);
 }

@@ -167,3 +167,32 @@ def test_an_output_that_cannot_be_opened_is_an_os_error_with_the_command_lines_m
     assert done.returncode == 1
     assert done.stderr == f"error: {raised.value}\n"
     assert str(target) in str(raised.value)
+
+
+# (what, the call, the exception, text its message must contain: the argument and what it takes)
+BAD_ARGUMENTS = [
+    ("overrides not a dict", lambda s: decohesion.Scene.load(PULL_OFF, overrides=3), TypeError,
+     "overrides must be a dict"),
+    ("override key not a str", lambda s: decohesion.Scene.load(PULL_OFF, overrides={1: 2}),
+     TypeError, "override keys are key paths"),
+    ("override value not a scene value",
+     lambda s: decohesion.Scene.load(PULL_OFF, overrides={"material.young": object()}), TypeError,
+     "override `material.young`: object is not a scene value"),
+    ("threads negative", lambda s: decohesion.Simulation(s, threads=-3), ValueError,
+     "threads must be ≥ 1"),
+    ("negative step count", lambda s: decohesion.Simulation(s).step(-1), ValueError,
+     "n must be ≥ 0 steps"),
+    ("until NaN", lambda s: decohesion.Simulation(s).run(until=float("nan")), ValueError,
+     "until must be a finite time"),
+    ("every negative", lambda s: decohesion.Simulation(s).run(every=-2), ValueError,
+     "every must be ≥ 1"),
+    ("fps NaN", lambda s: decohesion.Simulation(s).run(fps=float("nan")), ValueError,
+     "fps must be a finite number > 0"),
+]
+
+
+@pytest.mark.parametrize("what,call,error,text", BAD_ARGUMENTS, ids=[c[0] for c in BAD_ARGUMENTS])
+def test_bad_arguments_are_refused_naming_the_argument(what, call, error, text, pull_off):
+    with pytest.raises(error) as e:
+        call(pull_off)
+    assert text in str(e.value)

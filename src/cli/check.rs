@@ -87,7 +87,8 @@ pub fn check(path: &Path, set: &[String]) -> Result<()> {
         "  state memory                 {:.0} bytes per element",
         state_bytes(&sim) as f64 / m.mesh.elements.len() as f64
     );
-    for w in sim.advisories() {
+    let surfaces = decohesion_physics::mould::open_surface_warnings(&m.planes);
+    for w in sim.advisories().into_iter().chain(surfaces) {
         println!("  warning                      {w}");
     }
     Ok(())

@@ -125,7 +125,8 @@ impl Terminal {
                 expected,
                 end_time
             );
-            for w in sim.advisories() {
+            let surfaces = decohesion_physics::mould::open_surface_warnings(&sim.model.planes);
+            for w in sim.advisories().into_iter().chain(surfaces) {
                 eprintln!("warning: {w}");
             }
         }

@@ -50,6 +50,21 @@ pub enum Shape {
     Surface(Arc<SurfaceMesh>),
 }
 
+/// One warning per mould of an open triangulated surface: its name, file and number of open
+/// edges, and what the mould does beyond its rim (module docs of [`surface`]). Not part of the
+/// run's advisories: a property of the input, printed by `check` and `run`.
+pub fn open_surface_warnings(moulds: &[crate::model::Mould]) -> Vec<String> {
+    (moulds.iter())
+        .filter_map(|m| match &m.shape {
+            Shape::Surface(s) if s.open_edges > 0 => Some(format!(
+                "mould `{}`: the surface of {} is open ({} edges belong to one triangle only): beyond its rim the mould acts as the plane of the rim's triangles extended, right for a node in front of the surface, wrong for one that reaches around the rim behind it",
+                m.name, s.file, s.open_edges
+            )),
+            _ => None,
+        })
+        .collect()
+}
+
 /// The closest point of a surface and the mould's outward normal there.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Projection {

@@ -82,7 +82,21 @@ impl Check<'_> {
                 .ok_or_else(|| self.missing("material.poisson", takes.clone()))?;
             self.admit(&keys::POISSON, "material.poisson", poisson)?;
             self.admit(&keys::DENSITY, "material.density", mat.density)?;
-            return Ok(Material::new(model, young, poisson, mat.density));
+            let m = Material::new(model, young, poisson, mat.density);
+            // Each in range, E, ν and ρ₀ can still give a modulus or a wave speed that
+            // overflows to inf or underflows to a subnormal (E = 1e308, ρ₀ = 1e-300).
+            let c = m.wave_speed();
+            if !(m.lambda.is_finite() && m.mu.is_normal() && c.is_normal()) {
+                return Err(self.invalid(
+                    "material.young",
+                    num(young),
+                    format!(
+                        "with ν = {poisson} and ρ₀ = {} kg/m³ it gives λ = {:e} Pa, μ = {:e} Pa and the wave speed c_d = {c:e} m/s: each must be a finite number, μ and c_d above 1e-308",
+                        mat.density, m.lambda, m.mu
+                    ),
+                ));
+            }
+            return Ok(m);
         };
         let params: Vec<&str> = spec.params.iter().map(|p| p.key).collect();
         let takes = format!(

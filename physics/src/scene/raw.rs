@@ -22,6 +22,44 @@ pub fn from_toml<T: DeserializeOwned>(text: &str, file: &str) -> Result<T, Scene
     })
 }
 
+/// Arrays of a fixed length for `deserialize_with`: toml's deserializer fills a `[T; N]` from the
+/// first N elements and drops the rest without a word, so an array is read whole and its length
+/// checked.
+mod exact {
+    use serde::de::{Deserialize, Deserializer, Error};
+
+    fn fixed<T, E: Error, const N: usize>(v: Vec<T>, what: &str) -> Result<[T; N], E> {
+        let n = v.len();
+        v.try_into()
+            .map_err(|_| E::invalid_length(n, &format!("{what} of length {N}").as_str()))
+    }
+
+    /// `[T; N]`.
+    pub fn array<'de, D: Deserializer<'de>, T: Deserialize<'de>, const N: usize>(
+        d: D,
+    ) -> Result<[T; N], D::Error> {
+        fixed(Vec::deserialize(d)?, "an array")
+    }
+
+    /// `Option<[T; N]>` (with `#[serde(default)]`: absent is None).
+    pub fn option<'de, D: Deserializer<'de>, T: Deserialize<'de>, const N: usize>(
+        d: D,
+    ) -> Result<Option<[T; N]>, D::Error> {
+        array(d).map(Some)
+    }
+
+    /// `Option<Vec<[T; N]>>`: rows of N numbers; the message names the row.
+    pub fn option_rows<'de, D: Deserializer<'de>, T: Deserialize<'de>, const N: usize>(
+        d: D,
+    ) -> Result<Option<Vec<[T; N]>>, D::Error> {
+        let rows: Vec<Vec<T>> = Vec::deserialize(d)?;
+        (rows.into_iter().enumerate())
+            .map(|(k, r)| fixed(r, &format!("row [{k}]: a row")))
+            .collect::<Result<_, _>>()
+            .map(Some)
+    }
+}
+
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct RawScene {
@@ -29,11 +67,11 @@ pub struct RawScene {
     #[serde(default)]
     pub description: String,
     pub end_time: f64,
-    #[serde(default)]
+    #[serde(default, deserialize_with = "exact::array")]
     pub gravity: [f64; 3],
-    #[serde(default)]
+    #[serde(default, deserialize_with = "exact::array")]
     pub initial_velocity: [f64; 3],
-    #[serde(default)]
+    #[serde(default, deserialize_with = "exact::array")]
     pub initial_angular_velocity: [f64; 3],
     pub mesh: RawMesh,
     pub material: RawMaterial,
@@ -58,8 +96,11 @@ pub struct RawScene {
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct RawMesh {
+    #[serde(default, deserialize_with = "exact::option")]
     pub origin: Option<[f64; 3]>,
+    #[serde(default, deserialize_with = "exact::option")]
     pub size: Option<[f64; 3]>,
+    #[serde(default, deserialize_with = "exact::option")]
     pub cells: Option<[usize; 3]>,
     pub file: Option<String>,
     pub scale: Option<f64>,
@@ -75,7 +116,9 @@ pub struct RawMesh {
 pub struct RawFaceSet {
     pub name: String,
     pub of: String,
+    #[serde(deserialize_with = "exact::array")]
     pub min: [f64; 3],
+    #[serde(deserialize_with = "exact::array")]
     pub max: [f64; 3],
 }
 
@@ -111,8 +154,11 @@ pub struct RawScheme {
 #[serde(deny_unknown_fields)]
 pub struct RawPlane {
     pub name: String,
+    #[serde(deserialize_with = "exact::array")]
     pub point: [f64; 3],
+    #[serde(deserialize_with = "exact::array")]
     pub normal: [f64; 3],
+    #[serde(default, deserialize_with = "exact::option_rows")]
     pub velocity: Option<Vec<[f64; 4]>>,
 }
 
@@ -122,18 +168,26 @@ pub struct RawPlane {
 pub struct RawMould {
     pub name: String,
     pub shape: String,
+    #[serde(default, deserialize_with = "exact::option")]
     pub point: Option<[f64; 3]>,
+    #[serde(default, deserialize_with = "exact::option")]
     pub normal: Option<[f64; 3]>,
+    #[serde(default, deserialize_with = "exact::option")]
     pub centre: Option<[f64; 3]>,
+    #[serde(default, deserialize_with = "exact::option")]
     pub size: Option<[f64; 3]>,
     pub radius: Option<f64>,
+    #[serde(default, deserialize_with = "exact::option")]
     pub axis: Option<[f64; 3]>,
     pub length: Option<f64>,
     pub file: Option<String>,
     pub group: Option<String>,
     pub scale: Option<f64>,
+    #[serde(default, deserialize_with = "exact::option")]
     pub pivot: Option<[f64; 3]>,
+    #[serde(default, deserialize_with = "exact::option_rows")]
     pub velocity: Option<Vec<[f64; 4]>>,
+    #[serde(default, deserialize_with = "exact::option_rows")]
     pub angular_velocity: Option<Vec<[f64; 4]>>,
 }
 
@@ -191,6 +245,7 @@ pub struct RawDisplacement {
     pub faces: String,
     pub component: Axis,
     /// U(t) as rows [t (s), U (m)]; or, instead, `speed`.
+    #[serde(default, deserialize_with = "exact::option_rows")]
     pub table: Option<Vec<[f64; 2]>>,
     /// A constant pull speed (m/s) instead of a table: U = v t after the ramp.
     pub speed: Option<f64>,
@@ -212,6 +267,8 @@ pub enum Axis {
 #[serde(deny_unknown_fields)]
 pub struct RawTraction {
     pub faces: String,
+    #[serde(deserialize_with = "exact::array")]
     pub vector: [f64; 3],
+    #[serde(default, deserialize_with = "exact::option_rows")]
     pub amplitude: Option<Vec<[f64; 2]>>,
 }
