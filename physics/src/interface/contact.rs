@@ -5,7 +5,19 @@
 //! velocities are relative to the surface's material point, impulses are W R (N·s).
 
 use crate::mesh::{dot, norm};
-use crate::solver::ContactStatus;
+
+/// Contact status of a node against a plane, for output and debugging.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum ContactStatus {
+    /// Gap > 0, or approaching velocity ≥ 0: no impulse.
+    #[default]
+    Open,
+    /// |r_T| ≤ μ r_N: no sliding.
+    Stick,
+    /// |r_T| = μ r_N opposing the sliding velocity.
+    Slip,
+}
 
 /// Stage 7 for one node against one surface (model §3.4, paper eqs. 19–20, 22): if gₙ₊₁ ≤ 0
 /// and the relative free velocity approaches (v_N < 0), r_N = −m v_N/W brings v_N to 0; the

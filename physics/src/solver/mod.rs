@@ -34,8 +34,8 @@ mod stiffness;
 
 pub use setup::{mould_closest_point, start_offset_tolerance, StartOffset};
 pub use state::{
-    ContactNode, ContactStatus, CornerChecks, DamageClamped, InterfaceNode, PeakReaction, RunStats,
-    SolverError, StableStep, StageTimes, StateCounts,
+    ContactNode, CornerChecks, DamageClamped, InterfaceNode, PeakReaction, RunStats, SolverError,
+    StableStep, StageTimes, StateCounts,
 };
 
 use crate::energy::{EnergySnapshot, Ledger};

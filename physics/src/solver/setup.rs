@@ -5,11 +5,10 @@
 use super::boundary::{Boundary, NONE};
 use super::stable_step::{capped_step, StepControl};
 use super::stages::StepScratch;
-use super::state::{
-    ContactNode, ContactStatus, InterfaceNode, PeakReaction, RunStats, SolverError,
-};
+use super::state::{ContactNode, InterfaceNode, PeakReaction, RunStats, SolverError};
 use super::{Simulation, ELEMENT_GRAIN, PARALLEL_MIN_ELEMENTS};
 use crate::energy::Ledger;
+use crate::interface::contact::ContactStatus;
 use crate::kernels::Planes;
 use crate::law::StiffnessLaw;
 use crate::mesh::{dot, sub, ElementClasses, Mesh};
