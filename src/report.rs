@@ -81,10 +81,10 @@ pub struct RunSummary {
     #[serde(skip_serializing_if = "Option::is_none")]
     pub series: Option<crate::output::series::SeriesReport>,
     /// Interfaces whose glued nodes start off their mould beyond the tolerance, or inside it:
-    /// per interface the count and the largest offset ([`crate::solver::StartOffset`]; also a
+    /// per interface the count and the largest offset ([`crate::model::StartOffset`]; also a
     /// warning). Absent when every glued node starts on its mould.
     #[serde(skip_serializing_if = "Vec::is_empty")]
-    pub glued_start_offsets: Vec<crate::solver::StartOffset>,
+    pub glued_start_offsets: Vec<crate::model::StartOffset>,
     /// Each mould's work since t₀ [J] (force · velocity of the mould at the points it acts on,
     /// moments included; their sum is `energies.plane_work`), as (name, work). Listed when a
     /// scene has a mould that is not a plain fixed-orientation plane (model §7.6).

@@ -241,6 +241,16 @@ impl RigidPlane {
     }
 }
 
+/// What the glue and the contact need of a rigid mould at one point x at t = 0 (model §7.1,
+/// §7.4, [`crate::mould`]): the closest point p of the mould's surface
+/// to x and the mould's outward unit normal n there (into the solid), so that the gap is
+/// g = n·(x − p). For a plane p is the orthogonal projection and n the plane's normal, the same
+/// at every point; on a faceted surface n is the pseudo-normal of the feature hit.
+pub fn mould_closest_point(plane: &RigidPlane, x: [f64; 3]) -> ([f64; 3], [f64; 3]) {
+    let pr = plane.project0(x);
+    (pr.point, pr.normal)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
