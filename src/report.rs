@@ -70,12 +70,12 @@ pub struct RunSummary {
     pub stage_seconds: StageTimes,
     /// What went to Rerun, when the run was recorded.
     #[cfg(not(target_arch = "wasm32"))]
-    pub recording: Option<crate::record::RecordingReport>,
+    pub recording: Option<crate::output::reports::RecordingReport>,
     /// [`Simulation::advisories`]: warnings about the regime of the model.
     pub warnings: Vec<String>,
     /// What went to ParaView files (`--vtk`).
     #[cfg(not(target_arch = "wasm32"))]
-    pub paraview: Option<crate::vtk::VtkReport>,
+    pub paraview: Option<crate::output::reports::VtkReport>,
     /// What went to the time series (`--series`); absent without it.
     #[cfg(not(target_arch = "wasm32"))]
     #[serde(skip_serializing_if = "Option::is_none")]
