@@ -16,8 +16,9 @@
 //! # defaults: 0.3,0.4,0.5  8,16,32 (in x and y; z gets a quarter)  0.5
 //! ```
 
+use decohesion::interface::contact::ContactStatus;
 use decohesion::scene::load_scene;
-use decohesion::solver::{ContactStatus, Simulation};
+use decohesion::solver::Simulation;
 
 /// Sliding window [s]: after full rupture (≈ 64 ms at μ = 0.3), before the push stops (90 ms).
 const WINDOW: (f64, f64) = (0.07, 0.09);

@@ -261,7 +261,7 @@ pub fn cancel_on_ctrl_c(flag: Arc<AtomicBool>) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::vtk::{VtkError, VtkReport};
+    use crate::output::reports::{VtkError, VtkReport};
     use std::sync::Mutex;
 
     /// What a probe output saw: the steps of its frames (the last one included) and, once

@@ -70,21 +70,21 @@ pub struct RunSummary {
     pub stage_seconds: StageTimes,
     /// What went to Rerun, when the run was recorded.
     #[cfg(not(target_arch = "wasm32"))]
-    pub recording: Option<crate::record::RecordingReport>,
+    pub recording: Option<crate::output::reports::RecordingReport>,
     /// [`Simulation::advisories`]: warnings about the regime of the model.
     pub warnings: Vec<String>,
     /// What went to ParaView files (`--vtk`).
     #[cfg(not(target_arch = "wasm32"))]
-    pub paraview: Option<crate::vtk::VtkReport>,
+    pub paraview: Option<crate::output::reports::VtkReport>,
     /// What went to the time series (`--series`); absent without it.
     #[cfg(not(target_arch = "wasm32"))]
     #[serde(skip_serializing_if = "Option::is_none")]
     pub series: Option<crate::output::series::SeriesReport>,
     /// Interfaces whose glued nodes start off their mould beyond the tolerance, or inside it:
-    /// per interface the count and the largest offset ([`crate::solver::StartOffset`]; also a
+    /// per interface the count and the largest offset ([`crate::model::StartOffset`]; also a
     /// warning). Absent when every glued node starts on its mould.
     #[serde(skip_serializing_if = "Vec::is_empty")]
-    pub glued_start_offsets: Vec<crate::solver::StartOffset>,
+    pub glued_start_offsets: Vec<crate::model::StartOffset>,
     /// Each mould's work since t₀ [J] (force · velocity of the mould at the points it acts on,
     /// moments included; their sum is `energies.plane_work`), as (name, work). Listed when a
     /// scene has a mould that is not a plain fixed-orientation plane (model §7.6).

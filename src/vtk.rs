@@ -52,6 +52,7 @@ pub use moulds::VTK_TRIANGLE;
 use crate::law::InterfaceState;
 use crate::model::Model;
 use crate::output::fields::centre_fields;
+use crate::output::reports::{VtkError, VtkReport};
 use crate::output::worker::Worker;
 use crate::output::{Ending, Output, OutputError, OutputReport, Snapshot, QUEUE_BYTES};
 use crate::solver::Simulation;
@@ -73,40 +74,6 @@ pub const VTK_HEXAHEDRON: u8 = 12;
 const PVD_HEAD: &str = "<?xml version=\"1.0\"?>\n\
 <VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n  <Collection>\n";
 const PVD_TAIL: &str = "  </Collection>\n</VTKFile>\n";
-
-/// What could not be written.
-#[derive(Debug, thiserror::Error)]
-pub enum VtkError {
-    #[error("cannot write the ParaView output (--vtk) to directory {}: {source}", dir.display())]
-    Dir {
-        dir: PathBuf,
-        #[source]
-        source: std::io::Error,
-    },
-    #[error("writing {}: {source}", path.display())]
-    Write {
-        path: PathBuf,
-        #[source]
-        source: std::io::Error,
-    },
-    #[error("the ParaView writer thread {0}")]
-    Thread(String),
-}
-
-/// What was written, for the run summary.
-#[derive(Debug, Clone, Default, serde::Serialize)]
-pub struct VtkReport {
-    /// The `.pvd` index.
-    pub pvd: String,
-    /// Frames (`.vtu` files) written and indexed.
-    pub frames: u64,
-    /// Bytes of all the frames and the index.
-    pub bytes: u64,
-    /// Wall time the solver thread spent: copies, waiting on a full queue, final wait [s].
-    pub solver_seconds: f64,
-    /// Busy time of the writer thread, beside the solver [s].
-    pub writer_thread_seconds: f64,
-}
 
 /// What the writer thread reports when it ends.
 struct WriterEnd {

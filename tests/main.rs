@@ -16,6 +16,9 @@ mod common;
 mod corpus;
 #[path = "common/listing.rs"]
 mod listing;
+/// The graph of the top-level modules, checked for cycles below.
+#[path = "common/modules.rs"]
+mod modules;
 /// Records for the validation report (`scripts/validation.sh`); the physics tests include the same file.
 #[path = "common/validation.rs"]
 mod validation;
@@ -51,4 +54,17 @@ fn every_test_file_is_built() {
         "tests/{{{}}}.rs: add `mod NAME;` to tests/main.rs (or a [[test]] to Cargo.toml)",
         missing.join(",")
     );
+}
+
+/// The top-level modules of the crate's sources use each other without a cycle: each `crate::X`
+/// or `super::` path that leaves its top-level module is an edge, and the graph of those edges
+/// (`tests/common/modules.rs`) has none. The layers are listed in `docs/src/architecture.md`.
+#[test]
+fn no_module_cycle() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    for root in ["lib.rs", "main.rs"] {
+        if let Err(e) = modules::check(dir, root, &[]) {
+            panic!("{e}");
+        }
+    }
 }

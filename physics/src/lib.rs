@@ -28,6 +28,8 @@ pub mod mesh;
 pub mod model;
 /// Rigid moulds of any shape: shapes, closest-point queries, prescribed rigid motion.
 pub mod mould;
+/// Piecewise-linear functions of time (velocity, traction and rotation histories).
+pub mod piecewise;
 pub mod scene;
 pub mod solver;
 /// The persistent thread team of the step's parallel loops.

@@ -8,140 +8,12 @@
 
 use crate::law::StiffnessLaw;
 use crate::material::Material;
-use crate::mesh::Mesh;
-pub use crate::mould::{Projection, RigidMotion, Shape};
+use crate::mesh::{dot, sub, Mesh};
+use crate::mould::mould_closest_point;
+// The model's vocabulary defined in the modules below it.
+pub use crate::mould::{Mould, Projection, RigidMotion, RigidPlane, Shape};
+pub use crate::piecewise::PiecewiseLinear;
 use serde::Serialize;
-
-/// A piecewise-linear function of time with N components, constant beyond its end points.
-#[derive(Debug, Clone, PartialEq)]
-pub struct PiecewiseLinear<const N: usize> {
-    /// (t [s], value) pairs with strictly increasing t.
-    pub points: Vec<(f64, [f64; N])>,
-}
-
-/// Serialised as rows `[t, v_0, …, v_{N-1}]`, the form scene files use.
-impl<const N: usize> Serialize for PiecewiseLinear<N> {
-    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
-        let rows: Vec<Vec<f64>> = self
-            .points
-            .iter()
-            .map(|(t, v)| std::iter::once(*t).chain(v.iter().copied()).collect())
-            .collect();
-        rows.serialize(s)
-    }
-}
-
-impl<const N: usize> PiecewiseLinear<N> {
-    /// Value at time t (linear interpolation, constant extrapolation).
-    pub fn value(&self, t: f64) -> [f64; N] {
-        let p = &self.points;
-        if t <= p[0].0 {
-            return p[0].1;
-        }
-        let last = p[p.len() - 1];
-        if t >= last.0 {
-            return last.1;
-        }
-        let i = p.partition_point(|q| q.0 <= t);
-        let (a, b) = (p[i - 1], p[i]);
-        let s = (t - a.0) / (b.0 - a.0);
-        std::array::from_fn(|c| a.1[c] + s * (b.1[c] - a.1[c]))
-    }
-
-    /// Exact integral ∫₀ᵗ value dτ (trapezoid on each linear piece; the value before the first
-    /// point is the first value). Used to turn a velocity history into a displacement.
-    pub fn integral(&self, t: f64) -> [f64; N] {
-        let p = &self.points;
-        let mut acc = [0.0; N];
-        let add = |t0: f64, t1: f64, acc: &mut [f64; N]| {
-            if t1 > t0 {
-                let (v0, v1) = (self.value(t0), self.value(t1));
-                for c in 0..N {
-                    acc[c] += 0.5 * (v0[c] + v1[c]) * (t1 - t0);
-                }
-            }
-        };
-        let mut prev = 0.0f64;
-        for q in p.iter() {
-            if q.0 >= t {
-                break;
-            }
-            if q.0 > prev {
-                add(prev, q.0, &mut acc);
-                prev = q.0;
-            }
-        }
-        add(prev, t, &mut acc);
-        acc
-    }
-
-    /// A constant function.
-    pub fn constant(v: [f64; N]) -> Self {
-        PiecewiseLinear {
-            points: vec![(0.0, v)],
-        }
-    }
-}
-
-/// A rigid mould (model §7): a shape ([`Shape`]) moved by a prescribed rigid motion. A
-/// `[[plane]]` is the half-space shape: points x with n·(x − p(t)) > 0 are on the solid's side.
-/// The name `RigidPlane` is kept for the code that knew only planes; [`Mould`] is the same type.
-#[derive(Debug, Clone, PartialEq, Serialize, Default)]
-pub struct RigidPlane {
-    pub name: String,
-    /// A point of the plane at t = 0 [m] (half-space); for another shape, its pivot c₀.
-    pub point: [f64; 3],
-    /// Unit normal pointing into the solid (half-space); [0, 0, 0] for another shape.
-    pub normal: [f64; 3],
-    /// Prescribed velocity history [m/s] of `point` (the pivot); `None` for a fixed mould.
-    pub velocity: Option<PiecewiseLinear<3>>,
-    /// The shape, in the mould's frame at t = 0. Default: the half-space of `point`, `normal`.
-    #[serde(flatten)]
-    pub shape: Shape,
-    /// Angular velocity history ω(t) [rad/s] about the pivot (which moves with `velocity`);
-    /// `None`: the mould does not turn.
-    pub angular_velocity: Option<PiecewiseLinear<3>>,
-    /// The pivot c₀ at t = 0 [m]; `None`: `point`.
-    pub pivot: Option<[f64; 3]>,
-}
-
-/// A rigid mould: the same type as [`RigidPlane`].
-pub type Mould = RigidPlane;
-
-impl RigidPlane {
-    /// Rigid displacement of the plane (of the pivot) since t = 0 [m].
-    pub fn displacement(&self, t: f64) -> [f64; 3] {
-        match &self.velocity {
-            None => [0.0; 3],
-            Some(v) => v.integral(t),
-        }
-    }
-
-    /// True for the path of today's planes: a half-space that does not turn (its gaps and
-    /// velocities are the plane's, the same at every node: the plain plane of model §7.2).
-    pub fn is_plane(&self) -> bool {
-        matches!(self.shape, Shape::HalfSpace) && self.angular_velocity.is_none()
-    }
-
-    /// Its motion: translation of `point` and rotation about it ([`RigidMotion`]).
-    pub fn motion(&self) -> RigidMotion {
-        RigidMotion {
-            velocity: self.velocity.clone(),
-            angular_velocity: self.angular_velocity.clone(),
-            pivot: self.pivot(),
-        }
-    }
-
-    /// The pivot c₀ of the rotation at t = 0.
-    pub fn pivot(&self) -> [f64; 3] {
-        self.pivot.unwrap_or(self.point)
-    }
-
-    /// Closest point and outward normal at x in the mould's frame at t = 0.
-    pub fn project0(&self, x: [f64; 3]) -> Projection {
-        self.shape.project(self.point, self.normal, x)
-    }
-}
 
 /// A face set glued to a rigid plane by the RCCM cohesive law (model §2).
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -266,6 +138,93 @@ pub struct Model {
     pub scheme: SchemeParams,
     /// Simulated duration [s].
     pub end_time: f64,
+}
+
+/// Largest distance between a glued node and its mould at t = 0 that is taken as "on the
+/// mould": 1e-3 of the law's elastic range α_e (of u_r if α_e = 0), and never below the
+/// round-off of positions, 16ε·(largest |coordinate|) (the gap snap of stage 2).
+///
+/// Why 1e-3 α_e: a node that starts at a distance δ from its anchor starts with the jump
+/// [u]₀ = δn, so its glue is pre-stressed by g_N(0)δ and, for δ > α_e, pre-damaged (α₀ = δ,
+/// eq. 12). At δ ≤ 1e-3 α_e the pre-stress is ≤ 0.1 % of the elastic peak traction
+/// g_N(0)α_e, its stored energy ½g_N(0)δ² ≤ 1e-6 of the elastic energy at α_e, and the node is
+/// a thousand times inside the elastic range: nothing a result could show. A mesh written with
+/// six significant digits on a body a thousand α_e across passes it.
+pub fn start_offset_tolerance(law: &StiffnessLaw, coordinate_scale: f64) -> f64 {
+    let range = if law.alpha_e > 0.0 {
+        law.alpha_e
+    } else {
+        law.u_r
+    };
+    (1e-3 * range).max(16.0 * f64::EPSILON * coordinate_scale)
+}
+
+/// How far the glued nodes of one interface start from their mould (reference positions):
+/// the signed gap g₀ = n·(X − p) of [`mould_closest_point`], off the mould (g₀ > 0) or inside
+/// it (g₀ < 0). Nodes off by more than the [`start_offset_tolerance`] start pre-stressed (and
+/// pre-damaged beyond α_e); nodes inside start pushed out by their glue. A scene refuses a
+/// start inside beyond the tolerance; the rest is a warning ([`crate::solver::Simulation::advisories`]).
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct StartOffset {
+    /// Index of the interface, its face set and its mould.
+    pub interface: usize,
+    pub faces: String,
+    pub mould: String,
+    /// Glued nodes farther than the tolerance off the mould, and the largest such g₀ [m].
+    pub off_nodes: usize,
+    pub largest_off: f64,
+    /// Glued nodes inside the mould by more than the round-off of positions, and the deepest
+    /// such −g₀ [m].
+    pub inside_nodes: usize,
+    pub deepest: f64,
+    /// Of those, the nodes inside by more than the tolerance (a scene refuses them).
+    pub deep_nodes: usize,
+    /// [`start_offset_tolerance`] of the interface's law [m].
+    pub tolerance: f64,
+}
+
+impl StartOffset {
+    /// The start offsets of interface `k` of `model` (`None` when its face set is unknown).
+    pub fn of(model: &Model, k: usize) -> Option<StartOffset> {
+        let (mesh, itf) = (&model.mesh, &model.interfaces[k]);
+        if itf.forms_on_contact.is_some() {
+            return None; // no glue at t = 0: the contact entry's start check applies
+        }
+        let plane = &model.planes[itf.plane];
+        let scale =
+            (mesh.nodes.iter().flatten().chain(&plane.point)).fold(0.0f64, |a, x| a.max(x.abs()));
+        let round_off = 16.0 * f64::EPSILON * scale;
+        let mut out = StartOffset {
+            interface: k,
+            faces: itf.faces.clone(),
+            mould: plane.name.clone(),
+            off_nodes: 0,
+            largest_off: 0.0,
+            inside_nodes: 0,
+            deepest: 0.0,
+            deep_nodes: 0,
+            tolerance: start_offset_tolerance(&itf.law, scale),
+        };
+        for node in mesh.face_set_nodes(mesh.face_sets.get(&itf.faces)?) {
+            let x = mesh.nodes[node as usize];
+            let (p, n) = mould_closest_point(plane, x);
+            let g0 = dot(n, sub(x, p));
+            if g0 > out.tolerance {
+                out.off_nodes += 1;
+                out.largest_off = out.largest_off.max(g0);
+            } else if -g0 > round_off {
+                out.inside_nodes += 1;
+                out.deepest = out.deepest.max(-g0);
+                out.deep_nodes += usize::from(-g0 > out.tolerance);
+            }
+        }
+        Some(out)
+    }
+
+    /// True when some glued node starts off or inside its mould (worth a warning).
+    pub fn any(&self) -> bool {
+        self.off_nodes + self.inside_nodes > 0
+    }
 }
 
 #[cfg(test)]

@@ -15,9 +15,10 @@
 
 use crate::common::{centre_of_mass, face_nodes, on_floor};
 use crate::validation::{curve, record, Tol};
+use decohesion_physics::interface::contact::ContactStatus;
 use decohesion_physics::material::{Material, MaterialModel};
 use decohesion_physics::model::{Model, PiecewiseLinear, Traction};
-use decohesion_physics::solver::{ContactStatus, Simulation};
+use decohesion_physics::solver::Simulation;
 
 const E: f64 = 2.0e11;
 const RHO: f64 = 7800.0;

@@ -10,6 +10,9 @@ mod corpus;
 mod hertz;
 #[path = "../../tests/common/listing.rs"]
 mod listing;
+/// The graph of the top-level modules, checked for cycles below.
+#[path = "../../tests/common/modules.rs"]
+mod modules;
 /// Records for the validation report (`scripts/validation.sh`), shared with the root tests.
 #[path = "../../tests/common/validation.rs"]
 mod validation;
@@ -56,4 +59,22 @@ fn every_test_file_is_built() {
         "tests/{{{}}}.rs: add `mod NAME;` to tests/main.rs (or a [[test]] to Cargo.toml)",
         missing.join(",")
     );
+}
+
+/// Edges the cycle check leaves out until they are removed: `mesh` takes `NodalField`,
+/// `row_starts` and `corner_bound_constant` from `kernels`, which reads the mesh. They are
+/// properties of the mesh and its elements and belong in `mesh`; they move when the kernels
+/// are next rewritten, and this list empties.
+const PENDING_EDGES: &[(&str, &str)] = &[("mesh", "kernels")];
+
+/// The top-level modules of the physics crate use each other without a cycle: each
+/// `crate::X` or `super::` path that leaves its top-level module is an edge, and the graph of
+/// those edges (`tests/common/modules.rs`), but for [`PENDING_EDGES`], has none. The layers
+/// are listed in `docs/src/architecture.md`.
+#[test]
+fn no_module_cycle() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    if let Err(e) = modules::check(dir, "lib.rs", PENDING_EDGES) {
+        panic!("{e}");
+    }
 }

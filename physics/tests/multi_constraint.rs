@@ -10,13 +10,14 @@
 //! below ε s/3: the tolerance 1e-12 s.
 
 use crate::common::{bare_box, mould};
+use decohesion_physics::interface::contact::ContactStatus;
 use decohesion_physics::interface::contact::{
     contact_impulses, Constraint, JointSolve, JOINT_TOLERANCE,
 };
 use decohesion_physics::material::{Material, MaterialModel};
 use decohesion_physics::mesh::{dot, norm};
 use decohesion_physics::model::{ContactFaces, RigidPlane};
-use decohesion_physics::solver::{ContactStatus, Simulation};
+use decohesion_physics::solver::Simulation;
 use proptest::prelude::*;
 
 const M: f64 = 0.37;

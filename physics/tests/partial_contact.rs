@@ -10,10 +10,11 @@
 //! block's weight and slide without friction on that edge.
 
 use crate::common::{centre_of_mass, face_nodes, on_floor};
+use decohesion_physics::interface::contact::ContactStatus;
 use decohesion_physics::material::{Material, MaterialModel};
 use decohesion_physics::model::PiecewiseLinear;
 use decohesion_physics::model::PrescribedDisplacement;
-use decohesion_physics::solver::{ContactStatus, Simulation};
+use decohesion_physics::solver::Simulation;
 
 const E: f64 = 2.0e11;
 const RHO: f64 = 7800.0;

@@ -6,10 +6,11 @@
 //! property test whose histories never leave the elastic range would test nothing).
 
 use crate::common::*;
+use decohesion_physics::interface::contact::ContactStatus;
 use decohesion_physics::law::{Knots, ParamValues, StiffnessLaw};
 use decohesion_physics::material::{Material, MaterialModel};
 use decohesion_physics::model::{Interface, PiecewiseLinear, PrescribedDisplacement};
-use decohesion_physics::solver::{ContactStatus, Simulation};
+use decohesion_physics::solver::Simulation;
 use proptest::prelude::*;
 use proptest::strategy::ValueTree;
 use proptest::test_runner::TestRunner;

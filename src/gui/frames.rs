@@ -11,13 +11,14 @@
 //! [`FrameBuilder::frame_bytes`]), so the cadence is the recorder's (the run's `frames` over
 //! its end time) or coarser.
 
+use crate::interface::contact::ContactStatus;
 use crate::kernels::Planes;
 use crate::law::InterfaceState;
 use crate::model::Model;
 use crate::output::fields::Scalar;
 use crate::output::surface::mould::{body_box, mould_drawing, place};
 use crate::output::surface::Surface;
-use crate::solver::{ContactStatus, Simulation};
+use crate::solver::Simulation;
 use std::sync::Arc;
 
 /// The most memory a run's frames take [bytes].

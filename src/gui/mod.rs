@@ -16,6 +16,9 @@
 //! [`page_run`], the page's), `views`, `law_editor` and `plots` (the egui code), and here the eframe
 //! application.
 
+/// The browser's services (wasm32 only): the page's document, the console, a download.
+#[cfg(target_arch = "wasm32")]
+pub mod browser;
 pub mod frames;
 pub mod history;
 pub mod job;

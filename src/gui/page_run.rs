@@ -112,7 +112,7 @@ impl PageRun {
             Err(e) => Some(e.to_string()),
         };
         #[cfg(target_arch = "wasm32")]
-        crate::web::log(&format!(
+        super::browser::log(&format!(
             "decohesion: run {} {}: {} steps in {} frames, {:.3} s in step(), {:.3} s wall",
             self.id, summary.status, summary.steps, self.slices, summary.step_wall_seconds, wall
         ));

@@ -549,7 +549,7 @@ impl App {
                 .map_err(|e| format!("{}: {e}", path.display()))
         };
         #[cfg(target_arch = "wasm32")]
-        let saved = crate::web::download(name, text).map(|()| format!("{name} downloaded"));
+        let saved = super::browser::download(name, text).map(|()| format!("{name} downloaded"));
         match saved {
             Ok(note) => self.notes.push(note),
             Err(e) => self.notes.push(format!("cannot save {name}: {e}")),

@@ -356,7 +356,7 @@ impl View3d {
             grey,
         );
         let legend: Vec<(&str, [u8; 3])> = if self.contact {
-            use crate::solver::ContactStatus as C;
+            use crate::interface::contact::ContactStatus as C;
             [("open", C::Open), ("stick", C::Stick), ("slip", C::Slip)]
                 .map(|(s, c)| (s, contact_rgb(c)))
                 .to_vec()

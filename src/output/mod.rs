@@ -2,10 +2,14 @@
 //! ([`crate::vtk`]): when a frame is due ([`Cadence`], [`FrameClock`]), the state a frame shows
 //! ([`Snapshot`], copied once per frame by the run driver, [`crate::driver`]), the per-element
 //! fields both show ([`fields`]), the writer threads ([`worker`]) and the interface an output
-//! offers the driver ([`Output`]). Uses neither the Rerun SDK nor any file format itself,
-//! except the time series of the run's scalars ([`series`], `--series FILE.csv`).
+//! offers the driver ([`Output`]), and what each output reports at its end or fails with
+//! ([`reports`]). Uses neither the Rerun SDK nor any file format itself (the recorder's error
+//! only holds the SDK's error type), except the time series of the run's scalars ([`series`],
+//! `--series FILE.csv`).
 
 pub mod fields;
+#[cfg(not(target_arch = "wasm32"))]
+pub mod reports;
 #[cfg(not(target_arch = "wasm32"))]
 pub mod series;
 pub mod snapshot;
@@ -19,9 +23,8 @@ use crate::solver::SolverError;
 // per-element fields are shared.
 #[cfg(not(target_arch = "wasm32"))]
 use {
-    crate::record::{RecordError, RecordingReport},
     crate::solver::Simulation,
-    crate::vtk::{VtkError, VtkReport},
+    reports::{RecordError, RecordingReport, VtkError, VtkReport},
     series::{SeriesError, SeriesReport},
     std::sync::Arc,
 };

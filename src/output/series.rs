@@ -14,7 +14,8 @@
 use super::snapshot::mould_loads;
 use super::{Cadence, Ending, FrameClock, Output, OutputError, OutputReport, Snapshot};
 use crate::energy::EnergySnapshot;
-use crate::solver::{ContactStatus, Simulation};
+use crate::interface::contact::ContactStatus;
+use crate::solver::Simulation;
 use std::fs::File;
 use std::io::Write;
 use std::path::{Path, PathBuf};

@@ -2,8 +2,9 @@
 //! driver and shared (`Arc`) by every output's writer thread.
 
 use crate::energy::EnergySnapshot;
+use crate::interface::contact::ContactStatus;
 use crate::law::InterfaceState;
-use crate::solver::{ContactStatus, Simulation, StageTimes, StateCounts};
+use crate::solver::{Simulation, StageTimes, StateCounts};
 use std::time::Duration;
 use web_time::Instant;
 

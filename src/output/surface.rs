@@ -8,11 +8,11 @@
 pub mod mould;
 
 use super::fields::{centre_scalar, Scalar};
+use crate::interface::contact::ContactStatus;
 use crate::kernels::NodalField;
 use crate::law::InterfaceState;
 use crate::mesh::norm;
 use crate::model::Model;
-use crate::solver::ContactStatus;
 
 /// Colour of an interface node by the state of its law at α (model §2.8): elastic,
 /// transition, ruptured; dark grey for glue that forms on contact, not formed yet.

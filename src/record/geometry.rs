@@ -6,13 +6,13 @@
 use super::layout::path_part;
 use super::stream::Columns;
 use super::{ColourField, Statics, ARROW_FRACTION, NORMAL_FRACTION};
+use crate::interface::contact::ContactStatus;
 use crate::law::InterfaceState;
 use crate::model::Model;
 use crate::output::fields::Scalar;
 use crate::output::surface::mould::{body_box, mould_normal};
 use crate::output::surface::{viridis, Surface};
 use crate::output::Snapshot;
-use crate::solver::ContactStatus;
 use rerun::{Arrows3D, ComponentDescriptor, Mesh3D, Points3D, Transform3D};
 
 /// Sizes of the drawing, from the reference mesh.

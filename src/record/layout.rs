@@ -6,11 +6,12 @@
 use super::geometry::Geometry;
 use super::{log_err, ColourField, RecordError, Statics, ARROW_FRACTION, NORMAL_FRACTION};
 use crate::energy::EnergySnapshot;
+use crate::interface::contact::ContactStatus;
 use crate::law::InterfaceState;
 use crate::model::{Model, RigidPlane, Shape};
 use crate::output::surface::mould::{body_box, mould_drawing};
 use crate::output::surface::{contact_rgb, state_rgb};
-use crate::solver::{ContactStatus, Simulation};
+use crate::solver::Simulation;
 use rerun::blueprint::components::{PanelState, PlayState};
 use rerun::blueprint::{
     Blueprint, BlueprintPanel, ContainerLike, Horizontal, SelectionPanel, Spatial2DView,

@@ -69,6 +69,7 @@ pub use layout::{default_blueprint, recording_name};
 pub use stream::find_on_path;
 
 use crate::model::Model;
+use crate::output::reports::{RecordError, RecordingReport};
 use crate::output::worker::Worker;
 use crate::output::{Ending, Output, OutputError, OutputReport};
 use crate::scene::Scene;
@@ -144,36 +145,6 @@ impl ColourField {
             ColourField::Jacobian => ("volume ratio J = det F", "-"),
         }
     }
-}
-
-/// What was recorded, for the run summary.
-#[derive(Debug, Clone, Default, serde::Serialize)]
-pub struct RecordingReport {
-    /// "file", "spawn" or "connect".
-    pub sink: String,
-    pub path: Option<String>,
-    /// Frames logged (3-D state + one row of every scalar series).
-    pub frames: u64,
-    /// Wall time the solver thread spent on recording: snapshots, waiting on a full queue,
-    /// and waiting at the end until the file was complete [s].
-    pub logging_seconds: f64,
-    /// Busy time of the logger thread, which runs beside the solver [s].
-    pub logger_thread_seconds: f64,
-    /// Size of the file [bytes] (file sink only).
-    pub bytes: Option<u64>,
-}
-
-/// Errors of the recorder (the SDK's, with what we were doing).
-#[derive(Debug, thiserror::Error)]
-pub enum RecordError {
-    #[error("{0}")]
-    Setup(String),
-    #[error("logging {what}: {source}")]
-    Log {
-        what: String,
-        #[source]
-        source: rerun::RecordingStreamError,
-    },
 }
 
 fn log_err(what: &str) -> impl FnOnce(rerun::RecordingStreamError) -> RecordError + '_ {

@@ -19,6 +19,7 @@ pub mod step;
 pub mod surface;
 
 use crate::mesh::{dot, norm};
+use crate::piecewise::PiecewiseLinear;
 pub use motion::{Pose, RigidMotion};
 use serde::Serialize;
 use std::sync::Arc;
@@ -193,6 +194,76 @@ fn project_cylinder(centre: [f64; 3], a: [f64; 3], r: f64, l: f64, x: [f64; 3]) 
         (at(z, r), er)
     };
     Projection { point, normal }
+}
+
+/// A rigid mould (model §7): a shape ([`Shape`]) moved by a prescribed rigid motion. A
+/// `[[plane]]` is the half-space shape: points x with n·(x − p(t)) > 0 are on the solid's side.
+/// The name `RigidPlane` is kept for the code that knew only planes; [`Mould`] is the same type.
+#[derive(Debug, Clone, PartialEq, Serialize, Default)]
+pub struct RigidPlane {
+    pub name: String,
+    /// A point of the plane at t = 0 [m] (half-space); for another shape, its pivot c₀.
+    pub point: [f64; 3],
+    /// Unit normal pointing into the solid (half-space); [0, 0, 0] for another shape.
+    pub normal: [f64; 3],
+    /// Prescribed velocity history [m/s] of `point` (the pivot); `None` for a fixed mould.
+    pub velocity: Option<PiecewiseLinear<3>>,
+    /// The shape, in the mould's frame at t = 0. Default: the half-space of `point`, `normal`.
+    #[serde(flatten)]
+    pub shape: Shape,
+    /// Angular velocity history ω(t) [rad/s] about the pivot (which moves with `velocity`);
+    /// `None`: the mould does not turn.
+    pub angular_velocity: Option<PiecewiseLinear<3>>,
+    /// The pivot c₀ at t = 0 [m]; `None`: `point`.
+    pub pivot: Option<[f64; 3]>,
+}
+
+/// A rigid mould: the same type as [`RigidPlane`].
+pub type Mould = RigidPlane;
+
+impl RigidPlane {
+    /// Rigid displacement of the plane (of the pivot) since t = 0 [m].
+    pub fn displacement(&self, t: f64) -> [f64; 3] {
+        match &self.velocity {
+            None => [0.0; 3],
+            Some(v) => v.integral(t),
+        }
+    }
+
+    /// True for the path of today's planes: a half-space that does not turn (its gaps and
+    /// velocities are the plane's, the same at every node: the plain plane of model §7.2).
+    pub fn is_plane(&self) -> bool {
+        matches!(self.shape, Shape::HalfSpace) && self.angular_velocity.is_none()
+    }
+
+    /// Its motion: translation of `point` and rotation about it ([`RigidMotion`]).
+    pub fn motion(&self) -> RigidMotion {
+        RigidMotion {
+            velocity: self.velocity.clone(),
+            angular_velocity: self.angular_velocity.clone(),
+            pivot: self.pivot(),
+        }
+    }
+
+    /// The pivot c₀ of the rotation at t = 0.
+    pub fn pivot(&self) -> [f64; 3] {
+        self.pivot.unwrap_or(self.point)
+    }
+
+    /// Closest point and outward normal at x in the mould's frame at t = 0.
+    pub fn project0(&self, x: [f64; 3]) -> Projection {
+        self.shape.project(self.point, self.normal, x)
+    }
+}
+
+/// What the glue and the contact need of a rigid mould at one point x at t = 0 (model §7.1,
+/// §7.4, [`crate::mould`]): the closest point p of the mould's surface
+/// to x and the mould's outward unit normal n there (into the solid), so that the gap is
+/// g = n·(x − p). For a plane p is the orthogonal projection and n the plane's normal, the same
+/// at every point; on a faceted surface n is the pseudo-normal of the feature hit.
+pub fn mould_closest_point(plane: &RigidPlane, x: [f64; 3]) -> ([f64; 3], [f64; 3]) {
+    let pr = plane.project0(x);
+    (pr.point, pr.normal)
 }
 
 #[cfg(test)]

@@ -18,7 +18,7 @@
 //! step (not an Euler sum R + hωR, which is no rotation). A fixed axis gives R(t) = exp([Ω(t)]×)
 //! whatever the steps.
 
-use crate::model::PiecewiseLinear;
+use crate::piecewise::PiecewiseLinear;
 
 /// A 3×3 matrix, rows.
 pub type Mat3 = [[f64; 3]; 3];

@@ -18,9 +18,8 @@ use super::surface::{NearLists, NEAR_CAPACITY, NO_FEATURE};
 /// A triangulated mould with at most this many triangles is queried with parry's full query
 /// (its BVH is a few leaves; the lists cost more there; docs: performance log).
 pub const SMALL_SURFACE: usize = 2 * NEAR_CAPACITY;
-use super::Shape;
+use super::{Mould, Shape};
 use crate::energy::Work;
-use crate::model::Mould;
 
 /// A node's geometry against a mould that is not a plain plane, at tₙ₊₁.
 #[derive(Debug, Clone, Copy)]

@@ -9,9 +9,10 @@ use super::keys;
 use super::raw::{RawDisplacement, RawInterface, RawPlane, RawScene, RawScheme, RawTraction};
 use crate::mesh::{dot, Mesh};
 use crate::model::{
-    Interface, Model, PiecewiseLinear, PrescribedDisplacement, RigidPlane, SchemeParams, Traction,
+    Interface, Model, PiecewiseLinear, PrescribedDisplacement, RigidPlane, SchemeParams,
+    StartOffset, Traction,
 };
-use crate::solver::{mould_closest_point, StartOffset};
+use crate::mould::mould_closest_point;
 
 /// The (face set, plane) pairs attached so far, with the key that attached each: a face set
 /// meets a plane through one `[[interface]]` or one `[[contact]]`.

@@ -5,7 +5,7 @@ use super::error::{num, SceneError};
 use super::keys::KeyDoc;
 use crate::mesh::{dot, sub, Mesh};
 use crate::model::{PiecewiseLinear, RigidPlane};
-use crate::solver::mould_closest_point;
+use crate::mould::mould_closest_point;
 use std::path::Path;
 
 /// Validation of the raw scene; knows the file label for its errors and the directory that

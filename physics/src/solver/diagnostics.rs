@@ -1,11 +1,11 @@
 //! What the user is told: the blow-up diagnostic (where, with which h and h_crit, what to
 //! change; model §6.7) and the regime warnings printed before a run.
 
-use super::setup::StartOffset;
 use super::state::SolverError;
 use super::Simulation;
 use crate::kernels::corners::element_corner_jacobians;
 use crate::model::Integration;
+use crate::model::StartOffset;
 
 impl Simulation {
     /// The blow-up diagnostic: where, with which h and h_crit, and what to change.

@@ -32,10 +32,9 @@ mod stages;
 mod state;
 mod stiffness;
 
-pub use setup::{mould_closest_point, start_offset_tolerance, StartOffset};
 pub use state::{
-    ContactNode, ContactStatus, CornerChecks, DamageClamped, InterfaceNode, PeakReaction, RunStats,
-    SolverError, StableStep, StageTimes, StateCounts,
+    ContactNode, CornerChecks, DamageClamped, InterfaceNode, PeakReaction, RunStats, SolverError,
+    StableStep, StageTimes, StateCounts,
 };
 
 use crate::energy::{EnergySnapshot, Ledger};
@@ -44,7 +43,7 @@ use crate::kernels::{
 };
 use crate::law::InterfaceState;
 use crate::mesh::ElementClasses;
-use crate::model::Model;
+use crate::model::{Model, StartOffset};
 use crate::team::Team;
 use boundary::{Boundary, BoundarySums};
 use stable_step::StepControl;

@@ -5,15 +5,14 @@
 use super::boundary::{Boundary, NONE};
 use super::stable_step::{capped_step, StepControl};
 use super::stages::StepScratch;
-use super::state::{
-    ContactNode, ContactStatus, InterfaceNode, PeakReaction, RunStats, SolverError,
-};
+use super::state::{ContactNode, InterfaceNode, PeakReaction, RunStats, SolverError};
 use super::{Simulation, ELEMENT_GRAIN, PARALLEL_MIN_ELEMENTS};
 use crate::energy::Ledger;
+use crate::interface::contact::ContactStatus;
 use crate::kernels::Planes;
-use crate::law::StiffnessLaw;
 use crate::mesh::{dot, sub, ElementClasses, Mesh};
-use crate::model::{Model, RigidPlane};
+use crate::model::{Model, StartOffset};
+use crate::mould::mould_closest_point;
 use crate::mould::step::MouldStep;
 use crate::team::Team;
 use std::collections::BTreeMap;
@@ -43,103 +42,6 @@ fn lumped_masses(model: &Model, classes: &ElementClasses) -> Result<Vec<f64>, So
         )));
     }
     Ok(mass)
-}
-
-/// What the glue and the contact need of a rigid mould at one point x at t = 0 (model §7.1,
-/// §7.4, [`crate::mould`]): the closest point p of the mould's surface
-/// to x and the mould's outward unit normal n there (into the solid), so that the gap is
-/// g = n·(x − p). For a plane p is the orthogonal projection and n the plane's normal, the same
-/// at every point; on a faceted surface n is the pseudo-normal of the feature hit.
-pub fn mould_closest_point(plane: &RigidPlane, x: [f64; 3]) -> ([f64; 3], [f64; 3]) {
-    let pr = plane.project0(x);
-    (pr.point, pr.normal)
-}
-
-/// Largest distance between a glued node and its mould at t = 0 that is taken as "on the
-/// mould": 1e-3 of the law's elastic range α_e (of u_r if α_e = 0), and never below the
-/// round-off of positions, 16ε·(largest |coordinate|) (the gap snap of stage 2).
-///
-/// Why 1e-3 α_e: a node that starts at a distance δ from its anchor starts with the jump
-/// [u]₀ = δn, so its glue is pre-stressed by g_N(0)δ and, for δ > α_e, pre-damaged (α₀ = δ,
-/// eq. 12). At δ ≤ 1e-3 α_e the pre-stress is ≤ 0.1 % of the elastic peak traction
-/// g_N(0)α_e, its stored energy ½g_N(0)δ² ≤ 1e-6 of the elastic energy at α_e, and the node is
-/// a thousand times inside the elastic range: nothing a result could show. A mesh written with
-/// six significant digits on a body a thousand α_e across passes it.
-pub fn start_offset_tolerance(law: &StiffnessLaw, coordinate_scale: f64) -> f64 {
-    let range = if law.alpha_e > 0.0 {
-        law.alpha_e
-    } else {
-        law.u_r
-    };
-    (1e-3 * range).max(16.0 * f64::EPSILON * coordinate_scale)
-}
-
-/// How far the glued nodes of one interface start from their mould (reference positions):
-/// the signed gap g₀ = n·(X − p) of [`mould_closest_point`], off the mould (g₀ > 0) or inside
-/// it (g₀ < 0). Nodes off by more than the [`start_offset_tolerance`] start pre-stressed (and
-/// pre-damaged beyond α_e); nodes inside start pushed out by their glue. A scene refuses a
-/// start inside beyond the tolerance; the rest is a warning ([`Simulation::advisories`]).
-#[derive(Debug, Clone, PartialEq, serde::Serialize)]
-pub struct StartOffset {
-    /// Index of the interface, its face set and its mould.
-    pub interface: usize,
-    pub faces: String,
-    pub mould: String,
-    /// Glued nodes farther than the tolerance off the mould, and the largest such g₀ [m].
-    pub off_nodes: usize,
-    pub largest_off: f64,
-    /// Glued nodes inside the mould by more than the round-off of positions, and the deepest
-    /// such −g₀ [m].
-    pub inside_nodes: usize,
-    pub deepest: f64,
-    /// Of those, the nodes inside by more than the tolerance (a scene refuses them).
-    pub deep_nodes: usize,
-    /// [`start_offset_tolerance`] of the interface's law [m].
-    pub tolerance: f64,
-}
-
-impl StartOffset {
-    /// The start offsets of interface `k` of `model` (`None` when its face set is unknown).
-    pub fn of(model: &Model, k: usize) -> Option<StartOffset> {
-        let (mesh, itf) = (&model.mesh, &model.interfaces[k]);
-        if itf.forms_on_contact.is_some() {
-            return None; // no glue at t = 0: the contact entry's start check applies
-        }
-        let plane = &model.planes[itf.plane];
-        let scale =
-            (mesh.nodes.iter().flatten().chain(&plane.point)).fold(0.0f64, |a, x| a.max(x.abs()));
-        let round_off = 16.0 * f64::EPSILON * scale;
-        let mut out = StartOffset {
-            interface: k,
-            faces: itf.faces.clone(),
-            mould: plane.name.clone(),
-            off_nodes: 0,
-            largest_off: 0.0,
-            inside_nodes: 0,
-            deepest: 0.0,
-            deep_nodes: 0,
-            tolerance: start_offset_tolerance(&itf.law, scale),
-        };
-        for node in mesh.face_set_nodes(mesh.face_sets.get(&itf.faces)?) {
-            let x = mesh.nodes[node as usize];
-            let (p, n) = mould_closest_point(plane, x);
-            let g0 = dot(n, sub(x, p));
-            if g0 > out.tolerance {
-                out.off_nodes += 1;
-                out.largest_off = out.largest_off.max(g0);
-            } else if -g0 > round_off {
-                out.inside_nodes += 1;
-                out.deepest = out.deepest.max(-g0);
-                out.deep_nodes += usize::from(-g0 > out.tolerance);
-            }
-        }
-        Some(out)
-    }
-
-    /// True when some glued node starts off or inside its mould (worth a warning).
-    pub fn any(&self) -> bool {
-        self.off_nodes + self.inside_nodes > 0
-    }
 }
 
 /// The glued nodes of every interface, each bonded to its closest mould point y₀ at t₀

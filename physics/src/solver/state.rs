@@ -3,6 +3,7 @@
 //! surface's normal n points into the solid, a gap g > 0 is open, impulses and tractions are per
 //! unit reference area (Pa·s, Pa), the damage α and the jump [u] are in metres.
 
+use crate::interface::contact::ContactStatus;
 use crate::interface::law::{InterfaceState, StiffnessLaw};
 use serde::Serialize;
 use std::time::Duration;
@@ -36,19 +37,6 @@ pub enum SolverError {
     },
     #[error("cancelled at step {step} (t = {time:.6e} s)")]
     Cancelled { step: u64, time: f64 },
-}
-
-/// Contact status of a node against a plane, for output and debugging.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Default)]
-#[serde(rename_all = "snake_case")]
-pub enum ContactStatus {
-    /// Gap > 0, or approaching velocity ≥ 0: no impulse.
-    #[default]
-    Open,
-    /// |r_T| ≤ μ r_N: no sliding.
-    Stick,
-    /// |r_T| = μ r_N opposing the sliding velocity.
-    Slip,
 }
 
 /// An interface node: a node of the solid bonded to a material point of a rigid plane.

@@ -24,9 +24,9 @@
 //! it, and re-forming it at the next touch would create glue (and energy to dissipate) from
 //! nothing; the hysteresis test checks D = G_c × the torn area on that basis.
 
+use crate::interface::contact::ContactStatus;
 use crate::mesh::sub;
 use crate::mould::motion::mat_t_vec;
-use crate::solver::state::ContactStatus;
 use crate::solver::Simulation;
 
 impl Simulation {

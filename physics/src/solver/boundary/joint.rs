@@ -6,8 +6,9 @@
 //! of [`BoundaryStep::contact`] (and so its arithmetic, bit for bit).
 
 use super::{BoundaryNode, BoundaryStep, BoundarySums, NodeImpulses, MAX_CONSTRAINTS};
+use crate::interface::contact::ContactStatus;
 use crate::interface::contact::{contact_impulses, held_reach, Constraint};
-use crate::solver::state::{ContactNode, ContactStatus, InterfaceNode};
+use crate::solver::state::{ContactNode, InterfaceNode};
 use crate::team::SharedSlice;
 
 /// Most constraint entries (glued and contact) one node may have; setup refuses more
