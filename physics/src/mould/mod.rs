@@ -54,7 +54,7 @@ pub enum Shape {
 /// One warning per mould of an open triangulated surface: its name, file and number of open
 /// edges, and what the mould does beyond its rim (module docs of [`surface`]). Not part of the
 /// run's advisories: a property of the input, printed by `check` and `run`.
-pub fn open_surface_warnings(moulds: &[crate::model::Mould]) -> Vec<String> {
+pub fn open_surface_warnings(moulds: &[Mould]) -> Vec<String> {
     (moulds.iter())
         .filter_map(|m| match &m.shape {
             Shape::Surface(s) if s.open_edges > 0 => Some(format!(
