@@ -25,6 +25,10 @@ pub mod compare;
 /// The run driver: the outputs of a run, its loop, cancellation, progress, the summary.
 #[cfg(not(target_arch = "wasm32"))]
 pub mod driver;
+/// `decohesion fit`: the values of a scene's keys that make a run reproduce a measured curve
+/// (Nelder–Mead over the runs, the linearised uncertainty, the fitted scene file).
+#[cfg(not(target_arch = "wasm32"))]
+pub mod fit;
 /// The explorer (egui): reads scenes, runs simulations on a thread or, in the web page, inside
 /// the frame loop; not used by the physics. Left out without the `gui` feature (the Python
 /// package).

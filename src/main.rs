@@ -7,8 +7,11 @@
 #![cfg(not(target_arch = "wasm32"))]
 
 use clap::{CommandFactory, Parser, Subcommand};
-use decohesion::cli::{bench, check, compare, reference, run, sweep, tradeoff, SweepArgs};
+use decohesion::cli::{
+    bench, check, compare, fit, reference, run, sweep, tradeoff, FitCli, SweepArgs,
+};
 use decohesion::driver::Plan;
+use decohesion::fit::FitArgs;
 use decohesion::record::{Cadence, Sink};
 use decohesion::scene::load_scene;
 use std::path::{Path, PathBuf};
@@ -109,6 +112,55 @@ enum Command {
         /// the threads are shared among them.
         #[arg(long, value_name = "N", value_parser = positive_u64)]
         jobs: Option<u64>,
+    },
+    /// Fit free scene keys (a law's parameters) so that the run reproduces a measured curve:
+    /// Nelder–Mead over runs, σ of each value, a plot and the fitted scene file.
+    Fit {
+        /// Scene file (TOML), e.g. scenes/pull_off.toml.
+        scene: PathBuf,
+        /// The measured curve: CSV of two columns, a header naming them with units in brackets,
+        /// e.g. `u [mm], F [N]`; x strictly increasing.
+        #[arg(long, value_name = "FILE.csv")]
+        data: PathBuf,
+        /// The run's series column compared with the measured x (a column of `run --series`,
+        /// with or without its unit), e.g. u_z_plus_z.
+        #[arg(long, value_name = "COLUMN")]
+        x: String,
+        /// The run's series column compared with the measured y, e.g. F_z_plus_z.
+        #[arg(long, value_name = "COLUMN")]
+        y: String,
+        /// A free key and its bounds, e.g. --free interface.law.u_r=1e-3..1e-2 (repeat for
+        /// several); it starts from the scene's value (or --set's), else the middle.
+        #[arg(long = "free", value_name = "KEY=LO..HI", required = true)]
+        free: Vec<String>,
+        /// Override applied to every run, e.g. --set end_time=0.2 (repeat for several).
+        #[arg(long = "set", value_name = "KEY=VALUE")]
+        set: Vec<String>,
+        /// Unit of the measured x when the header gives none (e.g. mm) [default: the column's SI
+        /// unit, with a warning].
+        #[arg(long, value_name = "UNIT")]
+        x_unit: Option<String>,
+        /// Unit of the measured y when the header gives none (e.g. kN).
+        #[arg(long, value_name = "UNIT")]
+        y_unit: Option<String>,
+        /// Runs at most (the uncertainty's 2 per free key come on top).
+        #[arg(long, value_name = "N", default_value_t = decohesion::fit::DEFAULT_MAX_EVALS)]
+        max_evals: usize,
+        /// Points of a Halton sample of the bounds' box, run side by side before Nelder–Mead,
+        /// which starts from the best of them and the start (0: from the start) [default: 20 per
+        /// free key].
+        #[arg(long, value_name = "N")]
+        sample: Option<usize>,
+        /// Stop when the misfits of the simplex's vertices agree within this (their standard
+        /// deviation; the misfit is the mean square residual relative to max |y|).
+        #[arg(long, value_name = "TOL", default_value_t = decohesion::fit::DEFAULT_TOLERANCE)]
+        tolerance: f64,
+        /// Folder of the results [default: out/fit_<scene name>].
+        #[arg(long, value_name = "DIR")]
+        out: Option<PathBuf>,
+        /// Record the curves and the optimiser's runs to this .rrd file.
+        #[arg(long, value_name = "FILE.rrd")]
+        save: Option<PathBuf>,
     },
     /// Speed against accuracy: run a grid of quadratures × meshes × time steps of one scene,
     /// compare the observables with the finest run, mark the Pareto front.
@@ -367,6 +419,35 @@ fn main() {
             out,
             save,
             jobs: jobs.map(|j| j as usize),
+            quiet: cli.quiet,
+        }),
+        Command::Fit {
+            scene,
+            data,
+            x,
+            y,
+            free,
+            set,
+            x_unit,
+            y_unit,
+            max_evals,
+            sample,
+            tolerance,
+            out,
+            save,
+        } => fit(FitCli {
+            args: FitArgs {
+                set,
+                x_unit,
+                y_unit,
+                max_evals,
+                sample,
+                tolerance,
+                threads: rayon::current_num_threads().max(1),
+                ..FitArgs::new(&scene, &data, &x, &y, &free)
+            },
+            out,
+            save,
             quiet: cli.quiet,
         }),
         Command::Tradeoff {

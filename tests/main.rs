@@ -26,6 +26,7 @@ mod validation;
 mod bad_input_cli;
 mod command_line;
 mod compare;
+mod fit;
 mod gmsh;
 mod golden;
 mod gui;

@@ -1,6 +1,6 @@
 //! The subcommands of the `decohesion` command, behind its argument parsing (`src/main.rs`):
 //! `run` ([`run()`], through the run driver), `check`, `sweep` (a grid of runs, [`sweep()`]),
-//! `tradeoff`, `bench`, `compare` (two results, [`compare()`]), `reference` (the reference pages generated from the code,
+//! `tradeoff`, `bench`, `compare` (two results, [`compare()`]), `fit` (a law fitted to a measured curve, [`fit()`]), `reference` (the reference pages generated from the code,
 //! [`reference`]).
 //!
 //! On wasm32 (the web page) only [`Vary`] and [`PALETTE`] exist, which the explorer uses.
@@ -11,6 +11,8 @@ mod bench;
 mod check;
 #[cfg(not(target_arch = "wasm32"))]
 pub mod compare;
+#[cfg(not(target_arch = "wasm32"))]
+mod fit;
 #[cfg(not(target_arch = "wasm32"))]
 mod peak;
 #[cfg(not(target_arch = "wasm32"))]
@@ -30,8 +32,8 @@ mod vary;
 pub use vary::{Vary, PALETTE};
 #[cfg(not(target_arch = "wasm32"))]
 pub use {
-    bench::bench, check::check, compare::compare, run::run, sweep::sweep, sweep::SweepArgs,
-    tradeoff::tradeoff,
+    bench::bench, check::check, compare::compare, fit::fit, fit::FitCli, run::run, sweep::sweep,
+    sweep::SweepArgs, tradeoff::tradeoff,
 };
 
 /// What `decohesion` prints after `error: `: the message of `e` and of each of its causes,
