@@ -10,6 +10,8 @@ damage — driven from Python.
 >>> sim.run(save="out/pull_off.rrd")   # to the end time, recorded like `decohesion run --save`
 >>> sim.summary()["time_full_rupture"]
 >>> sim.history["F_z_plus_z [N]"]      # the reaction at every step [N], as `run --series`
+>>> decohesion.fit("scenes/pull_off.toml", "curve.csv", "u_z_plus_z", "F_z_plus_z",
+...                free={"interface.law.u_r": (2.5e-3, 1e-2)})["parameters"]
 
 Units are SI (m, s, kg, N, Pa, J). The classes are written in Rust (``decohesion._native``);
 their documentation with every array's shape, dtype and unit is in ``_native.pyi``.
@@ -17,9 +19,9 @@ their documentation with every array's shape, dtype and unit is in ``_native.pyi
 
 from typing import Any
 
-from ._native import Scene, Simulation, SolverError, __version__
+from ._native import Scene, Simulation, SolverError, __version__, fit
 
-__all__ = ["Scene", "Simulation", "SolverError", "__version__", "history_frame"]
+__all__ = ["Scene", "Simulation", "SolverError", "__version__", "fit", "history_frame"]
 
 
 def history_frame(sim: Simulation) -> Any:

@@ -282,3 +282,43 @@ class Simulation:
         """Interface nodes per state now: ``elastic``, ``transition``, ``ruptured``, and
         ``unformed`` (state 3 of ``interface_state``) only when some glue that forms on contact
         has nodes not formed yet."""
+
+def fit(
+    scene: Union[str, os.PathLike[str]],
+    data: Union[str, os.PathLike[str]],
+    x: str,
+    y: str,
+    free: Mapping[str, tuple[float, float]],
+    overrides: Optional[Mapping[str, OverrideValue]] = None,
+    x_unit: Optional[str] = None,
+    y_unit: Optional[str] = None,
+    max_evals: int = 600,
+    sample: Optional[int] = None,
+    tolerance: float = 1e-10,
+    threads: Optional[int] = None,
+    out: Optional[Union[str, os.PathLike[str]]] = None,
+) -> dict[str, Any]:
+    """``decohesion fit``: the values of the ``free`` keys (``{"interface.law.u_r": (2.5e-3,
+    1e-2)}``, each with its bounds) that make the run of ``scene`` reproduce the measured curve
+    ``data`` (CSV: a header ``u [mm], F [N]``, then x strictly increasing and y), comparing the
+    series columns ``x`` and ``y`` (names of ``Simulation.history`` / ``run --series``, with or
+    without the unit, e.g. ``"u_z_plus_z"`` and ``"F_z_plus_z"``) at the measured x. Each key
+    starts from the scene's value (after ``overrides``), else the middle of its bounds;
+    ``x_unit`` and ``y_unit`` give the measured units when the header has none.
+
+    A Halton sample of ``sample`` points of the bounds' box (default: 20 per free key), then
+    Nelder–Mead from the best of them and the start, at most ``max_evals`` runs in all, until
+    the misfits of the simplex agree within ``tolerance``; the sample, the first simplex and the
+    uncertainty's runs go side by side on ``threads`` threads (default: the cores), the GIL
+    released. Returns the report of
+    ``fit.json``: ``parameters`` (each ``key``, ``start``, ``value``, ``sigma``, ``at_bound``),
+    ``correlation``, ``initial`` and ``fitted`` (misfit ``cost``, ``rms_relative``, ``rms`` in the
+    measured unit), ``stop`` (``"converged"``; ``"stalled"``: no run improved on the best in the last 20 (n + 1);
+    ``"max_evals"``; ``"cancelled"``), the run counts
+    and ``curves`` (``x``, ``measured``, ``initial``, ``fitted`` in the measured units). With
+    ``out``, the command's files are written there too (``fit.json``, ``fit.csv``,
+    ``evaluations.csv``, ``fit.svg``, the fitted scene file).
+
+    Bad input (the curve, a key, bounds, a column) raises ``ValueError`` naming the file and line
+    or the key and what is admissible. Ctrl-C stops after the run in progress: the best so far
+    is returned with ``stop == "cancelled"`` and a warning."""

@@ -7,6 +7,8 @@
 //! - [`simulation::Simulation`]: the CD-Lagrange simulation of a scene, stepped with the GIL
 //!   released, its state as numpy arrays (copies), `run()` through the command line's run
 //!   driver (so `save=` and `vtk=` write the command line's Rerun recording and ParaView files).
+//! - [`fit::fit`]: `decohesion fit` (a scene's keys fitted to a measured curve), the report as
+//!   a dict.
 //! - [`errors`]: scene errors → `ValueError` (the command line's message), blow-ups →
 //!   `decohesion.SolverError` carrying step, t, h, h_crit.
 //!
@@ -14,6 +16,7 @@
 
 mod arrays;
 mod errors;
+mod fit;
 mod scene;
 mod simulation;
 
@@ -35,6 +38,7 @@ pub(crate) fn to_python<'py, T: serde::Serialize>(
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<scene::Scene>()?;
     m.add_class::<simulation::Simulation>()?;
+    m.add_function(wrap_pyfunction!(fit::fit, m)?)?;
     m.add("SolverError", m.py().get_type::<errors::SolverError>())?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())

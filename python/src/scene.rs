@@ -95,7 +95,7 @@ impl Scene {
 /// `{"key.path": value}` (or None) as the command line's `--set key.path=value` specs, each value
 /// written as TOML: bool, int, float (`nan` and `inf` too: the scene refuses them, naming the
 /// key), str (a TOML string), lists and tuples as arrays, dicts as inline tables.
-fn override_specs(overrides: Option<&Bound<'_, PyAny>>) -> PyResult<Vec<String>> {
+pub(crate) fn override_specs(overrides: Option<&Bound<'_, PyAny>>) -> PyResult<Vec<String>> {
     let Some(overrides) = overrides.filter(|o| !o.is_none()) else {
         return Ok(Vec::new());
     };
@@ -159,7 +159,7 @@ fn toml_value(v: &Bound<'_, PyAny>) -> Result<toml::Value, String> {
 }
 
 /// The Python type name of `v`, for messages.
-fn type_name(v: &Bound<'_, PyAny>) -> String {
+pub(crate) fn type_name(v: &Bound<'_, PyAny>) -> String {
     v.get_type()
         .name()
         .map_or_else(|_| "?".into(), |n| n.to_string())
