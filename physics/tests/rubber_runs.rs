@@ -81,21 +81,7 @@ fn pull_off_rubber_scene() {
     let scene = load_scene(&scene_file("pull_off_rubber.toml"), &[]).unwrap();
     let mut sim = Simulation::new(scene.model).unwrap();
     sim.run(|_| true).unwrap();
-    assert_eq!(sim.state_counts().ruptured, sim.interface_nodes.len());
-    let gc_area = sim.model.interfaces[0].law.fracture_energy() * 1.0;
-    let d = sim.ledger.damage_dissipated;
-    record(
-        "pull_off_rubber",
-        "damage dissipation D [J]",
-        gc_area,
-        "G_c·A (every node ruptured)",
-        d,
-        Tol::Between(0.99 * gc_area, 1.08 * gc_area),
-    );
-    assert!(
-        d >= 0.99 * gc_area && d <= 1.08 * gc_area,
-        "damage dissipation {d} vs G_c·A {gc_area}"
-    );
+    crate::pull_off::assert_full_rupture_dissipation(&sim, "pull_off_rubber");
     assert!(sim.ledger.max_relative_residual < 1e-3);
 }
 

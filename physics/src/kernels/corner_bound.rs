@@ -28,49 +28,7 @@
 //! ([`corner_lower_bound`]; −∞ otherwise). Corners whose reference edges are not right-handed
 //! (NaN in `corner_inv_det`, not checked by the exact route either) are left out of C.
 
-use crate::mesh::{hourglass_vectors, CentreData, CORNER_EDGES, ORIENTED_EDGES};
-use nalgebra::{Matrix3, Matrix4, RowVector3};
-
-/// C of the bound (module docs): ‖A B⁻¹ − F‖₂ ≤ C |q| at every checked corner of an element
-/// of shape `cd` [dimensionless per metre of hourglass amplitude: 1/m · m = 1 for q in m].
-/// `f64::INFINITY` when G is singular (no bound).
-pub fn corner_bound_constant(cd: &CentreData) -> f64 {
-    let h = hourglass_vectors();
-    let g = Matrix4::from_fn(|al, be| (0..8).map(|a| cd.gamma[al][a] * h[be][a]).sum::<f64>());
-    let Some(g_inv) = g.try_inverse() else {
-        return f64::INFINITY;
-    };
-    let m: [RowVector3<f64>; 4] = std::array::from_fn(|be| {
-        (0..8).fold(RowVector3::zeros(), |s, a| {
-            s + h[be][a] * RowVector3::from(cd.b[a])
-        })
-    });
-    let mut c = 0.0f64;
-    for (a, edges) in CORNER_EDGES.iter().enumerate() {
-        if cd.corner_inv_det[a].is_nan() {
-            continue;
-        }
-        let b = Matrix3::from_fn(|r, k| cd.edges[edges[k]][r]);
-        let Some(b_inv) = b.try_inverse() else {
-            return f64::INFINITY;
-        };
-        let w: [f64; 4] = std::array::from_fn(|be| {
-            let s = RowVector3::from_fn(|_, k| {
-                let (p, r) = ORIENTED_EDGES[edges[k]];
-                h[be][r] - h[be][p]
-            });
-            (s * b_inv - m[be]).norm()
-        });
-        let ca: f64 = (0..4)
-            .map(|al| {
-                let x: f64 = (0..4).map(|be| w[be] * g_inv[(be, al)].abs()).sum();
-                x * x
-            })
-            .sum();
-        c = c.max(ca.sqrt());
-    }
-    c
-}
+pub use crate::mesh::corner_bound_constant;
 
 /// The lower bound J (1 − C|q|/s)³, s = 2J/‖F‖²_F, on every corner Jacobian (module docs):
 /// `c` from [`corner_bound_constant`], `j` = det F and `f_norm2` = ‖F‖²_F at the centre,
@@ -90,7 +48,8 @@ pub fn corner_lower_bound(c: f64, j: f64, f_norm2: f64, q_norm2: f64) -> f64 {
 mod tests {
     use super::*;
     use crate::kernels::corners::element_corner_jacobians;
-    use crate::mesh::{GaussData, HEX_CORNERS};
+    use crate::mesh::{hourglass_vectors, CentreData, GaussData, HEX_CORNERS};
+    use nalgebra::Matrix3;
     use proptest::prelude::*;
 
     /// J = det F, ‖F‖²_F and Σᵅ|qᵅ|² of an element, computed here independently of the

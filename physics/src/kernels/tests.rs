@@ -16,6 +16,7 @@
 use super::nodes::free_velocity_chunk_builds;
 use super::*;
 use crate::material::MaterialModel;
+use crate::mesh::rows::is_row;
 use nalgebra::Matrix3;
 
 /// What a chunk returns: strain energy, hourglass energy, min J, its element.

@@ -6,6 +6,7 @@
 //! into [`ElementClasses`].
 
 use super::{cross, dot, sub, Mesh};
+use nalgebra::{Matrix3, Matrix4, RowVector3};
 use std::collections::HashMap;
 
 /// Parent coordinates (ξ, η, ζ) of the 8 nodes of the reference hexahedron.
@@ -331,7 +332,7 @@ impl CentreData {
             corner_inv_det,
             corner_bound: f64::INFINITY,
         };
-        cd.corner_bound = crate::kernels::corner_bound::corner_bound_constant(&cd);
+        cd.corner_bound = corner_bound_constant(&cd);
         cd
     }
 }
@@ -392,9 +393,51 @@ impl Mesh {
             data,
             centre,
             class_of,
-            row_start: crate::kernels::row_starts(&self.elements),
+            row_start: super::rows::row_starts(&self.elements),
         })
     }
+}
+
+/// C of the corner-Jacobian bound ([`crate::kernels::corner_bound`], whose module docs derive
+/// it): ‖A B⁻¹ − F‖₂ ≤ C |q| at every checked corner of an element
+/// of shape `cd` [dimensionless per metre of hourglass amplitude: 1/m · m = 1 for q in m].
+/// `f64::INFINITY` when G is singular (no bound).
+pub fn corner_bound_constant(cd: &CentreData) -> f64 {
+    let h = hourglass_vectors();
+    let g = Matrix4::from_fn(|al, be| (0..8).map(|a| cd.gamma[al][a] * h[be][a]).sum::<f64>());
+    let Some(g_inv) = g.try_inverse() else {
+        return f64::INFINITY;
+    };
+    let m: [RowVector3<f64>; 4] = std::array::from_fn(|be| {
+        (0..8).fold(RowVector3::zeros(), |s, a| {
+            s + h[be][a] * RowVector3::from(cd.b[a])
+        })
+    });
+    let mut c = 0.0f64;
+    for (a, edges) in CORNER_EDGES.iter().enumerate() {
+        if cd.corner_inv_det[a].is_nan() {
+            continue;
+        }
+        let b = Matrix3::from_fn(|r, k| cd.edges[edges[k]][r]);
+        let Some(b_inv) = b.try_inverse() else {
+            return f64::INFINITY;
+        };
+        let w: [f64; 4] = std::array::from_fn(|be| {
+            let s = RowVector3::from_fn(|_, k| {
+                let (p, r) = ORIENTED_EDGES[edges[k]];
+                h[be][r] - h[be][p]
+            });
+            (s * b_inv - m[be]).norm()
+        });
+        let ca: f64 = (0..4)
+            .map(|al| {
+                let x: f64 = (0..4).map(|be| w[be] * g_inv[(be, al)].abs()).sum();
+                x * x
+            })
+            .sum();
+        c = c.max(ca.sqrt());
+    }
+    c
 }
 
 #[cfg(test)]

@@ -6,16 +6,18 @@
 //! Node numbering of an element follows the usual convention: nodes 0–3 on the ζ = −1 face
 //! counter-clockwise seen from +ζ, nodes 4–7 above them.
 
-use crate::kernels::NodalField;
 use std::collections::BTreeMap;
 mod element;
 mod order;
+pub mod planes;
+pub mod rows;
 
 pub use element::{
-    gauss_points, hourglass_vectors, shape, shape_derivatives, CentreData, ElementClasses,
-    GaussData, GeometryError, CORNER_EDGES, HEX_CORNERS, ORIENTED_EDGES,
+    corner_bound_constant, gauss_points, hourglass_vectors, shape, shape_derivatives, CentreData,
+    ElementClasses, GaussData, GeometryError, CORNER_EDGES, HEX_CORNERS, ORIENTED_EDGES,
 };
 pub use order::Slabs;
+pub use planes::{NodalField, Planes};
 
 /// Local faces of a hexahedron, each outward (counter-clockwise seen from outside; the node
 /// order of [`HEX_CORNERS`]).

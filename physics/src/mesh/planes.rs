@@ -7,8 +7,8 @@
 /// Why not rows of `[f64; 3]`: a row of 8 elements along x of a structured mesh shares 4 lines
 /// of 9 consecutive nodes, and in a plane each line is 9 consecutive numbers, so the element
 /// loop loads each lane vector of displacements with one 8-wide load
-/// ([`super::gather_group`]) and adds the forces of the 8 elements lane against lane, 8 nodes
-/// per vector ([`super::scatter_group`]); with rows both needed a transpose (docs:
+/// ([`crate::kernels::gather_group`]) and adds the forces of the 8 elements lane against lane, 8 nodes
+/// per vector ([`crate::kernels::scatter_group`]); with rows both needed a transpose (docs:
 /// performance log). The node loops run plane against plane.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Planes {
