@@ -377,6 +377,14 @@ impl RecordArgs {
 }
 
 fn main() {
+    // Output piped into a reader that stops early (`decohesion fit … | head`) ends the process
+    // quietly, as for any Unix tool, instead of a panic in println! on EPIPE: SIGPIPE back to
+    // its default action (Rust's runtime ignores it).
+    #[cfg(target_os = "linux")]
+    // SAFETY: setting a signal's disposition to SIG_DFL before any thread is started.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+    }
     let cli = Cli::parse();
     if let Some(n) = cli.threads {
         if n == 0 {

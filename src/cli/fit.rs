@@ -143,14 +143,18 @@ pub fn fit(c: FitCli) -> Result<()> {
     let report = run_fit(&prep, &interrupted, &mut watch);
     watch.bar.finish_and_clear();
     let report = report?;
-    // The table first: it is on the terminal even when a file cannot be written.
+    // The files first (a reader that stops early, `| head`, ends the process at the table),
+    // then the table, printed also when a file could not be written.
+    let written = std::fs::create_dir_all(&dir)
+        .with_context(|| format!("--out {}: cannot create the folder", dir.display()))
+        .and_then(|()| write_outputs(&dir, &prep.args.scene, &report))
+        .and_then(|()| {
+            c.save
+                .as_ref()
+                .map_or(Ok(()), |save| log_fit(save, &report))
+        });
     print!("{}", table(&report));
-    std::fs::create_dir_all(&dir)
-        .with_context(|| format!("--out {}: cannot create the folder", dir.display()))?;
-    write_outputs(&dir, &prep.args.scene, &report)?;
-    if let Some(save) = &c.save {
-        log_fit(save, &report)?;
-    }
+    written?;
     println!("results in {}", dir.display());
     if interrupted.load(Ordering::SeqCst) || report.stop == Stop::Cancelled {
         bail!(
