@@ -210,3 +210,60 @@ fn command_writes_every_output() {
     assert_eq!(u_r, report["parameters"][1]["value"].as_f64().unwrap());
     assert!(std::fs::metadata(&rrd).unwrap().len() > 1000);
 }
+
+/// Ctrl-C (SIGINT) stops a fit after the runs in progress and writes the best so far: the
+/// folder has every file, the report says `cancelled`, and the command exits 1 saying so.
+#[test]
+fn ctrl_c_keeps_the_best_so_far() {
+    let dir = scratch("fit", "sigint");
+    let (data, _) = synthetic_curve(&dir);
+    let out = dir.join("out");
+    let child = std::process::Command::new(crate::common::cli::BIN)
+        .args([
+            "fit",
+            SCENE,
+            "--data",
+            data.to_str().unwrap(),
+            "--x",
+            "u_z_plus_z",
+            "--y",
+            "F_z_plus_z",
+            "--free",
+            "interface.law.alpha_e=1e-3..5e-3",
+            "--free",
+            "interface.law.u_r=2e-3..1e-2",
+            // 8 times the elements: a fit of minutes, still in its first sample when interrupted.
+            "--set",
+            "mesh.cells=[14,14,14]",
+            "--out",
+            out.to_str().unwrap(),
+            "--quiet",
+        ])
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    // Long enough for some runs to end (a run takes a fraction of a second), far from the end.
+    std::thread::sleep(std::time::Duration::from_secs(3));
+    let kill = std::process::Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(kill.success());
+    let o = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("interrupted after"), "{stderr}");
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("fit.json")).unwrap()).unwrap();
+    assert_eq!(report["stop"], "cancelled");
+    assert!(report["evaluations"].as_u64().unwrap() >= 1);
+    for name in [
+        "fit.csv",
+        "evaluations.csv",
+        "fit.svg",
+        "pull_off_fitted.toml",
+    ] {
+        assert!(out.join(name).is_file(), "{name}");
+    }
+}
