@@ -104,6 +104,11 @@ pub struct RunSummary {
     /// did not converge even so (`capped`). Absent when there were none.
     #[serde(skip_serializing_if = "crate::interface::contact::JointStats::is_empty")]
     pub joint_contact: crate::interface::contact::JointStats,
+    /// What mass scaling did (model §6.8): the target step, the elements scaled, the mass
+    /// added, and the added mass's largest kinetic energy against the largest elastic energy
+    /// stored. Absent without mass scaling.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub mass_scaling: Option<crate::solver::MassScalingReport>,
 }
 
 impl RunSummary {
@@ -183,6 +188,7 @@ impl RunSummary {
             },
             damage_clamped: sim.stats.damage_clamped,
             joint_contact: sim.stats.joint_contact,
+            mass_scaling: sim.mass_scaling,
         }
     }
 
@@ -269,6 +275,22 @@ impl RunSummary {
             row("hourglass (one-point)", format!("{:.6e} J", e.hourglass));
         }
         row("interface stored", format!("{:.6e} J", e.interface_stored));
+        if let Some(m) = &self.mass_scaling {
+            row(
+                "mass scaling (§6.8)",
+                format!(
+                    "{:.2} % mass added on {} of {} elements (target h_t = {:.4e} s, density × {:.3} at most); its kinetic energy {:.3e} J at most, {:.2} % of the largest stored {:.3e} J",
+                    100.0 * m.added_share(),
+                    m.scaled_elements,
+                    m.elements,
+                    m.target_step,
+                    m.largest_factor,
+                    m.added_kinetic_peak,
+                    100.0 * m.kinetic_share(),
+                    m.stored_peak
+                ),
+            );
+        }
         row(
             "dissipated",
             format!(
@@ -276,6 +298,12 @@ impl RunSummary {
                 e.damage_dissipated, e.contact_normal_dissipated, e.friction_dissipated
             ),
         );
+        if e.bulk_viscous_dissipated != 0.0 {
+            row(
+                "bulk viscosity (§4.12)",
+                format!("{:.6e} J dissipated", e.bulk_viscous_dissipated),
+            );
+        }
         row("external work", format!("{:.6e} J", e.external_work));
         for (name, w) in &self.mould_work {
             row(&format!("  work of mould `{name}`"), format!("{w:.6e} J"));

@@ -73,6 +73,10 @@ pub struct Ledger {
     /// impulse-form and plain trapezoid works (0 at a constant step; model §5.8,
     /// `solver/ledger.rs`). A source in the balance.
     pub step_change_work: Work,
+    /// Trapezoid work of the bulk viscosity's impulses (model §5.11), ≤ 0.
+    pub bulk_viscous_work: Work,
+    /// Minus that work: the energy bulk viscosity dissipated (0 without it).
+    pub bulk_viscous_dissipated: f64,
     /// Contact work on relative displacement, normal and tangential (negated into dissipations).
     pub contact_normal_work: Work,
     pub contact_tangential_work: Work,
@@ -80,6 +84,9 @@ pub struct Ledger {
     pub initial_kinetic: f64,
     pub initial_strain: f64,
     pub initial_interface_stored: f64,
+    /// ½ Σ Δmₐ |Vₐ|² at the latest half step: the kinetic energy of the mass that mass
+    /// scaling added (model §6.8), a part of `kinetic`, not a term of the balance; 0 without.
+    pub added_mass_kinetic: f64,
     /// Largest magnitude of any ledger term seen so far (the residual's scale).
     pub max_energy_seen: f64,
     /// Largest |relative residual| seen so far.
@@ -105,10 +112,23 @@ pub struct EnergySnapshot {
     pub internal_work: f64,
     /// Step-change work W_Δh (0 at a constant step), a source in the balance.
     pub step_change_work: f64,
-    /// external work + step-change work − (ΔK + ΔΨ + ΔΨ_d + D_damage + D_contact + D_friction).
+    /// external work + step-change work − (ΔK + ΔΨ + ΔΨ_d + D_damage + D_contact + D_friction
+    /// + D_bulk viscosity).
     pub residual: f64,
     /// residual / largest energy seen.
     pub relative_residual: f64,
+    /// The added mass's kinetic energy (mass scaling, model §6.8), a part of `kinetic`; absent
+    /// without mass scaling.
+    #[serde(skip_serializing_if = "is_zero")]
+    pub added_mass_kinetic: f64,
+    /// The energy bulk viscosity dissipated (model §5.11), a term of the balance; absent
+    /// without bulk viscosity.
+    #[serde(skip_serializing_if = "is_zero")]
+    pub bulk_viscous_dissipated: f64,
+}
+
+fn is_zero(x: &f64) -> bool {
+    *x == 0.0
 }
 
 impl EnergySnapshot {
@@ -173,8 +193,8 @@ impl Ledger {
             + self.plane_work.settled()
     }
 
-    /// Balance residual = W_ext + W_Δh − (ΔK + ΔΨ + ΔΨ_hg + ΔΨ_d + D_damage + D_normal + D_friction)
-    /// (model §5.1).
+    /// Balance residual = W_ext + W_Δh − (ΔK + ΔΨ + ΔΨ_hg + ΔΨ_d + D_damage + D_normal + D_friction
+    /// + D_bv) (model §5.1, §5.11).
     pub fn residual(&self) -> f64 {
         self.external_work() + self.step_change_work.value
             - ((self.kinetic - self.initial_kinetic)
@@ -183,7 +203,8 @@ impl Ledger {
                 + (self.interface_stored - self.initial_interface_stored)
                 + self.damage_dissipated
                 + self.contact_normal_dissipated
-                + self.friction_dissipated)
+                + self.friction_dissipated
+                + self.bulk_viscous_dissipated)
     }
 
     /// Updates the dissipations from the contact works, the scale and the max relative residual;
@@ -191,6 +212,7 @@ impl Ledger {
     pub fn close_step(&mut self) {
         self.contact_normal_dissipated = 0.0 - self.contact_normal_work.value;
         self.friction_dissipated = 0.0 - self.contact_tangential_work.value;
+        self.bulk_viscous_dissipated = 0.0 - self.bulk_viscous_work.value;
         let terms = [
             self.kinetic,
             self.strain,
@@ -199,6 +221,7 @@ impl Ledger {
             self.damage_dissipated,
             self.contact_normal_dissipated,
             self.friction_dissipated,
+            self.bulk_viscous_dissipated,
             self.gravity_work.value,
             self.traction_work.value,
             self.reaction_work.value,
@@ -240,6 +263,8 @@ impl Ledger {
             step_change_work: self.step_change_work.value,
             residual: self.residual(),
             relative_residual: self.relative_residual(),
+            added_mass_kinetic: self.added_mass_kinetic,
+            bulk_viscous_dissipated: self.bulk_viscous_dissipated,
         }
     }
 }

@@ -101,6 +101,51 @@ pub struct SchemeParams {
     /// κ of the hourglass stiffness k = κ (λ + 2μ) V Σₐ bₐ·bₐ / 8 (reduced integration only),
     /// in [0, 1]. Default 0.05; 0 leaves the hourglass modes free.
     pub hourglass_coefficient: f64,
+    /// Mass scaling (model §6.8): the elements whose stable step is below a target get the
+    /// density that brings it up to the target. Default none.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub mass_scaling: Option<MassScaling>,
+    /// Bulk viscosity (model §4.12): a viscous mean stress in each element. Default none.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub bulk_viscosity: Option<BulkViscosity>,
+}
+
+/// Bulk viscosity (model §4.12): the viscous mean stress q = ρ L_e ε̇ (b₁ c_d − b₂² L_e min(0, ε̇))
+/// of each element, ε̇ its volumetric strain rate, L_e its length, c_d the dilatational wave
+/// speed: the linear term damps the ringing of the highest modes (a damping ratio b₁ in a bar's
+/// highest mode), the quadratic one spreads compression shocks over a few elements. Its work is
+/// a dissipation of the ledger.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct BulkViscosity {
+    /// b₁ [-], ≥ 0 (Abaqus/Explicit's default 0.06).
+    pub linear: f64,
+    /// b₂ [-], ≥ 0 (Abaqus/Explicit's default 1.2).
+    pub quadratic: f64,
+}
+
+impl BulkViscosity {
+    /// b₁ and b₂ when a scene's `[bulk_viscosity]` leaves them out: Abaqus/Explicit's.
+    pub const DEFAULT_LINEAR: f64 = 0.06;
+    pub const DEFAULT_QUADRATIC: f64 = 1.2;
+}
+
+/// Selective mass scaling of the elements below a target stable step (model §6.8): an element
+/// of stable step h_e < h_t (its element bound at rest, model §6.4) has its density multiplied
+/// by (h_t/h_e)², so that the bound of every element, and with it h_crit of the bulk, is at
+/// least h_t. Quasi-static runs take fewer steps at the price of added inertia, whose kinetic
+/// energy the ledger reports.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct MassScaling {
+    /// The target stable step h_t [s], > 0.
+    pub target_step: f64,
+    /// A warning is given when the added mass's largest kinetic energy exceeds this share of the
+    /// largest elastic energy stored (bulk, hourglass and glue) [-], in (0, 1].
+    pub kinetic_share: f64,
+}
+
+impl MassScaling {
+    /// [`MassScaling::kinetic_share`] when a scene leaves it out.
+    pub const DEFAULT_KINETIC_SHARE: f64 = 0.05;
 }
 
 impl Default for SchemeParams {
@@ -112,6 +157,8 @@ impl Default for SchemeParams {
             energy_growth_limit: 10.0,
             integration: Integration::Full,
             hourglass_coefficient: 0.05,
+            mass_scaling: None,
+            bulk_viscosity: None,
         }
     }
 }

@@ -19,6 +19,7 @@ mod validation;
 
 mod bad_input;
 mod bad_input_corpus;
+mod bulk_viscosity;
 mod cohesive_law;
 mod contact_start;
 mod corner_jacobian;
@@ -30,6 +31,7 @@ mod friction;
 mod glued_start;
 mod impact;
 mod indent_adhesive;
+mod mass_scaling;
 mod mould_bad_input;
 mod mould_cache;
 mod mould_indent;

@@ -37,6 +37,19 @@ pub fn check(path: &Path, set: &[String]) -> Result<()> {
         le / mat.wave_speed(),
         100.0 * (le / mat.wave_speed() / sim.h_crit - 1.0)
     );
+    if let Some(r) = &sim.mass_scaling {
+        println!(
+            "  mass scaling (§6.8)          target h_t = {:.5e} s; smallest element step {:.5e} s before; {} of {} elements scaled (density × {:.4} at most); {:.6e} kg added to {:.6e} kg ({:.3} %)",
+            r.target_step,
+            r.smallest_element_step,
+            r.scaled_elements,
+            r.elements,
+            r.largest_factor,
+            r.added_mass,
+            r.mass,
+            100.0 * r.added_share()
+        );
+    }
     println!(
         "  time step                    h = {:.5e} s = min(factor {}, 1) × h_crit (h never exceeds h_crit)",
         sim.h, m.scheme.time_step_factor

@@ -41,6 +41,14 @@ pub(super) fn energy_terms(e: &EnergySnapshot) -> impl Iterator<Item = (&'static
         .filter(|(name, _)| !ENERGY_NOT_DRAWN.contains(name))
 }
 
+/// The kinetic energy of the mass that mass scaling added [J] (model §6.8), a part of the
+/// kinetic energy drawn in `energy`; logged with mass scaling only.
+pub(super) const ADDED_MASS_KINETIC: &str = "energy/added_mass_kinetic";
+
+/// The energy bulk viscosity dissipated [J] (model §5.11), a term of the balance; logged with
+/// bulk viscosity only.
+pub(super) const BULK_VISCOUS_DISSIPATED: &str = "energy/bulk_viscous_dissipated";
+
 /// The friction dissipated on each mould [J] (`Simulation::mould_frictions`), one instance per
 /// mould in `model.planes` order, in the energy view: logged when there are several moulds
 /// (with one, it is `friction_dissipated`, already drawn).

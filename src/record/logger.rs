@@ -5,8 +5,8 @@
 use super::eye::scene_eye;
 use super::geometry::Geometry;
 use super::layout::{
-    energy_terms, log_static, mould_force_path, mould_moment_path, moving, path_part, AXES,
-    MOULD_FRICTION,
+    energy_terms, log_static, mould_force_path, mould_moment_path, moving, path_part,
+    ADDED_MASS_KINETIC, AXES, BULK_VISCOUS_DISSIPATED, MOULD_FRICTION,
 };
 use super::stream::Stream;
 use super::{ColourField, Msg, RecordError, Sink, Statics, ALPHA_PER_NODE_MAX};
@@ -111,6 +111,12 @@ impl Logger {
         let energies: Vec<f64> = energy_terms(e).map(|(_, v)| v).collect();
         cols.scalars("energy", &energies);
         cols.scalars("balance/relative_residual", &[e.relative_residual]);
+        if m.scheme.mass_scaling.is_some() {
+            cols.scalars(ADDED_MASS_KINETIC, &[e.added_mass_kinetic]);
+        }
+        if m.scheme.bulk_viscosity.is_some() {
+            cols.scalars(BULK_VISCOUS_DISSIPATED, &[e.bulk_viscous_dissipated]);
+        }
         if m.planes.len() > 1 {
             cols.scalars(MOULD_FRICTION, &s.mould_friction);
         }

@@ -6,11 +6,14 @@ use super::adhesion::ContactEntry;
 use super::check::Check;
 use super::error::{num, SceneError};
 use super::keys;
-use super::raw::{RawDisplacement, RawInterface, RawPlane, RawScene, RawScheme, RawTraction};
+use super::raw::{
+    RawBulkViscosity, RawDisplacement, RawInterface, RawMassScaling, RawPlane, RawScene, RawScheme,
+    RawTraction,
+};
 use crate::mesh::{dot, Mesh};
 use crate::model::{
-    Interface, Model, PiecewiseLinear, PrescribedDisplacement, RigidPlane, SchemeParams,
-    StartOffset, Traction,
+    BulkViscosity, Interface, MassScaling, Model, PiecewiseLinear, PrescribedDisplacement,
+    RigidPlane, SchemeParams, StartOffset, Traction,
 };
 use crate::mould::mould_closest_point;
 
@@ -26,7 +29,15 @@ impl Check<'_> {
         self.admit(&keys::END_TIME, "end_time", raw.end_time)?;
         let mesh = self.mesh(&raw.mesh)?;
         let material = self.material(&raw.material)?;
-        let scheme = self.scheme(&raw.scheme)?;
+        let mut scheme = self.scheme(&raw.scheme)?;
+        scheme.mass_scaling = match &raw.mass_scaling {
+            None => None,
+            Some(ms) => Some(self.mass_scaling(ms)?),
+        };
+        scheme.bulk_viscosity = match &raw.bulk_viscosity {
+            None => None,
+            Some(bv) => Some(self.bulk_viscosity(bv)?),
+        };
         let mut planes = each(raw.plane, "plane", |key, p| self.plane_of(key, p))?;
         let n_planes = planes.len();
         planes.extend(each(raw.mould, "mould", |key, m| self.mould_of(key, m))?);
@@ -159,6 +170,9 @@ impl Check<'_> {
             energy_growth_limit: s.energy_growth_limit.unwrap_or(d.energy_growth_limit),
             integration: s.integration.unwrap_or(d.integration),
             hourglass_coefficient: s.hourglass_coefficient.unwrap_or(d.hourglass_coefficient),
+            // From `[mass_scaling]`, by the caller.
+            mass_scaling: None,
+            bulk_viscosity: None,
         };
         let checked = [
             (&keys::TIME_STEP_FACTOR, scheme.time_step_factor),
@@ -170,6 +184,35 @@ impl Check<'_> {
             self.admit(doc, format!("scheme.{}", doc.key), value)?;
         }
         Ok(scheme)
+    }
+
+    /// `[mass_scaling]`: h_t > 0, the kinetic share in (0, 1] (default 0.05).
+    fn mass_scaling(&self, ms: &RawMassScaling) -> Result<MassScaling, SceneError> {
+        let (target, share) = (
+            &keys::MASS_SCALING_TARGET_STEP,
+            &keys::MASS_SCALING_KINETIC_SHARE,
+        );
+        self.admit(target, "mass_scaling.target_step", ms.target_step)?;
+        let kinetic_share = (ms.kinetic_share).unwrap_or(MassScaling::DEFAULT_KINETIC_SHARE);
+        self.admit(share, "mass_scaling.kinetic_share", kinetic_share)?;
+        Ok(MassScaling {
+            target_step: ms.target_step,
+            kinetic_share,
+        })
+    }
+
+    /// `[bulk_viscosity]`: b₁ in [0, 1), b₂ in [0, 5), Abaqus/Explicit's defaults when left out.
+    fn bulk_viscosity(&self, bv: &RawBulkViscosity) -> Result<BulkViscosity, SceneError> {
+        let linear = bv.linear.unwrap_or(BulkViscosity::DEFAULT_LINEAR);
+        let quadratic = bv.quadratic.unwrap_or(BulkViscosity::DEFAULT_QUADRATIC);
+        self.admit(
+            &keys::BULK_VISCOSITY_LINEAR,
+            "bulk_viscosity.linear",
+            linear,
+        )?;
+        let key = "bulk_viscosity.quadratic";
+        self.admit(&keys::BULK_VISCOSITY_QUADRATIC, key, quadratic)?;
+        Ok(BulkViscosity { linear, quadratic })
     }
 
     /// `plane[i]`: its normal normalised (it must not be zero), its velocity history if any.

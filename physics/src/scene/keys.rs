@@ -352,6 +352,57 @@ pub const HOURGLASS_COEFFICIENT: KeyDoc = KeyDoc::new(
 .range(Range::between(0.0, false, 1.0, false))
 .admissible("typical 0.03–0.1");
 
+/// `mass_scaling.target_step`.
+pub const MASS_SCALING_TARGET_STEP: KeyDoc = KeyDoc::new(
+    "target_step",
+    "number",
+    "s",
+    "the target stable step h_t: every element whose stable step (its element bound at rest, \
+     model §6.4) is below h_t gets the density that brings it to h_t, ρ (h_t/h_e)²",
+)
+.symbol("h_t")
+.range(Range::above(0.0))
+.admissible(
+    "at most the h_crit the glue's springs allow with the scaled masses (`check` prints both)",
+);
+
+/// `mass_scaling.kinetic_share`.
+pub const MASS_SCALING_KINETIC_SHARE: KeyDoc = KeyDoc::new(
+    "kinetic_share",
+    "number",
+    "–",
+    "a warning is given when the added mass's largest kinetic energy exceeds this share of the \
+     largest elastic energy stored (bulk, hourglass and glue)",
+)
+.default_number(crate::model::MassScaling::DEFAULT_KINETIC_SHARE)
+.range(Range::between(0.0, true, 1.0, false));
+
+/// `bulk_viscosity.linear`.
+pub const BULK_VISCOSITY_LINEAR: KeyDoc = KeyDoc::new(
+    "linear",
+    "number",
+    "–",
+    "b₁ of the linear term ρ L_e b₁ c_d ε̇ of the viscous mean stress: the damping ratio it gives \
+     a bar's highest mode",
+)
+.symbol("b₁")
+.default_number(crate::model::BulkViscosity::DEFAULT_LINEAR)
+.range(Range::between(0.0, false, 1.0, true))
+.admissible("Abaqus/Explicit's default 0.06");
+
+/// `bulk_viscosity.quadratic`.
+pub const BULK_VISCOSITY_QUADRATIC: KeyDoc = KeyDoc::new(
+    "quadratic",
+    "number",
+    "–",
+    "b₂ of the quadratic term −ρ (b₂ L_e)² ε̇ min(0, ε̇) of the viscous mean stress (in \
+     compression only: it spreads a shock over a few elements)",
+)
+.symbol("b₂")
+.default_number(crate::model::BulkViscosity::DEFAULT_QUADRATIC)
+.range(Range::between(0.0, false, 5.0, true))
+.admissible("Abaqus/Explicit's default 1.2");
+
 /// `mould.size`.
 pub const MOULD_SIZE: KeyDoc = KeyDoc::new(
     "size",

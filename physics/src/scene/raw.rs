@@ -77,6 +77,8 @@ pub struct RawScene {
     pub material: RawMaterial,
     #[serde(default)]
     pub scheme: RawScheme,
+    pub mass_scaling: Option<RawMassScaling>,
+    pub bulk_viscosity: Option<RawBulkViscosity>,
     #[serde(default)]
     pub plane: Vec<RawPlane>,
     #[serde(default)]
@@ -148,6 +150,20 @@ pub struct RawScheme {
     pub energy_growth_limit: Option<f64>,
     pub integration: Option<Integration>,
     pub hourglass_coefficient: Option<f64>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawMassScaling {
+    pub target_step: f64,
+    pub kinetic_share: Option<f64>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawBulkViscosity {
+    pub linear: Option<f64>,
+    pub quadratic: Option<f64>,
 }
 
 #[derive(Deserialize)]

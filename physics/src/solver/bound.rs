@@ -334,6 +334,56 @@ fn scaled_lambda_max(l: &[[f64; 8]; 8], d: &[f64; 8]) -> f64 {
     SymmetricEigen::new(m).eigenvalues.max()
 }
 
+/// g_e and g_hg,e of each element class (module doc): λ_max(M_e^{-½} L_e M_e^{-½}) and
+/// λ_max(M_e^{-½} K_hg,e M_e^{-½}) (0 with full integration), M_e = ρ s_c diag(∫Nₐ dV) with
+/// s_c = `density_factor[c]` (mass scaling, model §6.8; an empty slice: 1 for every class).
+pub(super) fn class_bounds(
+    mat: &Material,
+    classes: &ElementClasses,
+    full: bool,
+    kappa: f64,
+    density_factor: &[f64],
+) -> Vec<[f64; 2]> {
+    (classes.data.iter().zip(&classes.centre).enumerate())
+        .map(|(c, (gd, cd))| {
+            let lv = gd.lumped_volumes();
+            let rho = mat.density * density_factor.get(c).copied().unwrap_or(1.0);
+            let d = lv.map(|v| rho * v);
+            let mut l = [[0.0; 8]; 8];
+            let mut hg = [[0.0; 8]; 8];
+            for a in 0..8 {
+                for b in 0..8 {
+                    l[a][b] = if full {
+                        (0..8)
+                            .map(|q| {
+                                gd.wdet[q]
+                                    * (0..3)
+                                        .map(|j| gd.grad[a][j][q] * gd.grad[b][j][q])
+                                        .sum::<f64>()
+                            })
+                            .sum()
+                    } else {
+                        cd.volume * (0..3).map(|j| cd.b[a][j] * cd.b[b][j]).sum::<f64>()
+                    };
+                    if !full {
+                        let k = crate::material::element::hourglass_stiffness(mat, cd, kappa);
+                        hg[a][b] = k
+                            * (0..4)
+                                .map(|al| cd.gamma[al][a] * cd.gamma[al][b])
+                                .sum::<f64>();
+                    }
+                }
+            }
+            let g_hg = if full {
+                0.0
+            } else {
+                scaled_lambda_max(&hg, &d)
+            };
+            [scaled_lambda_max(&l, &d), g_hg]
+        })
+        .collect()
+}
+
 impl Simulation {
     /// The element bound (B) of ω_max² at the current state [1/s²] (module doc): a proven
     /// upper bound of λ_max(M⁻¹K), K the tangent with the glue springs W g_N(α) (the operator
@@ -350,44 +400,7 @@ impl Simulation {
         let classes = &self.classes;
         if cache.class_g.len() != classes.data.len() {
             let kappa = self.model.scheme.hourglass_coefficient;
-            cache.class_g = (classes.data.iter().zip(&classes.centre))
-                .map(|(gd, cd)| {
-                    let lv = gd.lumped_volumes();
-                    let d = lv.map(|v| mat.density * v);
-                    let mut l = [[0.0; 8]; 8];
-                    let mut hg = [[0.0; 8]; 8];
-                    for a in 0..8 {
-                        for b in 0..8 {
-                            l[a][b] = if full {
-                                (0..8)
-                                    .map(|q| {
-                                        gd.wdet[q]
-                                            * (0..3)
-                                                .map(|j| gd.grad[a][j][q] * gd.grad[b][j][q])
-                                                .sum::<f64>()
-                                    })
-                                    .sum()
-                            } else {
-                                cd.volume * (0..3).map(|j| cd.b[a][j] * cd.b[b][j]).sum::<f64>()
-                            };
-                            if !full {
-                                let k =
-                                    crate::material::element::hourglass_stiffness(&mat, cd, kappa);
-                                hg[a][b] = k
-                                    * (0..4)
-                                        .map(|al| cd.gamma[al][a] * cd.gamma[al][b])
-                                        .sum::<f64>();
-                            }
-                        }
-                    }
-                    let g_hg = if full {
-                        0.0
-                    } else {
-                        scaled_lambda_max(&hg, &d)
-                    };
-                    [scaled_lambda_max(&l, &d), g_hg]
-                })
-                .collect();
+            cache.class_g = class_bounds(&mat, classes, full, kappa, &self.class_density);
         }
         let elements = &self.model.mesh.elements;
         let pass = ElementPass {

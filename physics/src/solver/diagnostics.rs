@@ -209,6 +209,21 @@ impl Simulation {
                 clamped.largest_step
             ));
         }
+        out.extend(self.mass_scaling_shortfall());
+        if let (Some(r), Some(ms)) = (self.mass_scaling, m.scheme.mass_scaling) {
+            if r.kinetic_share() > ms.kinetic_share {
+                out.push(format!(
+                    "mass scaling: the added mass's kinetic energy reached {:.3e} J, {:.1} % of the largest elastic energy stored ({:.3e} J), above mass_scaling.kinetic_share = {}: the added inertia ({:.1} % more mass on {} of {} elements) is no longer negligible, so the run is not quasi-static. A smaller target_step or a slower loading brings it down (model §6.8).",
+                    r.added_kinetic_peak,
+                    100.0 * r.kinetic_share(),
+                    r.stored_peak,
+                    ms.kinetic_share,
+                    100.0 * r.added_share(),
+                    r.scaled_elements,
+                    r.elements
+                ));
+            }
+        }
         let factor = m.scheme.time_step_factor;
         if factor > 1.0 {
             out.push(format!(

@@ -94,6 +94,8 @@ impl Simulation {
                 (self.kinetic_half + l.strain + l.hourglass + l.interface_stored).abs();
         }
         l.close_step();
+        self.added_mass_energy();
+        let l = &self.ledger;
         // The budget is compared with ½V_{n+½}ᵀMV_{n+½}, so it takes the works up to the forward
         // halves of this step's impulses: with the work up to tₙ only, a load ramped from zero
         // (no work yet at t₁, a velocity already) reads as energy created at step 1.
@@ -131,12 +133,18 @@ impl Simulation {
     fn push_work(&mut self, first: bool, internal: Option<f64>, cohesive: f64) {
         let (mut s, bs) = (self.scratch.node_sums, self.scratch.boundary_sums);
         s.int_a += bs.int_a;
+        // The viscous part of F_int is not conservative: its halves go to its own work
+        // (model §5.11), not to the internal work or the step-change work.
+        let (bv_b, bv_a) = self.bulk_viscosity_halves();
+        s.int_b -= bv_b;
+        s.int_a -= bv_a;
         s.grav_a += bs.grav_a;
         s.kinetic += bs.kinetic;
         s.kinetic_half += bs.kinetic_half;
         let l = &mut self.ledger;
         l.kinetic = s.kinetic;
-        let works: [(&mut Work, f64, f64); 7] = [
+        let works: [(&mut Work, f64, f64); 8] = [
+            (&mut l.bulk_viscous_work, bv_b, bv_a),
             (&mut l.internal_work, s.int_b, s.int_a),
             (&mut l.gravity_work, s.grav_b, s.grav_a),
             (&mut l.traction_work, bs.trac_b, bs.trac_a),

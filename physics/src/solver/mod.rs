@@ -23,9 +23,11 @@
 
 mod bound;
 mod boundary;
+mod bulk_viscosity;
 mod diagnostics;
 mod lanczos;
 mod ledger;
+mod mass_scaling;
 mod setup;
 mod stable_step;
 mod stages;
@@ -46,6 +48,7 @@ use crate::mesh::ElementClasses;
 use crate::model::{Model, StartOffset};
 use crate::team::Team;
 use boundary::{Boundary, BoundarySums};
+pub use mass_scaling::MassScalingReport;
 use stable_step::StepControl;
 use stages::StepScratch;
 use std::sync::Arc;
@@ -83,6 +86,13 @@ pub struct Simulation {
     /// Lumped nodal masses [kg] and their inverses.
     pub mass: Vec<f64>,
     inv_mass: Vec<f64>,
+    /// Mass scaling (model §6.8): the density factor of each element class (empty without),
+    /// the mass added at each node that has some, and what the scaling did.
+    class_density: Vec<f64>,
+    added_mass: Vec<(u32, f64)>,
+    pub mass_scaling: Option<MassScalingReport>,
+    /// Bulk viscosity's constants, forces and step values (model §4.12); None without.
+    bulk_viscosity: Option<bulk_viscosity::BulkViscosityState>,
     /// Displacements Uₙ [m], by component ([`Planes`]: a row of elements along x loads its
     /// nodes 8 at a time, and the node loops run lane against lane).
     pub u: Planes,
@@ -155,6 +165,7 @@ impl Simulation {
         let t2 = Instant::now();
         // §6 (model §6.5, §6.6). Re-estimate h_crit as the stiffness changes; fixes h_{n+3/2}.
         let h_next = self.next_time_step();
+        let h_next = self.damped_step(h_next);
         let t3 = Instant::now();
         // 2. Surface and prescribed velocities over the interval about to be taken.
         self.prescribed_motion(h_next, false);

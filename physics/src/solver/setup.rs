@@ -3,6 +3,7 @@
 //! of the leapfrog at t₀ (model §4.11: V_{−½}, then the first impulses give V_{½}).
 
 use super::boundary::{Boundary, NONE};
+use super::mass_scaling::class_factors;
 use super::stable_step::{capped_step, StepControl};
 use super::stages::StepScratch;
 use super::state::{ContactNode, InterfaceNode, PeakReaction, RunStats, SolverError};
@@ -25,15 +26,25 @@ fn face<'a>(mesh: &'a Mesh, name: &str) -> Result<&'a Vec<[u32; 4]>, SolverError
         .ok_or_else(|| SolverError::Setup(format!("no face set named `{name}`")))
 }
 
-/// Lumped nodal masses mₐ = Σ_e ρ₀ Vₐᵉ, the row sums of the consistent mass (model §1.7);
+/// Lumped nodal masses mₐ = Σ_e ρ₀ s_e Vₐᵉ, the row sums of the consistent mass (model §1.7),
+/// s_e the density factor of mass scaling (model §6.8; `factors` by element class, empty: 1);
 /// a node of no element (zero mass) is refused.
-fn lumped_masses(model: &Model, classes: &ElementClasses) -> Result<Vec<f64>, SolverError> {
+fn lumped_masses(
+    model: &Model,
+    classes: &ElementClasses,
+    factors: &[f64],
+) -> Result<Vec<f64>, SolverError> {
     let rho = model.material.density;
     let mut mass = vec![0.0; model.mesh.nodes.len()];
     for (e, conn) in model.mesh.elements.iter().enumerate() {
-        let lv = classes.data[classes.class_of[e] as usize].lumped_volumes();
+        let c = classes.class_of[e] as usize;
+        let lv = classes.data[c].lumped_volumes();
+        let rho_e = match factors.get(c) {
+            Some(s) => rho * s,
+            None => rho,
+        };
         for a in 0..8 {
-            mass[conn[a] as usize] += rho * lv[a];
+            mass[conn[a] as usize] += rho_e * lv[a];
         }
     }
     if let Some(i) = mass.iter().position(|&m| !(m > 0.0)) {
@@ -190,7 +201,23 @@ impl Simulation {
         let classes = mesh
             .element_classes()
             .map_err(|e| SolverError::Setup(e.to_string()))?;
-        let mass = lumped_masses(&model, &classes)?;
+        let (class_density, mut mass_scaling) = match class_factors(&model, &classes) {
+            Some((f, r)) => (f, Some(r)),
+            None => (vec![], None),
+        };
+        let mass = lumped_masses(&model, &classes, &class_density)?;
+        let added_mass = match mass_scaling.as_mut() {
+            None => vec![],
+            Some(report) => {
+                let unscaled = lumped_masses(&model, &classes, &[])?;
+                report.mass = unscaled.iter().sum();
+                report.added_mass = mass.iter().sum::<f64>() - report.mass;
+                (mass.iter().zip(&unscaled).enumerate())
+                    .filter(|(_, (m, m0))| m > m0)
+                    .map(|(i, (m, m0))| (i as u32, m - m0))
+                    .collect()
+            }
+        };
         let interface_nodes = glued_nodes(&model)?;
         let contact_nodes = contact_nodes(&model)?;
         let mut boundary = Boundary::gather(
@@ -236,6 +263,10 @@ impl Simulation {
             parts_reactions: Vec::new(),
             inv_mass: mass.iter().map(|m| 1.0 / m).collect(),
             mass,
+            class_density,
+            added_mass,
+            mass_scaling,
+            bulk_viscosity: None,
             u: Planes::from_rows(&u0),
             v: Planes::from_rows(&v0),
             f_int: Planes::zeros(n_nodes),
@@ -281,6 +312,7 @@ impl Simulation {
         };
         sim.scratch.moulds = MouldStep::new(&sim.model.planes, 0.0);
         sim.mould_geometry_at_start();
+        sim.bulk_viscosity_setup();
         sim.start()?;
         Ok(sim)
     }
@@ -303,6 +335,7 @@ impl Simulation {
         self.surfaces_and_gaps();
         self.initial_damage();
         self.first_time_step()?;
+        self.check_mass_scaling_target()?;
         self.internal_forces(true, false)?;
         let h = self.h;
         self.half_step_back(h);
@@ -350,6 +383,11 @@ impl Simulation {
         self.stats.h_crit_initial = est.h_crit;
         self.stats.h_crit_min = est.h_crit;
         self.h = capped_step(self.model.scheme.time_step_factor, est.h_crit);
+        if let Some(bv) = self.model.scheme.bulk_viscosity {
+            // The viscosity's damping ratio at rest, b₁ (λ + 2μ)/K (model §4.12).
+            let xi = bv.linear * super::bulk_viscosity::mode_ratio(&self.model.material);
+            self.h *= super::bulk_viscosity::damped_step_factor(xi);
+        }
         if !(self.h.is_finite() && self.h > 0.0) {
             return Err(SolverError::Setup(format!(
                 "the stable time step estimate is not usable (ω_max² = {:e}); check the material and interface stiffness",

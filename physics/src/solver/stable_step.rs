@@ -161,6 +161,24 @@ impl Simulation {
         }
     }
 
+    /// With bulk viscosity (model §4.12, §6.6): `h_next` capped at
+    /// min(factor, 1) × h_crit × (√(1 + ξ²) − ξ), ξ the largest damping ratio of the last force
+    /// evaluation, the stable step of central differences on a damped mode; when the cap bites,
+    /// the controller's goal is the undamped target, so h grows back (by at most
+    /// [`GROWTH_RATIO`] per step) once ξ falls. Without bulk viscosity, `h_next` itself.
+    pub(super) fn damped_step(&mut self, h_next: f64) -> f64 {
+        let Some(bv) = self.bulk_viscosity.as_ref() else {
+            return h_next;
+        };
+        let target = capped_step(self.model.scheme.time_step_factor, self.h_crit);
+        let cap = target * super::bulk_viscosity::damped_step_factor(bv.xi_max);
+        if h_next <= cap {
+            return h_next;
+        }
+        self.step_control.goal = Some(target);
+        cap
+    }
+
     /// Whether [`Self::next_time_step`] of this step re-estimates h_crit whatever the Jacobian:
     /// at the scheduled steps, and when the glue's springs softened while h may grow.
     pub(super) fn estimate_without_strain(&self) -> bool {

@@ -182,6 +182,7 @@ impl Simulation {
             }
             return Err(self.inverted(min_e, min_j));
         }
+        self.bulk_viscosity_forces();
         Ok(())
     }
 
@@ -271,5 +272,8 @@ impl Simulation {
             }
         }
         self.scratch.node_sums = parts.iter().fold(NodeSums::default(), |a, &b| a.add(b));
+        if let Some(bv) = self.bulk_viscosity.as_mut() {
+            bv.h_bar = h_bar;
+        }
     }
 }

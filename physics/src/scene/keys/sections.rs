@@ -51,6 +51,20 @@ pub const SECTIONS: &[SectionDoc] = &[
                 "the time-stepping scheme: `[scheme]`",
             )
             .default_text("every key at its default"),
+            KeyDoc::new(
+                "mass_scaling",
+                "table",
+                "",
+                "selective mass scaling to a target step: `[mass_scaling]`",
+            )
+            .default_text("no mass scaling"),
+            KeyDoc::new(
+                "bulk_viscosity",
+                "table",
+                "",
+                "bulk viscosity: `[bulk_viscosity]`",
+            )
+            .default_text("no bulk viscosity"),
             KeyDoc::new("plane", "array of tables", "", "rigid planes: `[[plane]]`")
                 .default_text(NONE),
             KeyDoc::new(
@@ -179,6 +193,30 @@ pub const SECTIONS: &[SectionDoc] = &[
             .choices(&["full", "reduced"]),
             HOURGLASS_COEFFICIENT,
         ],
+    },
+    SectionDoc {
+        path: "mass_scaling",
+        array: false,
+        presence: "optional",
+        about: "Selective mass scaling (model §6.8), for quasi-static runs at laboratory speeds: \
+                the elements whose stable step is below `target_step` get a larger density, so \
+                that h_crit of the bulk is at least the target. The added mass, its share of the \
+                total and the added mass's kinetic energy are reported by `check`, the summary, \
+                the recording and the ledger. Absent: no scaling.",
+        keys: &[MASS_SCALING_TARGET_STEP, MASS_SCALING_KINETIC_SHARE],
+    },
+    SectionDoc {
+        path: "bulk_viscosity",
+        array: false,
+        presence: "optional",
+        about: "Bulk viscosity (model §4.12): a viscous mean stress \
+                q = ρ L_e ε̇ (b₁ c_d − b₂² L_e min(0, ε̇)) in each element (ε̇ its volumetric strain \
+                rate, L_e its length, c_d the dilatational wave speed), which damps the ringing \
+                of the highest modes and spreads compression shocks. Its work is the ledger's \
+                `bulk_viscous_dissipated`, and the step is shortened by √(1 + ξ²) − ξ for the \
+                damping ratio ξ it gives. Present (even empty): on, with Abaqus/Explicit's \
+                defaults; absent: off.",
+        keys: &[BULK_VISCOSITY_LINEAR, BULK_VISCOSITY_QUADRATIC],
     },
     SectionDoc {
         path: "plane",

@@ -2,8 +2,9 @@
 //! against the enums, the defaults against what a scene that leaves the keys out gets.
 
 use super::super::raw::{
-    Axis, RawContact, RawDelay, RawDisplacement, RawFaceSet, RawInterface, RawLaw, RawMaterial,
-    RawMesh, RawMould, RawPlane, RawScene, RawScheme, RawTraction,
+    Axis, RawBulkViscosity, RawContact, RawDelay, RawDisplacement, RawFaceSet, RawInterface,
+    RawLaw, RawMassScaling, RawMaterial, RawMesh, RawMould, RawPlane, RawScene, RawScheme,
+    RawTraction,
 };
 use super::*;
 use crate::law::Delay;
@@ -101,6 +102,8 @@ fn every_section_documents_exactly_the_keys_the_loader_accepts() {
         ("mesh.face_set", names::<RawFaceSet>()),
         ("material", names::<RawMaterial>()),
         ("scheme", names::<RawScheme>()),
+        ("mass_scaling", names::<RawMassScaling>()),
+        ("bulk_viscosity", names::<RawBulkViscosity>()),
         ("plane", names::<RawPlane>()),
         ("mould", names::<RawMould>()),
         ("interface", names::<RawInterface>()),
