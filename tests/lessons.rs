@@ -160,7 +160,8 @@ fn the_lesson_panel_runs_a_step_and_compares() {
     assert_eq!(h.state().settings.cells, 1);
 }
 
-/// Every step of every lesson draws (its Markdown, in the window's fonts), walked with Next.
+/// Every step of every lesson draws (its Markdown, in the window's fonts), walked with Next,
+/// and drawing the window leaves the step's scene as the lesson sets it.
 #[test]
 fn every_lesson_step_draws() {
     for (name, _) in LESSONS {
@@ -177,6 +178,17 @@ fn every_lesson_step_draws() {
             h.state_mut().stop();
             h.run();
             h.get_by_label_contains(&step.title);
+            // Drawing the settings leaves the step's scene as it is (no slider clamps it).
+            let mut fresh = App::default();
+            fresh
+                .apply_set(&lesson.scene, &lesson.sets_through(k))
+                .unwrap();
+            assert_eq!(
+                h.state().scene_text(),
+                fresh.scene_text(),
+                "{name} step {}",
+                k + 1
+            );
             if k + 1 < lesson.steps.len() {
                 h.get_by_label("Next >>").click();
             }

@@ -283,11 +283,16 @@ pub struct Lesson {
 }
 
 impl Lesson {
-    /// The overrides in force at step `k` (0-based): those of steps 0..=k, in order (a later
-    /// one replaces an earlier one of the same key when applied).
+    /// The overrides in force at step `k` (0-based): those of steps 0..=k in order, an
+    /// override left out when a later one sets the same key (it would replace it).
     pub fn sets_through(&self, k: usize) -> Vec<String> {
-        (self.steps.iter().take(k + 1))
-            .flat_map(|s| s.set.iter().cloned())
+        let all: Vec<&String> = (self.steps.iter().take(k + 1))
+            .flat_map(|s| s.set.iter())
+            .collect();
+        let key = |s: &str| s.split_once('=').map_or(s, |(k, _)| k).trim().to_string();
+        (all.iter().enumerate())
+            .filter(|(i, s)| !all[i + 1..].iter().any(|t| key(t) == key(s)))
+            .map(|(_, s)| s.to_string())
             .collect()
     }
 }
@@ -977,6 +982,12 @@ explain = "G_c times the area."
         assert!(l.steps[0].run);
         assert_eq!(l.steps[0].plot, Some(PlotName::Traction));
         assert_eq!(l.sets_through(1), ["mesh.cells=[2,2,2]", "end_time=0.2"]);
+        let mut later = l.clone();
+        later.steps[1].set = vec!["end_time=0.3".into()];
+        assert_eq!(
+            later.sets_through(1),
+            ["mesh.cells=[2,2,2]", "end_time=0.3"]
+        );
         let q = l.steps[1].question.as_ref().unwrap();
         assert_eq!(
             (q.result, q.answer, q.tolerance),

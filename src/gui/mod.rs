@@ -102,7 +102,12 @@ impl eframe::App for Explorer {
         self.app.view.glow = frame.gl().is_some();
         if self.run_on_start {
             self.run_on_start = false;
-            self.app.start();
+            // A lesson's step runs with its question's prediction field (empty: no prediction).
+            if self.app.lesson.is_some() {
+                self.app.run_step();
+            } else {
+                self.app.start();
+            }
         }
         if let Some(spec) = self.compare.take() {
             if let Err(e) = self.app.queue_spec(&spec) {

@@ -133,7 +133,9 @@ impl App {
         if s.cells == 0 {
             ui.label("mesh from the scene's Gmsh file (cells per side: box meshes only)");
         } else {
-            ui.add(egui::Slider::new(&mut s.cells, 1..=40).text("cells per side"));
+            // A scene finer than the slider's range (the peel's 100 cells) keeps its own.
+            let most = s.cells.max(40);
+            ui.add(egui::Slider::new(&mut s.cells, 1..=most).text("cells per side"));
         }
         ui.add(egui::Slider::new(&mut s.factor, 0.05..=1.0).text("time-step factor h/h_crit"));
         ui.add(
