@@ -88,6 +88,17 @@ enum Command {
         /// cells, factor and end_time are aliases.
         #[arg(long, value_name = "KEY=V1,V2,...")]
         compare: Option<String>,
+        /// Open a lesson: a shipped one by name (cohesive_law, pull_off, peel) or a lesson file
+        /// (NAME.md); its steps set the scene.
+        #[arg(long, value_name = "NAME|FILE.md", conflicts_with = "scene")]
+        lesson: Option<String>,
+        /// The lesson's step to open (1 = the first).
+        #[arg(long, value_name = "N", requires = "lesson", value_parser = positive_usize)]
+        step: Option<usize>,
+        /// Override a value of the opened scene, e.g. --set interface.law.u_r=0.004 (same
+        /// validation as the file; repeat for several).
+        #[arg(long = "set", value_name = "KEY=VALUE", conflicts_with = "lesson")]
+        set: Vec<String>,
     },
     /// Run a grid of variants of one scene (every combination of the --vary values) and write
     /// every run's summary as CSV and JSON (and a Rerun plot of the observables with --save).
@@ -484,8 +495,16 @@ fn main() {
             run_on_start,
             record,
             compare,
+            lesson,
+            step,
+            set,
         } => {
             use decohesion::gui::RecordChoice;
+            let opening = decohesion::gui::Opening {
+                lesson,
+                step: step.unwrap_or(1),
+                set,
+            };
             let record = record.map(|r| match r.as_str() {
                 "file" => RecordChoice::File,
                 "off" => RecordChoice::Off,
@@ -504,7 +523,11 @@ fn main() {
                     std::process::exit(2);
                 }
             }
-            decohesion::gui::run_window(scene, run_on_start, record, compare)
+            if let Err(e) = decohesion::gui::check_opening(scene.as_deref(), &opening) {
+                eprintln!("error: {e}");
+                std::process::exit(1);
+            }
+            decohesion::gui::run_window(scene, run_on_start, record, compare, opening)
                 .map_err(anyhow::Error::msg)
         }
         Command::Bench {

@@ -3,14 +3,15 @@
 //! WebGL2), every scene of `scenes/` built in, each run stepped inside the frame loop
 //! ([`crate::gui::page_run`]) on the page's one thread.
 //!
-//! URL parameters: `scene=NAME` opens `scenes/NAME.toml` with the file's values; `run=1` starts a
-//! run at once. The page reports in the DOM, for scripts (the browser test, `web/test_page.py`):
+//! URL parameters: `scene=NAME` opens `scenes/NAME.toml` with the file's values, each
+//! `set=key.path=value` overrides one of them (as `run --set`); `run=1` starts a run at once;
+//! `lesson=NAME&step=N` opens a lesson at its step N (1-based). The page reports in the DOM, for scripts (the browser test, `web/test_page.py`):
 //! `#status` holds the explorer's status (`ready`, `running`, `finished`, `stopped`, `failed: …`),
 //! `#result` the summary JSON of the last run (what `decohesion run --summary` writes), also
 //! logged to the console; the title follows the status.
 
 use crate::gui::browser::{document, js_text, log};
-use crate::gui::{Explorer, RecordChoice, Status};
+use crate::gui::{Explorer, Opening, RecordChoice, Status};
 use wasm_bindgen::prelude::*;
 use wasm_bindgen::JsCast;
 
@@ -33,14 +34,15 @@ async fn run() -> Result<(), String> {
         .ok_or("the page has no canvas #explorer")?
         .dyn_into::<web_sys::HtmlCanvasElement>()
         .map_err(|_| "#explorer is not a canvas")?;
-    let (scene, run_on_start) = url_parameters()?;
+    let (scene, run_on_start, opening) = url_parameters()?;
     eframe::WebRunner::new()
         .start(
             canvas,
             eframe::WebOptions::default(),
             Box::new(move |cc| {
-                let explorer =
+                let mut explorer =
                     Explorer::new(cc, scene, run_on_start, Some(RecordChoice::Off), None);
+                explorer.open(&opening);
                 Ok(Box::new(PageExplorer {
                     explorer,
                     reported: None,
@@ -51,8 +53,9 @@ async fn run() -> Result<(), String> {
         .map_err(js_text)
 }
 
-/// `scene=NAME` as `scenes/NAME.toml` (a path is taken as it is) and `run=1` of the page's URL.
-fn url_parameters() -> Result<(Option<String>, bool), String> {
+/// `scene=NAME` as `scenes/NAME.toml` (a path is taken as it is), `run=1`, and the lesson
+/// (`lesson=NAME`, `step=N`) or the overrides (`set=key.path=value`, repeated) of the page's URL.
+fn url_parameters() -> Result<(Option<String>, bool, Opening), String> {
     let window = web_sys::window().ok_or("no window")?;
     let search = window.location().search().map_err(js_text)?;
     let params = web_sys::UrlSearchParams::new_with_str(&search).map_err(js_text)?;
@@ -64,7 +67,20 @@ fn url_parameters() -> Result<(Option<String>, bool), String> {
         }
     });
     let run = params.get("run").is_some_and(|v| v == "1" || v == "true");
-    Ok((scene, run))
+    let opening = Opening {
+        lesson: params.get("lesson"),
+        step: params.get("step").map_or(Ok(1), |s| {
+            s.trim()
+                .parse::<usize>()
+                .map_err(|_| format!("step={s}: not a step number (1, 2, …)"))
+        })?,
+        set: params
+            .get_all("set")
+            .iter()
+            .filter_map(|v| v.as_string())
+            .collect(),
+    };
+    Ok((scene, run, opening))
 }
 
 /// The explorer, with its status and last result written into the DOM.

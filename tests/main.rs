@@ -30,6 +30,7 @@ mod fit;
 mod gmsh;
 mod golden;
 mod gui;
+mod lessons;
 mod material;
 mod patch;
 mod recording;

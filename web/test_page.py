@@ -17,10 +17,17 @@ multiply-adds when the CPU has them (physics/src/kernels/simd.rs), the page's wa
 the portable kernel without FMA (and without SIMD), so F_int differs in the last bits at each
 step and the difference grows with the run. The differences measured are printed.
 
-Saves a screenshot of the page at the end of the run. Exit status 0 when every check passes.
+Then the links (`--links`, on by default): `?scene=pull_off&set=…&set=…&run=1` against
+`decohesion run scenes/pull_off.toml --set … --set …`, and a lesson step opened by its link,
+`?lesson=cohesive_law&step=4&run=1`, against the native run of its scene with the overrides of
+the lesson's steps 1 to 4 (read from `lessons/cohesive_law.md`), with the same checks.
+
+Saves a screenshot of the page at the end of each run. Exit status 0 when every check passes.
 """
 
 import argparse
+import tomllib
+import urllib.parse
 import base64
 import functools
 import http.server
@@ -143,11 +150,12 @@ def wait_for(what, condition, timeout):
     raise TimeoutError(f"{what} did not happen within {timeout} s")
 
 
-def native_summary(binary, scene):
+def native_summary(binary, scene, sets=()):
     with tempfile.TemporaryDirectory() as d:
         out = os.path.join(d, "summary.json")
-        subprocess.run([binary, "run", scene, "--summary", out, "--threads", "1", "--quiet"],
-                       check=True, stdout=subprocess.DEVNULL)
+        overrides = [a for s in sets for a in ("--set", s)]
+        subprocess.run([binary, "run", scene, "--summary", out, "--threads", "1", "--quiet",
+                        *overrides], check=True, stdout=subprocess.DEVNULL)
         with open(out) as f:
             return json.load(f)
 
@@ -179,6 +187,40 @@ def compare(page, native):
     return failures
 
 
+def lesson_sets(path, step):
+    """The overrides in force at step `step` (1-based) of a lesson file: every `set` of the
+    `step` blocks of its steps 1 to `step`, in order."""
+    with open(path) as f:
+        text = f.read()
+    sets = []
+    for section in text.split("\n## ")[1:step + 1]:
+        if "```step\n" in section:
+            block = section.split("```step\n", 1)[1].split("\n```", 1)[0]
+            sets += tomllib.loads(block).get("set", [])
+    return sets
+
+
+def run_page(wd, url, timeout, screenshot):
+    """Loads `url`, waits for the run's end and returns the page's summary (exits on failure)."""
+    loaded = time.monotonic()
+    wd.get(url)
+    status = wait_for(
+        "the run's end",
+        lambda: (lambda s: s if s not in ("loading", "ready", "running") else None)(
+            wd.script("return document.getElementById('status').textContent")),
+        timeout)
+    print(f"test_page: {url}: {status} {time.monotonic() - loaded:.1f} s after loading")
+    if status != "finished":
+        for entry in wd.console():
+            print("  console:", entry.get("message", entry))
+        sys.exit(f"test_page: the page says `{status}`")
+    page = json.loads(wd.script("return document.getElementById('result').textContent"))
+    time.sleep(1.0)  # the plots settle over a few frames after a run
+    wd.screenshot(screenshot)
+    print(f"test_page: screenshot {screenshot}")
+    return page
+
+
 def main():
     root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
     target = os.environ.get("CARGO_TARGET_DIR", os.path.expanduser("~/.cache/decohesion-target"))
@@ -190,6 +232,8 @@ def main():
     ap.add_argument("--chromedriver", default="/usr/bin/chromedriver")
     ap.add_argument("--scene", default="pull_off")
     ap.add_argument("--timeout", type=float, default=120.0)
+    ap.add_argument("--links", action=argparse.BooleanOptionalAction, default=True,
+                    help="also open a `set=` link and a lesson's link and compare them")
     args = ap.parse_args()
     for path in [os.path.join(args.site, "index.html"), args.native, args.chromium,
                  args.chromedriver]:
@@ -197,7 +241,10 @@ def main():
             sys.exit(f"test_page: {path} is missing (scripts/build_site.sh builds the site; "
                      "apt-get install chromium chromium-driver gives the browser)")
 
-    native = native_summary(args.native, os.path.join(root, f"scenes/{args.scene}.toml"))
+    def scene_file(name):
+        return os.path.join(root, f"scenes/{name}.toml")
+
+    native = native_summary(args.native, scene_file(args.scene))
     site_port = serve(args.site)
     driver_port = free_port()
     chromedriver = subprocess.Popen([args.chromedriver, f"--port={driver_port}"],
@@ -208,22 +255,20 @@ def main():
         with tempfile.TemporaryDirectory() as profile:
             wd.start(args.chromium, profile)
             url = f"http://127.0.0.1:{site_port}/?scene={args.scene}&run=1"
-            loaded = time.monotonic()
-            wd.get(url)
-            status = wait_for(
-                "the run's end",
-                lambda: (lambda s: s if s not in ("loading", "ready", "running") else None)(
-                    wd.script("return document.getElementById('status').textContent")),
-                args.timeout)
-            print(f"test_page: {url}: {status} {time.monotonic() - loaded:.1f} s after loading")
-            if status != "finished":
-                for entry in wd.console():
-                    print("  console:", entry.get("message", entry))
-                sys.exit(f"test_page: the page says `{status}`")
-            page = json.loads(wd.script("return document.getElementById('result').textContent"))
-            time.sleep(1.0)  # the plots settle over a few frames after a run
-            wd.screenshot(args.screenshot)
-            print(f"test_page: screenshot {args.screenshot}")
+            page = run_page(wd, url, args.timeout, args.screenshot)
+            linked = []
+            if args.links:
+                shot = os.path.splitext(args.screenshot)[0]
+                sets = ["mesh.cells=[3,3,3]", "interface.law.u_r=0.005"]
+                query = urllib.parse.urlencode(
+                    [("scene", "pull_off")] + [("set", s) for s in sets] + [("run", "1")])
+                url = f"http://127.0.0.1:{site_port}/?{query}"
+                linked.append((url, run_page(wd, url, args.timeout, f"{shot}_set.png"),
+                               native_summary(args.native, scene_file("pull_off"), sets)))
+                sets = lesson_sets(os.path.join(root, "lessons/cohesive_law.md"), 4)
+                url = f"http://127.0.0.1:{site_port}/?lesson=cohesive_law&step=4&run=1"
+                linked.append((url, run_page(wd, url, args.timeout, f"{shot}_lesson.png"),
+                               native_summary(args.native, scene_file("pull_off"), sets)))
             wd.quit()
     finally:
         chromedriver.terminate()
@@ -237,10 +282,13 @@ def main():
           f"({page['ns_per_element_step']:.0f} vs {native['ns_per_element_step']:.0f} "
           f"ns per element-step)")
     failures = compare(page, native)
+    for url, p, n in linked:
+        print(f"test_page: {url} against the native run with its overrides:")
+        failures += [f"{url}: {f}" for f in compare(p, n)]
     if failures:
         print("test_page: FAILED\n  " + "\n  ".join(failures))
         sys.exit(1)
-    print("test_page: the page's result equals the native summary within round-off")
+    print("test_page: the page's results equal the native summaries within round-off")
 
 
 def _ready(wd):

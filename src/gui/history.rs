@@ -64,6 +64,14 @@ pub struct CurvePoint {
     pub displacement: f64,
     /// Its reaction [N] (NaN without one).
     pub reaction: f64,
+    /// The magnitude of the reaction on the first prescribed displacement's faces, every
+    /// component prescribed there [N] (NaN without one; a pull along a slant prescribes two).
+    #[serde(default = "nan")]
+    pub force: f64,
+}
+
+fn nan() -> f64 {
+    f64::NAN
 }
 
 impl CurvePoint {
@@ -83,11 +91,20 @@ impl CurvePoint {
             mean_alpha,
             displacement: first.map_or(f64::NAN, |d| d.history.value(sim.time)[0]),
             reaction: sim.stats.reactions.first().copied().unwrap_or(f64::NAN),
+            force: first.map_or(f64::NAN, |d| {
+                let mut f = [0.0; 3];
+                for (c, r) in sim.model.displacements.iter().zip(&sim.stats.reactions) {
+                    if c.faces == d.faces {
+                        f[c.component] += r;
+                    }
+                }
+                (f[0] * f[0] + f[1] * f[1] + f[2] * f[2]).sqrt()
+            }),
         }
     }
 }
 
-/// Most samples a run keeps (64 bytes each: ≤ 66 kB per run, in memory and in the saved history).
+/// Most samples a run keeps (72 bytes each: ≤ 74 kB per run, in memory and in the saved history).
 pub const CURVE_MAX_POINTS: usize = 1024;
 
 /// A run's samples, bounded: every `stride`-th sample offered is kept; when more than
@@ -392,6 +409,7 @@ mod tests {
             mean_alpha: 0.0,
             displacement: t,
             reaction: 0.0,
+            force: 0.0,
         }
     }
 

@@ -24,6 +24,8 @@ pub mod history;
 pub mod job;
 pub mod law;
 mod law_editor;
+pub mod lesson;
+mod lesson_view;
 pub mod page_run;
 mod plots;
 pub mod settings;
@@ -34,6 +36,7 @@ mod views;
 pub use history::HistoryRow;
 pub use job::{Job, JobMessage};
 pub use law::{LawSettings, DEFAULT_FAMILY};
+pub use lesson::{check_opening, Opening};
 pub use settings::{list_scenes, RecordChoice, SceneEntry, Settings};
 pub use state::{check_compare, variant_key, App, Curve, Status, CHECK_MAX_ELEMENTS};
 
@@ -86,12 +89,25 @@ impl Explorer {
     }
 }
 
+impl Explorer {
+    /// Opens a lesson at a step, or the scene with overrides ([`Opening`]); a refusal is
+    /// noted in the window.
+    pub fn open(&mut self, opening: &Opening) {
+        let _ = self.app.open(opening);
+    }
+}
+
 impl eframe::App for Explorer {
     fn ui(&mut self, ui: &mut egui::Ui, frame: &mut eframe::Frame) {
         self.app.view.glow = frame.gl().is_some();
         if self.run_on_start {
             self.run_on_start = false;
-            self.app.start();
+            // A lesson's step runs with its question's prediction field (empty: no prediction).
+            if self.app.lesson.is_some() {
+                self.app.run_step();
+            } else {
+                self.app.start();
+            }
         }
         if let Some(spec) = self.compare.take() {
             if let Err(e) = self.app.queue_spec(&spec) {
@@ -114,6 +130,7 @@ pub fn run_window(
     run_on_start: bool,
     record: Option<RecordChoice>,
     compare: Option<String>,
+    opening: Opening,
 ) -> Result<(), String> {
     let options = eframe::NativeOptions {
         viewport: egui::ViewportBuilder::default()
@@ -128,13 +145,9 @@ pub fn run_window(
         "decohesion explorer",
         options,
         Box::new(move |cc| {
-            Ok(Box::new(Explorer::new(
-                cc,
-                scene,
-                run_on_start,
-                record,
-                compare,
-            )))
+            let mut explorer = Explorer::new(cc, scene, run_on_start, record, compare);
+            explorer.open(&opening);
+            Ok(Box::new(explorer))
         }),
     )
     .map_err(|e| format!("cannot open the window: {e}"))

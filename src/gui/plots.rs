@@ -4,6 +4,7 @@
 //! against time), each in its run's colour.
 
 use super::history::CurvePoint;
+use super::lesson::PlotName;
 use super::App;
 use crate::solver::StateCounts;
 use egui::Color32;
@@ -100,33 +101,28 @@ impl App {
             p.vline(VLine::new("u_r", ur));
         };
         let w = (ui.available_width() / 3.0 - 8.0).max(150.0);
+        let titles = [
+            self.plot_title(PlotName::Law, "stiffness g_N(α) [Pa/m]"),
+            self.plot_title(PlotName::Traction, "traction T(δ) = g_N(δ)δ [MPa]"),
+            self.plot_title(
+                PlotName::Friction,
+                "friction μ(α) = μ_inf (1 − g_N(α)/g_N(0))",
+            ),
+        ];
+        let [t_law, t_traction, t_mu] = titles;
         ui.horizontal(|ui| {
-            titled_plot(ui, "stiffness g_N(α) [Pa/m]", "g_n", "α [mm]", w, |p| {
+            titled_plot(ui, t_law, "g_n", "α [mm]", w, |p| {
                 p.line(Line::new("g_N(α)", g));
                 marks(p);
             });
-            titled_plot(
-                ui,
-                "traction T(δ) = g_N(δ)δ [MPa]",
-                "traction",
-                "δ [mm]",
-                w,
-                |p| {
-                    p.line(Line::new("T(δ)", t));
-                    marks(p);
-                },
-            );
-            titled_plot(
-                ui,
-                "friction μ(α) = μ_inf (1 − g_N(α)/g_N(0))",
-                "mu",
-                "α [mm]",
-                w,
-                |p| {
-                    p.line(Line::new("μ(α)", mu));
-                    marks(p);
-                },
-            );
+            titled_plot(ui, t_traction, "traction", "δ [mm]", w, |p| {
+                p.line(Line::new("T(δ)", t));
+                marks(p);
+            });
+            titled_plot(ui, t_mu, "mu", "α [mm]", w, |p| {
+                p.line(Line::new("μ(α)", mu));
+                marks(p);
+            });
         });
     }
 
@@ -140,32 +136,50 @@ impl App {
         let residual = series(points, |p| [p.t, p.residual]);
         // Glue that forms on contact: its nodes not formed yet (none in other scenes).
         let unformed = points.iter().any(|p| p.counts.unformed > 0);
-        let w = (ui.available_width() / 2.0 - 8.0).max(200.0);
-        let colour = |c: [u8; 3]| egui::Color32::from_rgb(c[0], c[1], c[2]);
-        ui.horizontal(|ui| {
-            titled_plot(
-                ui,
-                &format!("run {run}: interface nodes by state (paper fig. 6, right)"),
-                "counts",
-                "t [s]",
-                w,
-                |p| {
-                    p.line(Line::new("elastic", pick(|c| c.elastic)).color(colour([46, 160, 67])));
-                    p.line(
-                        Line::new("transition", pick(|c| c.transition))
-                            .color(colour([245, 166, 35])),
-                    );
-                    p.line(Line::new("ruptured", pick(|c| c.ruptured)).color(colour([208, 2, 27])));
-                    if unformed {
-                        p.line(
-                            Line::new("unformed", pick(|c| c.unformed)).color(colour([90, 90, 90])),
-                        );
-                    }
-                },
+        let force = series(points, |p| [p.t, p.force]);
+        // The open question's prediction, drawn over the force when it is a force.
+        let predicted = self.lesson.as_ref().and_then(|s| {
+            let q = s.current().question.as_ref()?;
+            let force = matches!(
+                q.result,
+                super::lesson::RunResult::LateForce | super::lesson::RunResult::PeakForce
             );
+            (force && s.run == Some(run))
+                .then_some(s.predicted)
+                .flatten()
+        });
+        let w = (ui.available_width() / 3.0 - 8.0).max(150.0);
+        let colour = |c: [u8; 3]| egui::Color32::from_rgb(c[0], c[1], c[2]);
+        let t_states = self.plot_title(
+            PlotName::States,
+            &format!("run {run}: interface nodes by state (paper fig. 6, right)"),
+        );
+        let t_force = self.plot_title(
+            PlotName::Force,
+            &format!("run {run}: force on the pulled faces [N]"),
+        );
+        ui.horizontal(|ui| {
+            titled_plot(ui, t_states, "counts", "t [s]", w, |p| {
+                p.line(Line::new("elastic", pick(|c| c.elastic)).color(colour([46, 160, 67])));
+                p.line(
+                    Line::new("transition", pick(|c| c.transition)).color(colour([245, 166, 35])),
+                );
+                p.line(Line::new("ruptured", pick(|c| c.ruptured)).color(colour([208, 2, 27])));
+                if unformed {
+                    p.line(Line::new("unformed", pick(|c| c.unformed)).color(colour([90, 90, 90])));
+                }
+            });
+            titled_plot(ui, t_force, "force", "t [s]", w, |p| {
+                p.line(Line::new("|reaction|", force));
+                if let Some(f) = predicted {
+                    p.hline(
+                        egui_plot::HLine::new("your prediction", f).color(colour([230, 150, 0])),
+                    );
+                }
+            });
             titled_plot(
                 ui,
-                &format!("run {run}: balance residual / largest energy"),
+                format!("run {run}: balance residual / largest energy"),
                 "residual",
                 "t [s]",
                 w,
@@ -178,7 +192,7 @@ impl App {
 /// A plot of width `w` under its title, with a legend.
 fn titled_plot<'a>(
     ui: &mut egui::Ui,
-    title: &str,
+    title: impl Into<egui::WidgetText>,
     id: &str,
     x_label: &str,
     w: f32,

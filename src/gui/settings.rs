@@ -58,6 +58,10 @@ pub struct Settings {
     /// and the history.
     #[serde(default)]
     pub interfaces: Vec<String>,
+    /// Scene overrides (`key.path=value`, as `run --set` takes them) applied to the scene file
+    /// before the settings above: a lesson's step, a link's `set=`.
+    #[serde(default)]
+    pub set: Vec<String>,
 }
 
 impl Default for Settings {
@@ -77,6 +81,7 @@ impl Default for Settings {
             output_dir: "out/gui".into(),
             interface: 0,
             interfaces: vec![],
+            set: vec![],
         }
     }
 }
@@ -184,10 +189,17 @@ pub fn read_scene(path: &str) -> Result<String, String> {
 
 /// Loads the scene file `path` as it is (see [`read_scene`] for the page).
 pub fn open_scene(path: &str) -> Result<Scene, String> {
+    open_scene_with(path, &[])
+}
+
+/// Loads the scene file `path` with the overrides `set` (`key.path=value`), as `run --set`
+/// does (see [`read_scene`] for the page).
+pub fn open_scene_with(path: &str, set: &[String]) -> Result<Scene, String> {
     #[cfg(not(target_arch = "wasm32"))]
-    return crate::scene::load_scene(Path::new(path), &[]).map_err(|e| e.to_string());
+    return crate::scene::load_scene(Path::new(path), set).map_err(|e| e.to_string());
     #[cfg(target_arch = "wasm32")]
-    parse_text(&read_scene(path)?, path).map_err(|e| e.to_string())
+    crate::scene::parse_scene_with(&read_scene(path)?, path, set, &builtin::read_file)
+        .map_err(|e| e.to_string())
 }
 
 impl Settings {
@@ -233,7 +245,11 @@ impl Settings {
 
     /// The scene file with these settings applied, as TOML text.
     pub fn scene_text(&self) -> Result<String, String> {
-        let text = read_scene(&self.scene)?;
+        let text = if self.set.is_empty() {
+            read_scene(&self.scene)?
+        } else {
+            open_scene_with(&self.scene, &self.set)?.resolved
+        };
         let mut doc: toml::Table = text.parse().map_err(|e| format!("{}: {e}", self.scene))?;
         let s = self;
         let law = s.law.to_toml()?;

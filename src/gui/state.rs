@@ -147,7 +147,7 @@ pub struct App {
     /// Messages for the user (viewer missing, CSV written, …).
     pub notes: Vec<String>,
     /// Validation of the current settings, cached by the scene text it was computed from.
-    validation: Option<(String, Result<Checked, String>)>,
+    pub(super) validation: Option<(String, Result<Checked, String>)>,
     /// Asks the window for a repaint, from the solver thread.
     pub(super) repaint: Option<Repaint>,
     /// State counts and residual of the running (or last) run over time.
@@ -171,6 +171,8 @@ pub struct App {
     /// instead of on a thread: always in the web page, which has one thread and no files (no
     /// recording, no ParaView files); on native for the tests.
     pub in_page: bool,
+    /// The open lesson, if any ([`super::lesson`]).
+    pub lesson: Option<super::lesson::LessonState>,
 }
 
 /// What the current settings give, shown before a run.
@@ -221,6 +223,7 @@ impl App {
             settle: 0,
             view: Default::default(),
             in_page: cfg!(target_arch = "wasm32"),
+            lesson: None,
         }
     }
 
@@ -229,6 +232,7 @@ impl App {
         match super::settings::open_scene(path) {
             Ok(scene) => {
                 self.settings.scene = path.to_string();
+                self.settings.set.clear();
                 self.settings.take_scene(&scene);
                 self.validation = None;
             }
@@ -239,7 +243,7 @@ impl App {
     /// Edits the law of `[[interface]]` `k` of the scene from now on, loaded from the scene
     /// file (the edits of the previous one are dropped).
     pub fn edit_interface(&mut self, k: usize) {
-        match super::settings::open_scene(&self.settings.scene) {
+        match super::settings::open_scene_with(&self.settings.scene, &self.settings.set) {
             Ok(scene) => {
                 self.settings.take_interface(&scene, k);
                 self.validation = None;

@@ -47,6 +47,14 @@ impl App {
             self.settle = self.settle.saturating_sub(1);
             ui.ctx().request_repaint_after(Duration::from_millis(100));
         }
+        if self.lesson.is_some() {
+            egui::Panel::left("lesson")
+                .resizable(true)
+                .default_size(380.0)
+                .show(ui, |ui| {
+                    egui::ScrollArea::vertical().show(ui, |ui| self.lesson_ui(ui));
+                });
+        }
         egui::Panel::left("settings")
             .resizable(true)
             .default_size(430.0)
@@ -106,6 +114,16 @@ impl App {
         if let Some(s) = self.scenes.iter().find(|s| s.path == current) {
             ui.label(egui::RichText::new(&s.description).small());
         }
+        if !self.settings.set.is_empty() {
+            ui.label(
+                egui::RichText::new(format!("with --set {}", self.settings.set.join(" --set ")))
+                    .small(),
+            );
+        }
+        ui.horizontal(|ui| {
+            self.lesson_picker_ui(ui);
+            self.link_ui(ui);
+        });
     }
 
     /// Mesh, time step, end time, frames, material, integration, outputs; what they give.
@@ -115,7 +133,9 @@ impl App {
         if s.cells == 0 {
             ui.label("mesh from the scene's Gmsh file (cells per side: box meshes only)");
         } else {
-            ui.add(egui::Slider::new(&mut s.cells, 1..=40).text("cells per side"));
+            // A scene finer than the slider's range (the peel's 100 cells) keeps its own.
+            let most = s.cells.max(40);
+            ui.add(egui::Slider::new(&mut s.cells, 1..=most).text("cells per side"));
         }
         ui.add(egui::Slider::new(&mut s.factor, 0.05..=1.0).text("time-step factor h/h_crit"));
         ui.add(
