@@ -2,7 +2,7 @@
 //! added, fitted from a start 50 % off) and the command's outputs.
 
 use crate::common::cli::{decohesion_ok, scratch};
-use decohesion::fit::problem::{Column, Problem};
+use decohesion::fit::problem::{Column, Problem, SceneText};
 use decohesion::fit::{fit, prepare, FitArgs, Silent, Stop};
 use proptest::prelude::Rng;
 use proptest::test_runner::{RngAlgorithm, TestRng};
@@ -31,7 +31,7 @@ fn synthetic_curve(dir: &Path) -> (PathBuf, Vec<f64>) {
         unit: unit.into(),
     };
     let problem = Problem {
-        scene: SCENE.into(),
+        scene: SceneText::read(Path::new(SCENE)).expect("the shipped pull-off reads"),
         set: vec![],
         free: vec![],
         x: column("u_z_plus_z", "m"),

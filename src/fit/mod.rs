@@ -34,7 +34,7 @@ mod search;
 use anyhow::{bail, Context, Result};
 use data::{Curve, Unit};
 use free::{lookup, Free};
-use problem::{find_column, Evaluation, Problem};
+use problem::{find_column, Evaluation, Problem, SceneText};
 use search::{bits, nelder_mead, uncertainty, Objective, Runs, HALTON_BASES, MAX_RESTARTS};
 pub use search::{default_sample, halton, stall_runs};
 use serde::Serialize;
@@ -45,7 +45,6 @@ use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
 use crate::output::series::Columns;
-use crate::scene::load_scene;
 use crate::solver::Simulation;
 
 /// What a fit is asked.
@@ -157,7 +156,8 @@ pub fn prepare(args: &FitArgs) -> Result<Prepared> {
         (n + 2).max(5),
         "more points than free keys for the uncertainty, and 5 to make a curve",
     )?;
-    let base = load_scene(&args.scene, &args.set)?;
+    let scene = SceneText::read(&args.scene)?;
+    let base = scene.load(&args.set)?;
     let sim = Simulation::new(base.model.clone())
         .with_context(|| format!("{}: the scene cannot be set up", args.scene.display()))?;
     let columns = Columns::new(&sim);
@@ -193,7 +193,7 @@ pub fn prepare(args: &FitArgs) -> Result<Prepared> {
             None => (f.middle(), "middle"),
         };
         for (which, v) in [("lower", f.lo), ("upper", f.hi)] {
-            admitted_bound(args, &free, f, v).with_context(|| {
+            admitted_bound(&scene, args, &free, f, v).with_context(|| {
                 format!(
                     "--free {}: the scene refuses the {which} bound {v:?}",
                     f.key
@@ -215,7 +215,7 @@ pub fn prepare(args: &FitArgs) -> Result<Prepared> {
     }
     Ok(Prepared {
         problem: Problem {
-            scene: args.scene.clone(),
+            scene,
             set: args.set.clone(),
             free,
             x,
@@ -239,11 +239,17 @@ pub fn prepare(args: &FitArgs) -> Result<Prepared> {
 /// start, else at some corner of their bounds (a bound may be refused only together with
 /// another key's value, `u_r > α_e`, and the box then holds points the runs refuse, which the fit
 /// reports as failed runs). The error is the scene's with the others at their start.
-fn admitted_bound(args: &FitArgs, free: &[Free], f: &Free, v: f64) -> Result<()> {
+fn admitted_bound(
+    scene: &SceneText,
+    args: &FitArgs,
+    free: &[Free],
+    f: &Free,
+    v: f64,
+) -> Result<()> {
     let this = format!("{}={v:?}", f.key);
     let mut set = args.set.clone();
     set.push(this.clone());
-    let Err(first) = load_scene(&args.scene, &set) else {
+    let Err(first) = scene.load(&set) else {
         return Ok(());
     };
     let others: Vec<&Free> = free.iter().filter(|g| g.key != f.key).collect();
@@ -256,7 +262,7 @@ fn admitted_bound(args: &FitArgs, free: &[Free], f: &Free, v: f64) -> Result<()>
                 format!("{}={at:?}", g.key)
             }));
             set.push(this.clone());
-            if load_scene(&args.scene, &set).is_ok() {
+            if scene.load(&set).is_ok() {
                 return Ok(());
             }
         }

@@ -11,10 +11,34 @@
 
 use super::free::Free;
 use crate::output::series::Columns;
-use crate::scene::{load_scene, Scene};
+use crate::scene::{parse_scene, Scene, SceneError};
 use crate::solver::Simulation;
-use std::path::PathBuf;
+use std::path::Path;
 use std::sync::atomic::{AtomicBool, Ordering};
+
+/// A scene file's text, read once for all the runs of a fit, and the file's name (in messages,
+/// and the directory the files it names are read from).
+#[derive(Debug, Clone)]
+pub struct SceneText {
+    pub file: String,
+    pub text: String,
+}
+
+impl SceneText {
+    /// Reads the scene file at `path` (the error is [`crate::scene::load_scene`]'s).
+    pub fn read(path: &Path) -> Result<SceneText, SceneError> {
+        let file = path.display().to_string();
+        match std::fs::read_to_string(path) {
+            Ok(text) => Ok(SceneText { file, text }),
+            Err(source) => Err(SceneError::Io { file, source }),
+        }
+    }
+
+    /// The scene with the `--set` overrides `set`.
+    pub fn load(&self, set: &[String]) -> Result<Scene, SceneError> {
+        parse_scene(&self.text, &self.file, set)
+    }
+}
 
 /// A column of the run's series named by the caller.
 #[derive(Debug, Clone)]
@@ -89,7 +113,7 @@ pub const FAILED_COST: f64 = 1e100;
 /// The fit's problem: the scene, the free keys, the measured points in SI units.
 #[derive(Debug, Clone)]
 pub struct Problem {
-    pub scene: PathBuf,
+    pub scene: SceneText,
     /// The caller's `--set` overrides, applied before the free keys.
     pub set: Vec<String>,
     pub free: Vec<Free>,
@@ -120,7 +144,7 @@ impl Problem {
 
     /// Loads the scene with the values `p`.
     pub fn scene(&self, p: &[f64]) -> Result<Scene, String> {
-        load_scene(&self.scene, &self.overrides(p)).map_err(|e| e.to_string())
+        (self.scene.load(&self.overrides(p))).map_err(|e| e.to_string())
     }
 
     /// Runs the scene with the values `p` on `threads` threads at most and compares it with the

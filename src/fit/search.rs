@@ -102,8 +102,7 @@ impl Objective<'_> {
         let values: Vec<Vec<f64>> = todo.iter().map(|z| self.values(z)).collect();
         let results = run_side_by_side(&self.prep.problem, &values, self.threads, self.cancel);
         let mut st = self.state.borrow_mut();
-        for (z, e) in todo.into_iter().zip(results) {
-            let values = self.values(z);
+        for ((z, values), e) in todo.into_iter().zip(values).zip(results) {
             st.add(z, values, e);
         }
     }
@@ -180,13 +179,11 @@ impl Objective<'_> {
                 return Err(argmin::core::Error::msg("the fit stops"));
             }
         }
-        let e = self
-            .prep
-            .problem
-            .evaluate(&self.values(z), self.threads, self.cancel);
+        let values = self.values(z);
+        let e = (self.prep.problem).evaluate(&values, self.threads, self.cancel);
         let cost = e.cost();
         let cancelled = matches!(e, Evaluation::Cancelled);
-        self.state.borrow_mut().add(z, self.values(z), e);
+        self.state.borrow_mut().add(z, values, e);
         if cancelled {
             self.state.borrow_mut().stopped = Some(Stop::Cancelled);
             return Err(argmin::core::Error::msg("the fit stops"));

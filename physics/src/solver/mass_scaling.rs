@@ -128,10 +128,7 @@ impl Simulation {
         let Some(r) = self.mass_scaling else {
             return Ok(());
         };
-        let omega_sq = (self.interface_nodes.iter())
-            .map(|n| n.area * n.stiffness * self.inv_mass[n.node as usize])
-            .fold(0.0, f64::max);
-        let h_glue = 2.0 / omega_sq.sqrt();
+        let h_glue = 2.0 / self.glue_spring_omega_sq().sqrt();
         if h_glue >= 0.99 * r.target_step {
             return Ok(());
         }

@@ -370,11 +370,7 @@ impl Simulation {
     fn first_time_step(&mut self) -> Result<(), SolverError> {
         let est = self.estimate_stable_step(None);
         self.h_crit = est.h_crit;
-        let omega_itf_sq = self
-            .interface_nodes
-            .iter()
-            .map(|n| n.area * n.stiffness * self.inv_mass[n.node as usize])
-            .fold(0.0, f64::max);
+        let omega_itf_sq = self.glue_spring_omega_sq();
         if omega_itf_sq > 0.0 && 2.0 / omega_itf_sq.sqrt() < 1.5 * est.h_crit {
             let ritz = std::mem::take(&mut self.ritz_vector);
             self.h_crit_bulk = Some(self.stable_step_estimate(None, false).h_crit);
@@ -395,6 +391,14 @@ impl Simulation {
             )));
         }
         Ok(())
+    }
+
+    /// The largest ω² = W k/m of a glued node's spring alone against its mass [1/s²] (0
+    /// without glue).
+    pub(super) fn glue_spring_omega_sq(&self) -> f64 {
+        (self.interface_nodes.iter())
+            .map(|n| n.area * n.stiffness * self.inv_mass[n.node as usize])
+            .fold(0.0, f64::max)
     }
 
     /// V_{−½} = V₀ − ½h M⁻¹F₀ with the smooth forces (internal, gravity, tractions, glue):
