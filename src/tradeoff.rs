@@ -16,7 +16,7 @@ use std::time::Instant;
 /// One configuration of the grid.
 #[derive(Debug, Clone, Serialize)]
 pub struct Config {
-    /// "full" or "reduced".
+    /// "full", "reduced" or "fbar".
     pub integration: String,
     /// Cells along the longest side.
     pub cells: usize,

@@ -79,6 +79,18 @@ pub enum Integration {
     /// coefficient `hourglass_coefficient`): one stress evaluation per element instead of 8,
     /// cheaper per step (docs: performance log), its accuracy measured by `decohesion tradeoff`.
     Reduced,
+    /// 2×2×2 Gauss points with F̄ = (J̄/J)^{1/3} F, J̄ the element's volume ratio (model §1.11):
+    /// one volumetric deformation per element, so a nearly incompressible material does not
+    /// lock.
+    Fbar,
+}
+
+impl Integration {
+    /// Whether the stress is evaluated at the 2×2×2 Gauss points (`full`, `fbar`): no
+    /// hourglass modes, and at rest the element bound of the full element (model §6.4, §1.11).
+    pub fn gauss_points(self) -> bool {
+        self != Integration::Reduced
+    }
 }
 
 /// Parameters of the CD-Lagrange scheme. Every field has its meaning, unit and range here;

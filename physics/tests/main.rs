@@ -25,6 +25,7 @@ mod contact_start;
 mod corner_jacobian;
 mod delay;
 mod extreme;
+mod fbar;
 mod form_turning;
 mod free_vibration;
 mod friction;

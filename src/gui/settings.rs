@@ -40,7 +40,7 @@ pub struct Settings {
     pub frames: u32,
     /// The model's key in scene files (`svk`, `neo_hookean`, a rubber's family).
     pub material: String,
-    /// "full" (2×2×2) or "reduced" (one point + hourglass control).
+    /// "full" (2×2×2), "reduced" (one point + hourglass control) or "fbar" (2×2×2 with F̄).
     pub integration: String,
     /// κ of the hourglass control (reduced integration).
     pub hourglass: f64,
@@ -221,6 +221,7 @@ impl Settings {
         self.integration = match m.scheme.integration {
             crate::model::Integration::Full => "full".into(),
             crate::model::Integration::Reduced => "reduced".into(),
+            crate::model::Integration::Fbar => "fbar".into(),
         };
         self.hourglass = m.scheme.hourglass_coefficient;
         self.end_time = m.end_time;

@@ -183,6 +183,7 @@ impl App {
                 "reduced".to_string(),
                 "one point + hourglass",
             );
+            ui.radio_value(&mut s.integration, "fbar".to_string(), "F-bar (no locking)");
         });
         if s.integration == "reduced" {
             ui.add(egui::Slider::new(&mut s.hourglass, 0.0..=0.3).text("hourglass κ"));

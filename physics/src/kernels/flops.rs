@@ -11,10 +11,11 @@
 //! element, either law.
 
 use super::corners::corner_jacobians;
+use super::fbar::{add_pressure_correction, halley_cube_root, scale_stress, scaled_gradient};
 use crate::material::{
-    box_factors, box_forces, box_gradient, centre_norms_of, displacement_gradient, first_piola,
-    modes_to_nodes, node_modes, parent_forces, parent_gradient, row_dot, with_law, Deformation,
-    Law, Material, MaterialModel, Real,
+    box_factors, box_forces, box_gradient, centre_norms_of, deformation_gradient, determinant,
+    displacement_gradient, first_piola, modes_to_nodes, node_modes, parent_forces, parent_gradient,
+    row_dot, with_law, Deformation, Law, Material, MaterialModel, Real,
 };
 use std::cell::Cell;
 use std::ops::{Add, Div, Mul, Sub};
@@ -195,6 +196,40 @@ pub fn full(model: MaterialModel, axis_aligned: bool) -> KernelFlops {
         bound: 0,
         logs: 8 * logs,
     }
+}
+
+/// One element-step of the F-bar kernel ([`super::fbar::fbar_lanes`], model §1.11): the full
+/// kernel's ([`full`]) and, per point, F = I + H and J_q with the sums V̄ and V₀; α_q (J̄/J_q
+/// and [`halley_cube_root`], the path of every element whose J̄/J_q is in [½, 2]),
+/// H̄ = αH + (α − 1)I, s_q and αP̄ with
+/// the sum S̄; then S̄/V̄ and, per point, s_q/J_q and P̂ = αP̄ + c cof F_q (F formed again).
+/// Counted in `stress`.
+pub fn fbar(model: MaterialModel, axis_aligned: bool) -> KernelFlops {
+    let mut k = full(model, axis_aligned);
+    let (extra, _) = count(|| {
+        let h = [[c(0.01); 3]; 3];
+        let mut p = [[c(1.0); 3]; 3];
+        let (mut vbar, mut v0, mut sbar) = (c(0.0), c(0.0), c(0.0));
+        for _ in 0..8 {
+            let j = determinant::<Counted, true>(&deformation_gradient(&h));
+            vbar = c(1.0).fmadd::<true>(j, vbar);
+            v0 = v0 + c(1.0);
+        }
+        let jbar = vbar / v0;
+        for _ in 0..8 {
+            let alpha = halley_cube_root(jbar / c(1.0));
+            let _ = scaled_gradient(&h, alpha);
+            let s = scale_stress::<Counted, true>(&mut p, &deformation_gradient(&h), alpha);
+            sbar = c(1.0).fmadd::<true>(s, sbar);
+        }
+        let p_mean = sbar / vbar;
+        for _ in 0..8 {
+            let cq = p_mean - c(1.0) / c(1.0);
+            add_pressure_correction::<Counted, true>(&mut p, &deformation_gradient(&h), cq);
+        }
+    });
+    k.stress += extra;
+    k
 }
 
 /// The flops of J (1 − C|q|/s)³ from J, ‖F‖²_F and |q|²

@@ -5,6 +5,7 @@
 
 pub mod corner_bound;
 pub mod corners;
+mod fbar;
 pub mod flops;
 mod full;
 mod nodes;
@@ -34,12 +35,15 @@ pub enum ElementRule {
     Full,
     /// One point and Flanagan–Belytschko hourglass stiffness κ ([`element_forces_reduced`]).
     Reduced { kappa: f64 },
+    /// 2×2×2 Gauss points with F̄ = (J̄/J)^{1/3} F ([`fbar`], model §1.11).
+    FBar,
 }
 
 impl ElementRule {
     pub fn of(scheme: &crate::model::SchemeParams) -> ElementRule {
         match scheme.integration {
             Integration::Full => ElementRule::Full,
+            Integration::Fbar => ElementRule::FBar,
             Integration::Reduced => ElementRule::Reduced {
                 kappa: scheme.hourglass_coefficient,
             },
@@ -139,6 +143,19 @@ pub fn assemble_internal_forces(
                     ElementRule::Full => {
                         let (e, j, el) =
                             chunk_forces(mesh, classes, mat, u, ptr, chunk, energy, prefetch);
+                        ElementSums {
+                            strain: e,
+                            hourglass: 0.0,
+                            min_j: j,
+                            min_element: el,
+                            skipped: 0,
+                            min_stress_j: j,
+                            min_stress_element: el,
+                        }
+                    }
+                    ElementRule::FBar => {
+                        let (e, j, el) =
+                            fbar::chunk_forces_fbar(mesh, classes, mat, u, ptr, chunk, energy);
                         ElementSums {
                             strain: e,
                             hourglass: 0.0,

@@ -26,7 +26,10 @@ pub use element::{
     centre_norms_of, element_forces, element_forces_reduced, element_forces_reduced_lanes,
     element_forces_reduced_lanes_in, hourglass_stiffness, LaneElements, OnePointScratch,
 };
-pub(crate) use kinematics::{displacement_gradient, hourglass_energy, hourglass_modes, row_dot};
+pub(crate) use kinematics::{
+    cofactor, deformation_gradient, determinant, displacement_gradient, hourglass_energy,
+    hourglass_modes, row_dot,
+};
 pub use real::{F64x8, Lanes, Mat3, Real};
 pub(crate) use tensor::{
     box_factors, box_forces, box_gradient, modes_to_nodes, node_modes, parent_forces,
@@ -34,7 +37,7 @@ pub(crate) use tensor::{
 };
 
 pub use kinematics::Deformation;
-use kinematics::{cofactor, doubled_green_lagrange, f_times_s, id};
+use kinematics::{doubled_green_lagrange, f_times_s, id};
 use nalgebra::Matrix3;
 use serde::{Deserialize, Serialize};
 

@@ -395,6 +395,11 @@ impl Simulation {
             // No bound declared ([`modulus_bound`]): nothing to certify with.
             return f64::INFINITY;
         }
+        if self.model.scheme.integration == Integration::Fbar {
+            // The F-bar tangent is bounded by the full element's at rest only (model §1.11):
+            // away from it no bound is proven, so nothing to certify with.
+            return f64::INFINITY;
+        }
         let mut cache = std::mem::take(&mut self.step_control.bound);
         let full = self.model.scheme.integration == Integration::Full;
         let classes = &self.classes;

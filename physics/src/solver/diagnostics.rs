@@ -34,7 +34,7 @@ impl Simulation {
     /// [`crate::kernels::corners`]) and the J at the centre, the rule's own point.
     pub(super) fn inverted(&self, element: usize, j: f64) -> SolverError {
         let at = match self.model.scheme.integration {
-            Integration::Full => "at a Gauss point".to_string(),
+            Integration::Full | Integration::Fbar => "at a Gauss point".to_string(),
             Integration::Reduced => {
                 let conn = self.model.mesh.elements[element];
                 let cd = &self.classes.centre[self.classes.class_of[element] as usize];
@@ -110,8 +110,9 @@ impl Simulation {
             let k_over_g = 2.0 * (1.0 + nu) / (3.0 * (1.0 - 2.0 * nu));
             let cp_over_cs = (2.0 * (1.0 - nu) / (1.0 - 2.0 * nu)).sqrt();
             let quadrature = match m.scheme.integration {
-                Integration::Full => "with full 2×2×2 integration the hex8 locks volumetrically: it is far too stiff in bending and in any deformation that keeps the volume; use scheme.integration = \"reduced\" (a rubber's hourglass stiffness follows its shear modulus, model §1.10)",
+                Integration::Full => "with full 2×2×2 integration the hex8 locks volumetrically: it is far too stiff in bending and in any deformation that keeps the volume; use scheme.integration = \"fbar\" (model §1.11), or \"reduced\" (a rubber's hourglass stiffness follows its shear modulus, model §1.10)",
                 Integration::Reduced => "one-point integration does not lock volumetrically, and a rubber's hourglass stiffness κ·11μ₀ follows its shear modulus (model §1.10)",
+                Integration::Fbar => "the F-bar hexahedron does not lock volumetrically (one volume ratio per element, model §1.11)",
             };
             out.push(format!(
                 "the rubber is nearly incompressible (K/μ₀ = {k_over_g:.0}, small-strain ν = {nu:.4}): {quadrature}. The stable step follows the pressure wave, c_p = {cp_over_cs:.1} c_s."
@@ -125,7 +126,7 @@ impl Simulation {
             let kappa = m.scheme.hourglass_coefficient;
             let quadrature = match m.scheme.integration {
                 Integration::Full => format!(
-                    "with full 2×2×2 integration the hex8 locks volumetrically: it is far too stiff in bending and in any deformation that keeps the volume; use scheme.integration = \"reduced\" with scheme.hourglass_coefficient = {kappa_shear:.1e} (the hourglass stiffness κ(λ+2μ) grows with λ and locks as well at the default κ = 0.05)"
+                    "with full 2×2×2 integration the hex8 locks volumetrically: it is far too stiff in bending and in any deformation that keeps the volume; use scheme.integration = \"fbar\" (model §1.11), or \"reduced\" with scheme.hourglass_coefficient = {kappa_shear:.1e} (the hourglass stiffness κ(λ+2μ) grows with λ and locks as well at the default κ = 0.05)"
                 ),
                 Integration::Reduced if kappa > 2.0 * kappa_shear => format!(
                     "one-point integration does not lock volumetrically, but its hourglass stiffness κ(λ+2μ) grows with λ: at κ = {kappa} it stiffens bending as locking would; scheme.hourglass_coefficient = {kappa_shear:.1e} scales it to the shear modulus"
@@ -133,6 +134,7 @@ impl Simulation {
                 Integration::Reduced => format!(
                     "one-point integration with κ = {kappa} does not lock"
                 ),
+                Integration::Fbar => "the F-bar hexahedron does not lock volumetrically (one volume ratio per element, model §1.11)".to_string(),
             };
             out.push(format!(
                 "material.poisson = {nu} is nearly incompressible (K/G = {k_over_g:.0}): {quadrature}. The stable step follows the pressure wave, c_p = {cp_over_cs:.1} c_s, so shear motion costs {cp_over_cs:.1}× more steps than at ν = 0."

@@ -186,11 +186,13 @@ pub const SECTIONS: &[SectionDoc] = &[
                 "integration",
                 "string",
                 "",
-                "quadrature: 2×2×2 Gauss points (`full`), or one point with Flanagan–Belytschko \
-                 hourglass control (`reduced`; the hourglass energy is a ledger term)",
+                "quadrature: 2×2×2 Gauss points (`full`), one point with Flanagan–Belytschko \
+                 hourglass control (`reduced`; the hourglass energy is a ledger term), or 2×2×2 \
+                 points with F̄ = (J̄/J)^{1/3} F (`fbar`: one volume ratio per element, no \
+                 volumetric locking near ν = 0.5, model §1.11)",
             )
             .default_text("\"full\"")
-            .choices(&["full", "reduced"]),
+            .choices(&["full", "reduced", "fbar"]),
             HOURGLASS_COEFFICIENT,
         ],
     },
