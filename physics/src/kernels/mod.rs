@@ -91,6 +91,23 @@ pub struct ElementSums {
     pub min_stress_element: usize,
 }
 
+impl ElementSums {
+    /// The sums of a chunk whose stress is evaluated at the Gauss points (full integration,
+    /// F-bar) from its (strain energy, min J, its element): no hourglass energy, no corner
+    /// check, and the stress's J the reported one.
+    fn at_gauss_points((strain, min_j, element): (f64, f64, usize)) -> ElementSums {
+        ElementSums {
+            strain,
+            hourglass: 0.0,
+            min_j,
+            min_element: element,
+            skipped: 0,
+            min_stress_j: min_j,
+            min_stress_element: element,
+        }
+    }
+}
+
 /// Internal forces of a whole mesh: F_int(U) = Σ_e fₑ(U) (model §1.5 and §4.3).
 /// `f` must be zeroed. Energies are computed only if `energy`. `blocks` come from
 /// [`Mesh::element_blocks`]; `parts` is a buffer for the per-block results (reused, so the
@@ -140,32 +157,12 @@ pub fn assemble_internal_forces(
             // one after another; `f` outlives the loop.
             unsafe {
                 match rule {
-                    ElementRule::Full => {
-                        let (e, j, el) =
-                            chunk_forces(mesh, classes, mat, u, ptr, chunk, energy, prefetch);
-                        ElementSums {
-                            strain: e,
-                            hourglass: 0.0,
-                            min_j: j,
-                            min_element: el,
-                            skipped: 0,
-                            min_stress_j: j,
-                            min_stress_element: el,
-                        }
-                    }
-                    ElementRule::FBar => {
-                        let (e, j, el) =
-                            fbar::chunk_forces_fbar(mesh, classes, mat, u, ptr, chunk, energy);
-                        ElementSums {
-                            strain: e,
-                            hourglass: 0.0,
-                            min_j: j,
-                            min_element: el,
-                            skipped: 0,
-                            min_stress_j: j,
-                            min_stress_element: el,
-                        }
-                    }
+                    ElementRule::Full => ElementSums::at_gauss_points(chunk_forces(
+                        mesh, classes, mat, u, ptr, chunk, energy, prefetch,
+                    )),
+                    ElementRule::FBar => ElementSums::at_gauss_points(fbar::chunk_forces_fbar(
+                        mesh, classes, mat, u, ptr, chunk, energy,
+                    )),
                     ElementRule::Reduced { kappa } => chunk_forces_reduced(
                         mesh,
                         classes,
