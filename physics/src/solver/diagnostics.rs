@@ -7,6 +7,10 @@ use crate::kernels::corners::element_corner_jacobians;
 use crate::model::Integration;
 use crate::model::StartOffset;
 
+/// What the near-incompressibility warnings say of the F-bar hexahedron (model §1.11).
+const FBAR_DOES_NOT_LOCK: &str =
+    "the F-bar hexahedron does not lock volumetrically (one volume ratio per element, model §1.11)";
+
 impl Simulation {
     /// The blow-up diagnostic: where, with which h and h_crit, and what to change.
     pub(super) fn unstable(&self, reason: String) -> SolverError {
@@ -112,7 +116,7 @@ impl Simulation {
             let quadrature = match m.scheme.integration {
                 Integration::Full => "with full 2×2×2 integration the hex8 locks volumetrically: it is far too stiff in bending and in any deformation that keeps the volume; use scheme.integration = \"fbar\" (model §1.11), or \"reduced\" (a rubber's hourglass stiffness follows its shear modulus, model §1.10)",
                 Integration::Reduced => "one-point integration does not lock volumetrically, and a rubber's hourglass stiffness κ·11μ₀ follows its shear modulus (model §1.10)",
-                Integration::Fbar => "the F-bar hexahedron does not lock volumetrically (one volume ratio per element, model §1.11)",
+                Integration::Fbar => FBAR_DOES_NOT_LOCK,
             };
             out.push(format!(
                 "the rubber is nearly incompressible (K/μ₀ = {k_over_g:.0}, small-strain ν = {nu:.4}): {quadrature}. The stable step follows the pressure wave, c_p = {cp_over_cs:.1} c_s."
@@ -134,7 +138,7 @@ impl Simulation {
                 Integration::Reduced => format!(
                     "one-point integration with κ = {kappa} does not lock"
                 ),
-                Integration::Fbar => "the F-bar hexahedron does not lock volumetrically (one volume ratio per element, model §1.11)".to_string(),
+                Integration::Fbar => FBAR_DOES_NOT_LOCK.to_string(),
             };
             out.push(format!(
                 "material.poisson = {nu} is nearly incompressible (K/G = {k_over_g:.0}): {quadrature}. The stable step follows the pressure wave, c_p = {cp_over_cs:.1} c_s, so shear motion costs {cp_over_cs:.1}× more steps than at ν = 0."
