@@ -1,0 +1,180 @@
+//! Tests of the explorer without a window: a run and its history, the interface editor,
+//! queued variants compared.
+
+use super::*;
+use crate::gui::RecordChoice;
+use std::time::{Duration, Instant};
+
+/// The explorer's logic without a window: a 3³ pull-off run started, polled to its end
+/// (the whole glued face, 4 × 4 nodes, torn off by t = 0.33 s, with a small balance
+/// residual), its row in the history and in the CSV export; an inadmissible law blocks
+/// the next run with the library's reason; the row's settings load back.
+#[test]
+fn runs_and_history_without_a_window() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut app = App::default();
+    app.load_scene(&root.join("scenes/pull_off.toml").display().to_string());
+    assert!(app.notes.is_empty(), "{:?}", app.notes);
+    app.settings.cells = 3;
+    app.settings.record = RecordChoice::Off;
+    assert_eq!(app.blocker(), None);
+    app.start();
+    assert_eq!(app.status, Status::Running);
+    let started = Instant::now();
+    while app.poll() {
+        assert!(started.elapsed() < Duration::from_secs(60), "no end");
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    assert_eq!(app.status, Status::Ended("finished".into()));
+    assert_eq!(app.history.len(), 1);
+    let row = app.history[0].clone();
+    assert_eq!((row.interface_nodes, row.counts.ruptured), (16, 16));
+    assert!(
+        row.max_relative_residual < 1e-2,
+        "{}",
+        row.max_relative_residual
+    );
+    // The live curve ends at the run's end.
+    assert_eq!(app.curve_run, Some(1));
+    assert_eq!(
+        app.curve.points.last().map(|p| p.t),
+        Some(row.simulated_time)
+    );
+
+    let dir = std::env::temp_dir().join(format!("decohesion-state-{}", std::process::id()));
+    let csv = dir.join("history.csv");
+    app.export_csv(&csv).unwrap();
+    let text = std::fs::read_to_string(&csv).unwrap();
+    assert_eq!(text.lines().count(), 2, "{text}");
+    assert!(text.lines().nth(1).unwrap().contains(",completed,"));
+    // The curves: one line per kept sample, in time order, the last at the run's end with
+    // its counts.
+    app.settings.output_dir = dir.display().to_string();
+    app.save_curves_csv();
+    let text = std::fs::read_to_string(dir.join("curves.csv")).unwrap();
+    let lines: Vec<&str> = text.lines().collect();
+    assert!(
+        lines[0].starts_with("run,t_s,displacement_m,reaction_N,"),
+        "{}",
+        lines[0]
+    );
+    assert_eq!(lines.len(), 1 + row.curve.points.len());
+    let fields = |l: &str| -> Vec<String> { l.split(',').map(str::to_string).collect() };
+    let times: Vec<f64> = lines[1..]
+        .iter()
+        .map(|l| fields(l)[1].parse().unwrap())
+        .collect();
+    assert!(times.windows(2).all(|w| w[0] < w[1]));
+    assert_eq!(times.last().copied(), Some(row.simulated_time));
+    let last = fields(lines.last().unwrap());
+    assert_eq!(last[7].parse::<usize>().unwrap(), row.counts.ruptured);
+    // The pull: the imposed displacement grows from 0, the reaction is finite throughout.
+    let column = |k: usize| -> Vec<f64> {
+        lines[1..]
+            .iter()
+            .map(|l| fields(l)[k].parse().unwrap())
+            .collect()
+    };
+    let (u, f) = (column(2), column(3));
+    assert!(u.windows(2).all(|w| w[0] <= w[1]) && u[u.len() - 1] > 0.0);
+    assert!(f.iter().all(|x| x.is_finite()) && f.iter().any(|&x| x != 0.0));
+    std::fs::remove_dir_all(&dir).ok();
+
+    let law = app.settings.law.clone();
+    let alpha_e = app.settings.law.knots().unwrap().alpha_e;
+    (app.settings.law.values.0).insert("u_r".into(), (0.5 * alpha_e).into());
+    let reason = app.blocker().expect("u_r < α_e is refused");
+    assert!(reason.starts_with("u_r"), "{reason}");
+    app.start();
+    assert!(app.job.is_none());
+    assert!(matches!(&app.status, Status::Ended(s) if s.starts_with("not started: u_r")));
+    app.load_row(0);
+    assert_eq!(app.settings.law, law);
+    assert_eq!(app.blocker(), None);
+}
+
+/// `roller_peel` has two interfaces (the peel on the plate, the clamp on the roller): the
+/// editor edits one at a time, and the other keeps its own law. Editing interface 1 (the
+/// clamp) leaves the peel's law as the scene file has it, and the history row names the
+/// edited interface.
+#[test]
+fn the_editor_edits_one_interface_at_a_time() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut app = App::default();
+    app.load_scene(&root.join("scenes/roller_peel.toml").display().to_string());
+    assert!(app.notes.is_empty(), "{:?}", app.notes);
+    assert_eq!(app.settings.interfaces, ["z- on plate", "clamp on roller"]);
+    assert_eq!(app.settings.interface, 0);
+    let file = app.scene().unwrap();
+    let laws = |scene: &Scene| -> Vec<String> {
+        (scene.model.interfaces.iter())
+            .map(|i| i.law.to_string())
+            .collect()
+    };
+    let original = laws(&file);
+    // The peel law loaded by default; the clamp's once picked.
+    app.edit_interface(1);
+    assert_eq!(app.settings.interface, 1);
+    assert_eq!(app.settings.law.law().unwrap().to_string(), original[1]);
+    let u_r = app.settings.law.knots().unwrap().u_r;
+    (app.settings.law.values.0).insert("u_r".into(), (2.0 * u_r).into());
+    let edited = laws(&app.scene().unwrap());
+    assert_eq!(edited[0], original[0], "the peel law must not change");
+    assert_ne!(edited[1], original[1]);
+    assert_eq!(app.settings.interface_label(), "1: clamp on roller");
+    let row = HistoryRow::failed(1, &app.settings, "not run".into(), web_time::Instant::now());
+    assert!(super::super::history::csv(&[row]).contains(",\"1: clamp on roller\","));
+}
+
+/// Queued variants: a key the explorer cannot vary and an inadmissible value are refused
+/// naming the key, the value and what is admissible, and nothing is queued; two values of
+/// u_r (given by its key path) run one after the other and are both ticked, labelled by u_r
+/// alone. Each row carries its curve, ending at the run's end with its counts; once every
+/// node is ruptured its mean α is u_r (eq. 12 caps α at u_r); the larger u_r dissipates
+/// more (G_c grows with u_r at fixed g_N(0) and α_e).
+#[test]
+fn queued_variants_are_run_and_compared() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut app = App::default();
+    app.load_scene(&root.join("scenes/pull_off.toml").display().to_string());
+    app.settings.cells = 3;
+    app.settings.record = RecordChoice::Off;
+    let e = app.queue_spec("young=1e6,2e6").unwrap_err();
+    assert!(
+        e.contains("`young` cannot be compared")
+            && e.contains("interface.law.NAME")
+            && e.contains("u_r")
+            && e.contains("scheme.time_step_factor"),
+        "{e}"
+    );
+    let e = app.queue_spec("u_r=0.003,0.001").unwrap_err();
+    assert!(e.starts_with("u_r = 0.001: u_r"), "{e}");
+    let e = app.queue_spec("u_r=0.003,x").unwrap_err();
+    assert!(e.contains("`x`: not a number"), "{e}");
+    assert!(app.queue.is_empty() && app.job.is_none());
+
+    app.queue_spec("interface.law.u_r=0.003,0.006").unwrap();
+    let started = Instant::now();
+    while app.poll() {
+        assert!(started.elapsed() < Duration::from_secs(60), "no end");
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    assert!(app.queue.is_empty());
+    assert_eq!(app.history.len(), 2);
+    assert_eq!(app.compare.iter().copied().collect::<Vec<_>>(), [1, 2]);
+    let compared = app.compared();
+    let labels: Vec<&str> = compared.iter().map(|c| c.1.as_str()).collect();
+    assert_eq!(labels, ["run 1: u_r=0.003", "run 2: u_r=0.006"]);
+    for (row, u_r) in app.history.iter().zip([0.003, 0.006]) {
+        let last = row.curve.points.last().expect("a curve");
+        assert_eq!((last.t, last.counts), (row.simulated_time, row.counts));
+        assert_eq!(row.counts.ruptured, row.interface_nodes);
+        assert!(
+            (last.mean_alpha - u_r).abs() <= 1e-12 * u_r,
+            "{}",
+            last.mean_alpha
+        );
+        assert!(row.curve.points.len() > 100, "{}", row.curve.points.len());
+    }
+    assert!(app.history[1].damage_dissipated > app.history[0].damage_dissipated);
+}
