@@ -112,11 +112,20 @@ fn lesson_peel_answers_are_the_run_s() {
     assert!((plain / a[1].3 - 1.0).abs() > 0.05, "{a:?}");
 }
 
+/// Lesson 4: once the glue has torn the pad slides at μ_inf × the normal load (300 N, and 600 N
+/// under twice the pressure), while the glue's damage dissipation stays G_c A.
+#[test]
+fn lesson_friction_answers_are_the_run_s() {
+    let a = check_lesson("friction");
+    assert_eq!(a.len(), 3);
+    assert!((a[1].3 / a[0].3 - 2.0).abs() < 0.1, "{a:?}");
+}
+
 /// Each shipped lesson has its test above.
 #[test]
 fn every_lesson_is_checked_against_runs() {
     let names: Vec<&str> = LESSONS.iter().map(|l| l.0).collect();
-    assert_eq!(names, ["cohesive_law", "pull_off", "peel"]);
+    assert_eq!(names, ["cohesive_law", "pull_off", "peel", "friction"]);
 }
 
 /// The lesson panel through egui: a lesson opened at its first step shows the step's text and

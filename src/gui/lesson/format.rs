@@ -14,6 +14,7 @@ pub const LESSONS: &[(&str, &str)] = &[
     ),
     ("pull_off", include_str!("../../../lessons/pull_off.md")),
     ("peel", include_str!("../../../lessons/peel.md")),
+    ("friction", include_str!("../../../lessons/friction.md")),
 ];
 
 /// Why a lesson was refused: the file, the line (1-based, when the error is at one) and what is
