@@ -88,7 +88,7 @@ enum Command {
         /// cells, factor and end_time are aliases.
         #[arg(long, value_name = "KEY=V1,V2,...")]
         compare: Option<String>,
-        /// Open a lesson: a shipped one by name (cohesive_law, pull_off, peel, friction) or a
+        /// Open a lesson: a shipped one by name (cohesive_law, pull_off, peel, friction, rate) or a
         /// lesson file (NAME.md); its steps set the scene.
         #[arg(long, value_name = "NAME|FILE.md", conflicts_with = "scene")]
         lesson: Option<String>,

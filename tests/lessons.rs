@@ -121,11 +121,23 @@ fn lesson_friction_answers_are_the_run_s() {
     assert!((a[1].3 / a[0].3 - 2.0).abs() < 0.1, "{a:?}");
 }
 
+/// Lesson 5: delayed damage dissipates G_c A at 1 mm/s and more the faster the pull (the lag
+/// formula's 1.4 and 3.6 G_c A at 0.1 and 0.3 m/s).
+#[test]
+fn lesson_rate_answers_are_the_run_s() {
+    let a = check_lesson("rate");
+    assert_eq!(a.len(), 3);
+    assert!(a[0].3 < a[1].3 && a[1].3 < a[2].3, "{a:?}");
+}
+
 /// Each shipped lesson has its test above.
 #[test]
 fn every_lesson_is_checked_against_runs() {
     let names: Vec<&str> = LESSONS.iter().map(|l| l.0).collect();
-    assert_eq!(names, ["cohesive_law", "pull_off", "peel", "friction"]);
+    assert_eq!(
+        names,
+        ["cohesive_law", "pull_off", "peel", "friction", "rate"]
+    );
 }
 
 /// The lesson panel through egui: a lesson opened at its first step shows the step's text and

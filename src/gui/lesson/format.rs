@@ -15,6 +15,7 @@ pub const LESSONS: &[(&str, &str)] = &[
     ("pull_off", include_str!("../../../lessons/pull_off.md")),
     ("peel", include_str!("../../../lessons/peel.md")),
     ("friction", include_str!("../../../lessons/friction.md")),
+    ("rate", include_str!("../../../lessons/rate.md")),
 ];
 
 /// Why a lesson was refused: the file, the line (1-based, when the error is at one) and what is
