@@ -130,6 +130,27 @@ fn lesson_rate_answers_are_the_run_s() {
     assert!(a[0].3 < a[1].3 && a[1].3 < a[2].3, "{a:?}");
 }
 
+/// Lesson 6: at the time-step factor 1 the run stops with the instability diagnostic; below 1
+/// the dissipation's error shrinks with the factor (11 % above G_c A at 0.9, 1 % at 0.25).
+#[test]
+fn lesson_stability_answers_are_the_run_s() {
+    let a = check_lesson("stability");
+    assert_eq!(a.len(), 2);
+    assert!(a[0].3 > a[1].3 && a[1].3 > 2333.3, "{a:?}");
+    let mut app = App::default();
+    app.in_page = true;
+    app.settings.record = RecordChoice::Off;
+    app.open_lesson(find("stability").unwrap(), 0);
+    finish(&mut app);
+    let Status::Ended(end) = &app.status else {
+        panic!("{:?}", app.status);
+    };
+    assert!(
+        end.starts_with("failed") && end.contains("unstable") && end.contains("≤ 0.9"),
+        "{end}"
+    );
+}
+
 /// Each shipped lesson has its test above.
 #[test]
 fn every_lesson_is_checked_against_runs() {
