@@ -89,7 +89,7 @@ enum Command {
         #[arg(long, value_name = "KEY=V1,V2,...")]
         compare: Option<String>,
         /// Open a lesson: a shipped one by name (cohesive_law, pull_off, peel, friction, rate,
-        /// stability) or a lesson file (NAME.md); its steps set the scene.
+        /// stability, demoulding) or a lesson file (NAME.md); its steps set the scene.
         #[arg(long, value_name = "NAME|FILE.md", conflicts_with = "scene")]
         lesson: Option<String>,
         /// The lesson's step to open (1 = the first).

@@ -151,6 +151,16 @@ fn lesson_stability_answers_are_the_run_s() {
     );
 }
 
+/// Lesson 7: the tread block's glue dissipates G_c × its glued area; the peak pull is below the
+/// rib tops' peak traction × area (396 N), and the same without friction on the drafted walls.
+#[test]
+fn lesson_demoulding_answers_are_the_run_s() {
+    let a = check_lesson("demoulding");
+    assert_eq!(a.len(), 3);
+    assert!(a[1].3 < 0.95 * 396.0, "{a:?}");
+    assert!((a[2].3 / a[1].3 - 1.0).abs() < 0.01, "{a:?}");
+}
+
 /// Each shipped lesson has its test above.
 #[test]
 fn every_lesson_is_checked_against_runs() {

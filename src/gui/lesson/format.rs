@@ -17,6 +17,7 @@ pub const LESSONS: &[(&str, &str)] = &[
     ("friction", include_str!("../../../lessons/friction.md")),
     ("rate", include_str!("../../../lessons/rate.md")),
     ("stability", include_str!("../../../lessons/stability.md")),
+    ("demoulding", include_str!("../../../lessons/demoulding.md")),
 ];
 
 /// Why a lesson was refused: the file, the line (1-based, when the error is at one) and what is
