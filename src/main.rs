@@ -199,8 +199,9 @@ enum Command {
             allow_negative_numbers = true
         )]
         factors: Vec<f64>,
-        /// Quadratures: full (2×2×2), reduced (one point + hourglass control), fbar (2×2×2 with F̄).
-        #[arg(long, value_name = "RULE,...", default_value = "full,reduced", value_delimiter = ',', value_parser = ["full", "reduced", "fbar"])]
+        /// Quadratures: full (2×2×2), reduced (one point + hourglass control), fbar (2×2×2 with F̄),
+        /// reduced_physical (one point + physical hourglass stabilisation).
+        #[arg(long, value_name = "RULE,...", default_value = "full,reduced", value_delimiter = ',', value_parser = ["full", "reduced", "fbar", "reduced_physical"])]
         integration: Vec<String>,
         /// Other override applied to every run, e.g. --set end_time=0.2 (repeat for several).
         #[arg(long = "set", value_name = "KEY=VALUE")]
@@ -247,8 +248,9 @@ enum Command {
         /// Element-steps per repetition (steps = this / elements, at least 10).
         #[arg(long, value_name = "ELEMENT_STEPS", default_value_t = 20_000_000, value_parser = positive_u64, allow_negative_numbers = true)]
         work: u64,
-        /// Quadratures to measure: full (2×2×2), reduced (one point + hourglass control), fbar (2×2×2 with F̄).
-        #[arg(long, value_name = "RULE,...", default_value = "full,reduced", value_delimiter = ',', value_parser = ["full", "reduced", "fbar"])]
+        /// Quadratures to measure: full (2×2×2), reduced (one point + hourglass control), fbar (2×2×2
+        /// with F̄), reduced_physical (one point + physical hourglass stabilisation).
+        #[arg(long, value_name = "RULE,...", default_value = "full,reduced", value_delimiter = ',', value_parser = ["full", "reduced", "fbar", "reduced_physical"])]
         integration: Vec<String>,
     },
     /// Compare two run results observable by observable, each within a physical tolerance: two

@@ -16,7 +16,7 @@ use std::time::Instant;
 /// One configuration of the grid.
 #[derive(Debug, Clone, Serialize)]
 pub struct Config {
-    /// "full", "reduced" or "fbar".
+    /// "full", "reduced", "fbar" or "reduced_physical".
     pub integration: String,
     /// Cells along the longest side.
     pub cells: usize,

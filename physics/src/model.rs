@@ -83,12 +83,18 @@ pub enum Integration {
     /// one volumetric deformation per element, so a nearly incompressible material does not
     /// lock.
     Fbar,
+    /// One point at the centre with physical hourglass stabilisation (model §1.12): the
+    /// hourglass stiffness is the element's bending stiffness in E and its warping stiffness in
+    /// μ, so it neither locks near incompressibility nor needs a coefficient.
+    ReducedPhysical,
 }
 
 impl Integration {
-    /// Whether the stress is evaluated at the 2×2×2 Gauss points (`full`, `fbar`): no
-    /// hourglass modes, and at rest the element bound of the full element (model §6.4, §1.11).
-    pub fn gauss_points(self) -> bool {
+    /// Whether the element's stiffness at rest is bounded by the full element's (model §6.4):
+    /// the full and F-bar elements (the same at rest, §1.11) and the physically stabilised one
+    /// point (its hourglass stiffness at most the full element's in every mode, §1.12); not the
+    /// one point with Flanagan–Belytschko control, whose κ may exceed it.
+    pub fn full_bound_at_rest(self) -> bool {
         self != Integration::Reduced
     }
 }

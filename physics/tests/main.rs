@@ -40,6 +40,7 @@ mod mould_motion;
 mod mould_shapes;
 mod multi_constraint;
 mod partial_contact;
+mod physical;
 mod properties;
 mod pull_off;
 mod rccm;

@@ -291,6 +291,7 @@ fn print_limits(configs: &[Config], isa: Isa, forced: bool) {
             Integration::Full => flops::full(model, c.sim.axis_aligned()),
             Integration::Reduced => flops::one_point(model, c.sim.axis_aligned()),
             Integration::Fbar => flops::fbar(model, c.sim.axis_aligned()),
+            Integration::ReducedPhysical => flops::physical(model),
         };
         let elements = c.sim.model.mesh.elements.len() as f64;
         let nodes = c.sim.model.mesh.nodes.len() as f64;

@@ -40,7 +40,8 @@ pub struct Settings {
     pub frames: u32,
     /// The model's key in scene files (`svk`, `neo_hookean`, a rubber's family).
     pub material: String,
-    /// "full" (2×2×2), "reduced" (one point + hourglass control) or "fbar" (2×2×2 with F̄).
+    /// "full" (2×2×2), "reduced" (one point + hourglass control), "fbar" (2×2×2 with F̄) or
+    /// "reduced_physical" (one point + physical hourglass stabilisation).
     pub integration: String,
     /// κ of the hourglass control (reduced integration).
     pub hourglass: f64,
@@ -222,6 +223,7 @@ impl Settings {
             crate::model::Integration::Full => "full".into(),
             crate::model::Integration::Reduced => "reduced".into(),
             crate::model::Integration::Fbar => "fbar".into(),
+            crate::model::Integration::ReducedPhysical => "reduced_physical".into(),
         };
         self.hourglass = m.scheme.hourglass_coefficient;
         self.end_time = m.end_time;

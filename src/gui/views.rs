@@ -175,7 +175,8 @@ impl App {
                     }
                 }
             });
-        ui.horizontal(|ui| {
+        // Wrapped: four choices do not widen the panel.
+        ui.horizontal_wrapped(|ui| {
             ui.label("integration");
             ui.radio_value(&mut s.integration, "full".to_string(), "2×2×2");
             ui.radio_value(
@@ -184,6 +185,11 @@ impl App {
                 "one point + hourglass",
             );
             ui.radio_value(&mut s.integration, "fbar".to_string(), "F-bar (no locking)");
+            ui.radio_value(
+                &mut s.integration,
+                "reduced_physical".to_string(),
+                "one point, physical hourglass",
+            );
         });
         if s.integration == "reduced" {
             ui.add(egui::Slider::new(&mut s.hourglass, 0.0..=0.3).text("hourglass κ"));

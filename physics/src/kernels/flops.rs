@@ -232,6 +232,51 @@ pub fn fbar(model: MaterialModel, axis_aligned: bool) -> KernelFlops {
     k
 }
 
+/// One element-step of the physically stabilised one-point kernel
+/// ([`super::physical::physical_lanes`], model §1.12): H and the amplitudes qᵅ, the stress at
+/// the centre ([`point`]), F⁻¹, the four modes' rᵅ, r̂ᵅ, sᵅ, tᵅ, cₐᵅ and Ψ_hg, the forces
+/// fₐ = V P bₐ + Σᵅ tᵅ cₐᵅ, V ψ, and the 8 corner Jacobians (checked in every group).
+pub fn physical(model: MaterialModel) -> KernelFlops {
+    let (_, stress, logs) = point(model);
+    let (gradient, _) = count(|| {
+        let _ = super::physical::gradient_and_modes::<Counted, true>(
+            |_, _| c(1e-3),
+            |_, _| c(1.0),
+            |_, _| c(1.0),
+        );
+    });
+    let (forces, _) = count(|| {
+        let m = [[c(1.0); 3]; 3];
+        let mut f = [[c(0.0); 3]; 8];
+        let _ = super::physical::stabilised_forces::<Counted, true, true>(
+            |_, _| c(1.0),
+            |_, _| c(1.0),
+            c(1.0),
+            &m,
+            &[[c(1.0); 3]; 4],
+            c(1.0),
+            &[[c(1e-3); 3]; 3],
+            &[[c(1e-3); 3]; 4],
+            &m,
+            c(1.0),
+            &mut f,
+        );
+        let _ = c(1.0) * c(1.0);
+    });
+    let (corners, _) = count(|| {
+        let _ = corner_jacobians::<Counted, true>(|_, _| c(1.0), |_| c(1.0), |_, _| c(1e-3));
+    });
+    KernelFlops {
+        gradient,
+        stress,
+        forces,
+        hourglass: 0,
+        corners,
+        bound: 0,
+        logs,
+    }
+}
+
 /// The flops of J (1 − C|q|/s)³ from J, ‖F‖²_F and |q|²
 /// ([`super::corner_bound::corner_lower_bound`], on f64): s = 2J/‖F‖²_F 2, √|q|² 1, C·√ 1,
 /// ÷ s 1, 1 − 1, J r r r 3.

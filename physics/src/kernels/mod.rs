@@ -9,6 +9,7 @@ mod fbar;
 pub mod flops;
 mod full;
 mod nodes;
+mod physical;
 pub mod simd;
 
 pub(crate) use crate::mesh::planes::PlanesPtr;
@@ -37,6 +38,8 @@ pub enum ElementRule {
     Reduced { kappa: f64 },
     /// 2×2×2 Gauss points with F̄ = (J̄/J)^{1/3} F ([`fbar`], model §1.11).
     FBar,
+    /// One point and physical hourglass stabilisation ([`physical`], model §1.12).
+    ReducedPhysical,
 }
 
 impl ElementRule {
@@ -44,6 +47,7 @@ impl ElementRule {
         match scheme.integration {
             Integration::Full => ElementRule::Full,
             Integration::Fbar => ElementRule::FBar,
+            Integration::ReducedPhysical => ElementRule::ReducedPhysical,
             Integration::Reduced => ElementRule::Reduced {
                 kappa: scheme.hourglass_coefficient,
             },
@@ -163,6 +167,9 @@ pub fn assemble_internal_forces(
                     ElementRule::FBar => ElementSums::at_gauss_points(fbar::chunk_forces_fbar(
                         mesh, classes, mat, u, ptr, chunk, energy,
                     )),
+                    ElementRule::ReducedPhysical => {
+                        physical::chunk_forces_physical(mesh, classes, mat, u, ptr, chunk, energy)
+                    }
                     ElementRule::Reduced { kappa } => chunk_forces_reduced(
                         mesh,
                         classes,

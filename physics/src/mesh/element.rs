@@ -232,6 +232,13 @@ pub struct CentreData {
     /// [`crate::kernels::corner_bound::corner_bound_constant`]): with it the one-point kernel
     /// skips the exact corner check where it cannot change what the check reports.
     pub corner_bound: f64,
+    /// J₀⁻¹ = (∂X/∂ξ)⁻¹ at the centre, J₀ = ⅛ Σₐ Xₐ ⊗ ĉₐ (ĉₐ the node's corner of
+    /// [`HEX_CORNERS`]) [1/m]: reference to parent coordinates, for the physical hourglass
+    /// stabilisation (model §1.12).
+    pub jinv0: [[f64; 3]; 3],
+    /// ℓ_d = |∂X/∂ξ_d| at the centre, the half-lengths of the element along its parent axes
+    /// [m] (model §1.12).
+    pub half_lengths: [f64; 3],
 }
 
 /// The edges of the hexahedron as (a, b), b being a with one natural coordinate raised from −1
@@ -331,8 +338,17 @@ impl CentreData {
             edges,
             corner_inv_det,
             corner_bound: f64::INFINITY,
+            jinv0: [[0.0; 3]; 3],
+            half_lengths: [0.0; 3],
         };
         cd.corner_bound = corner_bound_constant(&cd);
+        let j0 =
+            Matrix3::from_fn(|i, d| (0..8).map(|a| x[a][i] * HEX_CORNERS[a][d]).sum::<f64>() / 8.0);
+        cd.half_lengths = std::array::from_fn(|d| j0.column(d).norm());
+        // A valid element has det J₀ > 0 at its centre (the mean of its Gauss points' det J₀).
+        if let Some(inv) = j0.try_inverse() {
+            cd.jinv0 = std::array::from_fn(|d| std::array::from_fn(|i| inv[(d, i)]));
+        }
         cd
     }
 }

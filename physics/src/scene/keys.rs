@@ -147,7 +147,8 @@ impl KeyDoc {
     }
 
     /// What a message says of a number outside the range: `must be > 0 s`, `must satisfy -1 < ν
-    /// < 0.5 (0.5 is incompressible; above 0.49 use scheme.integration = "fbar")`.
+    /// < 0.5 (0.5 is incompressible; above 0.49 use scheme.integration = "fbar" or
+    /// "reduced_physical")`.
     pub fn must(&self) -> String {
         let mut text = match (self.range_text(), self.symbol.is_empty()) {
             (Some(r), false) if r.contains(self.symbol) => format!("must satisfy {r}"),
@@ -289,7 +290,7 @@ pub const YOUNG: KeyDoc =
 pub const POISSON: KeyDoc = KeyDoc::new("poisson", "number", "–", "Poisson's ratio ν")
     .symbol("ν")
     .range(Range::between(-1.0, true, 0.5, true))
-    .admissible("0.5 is incompressible; above 0.49 use scheme.integration = \"fbar\"");
+    .admissible("0.5 is incompressible; above 0.49 use scheme.integration = \"fbar\" or \"reduced_physical\"");
 
 /// `material.density`.
 pub const DENSITY: KeyDoc =

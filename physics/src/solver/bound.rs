@@ -395,9 +395,13 @@ impl Simulation {
             // No bound declared ([`modulus_bound`]): nothing to certify with.
             return f64::INFINITY;
         }
-        if self.model.scheme.integration == Integration::Fbar {
-            // The F-bar tangent is bounded by the full element's at rest only (model §1.11):
-            // away from it no bound is proven, so nothing to certify with.
+        if matches!(
+            self.model.scheme.integration,
+            Integration::Fbar | Integration::ReducedPhysical
+        ) {
+            // The F-bar and physically stabilised tangents are bounded by the full element's at
+            // rest only (model §1.11, §1.12): away from it no bound is proven, so nothing to
+            // certify with.
             return f64::INFINITY;
         }
         let mut cache = std::mem::take(&mut self.step_control.bound);

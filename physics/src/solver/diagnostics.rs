@@ -11,6 +11,10 @@ use crate::model::StartOffset;
 const FBAR_DOES_NOT_LOCK: &str =
     "the F-bar hexahedron does not lock volumetrically (one volume ratio per element, model §1.11)";
 
+/// What the near-incompressibility warnings say of the physically stabilised one point.
+const PHYSICAL_DOES_NOT_LOCK: &str =
+    "one-point integration does not lock volumetrically, and the physical hourglass stiffness follows E and μ, not K (model §1.12)";
+
 impl Simulation {
     /// The blow-up diagnostic: where, with which h and h_crit, and what to change.
     pub(super) fn unstable(&self, reason: String) -> SolverError {
@@ -39,7 +43,7 @@ impl Simulation {
     pub(super) fn inverted(&self, element: usize, j: f64) -> SolverError {
         let at = match self.model.scheme.integration {
             Integration::Full | Integration::Fbar => "at a Gauss point".to_string(),
-            Integration::Reduced => {
+            Integration::Reduced | Integration::ReducedPhysical => {
                 let conn = self.model.mesh.elements[element];
                 let cd = &self.classes.centre[self.classes.class_of[element] as usize];
                 let ue = conn.map(|n| self.u.get(n as usize));
@@ -57,9 +61,15 @@ impl Simulation {
                     .mesh
                     .centre_deformation_gradient(element, &self.u);
                 let j_centre = nalgebra::Matrix3::from_fn(|r, c| f[r][c]).determinant();
+                let remedy = match self.model.scheme.integration {
+                    Integration::Reduced => {
+                        "raise scheme.hourglass_coefficient, or use full integration"
+                    }
+                    _ => "refine the mesh there, or use full integration",
+                };
                 if j_a <= j_centre {
                     format!(
-                        "at its corner {a}, node {}, while J = {j_centre:.3e} at the centre, the one-point rule's own point: the element hourglassed (raise scheme.hourglass_coefficient, or use full integration)",
+                        "at its corner {a}, node {}, while J = {j_centre:.3e} at the centre, the one-point rule's own point: the element hourglassed ({remedy})",
                         conn[a]
                     )
                 } else {
@@ -114,9 +124,10 @@ impl Simulation {
             let k_over_g = 2.0 * (1.0 + nu) / (3.0 * (1.0 - 2.0 * nu));
             let cp_over_cs = (2.0 * (1.0 - nu) / (1.0 - 2.0 * nu)).sqrt();
             let quadrature = match m.scheme.integration {
-                Integration::Full => "with full 2×2×2 integration the hex8 locks volumetrically: it is far too stiff in bending and in any deformation that keeps the volume; use scheme.integration = \"fbar\" (model §1.11), or \"reduced\" (a rubber's hourglass stiffness follows its shear modulus, model §1.10)",
+                Integration::Full => "with full 2×2×2 integration the hex8 locks volumetrically: it is far too stiff in bending and in any deformation that keeps the volume; use scheme.integration = \"fbar\" (model §1.11), \"reduced_physical\" (model §1.12) or \"reduced\" (a rubber's hourglass stiffness follows its shear modulus, model §1.10)",
                 Integration::Reduced => "one-point integration does not lock volumetrically, and a rubber's hourglass stiffness κ·11μ₀ follows its shear modulus (model §1.10)",
                 Integration::Fbar => FBAR_DOES_NOT_LOCK,
+                Integration::ReducedPhysical => PHYSICAL_DOES_NOT_LOCK,
             };
             out.push(format!(
                 "the rubber is nearly incompressible (K/μ₀ = {k_over_g:.0}, small-strain ν = {nu:.4}): {quadrature}. The stable step follows the pressure wave, c_p = {cp_over_cs:.1} c_s."
@@ -130,7 +141,7 @@ impl Simulation {
             let kappa = m.scheme.hourglass_coefficient;
             let quadrature = match m.scheme.integration {
                 Integration::Full => format!(
-                    "with full 2×2×2 integration the hex8 locks volumetrically: it is far too stiff in bending and in any deformation that keeps the volume; use scheme.integration = \"fbar\" (model §1.11), or \"reduced\" with scheme.hourglass_coefficient = {kappa_shear:.1e} (the hourglass stiffness κ(λ+2μ) grows with λ and locks as well at the default κ = 0.05)"
+                    "with full 2×2×2 integration the hex8 locks volumetrically: it is far too stiff in bending and in any deformation that keeps the volume; use scheme.integration = \"fbar\" (model §1.11), \"reduced_physical\" (model §1.12), or \"reduced\" with scheme.hourglass_coefficient = {kappa_shear:.1e} (the hourglass stiffness κ(λ+2μ) grows with λ and locks as well at the default κ = 0.05)"
                 ),
                 Integration::Reduced if kappa > 2.0 * kappa_shear => format!(
                     "one-point integration does not lock volumetrically, but its hourglass stiffness κ(λ+2μ) grows with λ: at κ = {kappa} it stiffens bending as locking would; scheme.hourglass_coefficient = {kappa_shear:.1e} scales it to the shear modulus"
@@ -139,6 +150,7 @@ impl Simulation {
                     "one-point integration with κ = {kappa} does not lock"
                 ),
                 Integration::Fbar => FBAR_DOES_NOT_LOCK.to_string(),
+                Integration::ReducedPhysical => PHYSICAL_DOES_NOT_LOCK.to_string(),
             };
             out.push(format!(
                 "material.poisson = {nu} is nearly incompressible (K/G = {k_over_g:.0}): {quadrature}. The stable step follows the pressure wave, c_p = {cp_over_cs:.1} c_s, so shear motion costs {cp_over_cs:.1}× more steps than at ν = 0."

@@ -54,7 +54,7 @@ impl MassScalingReport {
 /// bound h_c = 2/√(a₀ g_c + g_hg,c) (model §6.4, [`class_bounds`]), a₀ = max(3λ + 2μ, 2μ).
 fn class_steps(model: &Model, classes: &ElementClasses) -> Vec<f64> {
     let mat = &model.material;
-    let full = model.scheme.integration.gauss_points();
+    let full = model.scheme.integration.full_bound_at_rest();
     let kappa = model.scheme.hourglass_coefficient;
     let a0 = (3.0 * mat.lambda + 2.0 * mat.mu).max(2.0 * mat.mu);
     (class_bounds(mat, classes, full, kappa, &[]).iter())

@@ -189,10 +189,12 @@ pub const SECTIONS: &[SectionDoc] = &[
                 "quadrature: 2×2×2 Gauss points (`full`), one point with Flanagan–Belytschko \
                  hourglass control (`reduced`; the hourglass energy is a ledger term), or 2×2×2 \
                  points with F̄ = (J̄/J)^{1/3} F (`fbar`: one volume ratio per element, no \
-                 volumetric locking near ν = 0.5, model §1.11)",
+                 volumetric locking near ν = 0.5, model §1.11), or one point with physical \
+                 hourglass stabilisation (`reduced_physical`: bending stiffness in E, warping in \
+                 μ, no coefficient and no locking, model §1.12)",
             )
             .default_text("\"full\"")
-            .choices(&["full", "reduced", "fbar"]),
+            .choices(&["full", "reduced", "fbar", "reduced_physical"]),
             HOURGLASS_COEFFICIENT,
         ],
     },

@@ -311,7 +311,7 @@ fn messages_say_the_range_and_the_unit() {
     assert_eq!(END_TIME.must(), "must be > 0 s");
     assert_eq!(
         POISSON.must(),
-        "must satisfy -1 < ν < 0.5 (0.5 is incompressible; above 0.49 use scheme.integration = \"fbar\")"
+        "must satisfy -1 < ν < 0.5 (0.5 is incompressible; above 0.49 use scheme.integration = \"fbar\" or \"reduced_physical\")"
     );
     assert_eq!(H_CRIT_TOLERANCE.must(), "must be in (0, 0.01]");
     assert_eq!(INTERFACE_MU_INF.must(), "must be ≥ 0");
