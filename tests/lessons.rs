@@ -167,7 +167,15 @@ fn every_lesson_is_checked_against_runs() {
     let names: Vec<&str> = LESSONS.iter().map(|l| l.0).collect();
     assert_eq!(
         names,
-        ["cohesive_law", "pull_off", "peel", "friction", "rate"]
+        [
+            "cohesive_law",
+            "pull_off",
+            "peel",
+            "friction",
+            "rate",
+            "stability",
+            "demoulding"
+        ]
     );
 }
 

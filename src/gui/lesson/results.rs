@@ -108,7 +108,7 @@ impl RunResult {
     /// of full rupture).
     pub fn value(self, row: &HistoryRow) -> Option<f64> {
         match self {
-            RunResult::PeakForce => row.peak_force,
+            RunResult::PeakForce => row.peak_force.map(f64::abs),
             RunResult::LateForce => late_force(row),
             RunResult::Dissipated => Some(row.damage_dissipated),
             RunResult::FirstDamage => row.time_first_damage,
