@@ -4,7 +4,8 @@
 //! and the pull-off against G_c·A with its ledger closing to second order in h.
 
 use crate::common::*;
-use crate::fbar::relaxed;
+use crate::fbar::cantilever_within_euler_bernoulli;
+use crate::reduced::free_vibration_drift;
 use crate::validation::{record, Tol};
 use decohesion_physics::material::{Material, MaterialModel};
 use decohesion_physics::model::Integration;
@@ -20,46 +21,7 @@ use decohesion_physics::solver::Simulation;
 /// the continuum; locking, or the κ(λ + 2μ) of §1.6 at its default, is a factor 2 or more.
 #[test]
 fn physical_cantilever_does_not_lock_near_incompressibility() {
-    for nu in ["0.499", "0.4999"] {
-        let set: Vec<String> = vec![
-            "scheme.integration=\"reduced_physical\"".into(),
-            format!("material.poisson={nu}"),
-            "end_time=2.0".into(),
-        ];
-        let scene = load_scene(&scene_file("extreme/incompressible_beam.toml"), &set).unwrap();
-        let mut sim = Simulation::new(scene.model).unwrap();
-        assert!(
-            (sim.advisories().iter()).all(|w| !w.contains("locks volumetrically")),
-            "{:?}",
-            sim.advisories()
-        );
-        let tip = face_nodes(&sim.model, "x+");
-        let (s, share) = relaxed(&mut sim, |s| {
-            -tip.iter().map(|&i| s.u.get(i)[2]).sum::<f64>() / tip.len() as f64
-        });
-        assert!(share < 1e-6, "not relaxed: K/Ψ = {share}");
-        let m = &sim.model.material;
-        let (l, b) = (0.5f64, 0.1f64);
-        let q = m.density * 9.81 * b * b;
-        let ei = m.young * b.powi(4) / 12.0;
-        let delta = q * l.powi(4) / (8.0 * ei);
-        eprintln!(
-            "ν = {nu}: physical one-point static sag {s:.5} m = {:.4} × Euler–Bernoulli {delta:.5} m",
-            s / delta
-        );
-        record(
-            "physical_cantilever",
-            &format!("static tip sag over Euler–Bernoulli's, ν = {nu}"),
-            1.0,
-            "Euler–Bernoulli qL⁴/(8EI)",
-            s / delta,
-            Tol::Abs(0.05),
-        );
-        assert!(
-            (s / delta - 1.0).abs() < 0.05,
-            "ν = {nu}: sags {s} m, Euler–Bernoulli {delta} m"
-        );
-    }
+    cantilever_within_euler_bernoulli("reduced_physical", "physical_cantilever");
 }
 
 /// The leapfrog invariant K + Ψ + Ψ_hg is conserved with the physical stabilisation as with
@@ -69,51 +31,11 @@ fn physical_cantilever_does_not_lock_near_incompressibility() {
 /// difference of terms 10¹⁰ times larger (its round-off alone is 10³ times the energy).
 #[test]
 fn free_vibration_conserves_energy_with_physical_stabilisation() {
-    let mut m = bare_box(
-        [1.0, 0.5, 0.3],
-        [6, 3, 2],
+    let worst = free_vibration_drift(
+        Integration::ReducedPhysical,
         Material::new(MaterialModel::Svk, 5e6, 0.499, 1100.0),
-        1.0,
     );
-    m.scheme.integration = Integration::ReducedPhysical;
-    let u0: Vec<[f64; 3]> = (m.mesh.nodes.iter().enumerate())
-        .map(|(i, x)| {
-            let a = 1e-10;
-            let checker = if i % 2 == 0 { 1.0 } else { -1.0 };
-            [
-                a * (3.0 * x[1]).sin() + 0.3 * a * checker,
-                a * (2.0 * x[0]).cos() * x[2],
-                a * x[0] * x[1] - 0.2 * a * checker,
-            ]
-        })
-        .collect();
-    let v0 = vec![[0.0; 3]; u0.len()];
-    let mut sim = Simulation::with_initial_state(m, u0, v0).unwrap();
-    let total = |s: &Simulation| s.ledger.kinetic + s.ledger.strain + s.ledger.hourglass;
-    let e0 = total(&sim);
-    assert!(
-        sim.ledger.hourglass > 1e-3 * e0,
-        "the field excites hourglass modes"
-    );
-    let mut worst = (0.0f64, 0);
-    for n in 0..3000 {
-        sim.step().unwrap();
-        let drift = (total(&sim) - e0).abs() / e0;
-        if drift > worst.0 {
-            worst = (drift, n);
-        }
-    }
-    assert!(
-        worst.0 < 1e-9,
-        "K + Ψ + Ψ_hg drifted by {:e} at step {} (e0 {e0:e}; now K {:e}, Ψ {:e}, Ψ_hg {:e}; h {:e}, h_crit {:e})",
-        worst.0,
-        worst.1,
-        sim.ledger.kinetic,
-        sim.ledger.strain,
-        sim.ledger.hourglass,
-        sim.h,
-        sim.h_crit
-    );
+    assert!(worst < 1e-9, "K + Ψ + Ψ_hg drifted by {worst:e}");
 }
 
 /// The pull-off with the physical stabilisation: every node ruptures, the damage dissipation

@@ -23,7 +23,7 @@
 use super::simd::{simd_dispatch, ISA_AVX2, ISA_AVX512, ISA_PORTABLE};
 use super::{
     full::{GaussLanes, LaneGauss},
-    gather_group, group_is_row, keep_min_j, node_of, scatter, scatter_group, PlanesPtr,
+    gather_padded, keep_min_j, scatter_padded, PlanesPtr,
 };
 use crate::material::{
     box_factors, box_forces, box_gradient, cofactor, deformation_gradient, determinant,
@@ -286,20 +286,7 @@ unsafe fn chunk_forces_fbar_impl<const FMA: bool, const ISA: u8>(
             }
             boxes += classes.data.get_unchecked(c as usize).axis_aligned as usize;
         }
-        let row = n == 8 && group_is_row(&classes.row_start, group);
-        if n == 8 {
-            gather_group(mesh, u, group, row, &mut ul);
-        } else {
-            for l in 0..8 {
-                let conn = mesh.elements.get_unchecked(group[l.min(n - 1)] as usize);
-                for a in 0..8 {
-                    let x = node_of(u, conn[a]);
-                    for j in 0..3 {
-                        ul[a][j][l] = x[j];
-                    }
-                }
-            }
-        }
+        let row = gather_padded(mesh, classes, u, group, &mut ul);
         let (en, det) = if boxes == 8 {
             fbar_group::<FMA, true>(mat, &lanes, &ul, &mut fl, &mut work, energy)
         } else {
@@ -309,21 +296,10 @@ unsafe fn chunk_forces_fbar_impl<const FMA: bool, const ISA: u8>(
             e_sum += en.0[l];
             keep_min_j(det.0[l], e, &mut min_j, &mut min_e);
         }
-        if n == 8 {
-            // SAFETY: `[[F64x8; 3]; 8]` is `[[[f64; 8]; 3]; 8]` more aligned (F64x8 is
-            // `repr(C)` over `[f64; 8]`).
-            let fv = &*(&fl as *const [[F64x8; 3]; 8] as *const [[[f64; 8]; 3]; 8]);
-            scatter_group::<ISA>(f, &mesh.elements, group, row, fv);
-        } else {
-            for (l, &e) in group.iter().enumerate() {
-                let fe: [[f64; 3]; 8] =
-                    std::array::from_fn(|a| std::array::from_fn(|j| fl[a][j].0[l]));
-                scatter(f, mesh.elements.get_unchecked(e as usize), &fe);
-            }
-        }
+        scatter_padded::<ISA>(f, mesh, group, row, &fl);
     }
     (e_sum, min_j, min_e)
 }
 
 #[cfg(test)]
-mod tests;
+pub(super) mod tests;

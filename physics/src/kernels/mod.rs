@@ -802,6 +802,66 @@ fn keep_min_j(j: f64, e: u32, min_j: &mut f64, min_e: &mut usize) {
     }
 }
 
+/// [`gather_group`] for a group of n ≤ 8 elements whose lane kernel runs all 8 lanes (F-bar,
+/// the physical one point): lanes n to 7 repeat the group's last element, whose results the
+/// caller drops. Returns whether the group is a row along x ([`group_is_row`], full groups
+/// only).
+///
+/// # Safety
+/// `group` holds 1 to 8 elements; every one and every node of theirs must be in range.
+#[inline(always)]
+unsafe fn gather_padded(
+    mesh: &Mesh,
+    classes: &ElementClasses,
+    u: [&[f64]; 3],
+    group: &[u32],
+    ul: &mut [[[f64; 8]; 3]; 8],
+) -> bool {
+    let n = group.len();
+    let row = n == 8 && group_is_row(&classes.row_start, group);
+    if n == 8 {
+        gather_group(mesh, u, group, row, ul);
+    } else {
+        for l in 0..8 {
+            let conn = mesh.elements.get_unchecked(group[l.min(n - 1)] as usize);
+            for a in 0..8 {
+                let x = node_of(u, conn[a]);
+                for j in 0..3 {
+                    ul[a][j][l] = x[j];
+                }
+            }
+        }
+    }
+    row
+}
+
+/// Adds the lane forces `fl` of the group gathered by [`gather_padded`] (`row` its answer)
+/// into the global force planes: a full group by [`scatter_group`], a shorter one element by
+/// element (its spare lanes dropped).
+///
+/// # Safety
+/// As [`scatter_group`]: no other thread may write these nodes meanwhile.
+#[inline(always)]
+unsafe fn scatter_padded<const ISA: u8>(
+    f: PlanesPtr,
+    mesh: &Mesh,
+    group: &[u32],
+    row: bool,
+    fl: &[[F64x8; 3]; 8],
+) {
+    if group.len() == 8 {
+        // SAFETY: `[[F64x8; 3]; 8]` is `[[[f64; 8]; 3]; 8]` more aligned (F64x8 is `repr(C)`
+        // over `[f64; 8]`).
+        let fv = &*(fl as *const [[F64x8; 3]; 8] as *const [[[f64; 8]; 3]; 8]);
+        scatter_group::<ISA>(f, &mesh.elements, group, row, fv);
+    } else {
+        for (l, &e) in group.iter().enumerate() {
+            let fe: [[f64; 3]; 8] = std::array::from_fn(|a| std::array::from_fn(|j| fl[a][j].0[l]));
+            scatter(f, mesh.elements.get_unchecked(e as usize), &fe);
+        }
+    }
+}
+
 /// Adds one element's nodal forces `fe` into the nodes `conn` of the global force planes.
 ///
 /// # Safety

@@ -26,8 +26,7 @@
 #[cfg_attr(not(target_arch = "x86_64"), allow(unused_imports))]
 use super::simd::{simd_dispatch, ISA_AVX2, ISA_AVX512, ISA_PORTABLE};
 use super::{
-    corners::LaneCorners, gather_group, group_is_row, keep_min_j, node_of, scatter, scatter_group,
-    ElementSums, PlanesPtr,
+    corners::LaneCorners, gather_padded, keep_min_j, scatter_padded, ElementSums, PlanesPtr,
 };
 use crate::material::{
     cofactor, first_piola_lanes_into, with_law, F64x8, Law, Mat3, Material, Real,
@@ -334,20 +333,7 @@ unsafe fn chunk_forces_physical_impl<const FMA: bool, const ISA: u8>(
                 corner_lanes.set(l, cd);
             }
         }
-        let row = n == 8 && group_is_row(&classes.row_start, group);
-        if n == 8 {
-            gather_group(mesh, u, group, row, &mut ul);
-        } else {
-            for l in 0..8 {
-                let conn = mesh.elements.get_unchecked(group[l.min(n - 1)] as usize);
-                for a in 0..8 {
-                    let x = node_of(u, conn[a]);
-                    for j in 0..3 {
-                        ul[a][j][l] = x[j];
-                    }
-                }
-            }
-        }
+        let row = gather_padded(mesh, classes, u, group, &mut ul);
         let [strain, hourglass, det] = physical_group::<FMA>(mat, &lanes, &ul, &mut fl, energy);
         let corner = corner_lanes.min_jacobian::<FMA>(&ul);
         for (l, &e) in group.iter().enumerate() {
@@ -367,18 +353,7 @@ unsafe fn chunk_forces_physical_impl<const FMA: bool, const ISA: u8>(
                 &mut sums.min_stress_element,
             );
         }
-        if n == 8 {
-            // SAFETY: `[[F64x8; 3]; 8]` is `[[[f64; 8]; 3]; 8]` more aligned (F64x8 is
-            // `repr(C)` over `[f64; 8]`).
-            let fv = &*(&fl as *const [[F64x8; 3]; 8] as *const [[[f64; 8]; 3]; 8]);
-            scatter_group::<ISA>(f, &mesh.elements, group, row, fv);
-        } else {
-            for (l, &e) in group.iter().enumerate() {
-                let fe: [[f64; 3]; 8] =
-                    std::array::from_fn(|a| std::array::from_fn(|j| fl[a][j].0[l]));
-                scatter(f, mesh.elements.get_unchecked(e as usize), &fe);
-            }
-        }
+        scatter_padded::<ISA>(f, mesh, group, row, &fl);
     }
     sums
 }

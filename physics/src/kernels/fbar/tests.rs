@@ -16,7 +16,7 @@ use super::*;
 use crate::material::MaterialModel;
 
 /// A 3×3×2 box with every 5th node moved off the grid (several element classes, none a box).
-fn distorted_box() -> Mesh {
+pub(in crate::kernels) fn distorted_box() -> Mesh {
     let mut mesh = Mesh::boxed([0.0; 3], [0.3, 0.3, 0.2], [3, 3, 2]);
     for (i, x) in mesh.nodes.iter_mut().enumerate() {
         if i % 5 == 0 {

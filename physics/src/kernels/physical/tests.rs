@@ -12,23 +12,10 @@
 //! ε Ψ/δ ≈ 1e-10 of the force scale, so 1e-6 is far above both and far below the terms
 //! checked (the hourglass forces are 10⁻²–10⁻¹ of the forces here).
 
+use super::super::fbar::tests::distorted_box;
 use super::super::Planes;
 use super::*;
 use crate::material::MaterialModel;
-
-/// A 3×3×2 box with every 5th node moved off the grid (several element classes, none a box).
-fn distorted_box() -> Mesh {
-    let mut mesh = Mesh::boxed([0.0; 3], [0.3, 0.3, 0.2], [3, 3, 2]);
-    for (i, x) in mesh.nodes.iter_mut().enumerate() {
-        if i % 5 == 0 {
-            let t = i as f64;
-            x[0] += 0.012 * (1.7 * t).sin();
-            x[1] += 0.011 * (2.3 * t).cos();
-            x[2] += 0.009 * (0.9 * t).sin();
-        }
-    }
-    mesh
-}
 
 /// A non-affine displacement on [`distorted_box`]'s 4×4×3 nodes: a smooth bending with a
 /// varying volume ratio, plus checkerboards (−1)^(i+j) and (−1)^(i+j+k) of the node's grid
