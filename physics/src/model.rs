@@ -92,8 +92,9 @@ pub enum Integration {
 impl Integration {
     /// Whether the element's stiffness at rest is bounded by the full element's (model §6.4):
     /// the full and F-bar elements (the same at rest, §1.11) and the physically stabilised one
-    /// point (its hourglass stiffness at most the full element's in every mode, §1.12); not the
-    /// one point with Flanagan–Belytschko control, whose κ may exceed it.
+    /// point (on a box its hourglass stiffness is at most the full element's, §1.12; on other
+    /// shapes taken as so); not the one point with Flanagan–Belytschko control, whose κ may
+    /// exceed it.
     pub fn full_bound_at_rest(self) -> bool {
         self != Integration::Reduced
     }

@@ -256,7 +256,6 @@ simd_dispatch! {
 }
 
 #[inline(always)]
-#[allow(clippy::too_many_arguments)]
 unsafe fn chunk_forces_fbar_impl<const FMA: bool, const ISA: u8>(
     mesh: &Mesh,
     classes: &ElementClasses,

@@ -60,7 +60,7 @@ impl ElementRule {
 pub struct Assembly {
     /// Strain energy Ψ(U) [J] (0 unless asked for).
     pub strain: f64,
-    /// Hourglass energy Ψ_hg(U) [J] (reduced integration; 0 unless asked for).
+    /// Hourglass energy Ψ_hg(U) [J] (the one-point rules, §1.6 and §1.12; 0 unless asked for).
     pub hourglass: f64,
     /// Smallest J = det F seen, and its element: at the Gauss points (full integration), at
     /// the centre and the 8 corners (one point, [`corners`]). With one point it is exact when

@@ -165,22 +165,35 @@ fn forces_are_the_gradient_of_the_energy() {
             j > 0.5 && j < 0.95,
             "min J {j}: the field is not the one meant"
         );
-        let scale = largest(&f);
-        for n in 0..mesh.nodes.len() {
-            for c in 0..3 {
-                let energy = |s: f64| {
-                    let mut v = u.clone();
-                    v[n][c] += s;
-                    fbar_chunk(build, &mesh, &mat, &v, &chunk).1
-                };
-                let fd = (energy(delta) - energy(-delta)) / (2.0 * delta);
-                assert!(
-                    (fd - f[n][c]).abs() <= 1e-6 * scale,
-                    "{:?}: node {n} component {c}: force {} vs −∂Ψ/∂u {fd}",
-                    mat.model,
-                    f[n][c]
-                );
-            }
+        assert_gradient(&u, &f, delta, |v| {
+            fbar_chunk(build, &mesh, &mat, v, &chunk).1
+        });
+    }
+}
+
+/// Each nodal component of the forces `f` at `u` within 1e-6 of the largest force of the
+/// central difference (energy(u + δeᵢ) − energy(u − δeᵢ))/2δ (the tolerance is argued in the
+/// module doc of each kernel's tests).
+pub(in crate::kernels) fn assert_gradient(
+    u: &[[f64; 3]],
+    f: &[[f64; 3]],
+    delta: f64,
+    energy: impl Fn(&[[f64; 3]]) -> f64,
+) {
+    let scale = largest(f);
+    for n in 0..u.len() {
+        for c in 0..3 {
+            let at = |s: f64| {
+                let mut v = u.to_vec();
+                v[n][c] += s;
+                energy(&v)
+            };
+            let fd = (at(delta) - at(-delta)) / (2.0 * delta);
+            assert!(
+                (fd - f[n][c]).abs() <= 1e-6 * scale,
+                "node {n} component {c}: force {} vs ∂Ψ/∂u {fd}",
+                f[n][c]
+            );
         }
     }
 }

@@ -12,7 +12,7 @@
 //! ε Ψ/δ ≈ 1e-10 of the force scale, so 1e-6 is far above both and far below the terms
 //! checked (the hourglass forces are 10⁻²–10⁻¹ of the forces here).
 
-use super::super::fbar::tests::distorted_box;
+use super::super::fbar::tests::{assert_gradient, distorted_box};
 use super::super::Planes;
 use super::*;
 use crate::material::MaterialModel;
@@ -309,24 +309,10 @@ fn forces_are_the_gradient_of_the_energy() {
             hourglass > 1e-3 * strain,
             "the field does not excite the hourglass modes: Ψ_hg {hourglass}, Ψ {strain}"
         );
-        let scale = largest(&f);
-        for n in 0..mesh.nodes.len() {
-            for c in 0..3 {
-                let energy = |s: f64| {
-                    let mut v = u.clone();
-                    v[n][c] += s;
-                    let (_, e, hg, _) = run(portable(), &mesh, &mat, &v);
-                    e + hg
-                };
-                let fd = (energy(delta) - energy(-delta)) / (2.0 * delta);
-                assert!(
-                    (fd - f[n][c]).abs() <= 1e-6 * scale,
-                    "{:?}: node {n} component {c}: force {} vs ∂Ψ/∂u {fd}",
-                    mat.model,
-                    f[n][c]
-                );
-            }
-        }
+        assert_gradient(&u, &f, delta, |v| {
+            let (_, e, hg, _) = run(portable(), &mesh, &mat, v);
+            e + hg
+        });
     }
 }
 
