@@ -9,7 +9,7 @@
 use serde::Serialize;
 
 /// Cumulative trapezoid work of one force, from its per-step half contributions.
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, serde::Deserialize)]
 pub struct Work {
     /// Work up to the current integer time tₙ [J].
     pub value: f64,
@@ -40,7 +40,7 @@ impl Work {
 
 /// The ledger at the current integer time (all in joules). "Dissipated" quantities and works are
 /// cumulative since t₀; stored energies are current values.
-#[derive(Debug, Clone, Default, PartialEq)]
+#[derive(Debug, Clone, Default, PartialEq, Serialize, serde::Deserialize)]
 pub struct Ledger {
     /// Kₙ = ½ V_{n−½}ᵀ M V_{n+½} (the leapfrog invariant's kinetic part).
     pub kinetic: f64,

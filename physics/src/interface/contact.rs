@@ -7,7 +7,7 @@
 use crate::mesh::{dot, norm};
 
 /// Contact status of a node against a plane, for output and debugging.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize, Default)]
 #[serde(rename_all = "snake_case")]
 pub enum ContactStatus {
     /// Gap > 0, or approaching velocity ≥ 0: no impulse.
@@ -459,7 +459,7 @@ fn sweeps(
 /// the solves that hit [`JOINT_MAX_SWEEPS`] without friction too,
 /// and among those the largest last change and approach velocity left, relative to s
 /// ([`JointSolve`]).
-#[derive(Default, Clone, Copy, Debug, PartialEq, serde::Serialize)]
+#[derive(Default, Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct JointStats {
     pub nodes: u64,
     pub sweeps: u64,

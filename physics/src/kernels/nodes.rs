@@ -6,7 +6,7 @@ use super::simd::{simd_dispatch, ISA_AVX2, ISA_AVX512, ISA_PORTABLE};
 use crate::material::{row_dot, F64x8, Real};
 
 /// Partial sums of the node loop (stage 5), reduced in a fixed order.
-#[derive(Default, Clone, Copy)]
+#[derive(Default, Clone, Copy, serde::Serialize, serde::Deserialize)]
 pub(crate) struct NodeSums {
     pub(crate) kinetic: f64,
     pub(crate) kinetic_half: f64,

@@ -10,7 +10,7 @@
 /// ([`crate::kernels::gather_group`]) and adds the forces of the 8 elements lane against lane, 8 nodes
 /// per vector ([`crate::kernels::scatter_group`]); with rows both needed a transpose (docs:
 /// performance log). The node loops run plane against plane.
-#[derive(Debug, Clone, Default, PartialEq)]
+#[derive(Debug, Clone, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Planes {
     data: Vec<f64>,
     n: usize,

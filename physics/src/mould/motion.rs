@@ -89,7 +89,7 @@ pub struct RigidMotion {
 }
 
 /// The pose of a mould at one time: x = centre + R (X − c₀).
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Pose {
     pub time: f64,
     pub rotation: Mat3,

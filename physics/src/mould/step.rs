@@ -22,7 +22,7 @@ use super::{Mould, Shape};
 use crate::energy::Work;
 
 /// A node's geometry against a mould that is not a plain plane, at tₙ₊₁.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, serde::Serialize, serde::Deserialize)]
 pub struct NodeGeometry {
     /// Glued nodes: the mould's outward normal at the anchor at t = 0 (in the mould's frame).
     pub normal0: [f64; 3],
@@ -52,7 +52,7 @@ impl Default for NodeGeometry {
 }
 
 /// The moulds' poses and per-node geometry of the current step (see the module docs).
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Clone, Default, serde::Serialize, serde::Deserialize)]
 pub struct MouldStep {
     /// Per mould: true for a plain plane (half-space, no rotation: today's fast path).
     pub plane: Vec<bool>,

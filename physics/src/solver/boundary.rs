@@ -32,7 +32,7 @@ const MAX_CONSTRAINTS: usize = joint::MAX_JOINT;
 
 /// Per boundary node: which interface entries, contact entries, traction entries and prescribed
 /// components act on it.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub(super) struct BoundaryNode {
     pub node: u32,
     pub interfaces: Range<u32>,
@@ -43,7 +43,7 @@ pub(super) struct BoundaryNode {
 }
 
 /// The boundary nodes and, per node, ranges into the flat lists of its entries.
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Clone, Default, serde::Serialize, serde::Deserialize)]
 pub(super) struct Boundary {
     pub nodes: Vec<BoundaryNode>,
     /// Indices into `Simulation::interface_nodes`.
@@ -152,7 +152,7 @@ macro_rules! boundary_step {
 /// Sums of the boundary pass over a chunk of boundary nodes, reduced in chunk order: the
 /// ledger halves (before/after) of tractions, reactions, planes, contact (normal, tangential),
 /// and the node loop's corrections.
-#[derive(Default, Clone, Copy)]
+#[derive(Default, Clone, Copy, serde::Serialize, serde::Deserialize)]
 pub(super) struct BoundarySums {
     pub trac_b: f64,
     pub trac_a: f64,

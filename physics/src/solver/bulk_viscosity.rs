@@ -9,7 +9,7 @@ use crate::kernels::Planes;
 use crate::model::BulkViscosity;
 
 /// What the bulk viscosity keeps between stages and steps.
-#[derive(Debug, Default, Clone)]
+#[derive(Debug, Default, Clone, serde::Serialize, serde::Deserialize)]
 pub(super) struct BulkViscosityState {
     /// Per element class: its length L_e = c_d h_e [m] (h_e its element bound at rest, so a
     /// bar of length L has L_e = L), density ρ_e [kg/m³] and wave speed c_d,e [m/s] (mass

@@ -24,6 +24,7 @@
 mod bound;
 mod boundary;
 mod bulk_viscosity;
+mod checkpoint;
 mod diagnostics;
 mod lanczos;
 mod ledger;
@@ -48,6 +49,10 @@ use crate::mesh::ElementClasses;
 use crate::model::{Model, StartOffset};
 use crate::team::Team;
 use boundary::{Boundary, BoundarySums};
+pub use checkpoint::{
+    model_fingerprint, read_header, write_atomically, CheckpointError, CheckpointHeader,
+    CHECKPOINT_FORMAT,
+};
 pub use mass_scaling::MassScalingReport;
 use stable_step::StepControl;
 use stages::StepScratch;
@@ -147,6 +152,9 @@ pub struct Simulation {
     /// The interfaces whose glued nodes start off or inside their mould (for the warnings and
     /// the summary; empty when every glued node starts on its mould).
     pub start_offsets: Vec<StartOffset>,
+    /// The model's fingerprint for checkpoints ([`checkpoint::model_fingerprint`]), computed at
+    /// the first checkpoint written or read.
+    fingerprint: std::sync::OnceLock<u32>,
 }
 
 impl Simulation {

@@ -309,6 +309,7 @@ impl Simulation {
             energy_floor: model.material.young * volume * 1e-14,
             coordinate_scale,
             model,
+            fingerprint: std::sync::OnceLock::new(),
         };
         sim.scratch.moulds = MouldStep::new(&sim.model.planes, 0.0);
         sim.mould_geometry_at_start();

@@ -52,7 +52,7 @@ pub(super) fn capped_step(factor: f64, h_crit: f64) -> f64 {
 }
 
 /// The step controller's state between steps (model §6.5, §6.6).
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Clone, Default, serde::Serialize, serde::Deserialize)]
 pub(super) struct StepControl {
     /// h_{n−½}, the interval before the one just taken (set at t₀ to the first h) [s].
     pub h_before: f64,
@@ -73,9 +73,14 @@ pub(super) struct StepControl {
     pub jacobian_trigger: f64,
     /// The element of [`Simulation::stress_jacobian`] at the last force evaluation.
     pub compressed_element: usize,
-    /// The stable-step operator's constants and buffers, kept between estimates.
+    /// The stable-step operator's constants and buffers, kept between estimates. Not in a
+    /// checkpoint: its constants depend on the model alone, its buffers are written before they
+    /// are read (`solver/checkpoint.rs` keeps the restored simulation's own).
+    #[serde(skip)]
     pub estimates: EstimateCache,
-    /// The element bound's constants and buffers ([`Simulation::stiffness_bound`]).
+    /// The element bound's constants and buffers ([`Simulation::stiffness_bound`]); not in a
+    /// checkpoint either.
+    #[serde(skip)]
     pub bound: BoundCache,
     /// Whether the next estimate tries the cheap, certified update: false
     /// after the bound failed to certify one (too loose, κ > 4/(1.05 factor)², or the update

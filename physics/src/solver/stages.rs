@@ -13,7 +13,7 @@ type NodeChunk<'a> = ([&'a mut [f64]; 3], [&'a [f64]; 3], (&'a [f64], &'a [f64])
 /// Per-step values of the planes, prescribed conditions and tractions, computed once per step
 /// (not per node), and the step's sums, in buffers that are reused, so the step allocates
 /// nothing after the first.
-#[derive(Default)]
+#[derive(Default, Clone, serde::Serialize, serde::Deserialize)]
 pub(super) struct StepScratch {
     /// Plane displacement d(tₙ₊₁) and the round-off tolerance of its gaps.
     pub plane_disp: Vec<[f64; 3]>,

@@ -40,7 +40,7 @@ pub enum SolverError {
 }
 
 /// An interface node: a node of the solid bonded to a material point of a rigid plane.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct InterfaceNode {
     pub node: u32,
     /// Index of the interface in `Model::interfaces`.
@@ -93,7 +93,7 @@ impl InterfaceNode {
 }
 
 /// A node of a contact face set (no glue) against a plane.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct ContactNode {
     pub node: u32,
     pub plane: u32,
@@ -107,7 +107,7 @@ pub struct ContactNode {
 }
 
 /// Wall time spent in each stage of the step (rapier-style counters).
-#[derive(Debug, Clone, Default, Serialize)]
+#[derive(Debug, Clone, Default, Serialize, serde::Deserialize)]
 pub struct StageTimes {
     /// Stage 1: positions and damage update [s].
     pub positions: f64,
@@ -124,7 +124,7 @@ pub struct StageTimes {
 }
 
 /// Peak of the reaction force of one prescribed-displacement condition.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, serde::Deserialize)]
 pub struct PeakReaction {
     pub faces: String,
     pub component: String,
@@ -154,7 +154,7 @@ fn is_zero(n: &usize) -> bool {
 }
 
 /// Running statistics of a simulation, kept as it steps.
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Clone, Default, Serialize, serde::Deserialize)]
 pub struct RunStats {
     pub h_crit_initial: f64,
     pub h_crit_min: f64,
@@ -209,7 +209,7 @@ impl DamageClamped {
 /// Lane groups of 8 elements through the one-point kernel, and those that skipped the exact
 /// corner check because the bound showed it could not change what the step uses
 /// (`kernels::corner_bound`).
-#[derive(Debug, Clone, Copy, Default)]
+#[derive(Debug, Clone, Copy, Default, Serialize, serde::Deserialize)]
 pub struct CornerChecks {
     pub groups: u64,
     pub skipped: u64,

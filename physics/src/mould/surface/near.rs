@@ -272,7 +272,7 @@ enum Near {
 }
 
 /// Where a node's list was built, the bound R below which it is complete, its length.
-#[derive(Debug, Clone, Copy, Default)]
+#[derive(Debug, Clone, Copy, Default, serde::Serialize, serde::Deserialize)]
 struct NearList {
     x_ref: [f64; 3],
     radius: f64,
@@ -280,14 +280,14 @@ struct NearList {
 }
 
 /// A listed triangle and its distance r_T from x_ref (rounded down).
-#[derive(Debug, Clone, Copy, Default)]
+#[derive(Debug, Clone, Copy, Default, serde::Serialize, serde::Deserialize)]
 struct NearEntry {
     tri: u32,
     r: f32,
 }
 
 /// Counts of [`SurfaceMesh::project_near`]'s work since the lists were made.
-#[derive(Debug, Clone, Copy, Default)]
+#[derive(Debug, Clone, Copy, Default, serde::Serialize, serde::Deserialize)]
 pub struct NearStats {
     /// Calls; triangle projections (from the lists and in rebuilds, not the second look at
     /// near-ties); rebuilds (a node's first build included); ties (the full query taken);
@@ -303,7 +303,7 @@ pub struct NearStats {
 /// Per node, its list of nearby triangles on its triangulated mould
 /// ([`SurfaceMesh::project_near`]), allocated once ([`NEAR_CAPACITY`] slots per node), and the
 /// rebuilds' reused buffers.
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Clone, Default, serde::Serialize, serde::Deserialize)]
 pub struct NearLists {
     lists: Vec<NearList>,
     entries: Vec<NearEntry>,
