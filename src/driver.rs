@@ -5,8 +5,10 @@
 //! to the outputs that take per-step scalars: the `--series` CSV), reports progress, stops on
 //! cancellation (Ctrl-C, Stop) or on an output's error, and finishes every output whatever the
 //! outcome, so the recording and the ParaView index are complete; then it builds the run's
-//! [`RunSummary`] with the outputs' reports.
+//! [`RunSummary`] with the outputs' reports. With checkpoints ([`Driver::checkpoints`]) it
+//! writes one when due after a step and one at the last step of a cancelled run.
 
+use crate::checkpoint::Checkpointer;
 use crate::output::series::SeriesWriter;
 use crate::output::{Cadence, Ending, FrameClock, Output, OutputError, OutputReport, Snapshot};
 use crate::record::{ColourField, Recorder, Sink};
@@ -64,6 +66,8 @@ pub struct Driver {
     frames: bool,
     /// When the run started (set-up included), for the summary's wall time.
     started: Instant,
+    /// Writes the run's checkpoints (`run --checkpoint`).
+    checkpoints: Option<Checkpointer>,
 }
 
 impl Driver {
@@ -110,10 +114,20 @@ impl Driver {
             clock: FrameClock::new(cadence, sim.model.end_time),
             spent: Duration::ZERO,
             started,
+            checkpoints: None,
         };
         driver.step(sim, false)?;
         driver.frame(sim)?;
         Ok(driver)
+    }
+
+    /// Writes checkpoints with `checkpointer`: when due after each step, and at the last step of
+    /// a run cancelled by Ctrl-C, Stop or an output's error (not of a failed one: its state is
+    /// what failed). A checkpoint that cannot be written stops the run as an output's error
+    /// does.
+    pub fn checkpoints(mut self, checkpointer: Checkpointer) -> Driver {
+        self.checkpoints = Some(checkpointer);
+        self
     }
 
     /// Tells every output of the state of `sim` after a step ([`Output::step`]; `last`: the
@@ -198,12 +212,23 @@ impl Driver {
                     break Err(cancelled(s));
                 }
             }
+            if let Some(c) = &mut self.checkpoints {
+                if let Err(e) = c.after_step(s) {
+                    output_error = Some(e.into());
+                    break Err(cancelled(s));
+                }
+            }
             progress.step(s);
             if cancel.load(Ordering::SeqCst) {
                 break Err(cancelled(s));
             }
         };
         progress.stopped();
+        if let (Err(SolverError::Cancelled { .. }), Some(c)) = (&outcome, &mut self.checkpoints) {
+            if let Err(e) = c.write(sim) {
+                output_error.get_or_insert(e.into());
+            }
+        }
         if let Err(e) = self.step(sim, true) {
             output_error.get_or_insert(e);
         }
@@ -224,6 +249,7 @@ impl Driver {
         }
         let wall = self.started.elapsed().as_secs_f64();
         let mut summary = RunSummary::new(sim, wall, outcome.as_ref().err());
+        summary.checkpoint = self.checkpoints.as_ref().map(Checkpointer::report);
         for r in reports {
             match r {
                 OutputReport::Recording(r) => summary.recording = Some(r),

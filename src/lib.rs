@@ -17,6 +17,10 @@ pub use decohesion_physics::{
     energy, gmsh, interface, kernels, law, material, mesh, model, scene, solver, team,
 };
 
+/// Checkpoints of a run (`run --checkpoint`, `run --resume`): the folder, the interval, the
+/// writes.
+#[cfg(not(target_arch = "wasm32"))]
+pub mod checkpoint;
 /// The `decohesion` subcommands behind the command line's parsing (run, check, tradeoff, bench);
 /// on wasm32 only what the explorer shares with it (the `--vary` parser, the series colours).
 pub mod cli;

@@ -8,7 +8,7 @@
 
 use clap::{CommandFactory, Parser, Subcommand};
 use decohesion::cli::{
-    bench, check, compare, fit, reference, run, sweep, tradeoff, FitCli, SweepArgs,
+    bench, check, compare, fit, reference, run, sweep, tradeoff, Checkpoints, FitCli, SweepArgs,
 };
 use decohesion::driver::Plan;
 use decohesion::fit::FitArgs;
@@ -47,14 +47,30 @@ struct Cli {
 enum Command {
     /// Run a scene headless and print a summary.
     Run {
-        /// Scene file (TOML), e.g. scenes/pull_off.toml.
-        scene: PathBuf,
+        /// Scene file (TOML), e.g. scenes/pull_off.toml (not with --resume, which takes the
+        /// checkpoint's).
+        #[arg(required_unless_present = "resume", conflicts_with = "resume")]
+        scene: Option<PathBuf>,
         /// Override a scene value, e.g. --set interface.law.u_r=0.02 (same validation as the file).
-        #[arg(long = "set", value_name = "KEY=VALUE")]
+        #[arg(long = "set", value_name = "KEY=VALUE", conflicts_with = "resume")]
         set: Vec<String>,
         /// Write the summary as JSON to this file (also written when the run fails).
         #[arg(long, value_name = "FILE")]
         summary: Option<PathBuf>,
+        /// Write checkpoints into this folder (created if needed): its run.toml names the scene,
+        /// its state.ckpt holds the state at the last checkpoint, replaced atomically, so a run
+        /// killed at any moment continues with --resume DIR, bit for bit.
+        #[arg(long, value_name = "DIR", group = "checkpoints")]
+        checkpoint: Option<PathBuf>,
+        /// How often to checkpoint: every N steps (e.g. 1000) or every T seconds of simulated
+        /// time (e.g. 0.01s) [default: a tenth of the end time; with --resume, the folder's].
+        #[arg(long, value_name = "N|Ts", requires = "checkpoints")]
+        checkpoint_every: Option<decohesion::checkpoint::Every>,
+        /// Continue the run whose checkpoints are in this folder (its scene and overrides, from
+        /// its last state), checkpointing on into it; the outputs (--save, --vtk, --series,
+        /// --summary) are this part's.
+        #[arg(long, value_name = "DIR", group = "checkpoints")]
+        resume: Option<PathBuf>,
         #[command(flatten)]
         record: RecordArgs,
     },
@@ -424,7 +440,30 @@ fn main() {
             set,
             summary,
             record,
-        } => run(&scene, &set, summary.as_deref(), cli.quiet, &record.plan()),
+            checkpoint,
+            checkpoint_every,
+            resume,
+        } => {
+            let checkpoints = match (checkpoint, resume) {
+                (Some(dir), _) => Checkpoints::Write {
+                    dir,
+                    every: checkpoint_every,
+                },
+                (None, Some(dir)) => Checkpoints::Resume {
+                    dir,
+                    every: checkpoint_every,
+                },
+                (None, None) => Checkpoints::None,
+            };
+            run(
+                scene.as_deref(),
+                &set,
+                summary.as_deref(),
+                cli.quiet,
+                &record.plan(),
+                &checkpoints,
+            )
+        }
         Command::Check { scene, set } => check(&scene, &set),
         Command::Sweep {
             scene,

@@ -80,6 +80,10 @@ pub struct RunSummary {
     #[cfg(not(target_arch = "wasm32"))]
     #[serde(skip_serializing_if = "Option::is_none")]
     pub series: Option<crate::output::series::SeriesReport>,
+    /// The checkpoints written (`run --checkpoint`, `--resume`); absent without them.
+    #[cfg(not(target_arch = "wasm32"))]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub checkpoint: Option<crate::checkpoint::CheckpointReport>,
     /// Interfaces whose glued nodes start off their mould beyond the tolerance, or inside it:
     /// per interface the count and the largest offset ([`crate::model::StartOffset`]; also a
     /// warning). Absent when every glued node starts on its mould.
@@ -175,6 +179,8 @@ impl RunSummary {
             paraview: None,
             #[cfg(not(target_arch = "wasm32"))]
             series: None,
+            #[cfg(not(target_arch = "wasm32"))]
+            checkpoint: None,
             glued_start_offsets: sim.start_offsets.clone(),
             mould_work: if moulds_listed {
                 sim.mould_works()

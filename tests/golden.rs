@@ -60,36 +60,39 @@ fn hash_bits(values: impl Iterator<Item = f64>) -> String {
 /// The golden record of one scene file: its run to the end (or to its failure).
 fn record(path: &Path) -> Value {
     let scene = load_scene(path, &[]).unwrap_or_else(|e| panic!("{e}"));
-    let mut out = serde_json::Map::new();
     match Simulation::new(scene.model) {
-        Err(e) => {
-            out.insert("setup_error".into(), Value::String(e.to_string()));
-        }
+        Err(e) => serde_json::json!({ "setup_error": e.to_string() }),
         Ok(mut sim) => {
             let outcome = sim.run(|_| true);
-            let summary = RunSummary::new(&sim, 0.0, outcome.as_ref().err());
-            let mut v = serde_json::to_value(&summary).unwrap();
-            let map = v.as_object_mut().unwrap();
-            for k in TIMING_KEYS {
-                map.remove(k);
-            }
-            out.insert("summary".into(), v);
-            out.insert(
-                "final_state_hash".into(),
-                Value::String(hash_bits(
-                    sim.u
-                        .rows()
-                        .chain(sim.v.rows())
-                        .flatten()
-                        .chain(sim.interface_nodes.iter().map(|n| n.alpha)),
-                )),
-            );
+            record_of(&sim, &outcome)
         }
     }
+}
+
+/// The golden record of a run that ended with `sim` and `outcome`: the summary without what
+/// measures the machine, and the hash of the bits of U, V and α.
+pub fn record_of(sim: &Simulation, outcome: &Result<(), decohesion::solver::SolverError>) -> Value {
+    let summary = RunSummary::new(sim, 0.0, outcome.as_ref().err());
+    let mut v = serde_json::to_value(&summary).unwrap();
+    let map = v.as_object_mut().unwrap();
+    for k in TIMING_KEYS {
+        map.remove(k);
+    }
+    let hash = hash_bits(
+        sim.u
+            .rows()
+            .chain(sim.v.rows())
+            .flatten()
+            .chain(sim.interface_nodes.iter().map(|n| n.alpha)),
+    );
+    let mut out = serde_json::Map::new();
+    out.insert("summary".into(), v);
+    out.insert("final_state_hash".into(), Value::String(hash));
     Value::Object(out)
 }
 
-fn scene_files() -> Vec<PathBuf> {
+/// The scene files of `scenes/` and `scenes/extreme/`, sorted.
+pub fn scene_files() -> Vec<PathBuf> {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let mut files = Vec::new();
     for dir in ["scenes", "scenes/extreme"] {
@@ -105,7 +108,7 @@ fn scene_files() -> Vec<PathBuf> {
 }
 
 /// `scenes/extreme/brittle.toml` → `extreme_brittle`.
-fn golden_name(path: &Path) -> String {
+pub fn golden_name(path: &Path) -> String {
     let stem = path.file_stem().unwrap().to_string_lossy().into_owned();
     match path.parent().and_then(|p| p.file_name()) {
         Some(d) if d == "extreme" => format!("extreme_{stem}"),

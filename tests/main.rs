@@ -24,6 +24,7 @@ mod modules;
 mod validation;
 
 mod bad_input_cli;
+mod checkpoint;
 mod command_line;
 mod compare;
 mod fit;

@@ -146,6 +146,19 @@ class Simulation:
         The recording and the ParaView index are finished whatever the outcome: on
         ``SolverError``, on Ctrl-C (``KeyboardInterrupt`` is raised after they are written) and
         on an output's error (``OSError``)."""
+    def save(self, path: Union[str, os.PathLike[str]]) -> None:
+        """Writes the state at tₙ to the checkpoint file ``path``, atomically (a temporary file,
+        fsync, rename): the fields, the damage, the moulds, the step control, the ledger and
+        the statistics, each number to the bit. ``restore`` continues from it. Raises
+        ``ValueError`` after a ``SolverError`` (that state is not saved) and ``OSError`` when
+        the file cannot be written."""
+    def restore(self, path: Union[str, os.PathLike[str]]) -> None:
+        """Continues from the checkpoint file ``path`` written by ``save`` of a simulation of
+        the same scene: stepping on gives the same bits as the simulation that saved it.
+        ``history`` restarts at the restored step. Raises ``ValueError`` for a file that is not
+        a checkpoint, is corrupt (its checksums), or was written for another scene (its
+        overrides, mesh or moulds), leaving the simulation as it was; ``OSError`` (e.g.
+        ``FileNotFoundError``) when it cannot be read."""
     def summary(self) -> dict[str, Any]:
         """The command line's ``--summary`` JSON for the simulation now, as a dict: ``scene``,
         ``status`` (``"completed"`` once the end time is reached, ``"in_progress"`` before,

@@ -7,10 +7,12 @@
 //! | `SolverError::Setup` | `ValueError` ("setting up FILE: …") |
 //! | `SolverError::Unstable`, `SolverError::Inverted` | [`SolverError`] with `step`, `t`, `h`, `h_crit` |
 //! | an output's error (recording, ParaView files) | `OSError` ("recording: …", "ParaView output: …") |
+//! | `CheckpointError::Io` (`save`, `restore`) | `FileNotFoundError`, `PermissionError`, `IsADirectoryError` or `OSError` |
+//! | any other `CheckpointError` (not a checkpoint, corrupt, another format or model) | `ValueError` |
 
 use decohesion::output::OutputError;
 use decohesion::scene::SceneError;
-use decohesion::solver::SolverError as RustSolverError;
+use decohesion::solver::{CheckpointError, SolverError as RustSolverError};
 use pyo3::exceptions::{
     PyFileNotFoundError, PyIsADirectoryError, PyOSError, PyPermissionError, PyRuntimeError,
     PyValueError,
@@ -34,6 +36,22 @@ pub fn scene_error(e: SceneError) -> PyErr {
     let message = with_sources(&e);
     match e {
         SceneError::Io { source, .. } => match source.kind() {
+            ErrorKind::NotFound => PyFileNotFoundError::new_err(message),
+            ErrorKind::PermissionDenied => PyPermissionError::new_err(message),
+            ErrorKind::IsADirectory => PyIsADirectoryError::new_err(message),
+            _ => PyOSError::new_err(message),
+        },
+        _ => PyValueError::new_err(message),
+    }
+}
+
+/// A checkpoint that could not be written or read: an `OSError` of the file's kind, or a
+/// `ValueError` for one that is not a checkpoint, is corrupt, or is of another format or
+/// model.
+pub fn checkpoint_error(e: CheckpointError) -> PyErr {
+    let message = with_sources(&e);
+    match e {
+        CheckpointError::Io { source, .. } => match source.kind() {
             ErrorKind::NotFound => PyFileNotFoundError::new_err(message),
             ErrorKind::PermissionDenied => PyPermissionError::new_err(message),
             ErrorKind::IsADirectory => PyIsADirectoryError::new_err(message),
@@ -102,11 +120,13 @@ pub fn output_error(e: &OutputError, opening: bool) -> PyErr {
         (OutputError::Recording(_), false) => "recording: ",
         (OutputError::Paraview(_), false) => "ParaView output: ",
         (OutputError::Series(_), _) => "series: ",
+        (OutputError::Checkpoint(_), _) => "checkpoint: ",
     };
     let message = match e {
         OutputError::Recording(e) => with_sources(e),
         OutputError::Paraview(e) => with_sources(e),
         OutputError::Series(e) => with_sources(e),
+        OutputError::Checkpoint(e) => with_sources(e),
     };
     PyOSError::new_err(format!("{prefix}{message}"))
 }

@@ -7,7 +7,7 @@
 //! `--series` columns and values): `Simulation.history`.
 
 use crate::arrays::{array, column, vectors};
-use crate::errors::{output_error, solver_error};
+use crate::errors::{checkpoint_error, output_error, solver_error};
 use crate::scene::Scene;
 use crate::to_python;
 use decohesion::driver::{Driver, Plan, Progress};
@@ -231,6 +231,32 @@ impl Simulation {
             dict.set_item(name, array)?;
         }
         Ok(dict.into_any())
+    }
+
+    /// Writes the state at tₙ to the checkpoint file `path`, atomically (model §4.13).
+    fn save(&self, py: Python<'_>, path: PathBuf) -> PyResult<()> {
+        if let Some(e) = &self.failure {
+            return Err(PyValueError::new_err(format!(
+                "the simulation failed ({e}): its state is not saved"
+            )));
+        }
+        let sim = &self.sim;
+        py.detach(|| sim.save_checkpoint(&path))
+            .map(|_| ())
+            .map_err(checkpoint_error)
+    }
+
+    /// Continues from the checkpoint file `path`, written by `save` of a simulation of the same
+    /// scene; the history restarts at the restored step.
+    fn restore(&mut self, py: Python<'_>, path: PathBuf) -> PyResult<()> {
+        let sim = &mut self.sim;
+        py.detach(|| sim.load_checkpoint(&path))
+            .map_err(checkpoint_error)?;
+        self.failure = None;
+        self.cancelled = None;
+        self.history = History::new(&self.sim);
+        self.history.push(&self.sim);
+        Ok(())
     }
 
     /// tₙ [s].

@@ -32,8 +32,8 @@ mod vary;
 pub use vary::{Vary, PALETTE};
 #[cfg(not(target_arch = "wasm32"))]
 pub use {
-    bench::bench, check::check, compare::compare, fit::fit, fit::FitCli, run::run, sweep::sweep,
-    sweep::SweepArgs, tradeoff::tradeoff,
+    bench::bench, check::check, compare::compare, fit::fit, fit::FitCli, run::run,
+    run::Checkpoints, sweep::sweep, sweep::SweepArgs, tradeoff::tradeoff,
 };
 
 /// What `decohesion` prints after `error: `: the message of `e` and of each of its causes,

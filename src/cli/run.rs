@@ -1,8 +1,10 @@
 //! `decohesion run`: a scene headless through the run driver ([`crate::driver`]), with a
 //! progress bar over simulated time on a terminal (or a line at each tenth of the end time
-//! otherwise), Ctrl-C to stop, the summary printed and written as JSON.
+//! otherwise), Ctrl-C to stop, the summary printed and written as JSON; checkpoints written
+//! (`--checkpoint`) or continued from (`--resume`, [`crate::checkpoint`]).
 
 use super::progress::{per_mille, sim_time, tenths, time_bar};
+use crate::checkpoint::{Checkpointer, Every, RunRecord, STATE_FILE};
 use crate::driver::{cancel_on_ctrl_c, Driver, Plan, Progress};
 use crate::output::OutputError;
 use crate::scene::load_scene;
@@ -10,33 +12,97 @@ use crate::solver::Simulation;
 use anyhow::{bail, Context, Result};
 use indicatif::ProgressBar;
 use std::io::IsTerminal;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 use std::time::Instant;
 
-/// Runs the scene at `path` with the `set` overrides and the outputs of `plan`; prints the
-/// summary and writes it to `summary_path` (also when the run fails). The error is the first
-/// output's, else the solver's.
+/// The checkpoints of a run.
+#[derive(Debug, Clone, Default)]
+pub enum Checkpoints {
+    #[default]
+    None,
+    /// Into this folder, at this interval (default: a tenth of the end time).
+    Write { dir: PathBuf, every: Option<Every> },
+    /// Continue the run of this folder (its scene, from its state), writing on into it at this
+    /// interval (default: its own).
+    Resume { dir: PathBuf, every: Option<Every> },
+}
+
+/// Runs the scene at `path` with the `set` overrides and the outputs of `plan` (with
+/// [`Checkpoints::Resume`], the folder's scene from its state: `path` and `set` are unused);
+/// prints the summary and writes it to `summary_path` (also when the run fails). The error is
+/// the first output's, else the solver's.
 pub fn run(
-    path: &Path,
+    path: Option<&Path>,
     set: &[String],
     summary_path: Option<&Path>,
     quiet: bool,
     plan: &Plan,
+    checkpoints: &Checkpoints,
 ) -> Result<()> {
     let wall = Instant::now();
     if let Some(p) = summary_path {
         check_writable(p)?;
     }
-    let scene = load_scene(path, set)?;
+    let record = match checkpoints {
+        Checkpoints::Resume { dir, .. } => Some(RunRecord::read(dir)?),
+        _ => None,
+    };
+    let (path, set) = match (&record, path) {
+        (Some(r), _) => (r.scene.as_path(), r.set.as_slice()),
+        (None, Some(p)) => (p, set),
+        (None, None) => bail!("run: give a scene file, or --resume DIR"),
+    };
+    let scene = load_scene(path, set).with_context(|| match checkpoints {
+        Checkpoints::Resume { dir, .. } => format!(
+            "--resume {}: the scene of {}",
+            dir.display(),
+            dir.join(crate::checkpoint::RUN_FILE).display()
+        ),
+        _ => String::new(),
+    })?;
     let mut sim = Simulation::new(scene.model.clone())
         .with_context(|| format!("setting up {}", path.display()))?;
+    let checkpointer = match checkpoints {
+        Checkpoints::None => None,
+        Checkpoints::Write { dir, every } => {
+            let every = every.unwrap_or(Every::Seconds(sim.model.end_time / 10.0));
+            Some(Checkpointer::create(dir, every, path, set, &sim)?)
+        }
+        Checkpoints::Resume { dir, every } => {
+            let state = dir.join(STATE_FILE);
+            let header = sim
+                .load_checkpoint(&state)
+                .with_context(|| format!("--resume {}", dir.display()))?;
+            if !quiet {
+                eprintln!(
+                    "resuming {} from {} at step {}, t = {:.6e} s",
+                    sim.model.name,
+                    state.display(),
+                    header.step,
+                    header.time
+                );
+            }
+            let own = record.as_ref().map(|r| r.every.parse::<Every>());
+            let every = match (every, own) {
+                (Some(e), _) => *e,
+                (None, Some(Ok(e))) => e,
+                _ => Every::Seconds(sim.model.end_time / 10.0),
+            };
+            Some(Checkpointer::continuing(dir, every, &sim))
+        }
+    };
     let driver = Driver::open(plan, &scene, &sim, wall).map_err(|e| match e {
         OutputError::Recording(e) => anyhow::Error::new(e).context("starting the recording"),
         OutputError::Paraview(e) => anyhow::Error::new(e),
         OutputError::Series(e) => anyhow::Error::new(e).context("--series"),
+        OutputError::Checkpoint(e) => anyhow::Error::new(e).context("--checkpoint"),
     })?;
+    let driver = match checkpointer {
+        Some(c) => driver.checkpoints(c),
+        None => driver,
+    };
     // Ctrl-C: stop after the current step, then write the recording, the ParaView index and
     // the summary.
     let interrupted = Arc::new(AtomicBool::new(false));
@@ -44,6 +110,19 @@ pub fn run(
     let mut progress = Terminal::new(&sim, quiet);
     let done = driver.run(&mut sim, &interrupted, &mut progress);
     println!("{}", done.summary.table());
+    if let Some(c) = &done.summary.checkpoint {
+        match (c.last_step, c.last_time) {
+            (Some(n), Some(t)) => println!(
+                "checkpoint: {} at step {n}, t = {t:.6e} s ({} written, {:.1} MB, {:.2} s in all); continue with: decohesion run --resume {}",
+                c.folder.join(STATE_FILE).display(),
+                c.written,
+                c.bytes as f64 / 1e6,
+                c.seconds,
+                c.folder.display()
+            ),
+            _ => println!("checkpoint: none written to {} (none was due)", c.folder.display()),
+        }
+    }
     if let Some(p) = summary_path {
         let json = serde_json::to_string_pretty(&done.summary)?;
         std::fs::write(p, json)
@@ -53,6 +132,7 @@ pub fn run(
         Some(OutputError::Recording(e)) => bail!(anyhow::Error::new(e).context("recording")),
         Some(OutputError::Paraview(e)) => bail!(anyhow::Error::new(e).context("ParaView output")),
         Some(OutputError::Series(e)) => bail!(anyhow::Error::new(e).context("--series")),
+        Some(OutputError::Checkpoint(e)) => bail!(anyhow::Error::new(e).context("checkpoint")),
         None => {}
     }
     if let Err(e) = done.outcome {
@@ -110,7 +190,7 @@ impl Terminal {
     /// Prints the run's size and advisories and starts the bar.
     fn new(sim: &Simulation, quiet: bool) -> Terminal {
         let end_time = sim.model.end_time;
-        let expected = (end_time / sim.h).ceil() as u64;
+        let expected = ((end_time - sim.time).max(0.0) / sim.h).ceil() as u64;
         let tty = std::io::stderr().is_terminal() && !quiet;
         let bar = tty.then(|| {
             time_bar("{spinner} [{elapsed_precise}] {bar:40} {percent:>3} %  {msg}  ETA {eta}")

@@ -300,6 +300,7 @@ pub fn output_error_text(e: &OutputError) -> String {
         OutputError::Recording(e) => format!("recording: {e}"),
         OutputError::Paraview(e) => format!("ParaView files: {e}"),
         OutputError::Series(e) => format!("series: {e}"),
+        OutputError::Checkpoint(e) => format!("checkpoint: {e}"),
     }
 }
 

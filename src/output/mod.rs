@@ -97,6 +97,8 @@ pub enum OutputError {
     Paraview(#[from] VtkError),
     #[error("{0}")]
     Series(#[from] SeriesError),
+    #[error("{0}")]
+    Checkpoint(#[from] decohesion_physics::solver::CheckpointError),
 }
 
 /// Memory that frames waiting for an output's writer thread may take before the solver waits
