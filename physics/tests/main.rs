@@ -29,6 +29,7 @@ mod fbar;
 mod form_turning;
 mod free_vibration;
 mod friction;
+mod glue_torque;
 mod glued_start;
 mod impact;
 mod indent_adhesive;
