@@ -64,7 +64,8 @@ pub struct Ledger {
     pub traction_work: Work,
     /// Work of the reactions of prescribed displacements.
     pub reaction_work: Work,
-    /// Work of moving rigid planes (through contact and through the glue).
+    /// Work of moving rigid planes (through contact and through the glue, with the glue's
+    /// torque work on turning moulds, model §5.5).
     pub plane_work: Work,
     /// Trapezoid work of the internal forces (diagnostic: −Wint − ΔΨ is the O(h²) bulk term).
     pub internal_work: Work,

@@ -141,6 +141,29 @@ impl Loading {
             .0
     }
 
+    /// The glue's torque work over a step on a turning mould (model §5.5), the part of the
+    /// trapezoid work of the traction that ΔΨ_d + ΔD leave out when the glue normal turns from
+    /// nₙ₋₁ to nₙ:
+    /// W_τ,ₙ = W ½ g_N(αₙ₋₁)(Pₙ(nₙ) − Pₙ(nₙ₋₁)), Pₙ(n) = ũ_N,ₙ₋₁ ũ_N,ₙ + r [u]_T,ₙ₋₁·[u]_T,ₙ
+    /// with the jumps split on n [J]; the work the mould does on the glue through the couple
+    /// W R_d × [u] of the glue's two forces. 0 for isotropic glue (Pₙ = [u]ₙ₋₁·[u]ₙ whatever
+    /// n), which is not evaluated.
+    #[inline]
+    pub fn torque_work(
+        &self,
+        area: f64,
+        stiffness_before: f64,
+        jumps: [[f64; 3]; 2],
+        normals: [[f64; 3]; 2],
+    ) -> f64 {
+        if self.isotropic() {
+            return 0.0;
+        }
+        let [before, now] = jumps;
+        let turned = self.product(before, now, normals[1]) - self.product(before, now, normals[0]);
+        0.5 * area * stiffness_before * turned
+    }
+
     /// [`Loading::dissipation_increment`] and what taking it as ≥ 0 added to the exact form:
     /// (ΔD booked, ΔD booked − ΔD exact), the second 0 but where a delayed law's ΔD < 0 was
     /// taken as 0 (what the ledger reports as clamped).

@@ -77,6 +77,9 @@ pub struct MouldStep {
     /// Each mould's friction work (tangential contact impulse · velocity of the node relative
     /// to the mould) [J]: minus the friction dissipated on it.
     pub friction: Vec<Work>,
+    /// Each mould's share of the glue's torque work over the interval just taken (model §5.5)
+    /// [J], summed by the ledger's interface pass for the per-mould works.
+    pub torque: Vec<f64>,
     /// Work array of the per-mould ledger passes (one (before, after) pair per mould), kept
     /// between steps so that the time step does not allocate.
     pub halves: Vec<(f64, f64)>,
@@ -103,6 +106,7 @@ impl MouldStep {
             d_prev: vec![super::motion::IDENTITY; moulds.len()],
             work: vec![Work::default(); moulds.len()],
             friction: vec![Work::default(); moulds.len()],
+            torque: vec![0.0; moulds.len()],
             ..Default::default()
         }
     }
@@ -155,6 +159,12 @@ impl MouldStep {
         let (c, o) = (self.cur[k].centre, self.prev[k].centre);
         let r = mat_vec(&self.d_prev[k], std::array::from_fn(|i| p[i] - c[i]));
         std::array::from_fn(|i| (p[i] - o[i] - r[i]) / self.h_old)
+    }
+
+    /// The glue normal at tₙ, R(tₙ)N₀ (the start of the interval the ledger closes at tₙ₊₁).
+    #[inline]
+    pub fn glue_normal_prev(&self, k: usize, normal0: [f64; 3]) -> [f64; 3] {
+        mat_vec(&self.prev[k].rotation, normal0)
     }
 
     /// The glue normal at tₙ₊₂, R(tₙ₊₂)N₀ (stage 8's next jump).

@@ -7,8 +7,8 @@ use crate::energy::Work;
 use crate::mesh::dot;
 
 /// What the interface nodes hold after a step: Σ Ψ_d, Σ ΔD, the most negative ΔD, the state
-/// counts, the glue's total spring stiffness Σ W g_N(αₙ) and the cohesive force's step-change
-/// work over the interval just taken.
+/// counts, the glue's total spring stiffness Σ W g_N(αₙ), and the cohesive force's step-change
+/// work and the glue's torque work over the interval just taken.
 struct InterfaceSums {
     stored: f64,
     dissipated: f64,
@@ -16,6 +16,11 @@ struct InterfaceSums {
     counts: StateCounts,
     springs: f64,
     step_change: f64,
+    /// Σ W_τ, the glue's torque work on turning moulds (model §5.5,
+    /// [`Loading::torque_work`]): the moulds' work.
+    ///
+    /// [`Loading::torque_work`]: crate::interface::damage::Loading::torque_work
+    torque: f64,
     /// Glued nodes whose damage is evolving ([`damage_evolving`]).
     evolving: usize,
     /// Σ of what taking a delayed law's ΔD as ≥ 0 added to it ([`Loading::booked_dissipation`]).
@@ -36,7 +41,8 @@ struct StepChange {
 
 impl Simulation {
     /// Stage 9: the step's work halves into the ledger (trapezoid pairing, model §5.3), the
-    /// reactions and their peaks, the interface energies and damage dissipation, the ledger's
+    /// reactions and their peaks, the interface energies, damage dissipation and the glue's
+    /// torque work on turning moulds (model §5.5, booked as the moulds' work), the ledger's
     /// closing, the run statistics and the blow-up checks (non-finite values, negative damage
     /// dissipation, contact creating energy, energy growing without a source). `first`: the
     /// start of the run, where only the forward halves exist.
@@ -63,7 +69,7 @@ impl Simulation {
             prev: (h - h_before) / (2.0 * h),
             now: (h_next - h) / (2.0 * h),
         });
-        let itf = self.interface_sums(change);
+        let itf = self.interface_sums(first, change);
         let c = &mut self.step_control;
         c.springs_now = itf.springs;
         c.damage_evolving = itf.evolving + usize::from(tearing(itf.counts));
@@ -73,7 +79,7 @@ impl Simulation {
             c.h_before = h;
         }
         let internal = (!first && h_next != h).then(|| (h_next - h) / (h_next + h));
-        self.push_work(first, internal, itf.step_change);
+        self.push_work(first, internal, itf.step_change, itf.torque);
         self.push_mould_work(first);
         self.push_mould_friction(first);
         if itf.clamped > 0.0 {
@@ -126,11 +132,12 @@ impl Simulation {
     }
 
     /// Kₙ and each force's half contributions of this step (backward ½V_{n−½}·P, forward
-    /// ½V_{n+½}·P) from the node loop and the boundary pass, into the ledger; and the
-    /// step-change work: `cohesive` for the interval just taken, and, with
+    /// ½V_{n+½}·P) from the node loop and the boundary pass, into the ledger; the step-change
+    /// work: `cohesive` for the interval just taken, and, with
     /// `internal` = ρ = (h_{n+½} − h_{n−½})/(h_{n+½} + h_{n−½}), the internal force's halves
-    /// ρb and −ρa ([`Simulation::ledger`]).
-    fn push_work(&mut self, first: bool, internal: Option<f64>, cohesive: f64) {
+    /// ρb and −ρa ([`Simulation::ledger`]); and the glue's torque work W_τ of the interval just
+    /// taken, `torque`, to the moulds' work (model §5.5, §5.7).
+    fn push_work(&mut self, first: bool, internal: Option<f64>, cohesive: f64, torque: f64) {
         let (mut s, bs) = (self.scratch.node_sums, self.scratch.boundary_sums);
         s.int_a += bs.int_a;
         // The viscous part of F_int is not conservative: its halves go to its own work
@@ -141,6 +148,14 @@ impl Simulation {
         s.grav_a += bs.grav_a;
         s.kinetic += bs.kinetic;
         s.kinetic_half += bs.kinetic_half;
+        // W_τ belongs to the interval just taken: it joins the moulds' backward half. It is 0
+        // but for anisotropic glue on a turning mould, and is then left out, so that every
+        // other run keeps its arithmetic.
+        let plane_b = if torque != 0.0 {
+            bs.plane_b + torque
+        } else {
+            bs.plane_b
+        };
         let l = &mut self.ledger;
         l.kinetic = s.kinetic;
         let works: [(&mut Work, f64, f64); 8] = [
@@ -149,7 +164,7 @@ impl Simulation {
             (&mut l.gravity_work, s.grav_b, s.grav_a),
             (&mut l.traction_work, bs.trac_b, bs.trac_a),
             (&mut l.reaction_work, bs.reac_b, bs.reac_a),
-            (&mut l.plane_work, bs.plane_b, bs.plane_a),
+            (&mut l.plane_work, plane_b, bs.plane_a),
             (&mut l.contact_normal_work, bs.cn_b, bs.cn_a),
             (&mut l.contact_tangential_work, bs.ct_b, bs.ct_a),
         ];
@@ -174,9 +189,10 @@ impl Simulation {
     /// the glue's −h̄W R_d at the anchor and the contact's W R_c at the contact point — with
     /// v_m the mould's velocity at that point over the interval before and after tₙ₊₁
     /// ([`crate::mould::step`]): force · velocity at the contact points, so the moment about
-    /// the pivot times ω is included. Their sum is `plane_work` (to round-off: the contact
-    /// impulse is read back per unit area). With one mould there is nothing to split and
-    /// `plane_work` is its work (the pass is skipped).
+    /// the pivot times ω is included; and the glue's torque work W_τ on the mould over the
+    /// interval just taken (model §5.5), with the backward half. Their sum is `plane_work` (to
+    /// round-off: the contact impulse is read back per unit area). With one mould there is
+    /// nothing to split and `plane_work` is its work (the pass is skipped).
     fn push_mould_work(&mut self, first: bool) {
         let n = self.model.planes.len();
         if n < 2 {
@@ -205,6 +221,11 @@ impl Simulation {
             let v = self.mould_velocities(k, point);
             halves[k].0 += 0.5 * dot(v[0], con);
             halves[k].1 += 0.5 * dot(v[1], con);
+        }
+        for (half, &torque) in halves.iter_mut().zip(&self.scratch.moulds.torque) {
+            if torque != 0.0 {
+                half.0 += torque;
+            }
         }
         push_halves(&mut self.scratch.moulds.work, &halves, first);
         self.scratch.moulds.halves = halves;
@@ -303,10 +324,13 @@ impl Simulation {
     }
 
     /// Σ Ψ_d = Σ W ½ g_N(αₙ)|[u]ₙ|² and Σ ΔDₙ over the interface nodes (model §5.5), their
-    /// states, Σ W g_N(αₙ), and where the step changed (`change`) the cohesive step-change
-    /// work ½([u]ₙ − [u]ₙ₋₁)·W(prev R_d,ₙ₋₁ − now R_d,ₙ) (the force on the body is −W R_d);
-    /// moves [u]ₙ, g_N(αₙ) into the "previous" slots for the next ΔD.
-    fn interface_sums(&mut self, change: Option<StepChange>) -> InterfaceSums {
+    /// states, Σ W g_N(αₙ), where the step changed (`change`) the cohesive step-change
+    /// work ½([u]ₙ − [u]ₙ₋₁)·W(prev R_d,ₙ₋₁ − now R_d,ₙ) (the force on the body is −W R_d;
+    /// R_d,ₙ₋₁ on the glue normal nₙ₋₁), and after the start (`first` false) the glue's torque
+    /// work W_τ,ₙ = Σ W ½ g_N(αₙ₋₁)(Pₙ(nₙ) − Pₙ(nₙ₋₁)) where the glue has one (model §5.5,
+    /// [`Simulation::glue_normal_before`]), in total and per mould; moves [u]ₙ, g_N(αₙ) into
+    /// the "previous" slots for the next ΔD.
+    fn interface_sums(&mut self, first: bool, change: Option<StepChange>) -> InterfaceSums {
         let mut out = InterfaceSums {
             stored: 0.0,
             dissipated: 0.0,
@@ -314,11 +338,18 @@ impl Simulation {
             counts: StateCounts::default(),
             springs: 0.0,
             step_change: 0.0,
+            torque: 0.0,
             evolving: 0,
             clamped: 0.0,
         };
+        self.scratch.moulds.torque.fill(0.0);
         for j in 0..self.interface_nodes.len() {
             let n = self.glue_normal(j);
+            let n_before = if first {
+                None
+            } else {
+                self.glue_normal_before(j)
+            };
             let itf = &mut self.interface_nodes[j];
             let spec = &self.model.interfaces[itf.interface as usize];
             let law = &spec.law;
@@ -336,7 +367,8 @@ impl Simulation {
             out.dissipated += dd;
             out.springs += itf.area * itf.stiffness;
             if let Some(w) = change {
-                let r_prev = law.cohesive_traction(itf.prev_stiffness, itf.prev_jump, n);
+                let n_prev = n_before.unwrap_or(n);
+                let r_prev = law.cohesive_traction(itf.prev_stiffness, itf.prev_jump, n_prev);
                 out.step_change += (0..3)
                     .map(|c| {
                         let du = itf.jump[c] - itf.prev_jump[c];
@@ -345,6 +377,16 @@ impl Simulation {
                             * (w.prev * r_prev[c] - w.now * itf.cohesive_traction[c])
                     })
                     .sum::<f64>();
+            }
+            if let Some(n_prev) = n_before {
+                let torque = law.loading().torque_work(
+                    itf.area,
+                    itf.prev_stiffness,
+                    [itf.prev_jump, itf.jump],
+                    [n_prev, n],
+                );
+                out.torque += torque;
+                self.scratch.moulds.torque[spec.plane] += torque;
             }
             itf.prev_stiffness = itf.stiffness;
             itf.prev_jump = itf.jump;

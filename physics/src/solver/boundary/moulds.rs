@@ -113,6 +113,23 @@ impl Simulation {
         }
     }
 
+    /// The glue normal of interface node `j` at tₙ, R(tₙ)N₀, where its glue has a torque
+    /// (model §5.5): anisotropic glue ([`Loading::isotropic`] false), formed, on a mould that
+    /// is not a plain plane. `None` elsewhere: isotropic glue has none, a plain plane does not
+    /// turn.
+    ///
+    /// [`Loading::isotropic`]: crate::interface::damage::Loading::isotropic
+    #[inline]
+    pub(in crate::solver) fn glue_normal_before(&self, j: usize) -> Option<[f64; 3]> {
+        let itf = &self.interface_nodes[j];
+        let spec = &self.model.interfaces[itf.interface as usize];
+        let ms = &self.scratch.moulds;
+        if ms.plane[spec.plane] || spec.law.loading().isotropic() || !itf.formed {
+            return None;
+        }
+        Some(ms.glue_normal_prev(spec.plane, ms.interface[j].normal0))
+    }
+
     /// The anchor of interface node `itf` and the contact point of it or of contact node `cn`
     /// on mould `k` at tₙ₊₁ (any point of a plain plane: its velocity is the same everywhere).
     pub(in crate::solver) fn mould_points(
