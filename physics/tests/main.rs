@@ -21,6 +21,7 @@ mod bad_input;
 mod bad_input_corpus;
 mod bulk_viscosity;
 mod cohesive_law;
+mod concave_corner;
 mod contact_start;
 mod corner_jacobian;
 mod delay;
