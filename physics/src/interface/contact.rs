@@ -159,7 +159,9 @@ pub const JOINT_TOLERANCE: f64 = 1e-12;
 /// Sweeps after which the joint solve stops unconverged (and says so, [`JointSolve`]).
 pub const JOINT_MAX_SWEEPS: u32 = 200;
 
-/// The most constraints one node's joint solve takes (the solver refuses more at setup).
+/// The most constraint entries one node may have (the solver refuses more at setup), and the
+/// most constraints the exact frictionless projection enumerates (a node behind the faces of a
+/// concave corner of a triangulated mould can have more, model §7.5: the sweeps take them).
 pub const JOINT_MAX_CONSTRAINTS: usize = 8;
 
 /// What a joint solve took: the sweeps, whether the impulses converged to

@@ -13,7 +13,7 @@
 //! the contact points, moments included (Σ P·(v + ω × (p − c)) = F·v + M_c·ω).
 
 use super::motion::{mat_mul_t, mat_vec, Mat3, Pose, RigidMotion};
-use super::surface::{NearLists, NEAR_CAPACITY, NO_FEATURE};
+use super::surface::{Faces, NearLists, NEAR_CAPACITY, NO_FEATURE};
 
 /// A triangulated mould with at most this many triangles is queried with parry's full query
 /// (its BVH is a few leaves; the lists cost more there; docs: performance log).
@@ -36,6 +36,10 @@ pub struct NodeGeometry {
     /// (the warm start of [`super::SurfaceMesh::project_cached`]; [`NO_FEATURE`] before the
     /// first, unused on other shapes).
     pub feature: u32,
+    /// On a triangulated mould, the faces the node is behind at a concave edge or vertex
+    /// (model §7.5, [`super::SurfaceMesh::concave_faces`]): when there are any, they are the
+    /// node's constraints instead of the closest feature's normal.
+    pub faces: Faces,
 }
 
 impl Default for NodeGeometry {
@@ -47,6 +51,7 @@ impl Default for NodeGeometry {
             point: [0.0; 3],
             normal: [0.0; 3],
             feature: NO_FEATURE,
+            faces: Faces::default(),
         }
     }
 }
@@ -189,7 +194,9 @@ impl MouldStep {
     /// on a triangulated mould of more than [`SMALL_SURFACE`] triangles from
     /// the node's list `near` of nearby triangles and its last triangle `feature`
     /// ([`super::SurfaceMesh::project_near`]: the cold query's result at about one triangle
-    /// projection), unless `cold`.
+    /// projection), unless `cold`. On a triangulated mould, also the faces the node is behind
+    /// at a concave edge or vertex ([`super::SurfaceMesh::concave_faces`], gaps within `tol`
+    /// taken as 0; none on other shapes).
     pub fn project(
         m: &Mould,
         pose: &Pose,
@@ -197,17 +204,26 @@ impl MouldStep {
         feature: &mut u32,
         near: (&mut NearLists, usize),
         cold: bool,
-    ) -> super::Projection {
+        tol: f64,
+    ) -> (super::Projection, Faces) {
         let x0 = pose.unplace(m.pivot(), x);
-        let pr = match &m.shape {
+        let (pr, faces) = match &m.shape {
             Shape::Surface(s) if !cold && s.mesh.num_triangles() > SMALL_SURFACE => {
-                s.project_near(x0, feature, near.0, near.1)
+                let pr = s.project_near(x0, feature, near.0, near.1);
+                let listed = Some((&*near.0, near.1));
+                (pr, s.concave_faces(x0, &pr, *feature, listed, tol))
             }
-            _ => m.project0(x0),
+            Shape::Surface(s) => {
+                let (pr, tri) = s.project_triangle(x0);
+                (pr, s.concave_faces(x0, &pr, tri, None, tol))
+            }
+            _ => (m.project0(x0), Faces::default()),
         };
-        super::Projection {
+        let turn = |n: [f64; 3]| mat_vec(&pose.rotation, n);
+        let placed = super::Projection {
             point: pose.place(m.pivot(), pr.point),
-            normal: mat_vec(&pose.rotation, pr.normal),
-        }
+            normal: turn(pr.normal),
+        };
+        (placed, faces.turned(turn))
     }
 }

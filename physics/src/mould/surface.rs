@@ -24,10 +24,12 @@
 //! for one that reaches around the rim behind it; a closed surface has no rim.
 
 mod check;
+mod faces;
 mod near;
 mod stl;
 
 pub use check::{check_surface, Topology, FOLD_TOLERANCE, WELD_TOLERANCE};
+pub use faces::{Faces, MAX_FACES};
 pub use near::{NearLists, NearStats, NEAR_CAPACITY, NEAR_REACH, NEAR_TOLERANCE};
 pub use stl::{read_stl, Triangles};
 
@@ -160,9 +162,14 @@ impl SurfaceMesh {
     /// Closest point p and the pseudo-normal n of its feature (face, edge or vertex), in the
     /// mould's frame at t = 0 (module docs of [`super`]): the full BVH query (best-first).
     pub fn project(&self, x: [f64; 3]) -> Projection {
+        self.project_triangle(x).0
+    }
+
+    /// [`SurfaceMesh::project`] and the triangle that holds the closest point.
+    pub fn project_triangle(&self, x: [f64; 3]) -> (Projection, u32) {
         let (proj, (tri, loc)) =
             (self.mesh).project_local_point_and_get_location(&Point::new(x[0], x[1], x[2]), false);
-        self.projection(proj.point, tri, loc)
+        (self.projection(proj.point, tri, loc), tri)
     }
 
     /// [`SurfaceMesh::project`] warm-started from the triangle `feature` found at the node's

@@ -13,6 +13,7 @@ use crate::kernels::{internal_and_gravity_impulses, Planes, PlanesPtr};
 use crate::mesh::dot;
 use crate::model::Model;
 use crate::mould::step::NodeGeometry;
+use crate::mould::surface::{Faces, MAX_FACES};
 use crate::team::SharedSlice;
 use std::ops::Range;
 
@@ -26,9 +27,10 @@ pub(super) use joint::check_constraint_count;
 pub(super) const NONE: u16 = u16::MAX;
 
 /// Contact constraints on one node kept for the ledger (a node on a cavity corner has a few):
-/// as many as the joint solve takes ([`joint::MAX_JOINT`], refused beyond at setup), so no
+/// as many as the joint solve takes (each of [`joint::MAX_JOINT`] entries, refused beyond at
+/// setup, with up to [`MAX_FACES`] faces of a concave edge or vertex, model §7.5), so no
 /// impulse that acted is left out of the ledger.
-const MAX_CONSTRAINTS: usize = joint::MAX_JOINT;
+const MAX_CONSTRAINTS: usize = joint::MAX_JOINT * MAX_FACES;
 
 /// Per boundary node: which interface entries, contact entries, traction entries and prescribed
 /// components act on it.
@@ -206,6 +208,8 @@ struct NodeImpulses {
     cohesion_from: [(usize, u32); MAX_CONSTRAINTS],
     cohesions: usize,
     contact: [[f64; 3]; MAX_CONSTRAINTS],
+    /// The normal each contact impulse acted along (its entry's, or a face's, model §7.5).
+    contact_normal: [[f64; 3]; MAX_CONSTRAINTS],
     contact_from: [(usize, u32, bool); MAX_CONSTRAINTS],
     contacts: usize,
 }
@@ -269,6 +273,22 @@ impl BoundaryStep<'_> {
             (j, false) => ms.contact.get(j as usize),
         };
         self.surface(k, geo)
+    }
+
+    /// The faces of a concave edge or vertex the entry `from` (interface node, or contact node
+    /// when the flag is false) is behind on mould `k` (model §7.5; none on a plain plane or
+    /// another shape).
+    #[inline]
+    fn faces_of(&self, k: usize, from: (u32, bool)) -> Faces {
+        let ms = &self.scratch.moulds;
+        if !self.general || ms.plane[k] {
+            return Faces::default();
+        }
+        let geo = match from {
+            (j, true) => ms.interface.get(j as usize),
+            (j, false) => ms.contact.get(j as usize),
+        };
+        geo.map_or_else(Faces::default, |g| g.faces)
     }
 
     /// External traction impulse of entry `e` over the step, P = h̄ a(tₙ₊₁) W t (a dead load on
@@ -360,7 +380,9 @@ impl BoundaryStep<'_> {
     /// v_N ≥ −g⁺/h_{n+3/2} ([`held_reach`], one definition for both paths). A node with at most
     /// one candidate gets the one-surface closed form ([`contact_impulse`]); a node with several
     /// gets them solved together ([`BoundaryStep::contact_together`], a held entry's surface
-    /// velocity shifted by −(g⁺/h_{n+3/2}) n, [`joint::Entry::constraint`]).
+    /// velocity shifted by −(g⁺/h_{n+3/2}) n, [`joint::Entry::constraint`]). An entry behind
+    /// the faces of a concave edge or vertex of a triangulated mould gives one candidate per
+    /// face (model §7.5).
     ///
     /// [`held_reach`]: crate::interface::contact::held_reach
     ///
@@ -388,6 +410,7 @@ impl BoundaryStep<'_> {
             let k = impulses.contacts;
             if k < MAX_CONSTRAINTS {
                 impulses.contact[k] = impulse;
+                impulses.contact_normal[k] = n;
                 impulses.contact_from[k] = (e.plane, e.from.0, e.from.1);
                 impulses.contacts += 1;
             }
@@ -438,7 +461,8 @@ impl BoundaryStep<'_> {
         // tangential) and on the mould's velocity at the contact point (external work).
         for c in 0..impulses.contacts {
             let (k, j, from_interface) = impulses.contact_from[c];
-            let (n, [v_old, v_new]) = self.surface_of(k, (j, from_interface));
+            let [v_old, v_new] = self.surface_of(k, (j, from_interface)).1;
+            let n = impulses.contact_normal[c];
             let p = impulses.contact[c];
             let pn = dot(p, n);
             let pt = [p[0] - pn * n[0], p[1] - pn * n[1], p[2] - pn * n[2]];

@@ -313,6 +313,16 @@ pub struct NearLists {
 }
 
 impl NearLists {
+    /// The triangles of list `j` (none before its first build, or when the lists are not
+    /// allocated).
+    pub fn listed(&self, j: usize) -> impl Iterator<Item = u32> + '_ {
+        let len = self.lists.get(j).map_or(0, |l| l.len as usize);
+        let start = j * NEAR_CAPACITY;
+        self.entries[start.min(self.entries.len())..(start + len).min(self.entries.len())]
+            .iter()
+            .map(|e| e.tri)
+    }
+
     /// Empty lists for `nodes` nodes (each built at its first query).
     pub fn new(nodes: usize) -> NearLists {
         NearLists {

@@ -8,6 +8,7 @@
 use super::{BoundaryNode, BoundaryStep, BoundarySums, NodeImpulses, MAX_CONSTRAINTS};
 use crate::interface::contact::ContactStatus;
 use crate::interface::contact::{contact_impulses, held_reach, Constraint};
+use crate::mould::surface::MAX_FACES;
 use crate::solver::state::{ContactNode, InterfaceNode};
 use crate::team::SharedSlice;
 
@@ -44,6 +45,9 @@ pub(super) struct Entry {
     pub area: f64,
     /// Closed (stick or slip) at the previous step.
     pub held: bool,
+    /// The faces of a triangulated mould the node is behind at a concave edge or vertex
+    /// (model §7.5; 0, or 2 to [`MAX_FACES`]): its constraints instead of the one of its gap.
+    pub faces: u8,
 }
 
 impl Entry {
@@ -52,6 +56,16 @@ impl Entry {
     /// at gₙ₊₁ ≤ 0); `None`: not a candidate of stage 7.
     pub(super) fn reach(&self, h_next: f64) -> Option<f64> {
         held_reach(self.gap, self.held.then_some(h_next))
+    }
+
+    /// How many constraints the entry gives stage 7: its faces at a concave edge or vertex
+    /// (each behind its plane: a candidate with reach 0), else one when it is a candidate
+    /// ([`Entry::reach`]), else none.
+    pub(super) fn candidates(&self, h_next: f64) -> usize {
+        match self.faces {
+            0 => usize::from(self.reach(h_next).is_some()),
+            f => f as usize,
+        }
     }
 
     /// The entry as a constraint of the joint solve, n·(V − v_surface) ≥ 0, on the mould of
@@ -100,6 +114,7 @@ impl BoundaryStep<'_> {
                 },
                 area: itf.area,
                 held: itf.contact != ContactStatus::Open,
+                faces: self.faces_of(spec.plane, (j as u32, true)).len,
             }
         });
         let contact = b.contacts.clone().map(move |e| {
@@ -112,13 +127,14 @@ impl BoundaryStep<'_> {
                 mu: cn.mu,
                 area: cn.area,
                 held: cn.contact != ContactStatus::Open,
+                faces: self.faces_of(cn.plane as usize, (j as u32, false)).len,
             }
         });
         glued.chain(contact)
     }
 
-    /// Whether node `b` has two or more candidate constraints ([`Entry::reach`]: gₙ₊₁ ≤ 0,
-    /// or held from the previous step).
+    /// Whether node `b` has two or more candidate constraints ([`Entry::candidates`]: gₙ₊₁ ≤ 0,
+    /// held from the previous step, or the faces of a concave edge or vertex).
     ///
     /// # Safety
     /// As [`BoundaryStep::entries`].
@@ -128,16 +144,26 @@ impl BoundaryStep<'_> {
         itfs: SharedSlice<InterfaceNode>,
         cns: SharedSlice<ContactNode>,
     ) -> bool {
-        b.interfaces.len() + b.contacts.len() > 1
+        let entries = b.interfaces.len() + b.contacts.len();
+        (entries > 1 || (entries == 1 && self.general))
             && (self.entries(b, itfs, cns))
-                .filter(|e| e.reach(self.h_next).is_some())
-                .count()
+                .map(|e| e.candidates(self.h_next))
+                .sum::<usize>()
                 > 1
     }
 
     /// Stage 7 on node `b` with its active constraints together ([`contact_impulses`] on the
     /// `free` components): each entry gets its impulse per area W R_c/W and status (open ones
     /// zero), the ledger its impulses, `sums` the solve's counts.
+    ///
+    /// An entry behind faces of a triangulated mould at a concave edge or vertex gives one
+    /// constraint per face, n_T·(V − v̄(p)) ≥ 0 (model §7.5), else its one constraint
+    /// ([`Entry::constraint`]). **Identical constraints** (the same normal and surface velocity,
+    /// bit for bit: two entries of one node on one mould, e.g. two face sets glued to it) are
+    /// one constraint of the solve, with μ̄ = Σᵢ Wᵢμᵢ / Σᵢ Wᵢ over its entries (model §3.7): its
+    /// impulse p = λ n_F + r_T is shared as pᵢ = (Wᵢ/ΣW) λ n_F + (Wᵢμᵢ/ΣWμ) r_T (by area when
+    /// every μᵢ is 0), so each share is in its own cone, |rᵢ| ≤ μᵢλᵢ, and their sum is p. Solved
+    /// as two, the first would take the whole impulse with its own μ.
     ///
     /// # Safety
     /// No other thread may touch the interface and contact entries of `b`.
@@ -152,33 +178,97 @@ impl BoundaryStep<'_> {
         impulses: &mut NodeImpulses,
         sums: &mut BoundarySums,
     ) {
+        const RAW: usize = MAX_JOINT * MAX_FACES;
         let m = self.mass[b.node as usize];
         let none = Constraint {
             normal: [0.0; 3],
             v_surface: [0.0; 3],
             mu: 0.0,
         };
-        let (mut active, mut cs, mut k) = ([None; MAX_JOINT], [none; MAX_JOINT], 0);
+        // The entries' constraints (`of`: the entry each comes from, an index into `active`).
+        let (mut active, mut n_active) = ([None; MAX_JOINT], 0);
+        let (mut raw, mut of, mut k_raw) = ([none; RAW], [0usize; RAW], 0);
         for e in self.entries(b, itfs, cns) {
             let Some(reach) = e.reach(self.h_next) else {
                 put(itfs, cns, e.from, [0.0; 3], ContactStatus::Open);
                 continue;
             };
             let (n, vm) = self.surface_of(e.plane, e.from);
-            (active[k], cs[k]) = (Some(e), e.constraint(n, vm[1], reach));
-            k += 1;
+            if e.faces == 0 {
+                (raw[k_raw], of[k_raw]) = (e.constraint(n, vm[1], reach), n_active);
+                k_raw += 1;
+            } else {
+                let faces = self.faces_of(e.plane, e.from);
+                for nf in &faces.normal[..faces.len as usize] {
+                    (raw[k_raw], of[k_raw]) = (e.constraint(*nf, vm[1], 0.0), n_active);
+                    k_raw += 1;
+                }
+            }
+            active[n_active] = Some(e);
+            n_active += 1;
         }
-        let (mut p, mut st) = ([[0.0; 3]; MAX_JOINT], [ContactStatus::Open; MAX_JOINT]);
+        // One constraint of the solve per distinct constraint (`group`), with the areas W and
+        // the sums of Wμ of the entries that share it.
+        let (mut cs, mut group, mut k) = ([none; RAW], [0usize; RAW], 0);
+        let (mut shared, mut w, mut wmu) = ([0u8; RAW], [0.0; RAW], [0.0; RAW]);
+        for i in 0..k_raw {
+            let (c, e) = (raw[i], active[of[i]].expect("an active entry"));
+            let bits = |c: &Constraint| (c.normal.map(f64::to_bits), c.v_surface.map(f64::to_bits));
+            let u = match (0..k).find(|&u| bits(&cs[u]) == bits(&c)) {
+                Some(u) => u,
+                None => {
+                    (cs[k], shared[k], w[k], wmu[k]) = (c, 0, 0.0, 0.0);
+                    k += 1;
+                    k - 1
+                }
+            };
+            group[i] = u;
+            shared[u] += 1;
+            w[u] += e.area;
+            wmu[u] += e.area * c.mu;
+        }
+        for u in (0..k).filter(|&u| shared[u] > 1) {
+            cs[u].mu = wmu[u] / w[u];
+        }
+        let (mut p, mut st) = ([[0.0; 3]; RAW], [ContactStatus::Open; RAW]);
         let solve = contact_impulses(v, &cs[..k], m, free, &mut p[..k], &mut st[..k]);
-        for (i, e) in active[..k].iter().flatten().enumerate() {
-            let per_area = p[i].map(|c| c / e.area.max(f64::MIN_POSITIVE));
-            put(itfs, cns, e.from, per_area, st[i]);
+        // Each constraint's share, booked in the ledger and summed per entry.
+        let (mut sum, mut status, mut parts) = (
+            [[0.0; 3]; MAX_JOINT],
+            [ContactStatus::Open; MAX_JOINT],
+            [0u8; MAX_JOINT],
+        );
+        for i in 0..k_raw {
+            let (u, a) = (group[i], of[i]);
+            let e = active[a].expect("an active entry");
+            let pi = if shared[u] == 1 {
+                p[u]
+            } else {
+                let by_area = e.area / w[u];
+                let by_mu = match wmu[u] > 0.0 {
+                    true => e.area * raw[i].mu / wmu[u],
+                    false => by_area,
+                };
+                share(p[u], cs[u].normal, free, by_area, by_mu)
+            };
+            let before = sum[a];
+            sum[a] = match parts[a] {
+                0 => pi,
+                _ => std::array::from_fn(|c| before[c] + pi[c]),
+            };
+            parts[a] += 1;
+            status[a] = stronger(status[a], st[u]);
             let c = impulses.contacts;
             if c < MAX_CONSTRAINTS {
-                impulses.contact[c] = p[i];
+                impulses.contact[c] = pi;
+                impulses.contact_normal[c] = raw[i].normal;
                 impulses.contact_from[c] = (e.plane, e.from.0, e.from.1);
                 impulses.contacts += 1;
             }
+        }
+        for (a, e) in active[..n_active].iter().flatten().enumerate() {
+            let per_area = sum[a].map(|c| c / e.area.max(f64::MIN_POSITIVE));
+            put(itfs, cns, e.from, per_area, status[a]);
         }
         let j = &mut sums.joint;
         j.nodes += 1;
@@ -189,6 +279,34 @@ impl BoundaryStep<'_> {
             j.worst_change = j.worst_change.max(solve.change);
             j.worst_approach = j.worst_approach.max(solve.approach);
         }
+    }
+}
+
+/// The share of an impulse p = λ n_F + r_T of one constraint of normal `n` (n_F its part on the
+/// `free` components, r_T ⊥ n, so λ = p·n/|n_F|²) that an entry takes: `normal` of λ n_F and
+/// `tangential` of r_T ([`BoundaryStep::contact_together`]).
+fn share(p: [f64; 3], n: [f64; 3], free: [bool; 3], normal: f64, tangential: f64) -> [f64; 3] {
+    let n_f: [f64; 3] = std::array::from_fn(|c| if free[c] { n[c] } else { 0.0 });
+    let nf2: f64 = n_f.iter().map(|c| c * c).sum();
+    let lambda = if nf2 > 1e-12 {
+        p.iter().zip(&n).map(|(a, b)| a * b).sum::<f64>() / nf2
+    } else {
+        0.0
+    };
+    std::array::from_fn(|c| {
+        let q = lambda * n_f[c];
+        normal * q + tangential * (p[c] - q)
+    })
+}
+
+/// The status of an entry with several constraints: slipping on any, else sticking on any,
+/// else open.
+fn stronger(a: ContactStatus, b: ContactStatus) -> ContactStatus {
+    use ContactStatus::{Open, Slip, Stick};
+    match (a, b) {
+        (Slip, _) | (_, Slip) => Slip,
+        (Stick, _) | (_, Stick) => Stick,
+        _ => Open,
     }
 }
 
@@ -228,6 +346,7 @@ mod tests {
             mu: 0.0,
             area: 1.0,
             held,
+            faces: 0,
         }
     }
 

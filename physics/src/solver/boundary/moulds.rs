@@ -43,7 +43,8 @@ impl Simulation {
     /// anchor y(t) = c + R(y₀ − c₀) (a material point of the mould), [u] = x − y(t) and the glue
     /// normal R N₀; for every node on such a mould, the closest point p, the outward normal n
     /// there and the gap g = n·(x − p) (snapped to 0 within the round-off of positions, as for
-    /// planes).
+    /// planes); on a triangulated mould, the faces a node inside the mould is behind at a
+    /// concave edge or vertex (model §7.5), its constraints in stage 7.
     pub(in crate::solver) fn mould_gaps(&mut self) {
         if !self.scratch.moulds.any_general() {
             return;
@@ -69,8 +70,9 @@ impl Simulation {
             geo.glue_normal = crate::mould::motion::mat_vec(&pose.rotation, geo.normal0);
             itf.jump = sub(x, geo.anchor);
             let near = (&mut ms.near_interface, j);
-            let pr = MouldStep::project(m, &pose, x, &mut geo.feature, near, ms.cold);
-            (geo.point, geo.normal) = (pr.point, pr.normal);
+            let (pr, faces) =
+                MouldStep::project(m, &pose, x, &mut geo.feature, near, ms.cold, tol[k]);
+            (geo.point, geo.normal, geo.faces) = (pr.point, pr.normal, faces);
             itf.gap = snap(dot(pr.normal, sub(x, pr.point)), tol[k]);
             ms.interface[j] = geo;
         }
@@ -82,8 +84,9 @@ impl Simulation {
             let x = place(cn.node as usize);
             let (pose, cold) = (ms.pose_at(k, t), ms.cold);
             let (geo, near) = (&mut ms.contact[j], (&mut ms.near_contact, j));
-            let pr = MouldStep::project(&planes[k], &pose, x, &mut geo.feature, near, cold);
-            (geo.point, geo.normal) = (pr.point, pr.normal);
+            let (pr, faces) =
+                MouldStep::project(&planes[k], &pose, x, &mut geo.feature, near, cold, tol[k]);
+            (geo.point, geo.normal, geo.faces) = (pr.point, pr.normal, faces);
             cn.gap = snap(dot(pr.normal, sub(x, pr.point)), tol[k]);
         }
     }
