@@ -125,8 +125,11 @@ impl Snapshot {
 /// on each mould over the last step of length h, from the impulses that mould gave the
 /// body's nodes: the glue's −h̄ W R_d at a glued node's anchor x − [u] (the force on the
 /// mould is W R_d) and the contact's W R_c at the node (the force on the mould is −W R_c/h),
-/// F = Σ f, M = Σ (p − c) × f. The same sums as the ledger's per-mould work (force · velocity
-/// at these points) and as the roller-peel test's load; zero before the first step.
+/// F = Σ f, M = Σ (p − c) × f. Anisotropic glue's force acts on the mould at the node x
+/// instead, which adds the couple [u] × W R_d that does the glue's torque work (model §5.5,
+/// §7.6; for isotropic glue R_d is along [u] and the couple is 0, not evaluated). The same sums
+/// as the ledger's per-mould work (force · velocity at these points, couple times ω) and as
+/// the roller-peel test's load; zero before the first step.
 pub fn mould_loads(sim: &Simulation) -> Vec<([f64; 3], [f64; 3])> {
     let n = sim.model.planes.len();
     let mut loads = vec![([0.0; 3], [0.0; 3]); n];
@@ -163,8 +166,13 @@ pub fn mould_loads(sim: &Simulation) -> Vec<([f64; 3], [f64; 3])> {
     for itf in &sim.interface_nodes {
         let k = sim.model.interfaces[itf.interface as usize].plane;
         let xn = x(itf.node);
-        let anchor: [f64; 3] = std::array::from_fn(|i| xn[i] - itf.jump[i]);
-        add(k, anchor, itf.cohesive_traction.map(|r| r * itf.area));
+        let law = &sim.model.interfaces[itf.interface as usize].law;
+        let glue_at = if law.loading().isotropic() {
+            std::array::from_fn(|i| xn[i] - itf.jump[i]) // the anchor
+        } else {
+            xn
+        };
+        add(k, glue_at, itf.cohesive_traction.map(|r| r * itf.area));
         add(k, xn, itf.contact_impulse.map(|r| -r * itf.area / sim.h));
     }
     for cn in &sim.contact_nodes {

@@ -17,7 +17,7 @@ pub const MAX_FACES: usize = 3;
 /// each face's outward unit normal n_T and the node's gap g_T = n_T·(x − p) from its plane
 /// (≤ 0, snapped as every gap), `len` of them, one per distinct plane; `len` is 0 when the node
 /// keeps its one closest-feature constraint (never 1).
-#[derive(Debug, Clone, Copy, Default)]
+#[derive(Debug, Clone, Copy, Default, serde::Serialize, serde::Deserialize)]
 pub struct Faces {
     pub len: u8,
     pub normal: [[f64; 3]; MAX_FACES],
