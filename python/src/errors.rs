@@ -35,13 +35,18 @@ pyo3::create_exception!(
 pub fn scene_error(e: SceneError) -> PyErr {
     let message = with_sources(&e);
     match e {
-        SceneError::Io { source, .. } => match source.kind() {
-            ErrorKind::NotFound => PyFileNotFoundError::new_err(message),
-            ErrorKind::PermissionDenied => PyPermissionError::new_err(message),
-            ErrorKind::IsADirectory => PyIsADirectoryError::new_err(message),
-            _ => PyOSError::new_err(message),
-        },
+        SceneError::Io { source, .. } => io_error(&source, message),
         _ => PyValueError::new_err(message),
+    }
+}
+
+/// The `OSError` subclass of an I/O error's kind, with `message`.
+fn io_error(source: &std::io::Error, message: String) -> PyErr {
+    match source.kind() {
+        ErrorKind::NotFound => PyFileNotFoundError::new_err(message),
+        ErrorKind::PermissionDenied => PyPermissionError::new_err(message),
+        ErrorKind::IsADirectory => PyIsADirectoryError::new_err(message),
+        _ => PyOSError::new_err(message),
     }
 }
 
@@ -51,12 +56,7 @@ pub fn scene_error(e: SceneError) -> PyErr {
 pub fn checkpoint_error(e: CheckpointError) -> PyErr {
     let message = with_sources(&e);
     match e {
-        CheckpointError::Io { source, .. } => match source.kind() {
-            ErrorKind::NotFound => PyFileNotFoundError::new_err(message),
-            ErrorKind::PermissionDenied => PyPermissionError::new_err(message),
-            ErrorKind::IsADirectory => PyIsADirectoryError::new_err(message),
-            _ => PyOSError::new_err(message),
-        },
+        CheckpointError::Io { source, .. } => io_error(&source, message),
         _ => PyValueError::new_err(message),
     }
 }

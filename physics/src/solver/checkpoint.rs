@@ -8,9 +8,9 @@
 //! from the model (masses, element classes and blocks, the boundary's lists, the stable-step
 //! operator's constants) is not written: [`Simulation::restore`] writes the state into a
 //! simulation freshly set up from the same model, which has them already. The fields of
-//! [`Simulation`] are listed without `..` in [`Simulation::checkpoint`] and
-//! [`Simulation::restore`], so a field added to it does not compile until it is placed on one
-//! side or the other.
+//! [`Simulation`] are listed without `..` in [`Simulation::checkpoint`], and those of the state
+//! in [`Simulation::restore`], so a field added to either does not compile until it is written
+//! or declared the set-up's, and restored.
 //!
 //! The bytes: a magic line, a header (format, the model's name, sizes and fingerprint, n and
 //! tₙ, the payload's length and CRC-32) with its own CRC-32, then the payload in postcard
@@ -290,24 +290,8 @@ impl Simulation {
                 "it has {found} {name} where the model has {expected}"
             )));
         }
-        let Simulation {
-            model: _,
-            classes: _,
-            blocks: _,
-            team: _,
-            prefetch: _,
-            mass: _,
-            inv_mass: _,
-            class_density: _,
-            added_mass: _,
-            mass_scaling: _,
-            energy_floor: _,
-            coordinate_scale: _,
-            start_offsets: _,
-            parts_elements: _,
-            parts_nodes: _,
-            parts_boundary: _,
-            parts_reactions: _,
+        // Every field of the state, named: a field added to `State` must be restored here.
+        let State {
             u,
             v,
             f_int,
@@ -331,35 +315,28 @@ impl Simulation {
             kinetic_half,
             energy_budget,
             last_external_work,
-            fingerprint: _,
-        } = self;
-        *u = state.u.into_owned();
-        *v = state.v.into_owned();
-        *f_int = state.f_int.into_owned();
-        *interface_nodes = state.interface_nodes.into_owned();
-        *contact_nodes = state.contact_nodes.into_owned();
-        *boundary = state.boundary.into_owned();
-        *scratch = state.scratch.into_owned();
-        *bulk_viscosity = state.bulk_viscosity.into_owned();
-        *time = state.time;
-        *step_count = state.step_count;
-        *h = state.h;
-        *h_crit = state.h_crit;
-        *ledger = state.ledger.into_owned();
-        *stats = state.stats.into_owned();
-        *min_jacobian = state.min_jacobian;
-        *stress_jacobian = state.stress_jacobian;
-        *ritz_vector = state.ritz_vector.into_owned();
-        *h_crit_bulk = state.h_crit_bulk;
-        *jacobian_at_estimate = state.jacobian_at_estimate;
+        } = state;
+        self.u = u.into_owned();
+        self.v = v.into_owned();
+        self.f_int = f_int.into_owned();
+        self.interface_nodes = interface_nodes.into_owned();
+        self.contact_nodes = contact_nodes.into_owned();
+        self.boundary = boundary.into_owned();
+        self.scratch = scratch.into_owned();
+        self.bulk_viscosity = bulk_viscosity.into_owned();
+        (self.time, self.step_count, self.h, self.h_crit) = (time, step_count, h, h_crit);
+        self.ledger = ledger.into_owned();
+        self.stats = stats.into_owned();
+        (self.min_jacobian, self.stress_jacobian) = (min_jacobian, stress_jacobian);
+        self.ritz_vector = ritz_vector.into_owned();
+        (self.h_crit_bulk, self.jacobian_at_estimate) = (h_crit_bulk, jacobian_at_estimate);
         // The stable-step operator's constants and buffers are this simulation's own.
-        let mut control = state.step_control.into_owned();
-        control.estimates = std::mem::take(&mut step_control.estimates);
-        control.bound = std::mem::take(&mut step_control.bound);
-        *step_control = control;
-        *kinetic_half = state.kinetic_half;
-        *energy_budget = state.energy_budget;
-        *last_external_work = state.last_external_work;
+        let mut control = step_control.into_owned();
+        control.estimates = std::mem::take(&mut self.step_control.estimates);
+        control.bound = std::mem::take(&mut self.step_control.bound);
+        self.step_control = control;
+        self.kinetic_half = kinetic_half;
+        (self.energy_budget, self.last_external_work) = (energy_budget, last_external_work);
         Ok(header)
     }
 
