@@ -414,13 +414,15 @@ pub fn write_atomically(path: &Path, bytes: &[u8]) -> Result<(), CheckpointError
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_default();
     let tmp = path.with_file_name(format!(".{name}.tmp-{}", std::process::id()));
-    let mut file = std::fs::File::create(&tmp).map_err(io(&tmp))?;
-    let written = file.write_all(bytes).and_then(|_| file.sync_all());
-    if let Err(e) = written {
-        let _ = std::fs::remove_file(&tmp);
-        return Err(io(&tmp)(e));
+    // The file is closed at the end of the block, before the rename.
+    {
+        let mut file = std::fs::File::create(&tmp).map_err(io(&tmp))?;
+        let written = file.write_all(bytes).and_then(|_| file.sync_all());
+        if let Err(e) = written {
+            let _ = std::fs::remove_file(&tmp);
+            return Err(io(&tmp)(e));
+        }
     }
-    drop(file);
     std::fs::rename(&tmp, path).map_err(io(path))?;
     #[cfg(unix)]
     if let Some(dir) = path.parent() {
