@@ -38,6 +38,8 @@ pub mod fit;
 /// package).
 #[cfg(feature = "gui")]
 pub mod gui;
+/// A measured curve (CSV with units) read and checked: what `fit` fits and the explorer overlays.
+pub mod measured;
 /// What the outputs share: frame cadence, snapshot, per-element fields, writer threads, and the
 /// time series of the scalars (on wasm32 without the outputs themselves: the explorer's view
 /// may read the fields).

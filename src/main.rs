@@ -115,6 +115,11 @@ enum Command {
         /// validation as the file; repeat for several).
         #[arg(long = "set", value_name = "KEY=VALUE", conflicts_with = "lesson")]
         set: Vec<String>,
+        /// A measured curve to draw over the compared runs' reaction and fit the law to: a CSV
+        /// file of two columns with their units in the header, e.g. `u [mm], F [kN]` (as fit
+        /// --data reads it).
+        #[arg(long, value_name = "CURVE.csv")]
+        data: Option<PathBuf>,
     },
     /// Run a grid of variants of one scene (every combination of the --vary values) and write
     /// every run's summary as CSV and JSON (and a Rerun plot of the observables with --save).
@@ -539,12 +544,14 @@ fn main() {
             lesson,
             step,
             set,
+            data,
         } => {
             use decohesion::gui::RecordChoice;
             let opening = decohesion::gui::Opening {
                 lesson,
                 step: step.unwrap_or(1),
                 set,
+                data: data.map(|p| p.display().to_string()),
             };
             let record = record.map(|r| match r.as_str() {
                 "file" => RecordChoice::File,

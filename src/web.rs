@@ -79,6 +79,7 @@ fn url_parameters() -> Result<(Option<String>, bool, Opening), String> {
             .iter()
             .filter_map(|v| v.as_string())
             .collect(),
+        data: None,
     };
     Ok((scene, run, opening))
 }

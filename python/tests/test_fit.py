@@ -82,3 +82,36 @@ def test_a_bad_curve_names_its_file_and_line(tmp_path):
         decohesion.fit(scene("pull_off"), data, "u_z_plus_z", "F_z_plus_z",
                        free={"interface.law.u_r": (2.5e-3, 1e-2)})
     assert "bad.csv, line 4" in str(e.value) and "must increase strictly" in str(e.value)
+
+
+def test_ctrl_c_returns_the_best_so_far(tmp_path):
+    # A fit that would make 10⁵ runs of a 10³ pull-off, interrupted (as Ctrl-C does) once runs
+    # have ended: the fit stops after the run in progress and returns its best run, with
+    # stop = "cancelled", no σ (the uncertainty's runs are not made) and a warning that names
+    # the interrupt.
+    import _thread
+    import signal
+    import threading
+
+    data = pull_off_curve(tmp_path, 4e-3)
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    timer = threading.Timer(1.5, _thread.interrupt_main)
+    try:
+        timer.start()
+        with pytest.warns(UserWarning, match="fit interrupted") as warned:
+            r = decohesion.fit(
+                scene("pull_off"), data, "u_z_plus_z", "F_z_plus_z",
+                free={"interface.law.u_r": (2.5e-3, 1e-2)},
+                overrides={"mesh.cells": [10, 10, 10]},
+                max_evals=100_000, tolerance=0.0, threads=1,
+            )
+    finally:
+        timer.join()
+        signal.signal(signal.SIGINT, previous)
+    assert r["stop"] == "cancelled"
+    assert 1 <= r["evaluations"] < 100_000
+    assert "KeyboardInterrupt" in str(warned[0].message)
+    (p,) = r["parameters"]
+    assert p["sigma"] is None
+    assert 2.5e-3 <= p["value"] <= 1e-2
+    assert r["fitted"]["rms_relative"] <= r["initial"]["rms_relative"]

@@ -23,13 +23,15 @@
 //! which holds when the residuals are independent noise of one variance; a key whose column
 //! of J vanishes is not identified by the curve (σ = ∞, reported as none).
 
-pub mod data;
 pub mod free;
 pub mod outputs;
 pub mod plot;
 pub mod problem;
 pub mod scene_file;
 mod search;
+
+/// The measured curve (a module of its own: the explorer's page reads one too).
+pub use crate::measured as data;
 
 use anyhow::{bail, Context, Result};
 use data::{Curve, Unit};
@@ -51,6 +53,9 @@ use crate::solver::Simulation;
 #[derive(Debug, Clone)]
 pub struct FitArgs {
     pub scene: PathBuf,
+    /// The scene's text, when it is not the file's (the explorer's edited scene); `scene` still
+    /// names it in messages and is where the files it names are read from.
+    pub scene_text: Option<String>,
     /// `--set` overrides applied first (they set the start of a free key too).
     pub set: Vec<String>,
     pub data: PathBuf,
@@ -81,6 +86,7 @@ impl FitArgs {
     pub fn new(scene: &Path, data: &Path, x: &str, y: &str, free: &[String]) -> FitArgs {
         FitArgs {
             scene: scene.to_path_buf(),
+            scene_text: None,
             set: Vec::new(),
             data: data.to_path_buf(),
             x: x.to_string(),
@@ -156,7 +162,13 @@ pub fn prepare(args: &FitArgs) -> Result<Prepared> {
         (n + 2).max(5),
         "more points than free keys for the uncertainty, and 5 to make a curve",
     )?;
-    let scene = SceneText::read(&args.scene)?;
+    let scene = match &args.scene_text {
+        Some(text) => SceneText {
+            file: args.scene.display().to_string(),
+            text: text.clone(),
+        },
+        None => SceneText::read(&args.scene)?,
+    };
     let base = scene.load(&args.set)?;
     let sim = Simulation::new(base.model.clone())
         .with_context(|| format!("{}: the scene cannot be set up", args.scene.display()))?;

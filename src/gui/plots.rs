@@ -8,7 +8,7 @@ use super::lesson::PlotName;
 use super::App;
 use crate::solver::StateCounts;
 use egui::Color32;
-use egui_plot::{uniform_grid_spacer, GridInput, Legend, Line, LineStyle, Plot, VLine};
+use egui_plot::{uniform_grid_spacer, GridInput, Legend, Line, LineStyle, Plot, Points, VLine};
 
 /// The smallest of 1, 2, 5 × 10^k that is ≥ `x` (> 0).
 fn step_125(x: f64) -> f64 {
@@ -217,6 +217,11 @@ impl App {
     /// α against time; one legend entry per run (its parameters that differ between the runs).
     pub(super) fn compare_plots_ui(&mut self, ui: &mut egui::Ui) {
         let runs = self.compared();
+        let measured = self.measured.as_ref().map(|m| m.si.clone());
+        let measured_name = self
+            .measured
+            .as_ref()
+            .map_or(String::new(), |m| m.curve.file.clone());
         ui.label(format!(
             "{} runs compared (tick or untick them in the history)",
             runs.len()
@@ -262,7 +267,18 @@ impl App {
                 "compare_reaction",
                 "U [mm]",
                 w,
-                |p| overlay(p, &|q| [1e3 * q.displacement, 1e-3 * q.reaction]),
+                |p| {
+                    overlay(p, &|q| [1e3 * q.displacement, 1e-3 * q.reaction]);
+                    if let Some(Ok(points)) = &measured {
+                        let points: Vec<[f64; 2]> =
+                            points.iter().map(|[x, y]| [1e3 * x, 1e-3 * y]).collect();
+                        p.points(
+                            Points::new(format!("measured ({})", measured_name), points)
+                                .radius(2.5)
+                                .color(Color32::from_gray(60)),
+                        );
+                    }
+                },
             );
             titled_plot(
                 ui,

@@ -42,6 +42,7 @@ impl App {
         if self.repaint.is_none() {
             self.repaint = Some(repaint_handle(ui.ctx()));
         }
+        self.take_dropped_files(ui.ctx());
         let running = self.poll();
         if running || self.settle > 0 {
             self.settle = self.settle.saturating_sub(1);
@@ -72,7 +73,9 @@ impl App {
         egui::CentralPanel::default().show(ui, |ui| {
             egui::ScrollArea::vertical().show(ui, |ui| {
                 self.run_ui(ui);
-                if !self.compare.is_empty() {
+                ui.separator();
+                self.measured_ui(ui);
+                if !self.compare.is_empty() || self.measured.is_some() {
                     ui.separator();
                     self.compare_plots_ui(ui);
                 }

@@ -48,6 +48,12 @@ pub fn name_part(s: &str) -> String {
     out
 }
 
+/// The name of a prescribed condition's columns (`u_<name> [m]`, `F_<name> [N]`):
+/// `<faces>_<axis>`, the Rerun entity's name.
+pub fn condition_name(faces: &str, component: usize) -> String {
+    format!("{}_{}", name_part(faces), AXES[component.min(2)])
+}
+
 /// The columns of a series of one simulation: their names with units, e.g. `t [s]`, and which
 /// hold whole numbers (the step, the counts).
 #[derive(Debug, Clone, PartialEq)]
@@ -78,7 +84,7 @@ impl Columns {
         let mut names: Vec<String> = vec!["t [s]".into(), "step [-]".into(), "h [s]".into()];
         let mut integer = vec![false, true, false];
         for d in &m.displacements {
-            let name = format!("{}_{}", name_part(&d.faces), AXES[d.component.min(2)]);
+            let name = condition_name(&d.faces, d.component);
             names.push(format!("u_{name} [m]"));
             names.push(format!("F_{name} [N]"));
             integer.extend([false; 2]);

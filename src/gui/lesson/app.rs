@@ -20,6 +20,10 @@ impl crate::gui::App {
         if let Err(e) = &r {
             self.notes.push(e.clone());
         }
+        #[cfg(not(target_arch = "wasm32"))]
+        if let Some(path) = &o.data {
+            self.load_measured(path);
+        }
         r
     }
 

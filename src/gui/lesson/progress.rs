@@ -76,11 +76,19 @@ pub struct Opening {
     pub step: usize,
     /// Scene overrides (`key.path=value`) on the opened scene.
     pub set: Vec<String>,
+    /// A measured curve (CSV file) to draw over the compared runs and fit (`gui --data`).
+    pub data: Option<String>,
 }
 
 /// Checks an opening before the window opens (`gui --lesson`, `--step`, `--set`): the lesson
 /// loads and has the step, or the overrides load `scene` (the default scene without one).
 pub fn check_opening(scene: Option<&str>, o: &Opening) -> Result<(), String> {
+    #[cfg(not(target_arch = "wasm32"))]
+    if let Some(path) = &o.data {
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| format!("--data {path}: cannot read the measured curve: {e}"))?;
+        crate::gui::state::Measured::parse(&text, path, None)?;
+    }
     if let Some(name) = &o.lesson {
         let lesson = find(name)?;
         step_index(&lesson, o.step.max(1))?;

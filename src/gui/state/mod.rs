@@ -4,12 +4,16 @@
 //! drive it without egui.
 
 mod compare;
+mod measured;
 mod run;
 mod save;
 #[cfg(test)]
 mod tests;
 
 pub use compare::{check_compare, variant_key, VARIANT_KEYS};
+pub use measured::Measured;
+#[cfg(not(target_arch = "wasm32"))]
+pub use measured::{FitOutcome, FitPanel, FreeKey};
 
 use super::history::RunCurve;
 use super::job::{Job, Repaint};
@@ -78,6 +82,17 @@ pub struct App {
     pub in_page: bool,
     /// The open lesson, if any ([`super::lesson`]).
     pub lesson: Option<super::lesson::LessonState>,
+    /// The measured curve drawn over the compared runs ([`measured`]).
+    pub measured: Option<Measured>,
+    /// The fit of the edited law to it (native).
+    #[cfg(not(target_arch = "wasm32"))]
+    pub fit: FitPanel,
+    /// The path field of the measured curve (native).
+    #[cfg(not(target_arch = "wasm32"))]
+    pub measured_path: String,
+    /// Files dropped on the page, read by the browser.
+    #[cfg(target_arch = "wasm32")]
+    pub(super) dropped: super::fit_view::Inbox,
 }
 
 /// What the current settings give, shown before a run.
@@ -129,6 +144,13 @@ impl App {
             view: Default::default(),
             in_page: cfg!(target_arch = "wasm32"),
             lesson: None,
+            measured: None,
+            #[cfg(not(target_arch = "wasm32"))]
+            fit: FitPanel::default(),
+            #[cfg(not(target_arch = "wasm32"))]
+            measured_path: String::new(),
+            #[cfg(target_arch = "wasm32")]
+            dropped: Default::default(),
         }
     }
 
