@@ -120,6 +120,13 @@ enum Command {
         /// --data reads it).
         #[arg(long, value_name = "CURVE.csv")]
         data: Option<PathBuf>,
+        /// Hide panels, e.g. --hide history,law: settings, history, view (3-D), law (the law's
+        /// plots), progress (the run's plots), measured (the measured curve and fit).
+        #[arg(long, value_name = "PANEL,...")]
+        hide: Vec<String>,
+        /// Projector mode: larger type and thicker plot lines.
+        #[arg(long)]
+        projector: bool,
     },
     /// Run a grid of variants of one scene (every combination of the --vary values) and write
     /// every run's summary as CSV and JSON (and a Rerun plot of the observables with --save).
@@ -545,6 +552,8 @@ fn main() {
             step,
             set,
             data,
+            hide,
+            projector,
         } => {
             use decohesion::gui::RecordChoice;
             let opening = decohesion::gui::Opening {
@@ -552,6 +561,8 @@ fn main() {
                 step: step.unwrap_or(1),
                 set,
                 data: data.map(|p| p.display().to_string()),
+                hide,
+                projector,
             };
             let record = record.map(|r| match r.as_str() {
                 "file" => RecordChoice::File,

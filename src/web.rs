@@ -54,7 +54,8 @@ async fn run() -> Result<(), String> {
 }
 
 /// `scene=NAME` as `scenes/NAME.toml` (a path is taken as it is), `run=1`, and the lesson
-/// (`lesson=NAME`, `step=N`) or the overrides (`set=key.path=value`, repeated) of the page's URL.
+/// (`lesson=NAME`, `step=N`) or the overrides (`set=key.path=value`, repeated), the panels hidden
+/// (`hide=history,law`) and the projector mode (`projector=1`) of the page's URL.
 fn url_parameters() -> Result<(Option<String>, bool, Opening), String> {
     let window = web_sys::window().ok_or("no window")?;
     let search = window.location().search().map_err(js_text)?;
@@ -80,6 +81,14 @@ fn url_parameters() -> Result<(Option<String>, bool, Opening), String> {
             .filter_map(|v| v.as_string())
             .collect(),
         data: None,
+        hide: params
+            .get_all("hide")
+            .iter()
+            .filter_map(|v| v.as_string())
+            .collect(),
+        projector: params
+            .get("projector")
+            .is_some_and(|v| v == "1" || v == "true"),
     };
     Ok((scene, run, opening))
 }

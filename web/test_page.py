@@ -19,8 +19,9 @@ step and the difference grows with the run. The differences measured are printed
 
 Then the links (`--links`, on by default): `?scene=pull_off&set=…&set=…&run=1` against
 `decohesion run scenes/pull_off.toml --set … --set …`, and a lesson step opened by its link,
-`?lesson=cohesive_law&step=4&run=1`, against the native run of its scene with the overrides of
-the lesson's steps 1 to 4 (read from `lessons/cohesive_law.md`), with the same checks.
+`?lesson=cohesive_law&step=4&run=1&hide=history,view&projector=1` (as a class would open it),
+against the native run of its scene with the overrides of the lesson's steps 1 to 4 (read from
+`lessons/cohesive_law.md`), with the same checks.
 
 Saves a screenshot of the page at the end of each run. Exit status 0 when every check passes.
 """
@@ -266,7 +267,9 @@ def main():
                 linked.append((url, run_page(wd, url, args.timeout, f"{shot}_set.png"),
                                native_summary(args.native, scene_file("pull_off"), sets)))
                 sets = lesson_sets(os.path.join(root, "lessons/cohesive_law.md"), 4)
-                url = f"http://127.0.0.1:{site_port}/?lesson=cohesive_law&step=4&run=1"
+                # As a class would open it: the history and the 3-D view hidden, projector mode.
+                url = (f"http://127.0.0.1:{site_port}/?lesson=cohesive_law&step=4&run=1"
+                       "&hide=history,view&projector=1")
                 linked.append((url, run_page(wd, url, args.timeout, f"{shot}_lesson.png"),
                                native_summary(args.native, scene_file("pull_off"), sets)))
             wd.quit()

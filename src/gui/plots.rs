@@ -81,6 +81,7 @@ fn series(points: &[CurvePoint], f: impl Fn(&CurvePoint) -> [f64; 2]) -> Vec<[f6
 impl App {
     /// The law's curves, with α_e and u_r marked.
     pub(super) fn plots_ui(&mut self, ui: &mut egui::Ui) {
+        let projector = self.display.projector;
         let Ok(law) = self.settings.law.law() else {
             ui.label("(no plot: the law is inadmissible)");
             return;
@@ -112,21 +113,22 @@ impl App {
         let [t_law, t_traction, t_mu] = titles;
         ui.horizontal(|ui| {
             titled_plot(ui, t_law, "g_n", "α [mm]", w, |p| {
-                p.line(Line::new("g_N(α)", g));
+                line(p, projector, Line::new("g_N(α)", g));
                 marks(p);
             });
             titled_plot(ui, t_traction, "traction", "δ [mm]", w, |p| {
-                p.line(Line::new("T(δ)", t));
+                line(p, projector, Line::new("T(δ)", t));
                 marks(p);
             });
             titled_plot(ui, t_mu, "mu", "α [mm]", w, |p| {
-                p.line(Line::new("μ(α)", mu));
+                line(p, projector, Line::new("μ(α)", mu));
                 marks(p);
             });
         });
     }
 
     pub(super) fn progress_plot_ui(&mut self, ui: &mut egui::Ui) {
+        let projector = self.display.projector;
         let Some(run) = self.curve_run else {
             ui.label("Run a scene to see its interface states over time here.");
             return;
@@ -160,17 +162,31 @@ impl App {
         );
         ui.horizontal(|ui| {
             titled_plot(ui, t_states, "counts", "t [s]", w, |p| {
-                p.line(Line::new("elastic", pick(|c| c.elastic)).color(colour([46, 160, 67])));
-                p.line(
+                line(
+                    p,
+                    projector,
+                    Line::new("elastic", pick(|c| c.elastic)).color(colour([46, 160, 67])),
+                );
+                line(
+                    p,
+                    projector,
                     Line::new("transition", pick(|c| c.transition)).color(colour([245, 166, 35])),
                 );
-                p.line(Line::new("ruptured", pick(|c| c.ruptured)).color(colour([208, 2, 27])));
+                line(
+                    p,
+                    projector,
+                    Line::new("ruptured", pick(|c| c.ruptured)).color(colour([208, 2, 27])),
+                );
                 if unformed {
-                    p.line(Line::new("unformed", pick(|c| c.unformed)).color(colour([90, 90, 90])));
+                    line(
+                        p,
+                        projector,
+                        Line::new("unformed", pick(|c| c.unformed)).color(colour([90, 90, 90])),
+                    );
                 }
             });
             titled_plot(ui, t_force, "force", "t [s]", w, |p| {
-                p.line(Line::new("|reaction|", force));
+                line(p, projector, Line::new("|reaction|", force));
                 if let Some(f) = predicted {
                     p.hline(
                         egui_plot::HLine::new("your prediction", f).color(colour([230, 150, 0])),
@@ -183,10 +199,18 @@ impl App {
                 "residual",
                 "t [s]",
                 w,
-                |p| p.line(Line::new("residual", residual)),
+                |p| line(p, projector, Line::new("residual", residual)),
             );
         });
     }
+}
+
+/// Adds `l` to the plot, thicker in the projector mode ([`super::state::Display`]).
+fn line<'a>(p: &mut egui_plot::PlotUi<'a>, projector: bool, l: Line<'a>) {
+    p.line(match projector {
+        true => l.width(super::state::PROJECTOR_LINE),
+        false => l,
+    });
 }
 
 /// A plot of width `w` under its title, with a legend.
@@ -216,6 +240,7 @@ impl App {
     /// solid, transition dashed, elastic dotted), reaction against imposed displacement, mean
     /// α against time; one legend entry per run (its parameters that differ between the runs).
     pub(super) fn compare_plots_ui(&mut self, ui: &mut egui::Ui) {
+        let projector = self.display.projector;
         let runs = self.compared();
         let measured = self.measured.as_ref().map(|m| m.si.clone());
         let measured_name = self
@@ -246,7 +271,9 @@ impl App {
                     for (row, label) in &runs {
                         for (style, f) in &styles {
                             let data = series(&row.curve.points, |q| [q.t, f(&q.counts) as f64]);
-                            p.line(
+                            line(
+                                p,
+                                projector,
                                 Line::new(label.clone(), data)
                                     .color(run_colour(row.id))
                                     .style(*style),
@@ -258,7 +285,11 @@ impl App {
             let overlay = |p: &mut egui_plot::PlotUi, f: &dyn Fn(&CurvePoint) -> [f64; 2]| {
                 for (row, label) in &runs {
                     let data = series(&row.curve.points, f);
-                    p.line(Line::new(label.clone(), data).color(run_colour(row.id)));
+                    line(
+                        p,
+                        projector,
+                        Line::new(label.clone(), data).color(run_colour(row.id)),
+                    );
                 }
             };
             titled_plot(
@@ -274,8 +305,8 @@ impl App {
                             points.iter().map(|[x, y]| [1e3 * x, 1e-3 * y]).collect();
                         p.points(
                             Points::new(format!("measured ({})", measured_name), points)
-                                .radius(2.5)
-                                .color(Color32::from_gray(60)),
+                                .radius(3.0)
+                                .color(Color32::from_gray(235)),
                         );
                     }
                 },

@@ -48,6 +48,12 @@ impl App {
             self.settle = self.settle.saturating_sub(1);
             ui.ctx().request_repaint_after(Duration::from_millis(100));
         }
+        if self.display.projector && ui.ctx().zoom_factor() != super::state::PROJECTOR_ZOOM {
+            ui.ctx().set_zoom_factor(super::state::PROJECTOR_ZOOM);
+        }
+        // In the order of PANELS.
+        let [settings, history, view, law, progress, measured] =
+            super::state::PANELS.map(|(p, _)| self.display.shows(p));
         if self.lesson.is_some() {
             egui::Panel::left("lesson")
                 .resizable(true)
@@ -56,33 +62,45 @@ impl App {
                     egui::ScrollArea::vertical().show(ui, |ui| self.lesson_ui(ui));
                 });
         }
-        egui::Panel::left("settings")
-            .resizable(true)
-            .default_size(430.0)
-            .show(ui, |ui| {
-                egui::ScrollArea::vertical().show(ui, |ui| self.settings_ui(ui));
-            });
-        egui::Panel::bottom("history")
-            .resizable(true)
-            .default_size(230.0)
-            .show(ui, |ui| self.history_ui(ui));
-        egui::Panel::right("view3d")
-            .resizable(true)
-            .default_size(470.0)
-            .show(ui, |ui| self.view.ui(ui));
+        if settings {
+            egui::Panel::left("settings")
+                .resizable(true)
+                .default_size(430.0)
+                .show(ui, |ui| {
+                    egui::ScrollArea::vertical().show(ui, |ui| self.settings_ui(ui));
+                });
+        }
+        if history {
+            egui::Panel::bottom("history")
+                .resizable(true)
+                .default_size(230.0)
+                .show(ui, |ui| self.history_ui(ui));
+        }
+        if view {
+            egui::Panel::right("view3d")
+                .resizable(true)
+                .default_size(470.0)
+                .show(ui, |ui| self.view.ui(ui));
+        }
         egui::CentralPanel::default().show(ui, |ui| {
             egui::ScrollArea::vertical().show(ui, |ui| {
                 self.run_ui(ui);
-                ui.separator();
-                self.measured_ui(ui);
+                if measured {
+                    ui.separator();
+                    self.measured_ui(ui);
+                }
                 if !self.compare.is_empty() || self.measured.is_some() {
                     ui.separator();
                     self.compare_plots_ui(ui);
                 }
-                ui.separator();
-                self.plots_ui(ui);
-                ui.separator();
-                self.progress_plot_ui(ui);
+                if law {
+                    ui.separator();
+                    self.plots_ui(ui);
+                }
+                if progress {
+                    ui.separator();
+                    self.progress_plot_ui(ui);
+                }
             });
         });
     }

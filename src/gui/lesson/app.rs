@@ -24,6 +24,10 @@ impl crate::gui::App {
         if let Some(path) = &o.data {
             self.load_measured(path);
         }
+        if let Err(e) = self.set_display(&o.hide, o.projector) {
+            self.notes.push(e.clone());
+            return Err(e);
+        }
         r
     }
 
@@ -112,14 +116,12 @@ impl crate::gui::App {
             if let Ok(s) = crate::gui::settings::open_scene_with(&state.lesson.scene, &step.set) {
                 step.take_scene(&s);
                 if step.scene_text() == self.settings.scene_text() {
-                    return Ok(lesson_query(&state.lesson.name, state.step));
+                    let q = lesson_query(&state.lesson.name, state.step);
+                    return Ok(q + &self.display.query());
                 }
             }
         }
-        Ok(scene_query(
-            &self.settings.scene,
-            &self.changed_keys()?,
-            false,
-        ))
+        let q = scene_query(&self.settings.scene, &self.changed_keys()?, false);
+        Ok(q + &self.display.query())
     }
 }

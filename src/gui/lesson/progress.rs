@@ -78,11 +78,16 @@ pub struct Opening {
     pub set: Vec<String>,
     /// A measured curve (CSV file) to draw over the compared runs and fit (`gui --data`).
     pub data: Option<String>,
+    /// Panels to hide (names of [`crate::gui::state::PANELS`], comma-separated lists).
+    pub hide: Vec<String>,
+    /// Larger type and thicker lines.
+    pub projector: bool,
 }
 
 /// Checks an opening before the window opens (`gui --lesson`, `--step`, `--set`): the lesson
 /// loads and has the step, or the overrides load `scene` (the default scene without one).
 pub fn check_opening(scene: Option<&str>, o: &Opening) -> Result<(), String> {
+    crate::gui::state::parse_hidden(&o.hide)?;
     #[cfg(not(target_arch = "wasm32"))]
     if let Some(path) = &o.data {
         let text = std::fs::read_to_string(path)

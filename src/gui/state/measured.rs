@@ -68,7 +68,10 @@ impl App {
     #[cfg(not(target_arch = "wasm32"))]
     pub fn load_measured(&mut self, path: &str) {
         match std::fs::read_to_string(path) {
-            Ok(text) => self.load_measured_text(&text, path, Some(PathBuf::from(path))),
+            Ok(text) => {
+                self.measured_path = path.to_string();
+                self.load_measured_text(&text, path, Some(PathBuf::from(path)))
+            }
             Err(e) => self
                 .notes
                 .push(format!("{path}: cannot read the measured curve: {e}")),

@@ -4,6 +4,7 @@
 //! drive it without egui.
 
 mod compare;
+mod display;
 mod measured;
 mod run;
 mod save;
@@ -11,6 +12,7 @@ mod save;
 mod tests;
 
 pub use compare::{check_compare, variant_key, VARIANT_KEYS};
+pub use display::{parse_hidden, Display, PANELS, PROJECTOR_LINE, PROJECTOR_ZOOM};
 pub use measured::Measured;
 #[cfg(not(target_arch = "wasm32"))]
 pub use measured::{FitOutcome, FitPanel, FreeKey};
@@ -82,6 +84,8 @@ pub struct App {
     pub in_page: bool,
     /// The open lesson, if any ([`super::lesson`]).
     pub lesson: Option<super::lesson::LessonState>,
+    /// Panels hidden and the projector mode ([`display`]).
+    pub display: Display,
     /// The measured curve drawn over the compared runs ([`measured`]).
     pub measured: Option<Measured>,
     /// The fit of the edited law to it (native).
@@ -144,6 +148,7 @@ impl App {
             view: Default::default(),
             in_page: cfg!(target_arch = "wasm32"),
             lesson: None,
+            display: Display::default(),
             measured: None,
             #[cfg(not(target_arch = "wasm32"))]
             fit: FitPanel::default(),

@@ -245,3 +245,37 @@ fn a_measured_curve_is_drawn_and_fitted() {
         .unwrap_err()
         .contains("the editor now edits `exponential`"));
 }
+
+/// A class's display: `hide=` hides the named panels (a name that is not a panel is refused
+/// with the admissible ones) and `projector=1` sets the projector mode; the copied link keeps
+/// both, after the scene and its changed keys.
+#[test]
+fn panels_hidden_and_the_projector_mode_go_into_links() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut app = App::default();
+    app.load_scene(&root.join("scenes/pull_off.toml").display().to_string());
+    let opening = crate::gui::Opening {
+        hide: vec!["history,law".into(), "view".into()],
+        projector: true,
+        ..Default::default()
+    };
+    app.open(&opening).unwrap();
+    let names: Vec<&str> = app.display.hidden.iter().map(String::as_str).collect();
+    assert_eq!(names, ["history", "law", "view"]);
+    assert!(app.display.projector && app.display.shows("settings"));
+    let link = app.link_query().unwrap();
+    assert!(
+        link.ends_with("&hide=history,law,view&projector=1"),
+        "{link}"
+    );
+    let bad = crate::gui::Opening {
+        hide: vec!["history,plots".into()],
+        ..Default::default()
+    };
+    let e = crate::gui::check_opening(None, &bad).unwrap_err();
+    assert!(
+        e.contains("hide=plots: no such panel; admissible: settings, history, view, law"),
+        "{e}"
+    );
+    assert!(app.open(&bad).is_err());
+}
