@@ -29,6 +29,8 @@ pub mod compare;
 /// The run driver: the outputs of a run, its loop, cancellation, progress, the summary.
 #[cfg(not(target_arch = "wasm32"))]
 pub mod driver;
+/// A plot as data, drawn as SVG or written as CSV (the fit's picture, the explorer's figures).
+pub mod figure;
 /// `decohesion fit`: the values of a scene's keys that make a run reproduce a measured curve
 /// (Nelder–Mead over the runs, the linearised uncertainty, the fitted scene file).
 #[cfg(not(target_arch = "wasm32"))]

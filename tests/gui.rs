@@ -420,3 +420,22 @@ fn two_runs_overlaid_in_the_comparison_plots() {
     assert_eq!(legend(&h, "run 1: u_r=0.003"), 0);
     assert_eq!(legend(&h, "run 2"), 3, "alone, nothing differs: `run 2`");
 }
+
+/// `hide=history,view` as a class opens the window: the runs table and the 3-D view are not
+/// drawn, the rest is; the projector mode enlarges the window's type (egui's zoom).
+#[test]
+fn hidden_panels_are_not_drawn() {
+    let mut app = small_pull_off(3);
+    app.set_display(&["history,view".to_string()], true)
+        .unwrap();
+    let mut h = harness(app);
+    h.run();
+    assert!(h.query_by_label("Runs").is_none(), "the history is hidden");
+    assert!(
+        h.query_by_label("3-D view").is_none(),
+        "the 3-D view is hidden"
+    );
+    assert!(h.query_by_label("Interface law").is_some());
+    assert!(h.query_by_label("Run").is_some());
+    assert_eq!(h.ctx.zoom_factor(), decohesion::gui::state::PROJECTOR_ZOOM);
+}

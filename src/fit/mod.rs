@@ -25,7 +25,6 @@
 
 pub mod free;
 pub mod outputs;
-pub mod plot;
 pub mod problem;
 pub mod scene_file;
 mod search;

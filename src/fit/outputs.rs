@@ -1,9 +1,9 @@
 //! The results of a fit as files and as a table: what `decohesion fit` writes into its folder and
 //! prints, and what the Python API's `fit(out=…)` writes.
 
-use super::plot::{svg, Series};
 use super::scene_file::fitted_scene;
 use super::FitReport;
+use crate::figure::{Figure, Style};
 use anyhow::{Context, Result};
 use std::fmt::Write as _;
 use std::path::Path;
@@ -101,29 +101,6 @@ pub fn write_outputs(dir: &Path, scene: &Path, r: &FitReport) -> Result<()> {
         );
     }
     write("evaluations.csv", &ev)?;
-    let mut series = vec![Series {
-        label: "measured",
-        y: &r.curves.measured,
-        colour: "#222222",
-        points: true,
-        dashed: false,
-    }];
-    if let Some(i) = &r.curves.initial {
-        series.push(Series {
-            label: "start",
-            y: i,
-            colour: "#888888",
-            points: false,
-            dashed: true,
-        });
-    }
-    series.push(Series {
-        label: "fitted",
-        y: &r.curves.fitted,
-        colour: "#d62728",
-        points: false,
-        dashed: false,
-    });
     let title = format!(
         "{} fitted to {} (RMS {:.2} % of max |y|)",
         r.name,
@@ -132,16 +109,20 @@ pub fn write_outputs(dir: &Path, scene: &Path, r: &FitReport) -> Result<()> {
             .map_or(r.data.clone(), |f| f.to_string_lossy().into_owned()),
         100.0 * r.fitted.rms_relative
     );
-    write(
-        "fit.svg",
-        &svg(
-            &title,
-            &format!("{} [{}]", r.x.measured, r.x.unit),
-            &format!("{} [{}]", r.y.measured, r.y.unit),
-            &r.curves.x,
-            &series,
-        ),
-    )?;
+    let mut figure = Figure {
+        title,
+        x_label: format!("{} [{}]", r.x.measured, r.x.unit),
+        y_label: format!("{} [{}]", r.y.measured, r.y.unit),
+        traces: vec![],
+    };
+    let c = &r.curves;
+    let along = |y: &[f64]| -> Vec<[f64; 2]> { c.x.iter().zip(y).map(|(a, b)| [*a, *b]).collect() };
+    figure.trace("measured", along(&c.measured), [0x22; 3], Style::Points);
+    if let Some(i) = &c.initial {
+        figure.trace("start", along(i), [0x88; 3], Style::Dashed);
+    }
+    figure.trace("fitted", along(&c.fitted), [0xd6, 0x27, 0x28], Style::Solid);
+    write("fit.svg", &figure.svg())?;
     let text = std::fs::read_to_string(scene)
         .with_context(|| format!("cannot read {}", scene.display()))?;
     let mut values: Vec<(String, toml_edit::Value, Option<String>)> = Vec::new();

@@ -21,13 +21,18 @@ pub fn js_text(e: JsValue) -> String {
     e.as_string().unwrap_or_else(|| format!("{e:?}"))
 }
 
-/// Saves `text` as the file `name` through the browser (a download).
-pub fn download(name: &str, text: &str) -> Result<(), String> {
-    let parts = js_sys::Array::of1(&JsValue::from_str(text));
+/// Saves `bytes` as the file `name` through the browser (a download).
+pub fn download(name: &str, bytes: &[u8]) -> Result<(), String> {
+    let parts = js_sys::Array::of1(&js_sys::Uint8Array::from(bytes));
+    download_parts(name, &parts, "application/octet-stream")
+}
+
+/// A download of the blob made of `parts`, of MIME type `kind`.
+fn download_parts(name: &str, parts: &js_sys::Array, kind: &str) -> Result<(), String> {
     let options = web_sys::BlobPropertyBag::new();
-    options.set_type("text/plain;charset=utf-8");
+    options.set_type(kind);
     let blob =
-        web_sys::Blob::new_with_str_sequence_and_options(&parts, &options).map_err(js_text)?;
+        web_sys::Blob::new_with_u8_array_sequence_and_options(parts, &options).map_err(js_text)?;
     let url = web_sys::Url::create_object_url_with_blob(&blob).map_err(js_text)?;
     let link = document()?
         .create_element("a")

@@ -19,6 +19,7 @@
 /// The browser's services (wasm32 only): the page's document, the console, a download.
 #[cfg(target_arch = "wasm32")]
 pub mod browser;
+pub mod export;
 mod fit_view;
 pub mod frames;
 pub mod history;

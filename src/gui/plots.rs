@@ -3,9 +3,11 @@
 //! comparison overlaid (states against time, reaction against imposed displacement, mean α
 //! against time), each in its run's colour.
 
+use super::export::Export;
 use super::history::CurvePoint;
 use super::lesson::PlotName;
 use super::App;
+use crate::figure::{Figure, Style};
 use crate::solver::StateCounts;
 use egui::Color32;
 use egui_plot::{uniform_grid_spacer, GridInput, Legend, Line, LineStyle, Plot, Points, VLine};
@@ -78,10 +80,67 @@ fn series(points: &[CurvePoint], f: impl Fn(&CurvePoint) -> [f64; 2]) -> Vec<[f6
         .collect()
 }
 
+/// One plot of a row: its figure (what is drawn and exported), its title as shown (the lesson's
+/// mark), its id, and marks drawn over it but not exported.
+struct Panel<'a> {
+    fig: Figure,
+    title: egui::WidgetText,
+    id: &'a str,
+    marks: Box<dyn FnOnce(&mut egui_plot::PlotUi) + 'a>,
+}
+
+impl<'a> Panel<'a> {
+    fn new(fig: Figure, title: impl Into<egui::WidgetText>, id: &'a str) -> Panel<'a> {
+        Panel {
+            fig,
+            title: title.into(),
+            id,
+            marks: Box::new(|_| {}),
+        }
+    }
+
+    fn marks(mut self, marks: impl FnOnce(&mut egui_plot::PlotUi) + 'a) -> Panel<'a> {
+        self.marks = Box::new(marks);
+        self
+    }
+}
+
+/// A figure with its axes' labels and no series yet.
+fn figure(title: &str, x_label: &str, y_label: &str) -> Figure {
+    Figure {
+        title: title.to_string(),
+        x_label: x_label.to_string(),
+        y_label: y_label.to_string(),
+        traces: vec![],
+    }
+}
+
+/// The colour lines take when a figure gives one series (egui_plot's first automatic colour).
+const INK: [u8; 3] = [31, 119, 180];
+
 impl App {
+    /// Draws `panels` side by side, a third of the width each; a right-click on one offers its
+    /// figure as PNG, SVG or CSV, carried out here.
+    fn plot_row(&mut self, ui: &mut egui::Ui, mut panels: Vec<Panel<'_>>) {
+        let projector = self.display.projector;
+        let w = (ui.available_width() / 3.0 - 8.0).max(150.0);
+        let mut asked = None;
+        ui.horizontal(|ui| {
+            for (k, panel) in panels.iter_mut().enumerate() {
+                let marks = std::mem::replace(&mut panel.marks, Box::new(|_| {}));
+                let title = std::mem::replace(&mut panel.title, "".into());
+                if let Some(e) = figure_plot(ui, title, &panel.fig, panel.id, w, projector, marks) {
+                    asked = Some((k, e));
+                }
+            }
+        });
+        if let Some((k, e)) = asked {
+            self.export_figure(ui.ctx(), &panels[k].fig, e);
+        }
+    }
+
     /// The law's curves, with α_e and u_r marked.
     pub(super) fn plots_ui(&mut self, ui: &mut egui::Ui) {
-        let projector = self.display.projector;
         let Ok(law) = self.settings.law.law() else {
             ui.label("(no plot: the law is inadmissible)");
             return;
@@ -90,18 +149,29 @@ impl App {
         let n = 300;
         let span = law.u_r * 1.15;
         let xs: Vec<f64> = (0..=n).map(|k| span * k as f64 / n as f64).collect();
-        let g: Vec<[f64; 2]> = xs.iter().map(|&a| [1e3 * a, law.g_n(a)]).collect();
-        let t: Vec<[f64; 2]> = xs
-            .iter()
-            .map(|&d| [1e3 * d, 1e-6 * law.traction(d)])
-            .collect();
-        let mu: Vec<[f64; 2]> = xs.iter().map(|&a| [1e3 * a, law.mu(a, mu_inf)]).collect();
+        let curve = |label: &str, title: &str, x: &str, y: &str, f: &dyn Fn(f64) -> [f64; 2]| {
+            let mut fig = figure(title, x, y);
+            fig.trace(label, xs.iter().map(|&a| f(a)).collect(), INK, Style::Solid);
+            fig
+        };
+        let g = curve(
+            "g_N(α)",
+            "stiffness g_N(α)",
+            "α [mm]",
+            "g_N [Pa/m]",
+            &|a| [1e3 * a, law.g_n(a)],
+        );
+        let t = curve("T(δ)", "traction T(δ)", "δ [mm]", "T [MPa]", &|d| {
+            [1e3 * d, 1e-6 * law.traction(d)]
+        });
+        let mu = curve("μ(α)", "friction μ(α)", "α [mm]", "μ [-]", &|a| {
+            [1e3 * a, law.mu(a, mu_inf)]
+        });
         let (ae, ur) = (1e3 * law.alpha_e, 1e3 * law.u_r);
-        let marks = |p: &mut egui_plot::PlotUi| {
+        let marks = move |p: &mut egui_plot::PlotUi| {
             p.vline(VLine::new("α_e", ae));
             p.vline(VLine::new("u_r", ur));
         };
-        let w = (ui.available_width() / 3.0 - 8.0).max(150.0);
         let titles = [
             self.plot_title(PlotName::Law, "stiffness g_N(α) [Pa/m]"),
             self.plot_title(PlotName::Traction, "traction T(δ) = g_N(δ)δ [MPa]"),
@@ -111,34 +181,51 @@ impl App {
             ),
         ];
         let [t_law, t_traction, t_mu] = titles;
-        ui.horizontal(|ui| {
-            titled_plot(ui, t_law, "g_n", "α [mm]", w, |p| {
-                line(p, projector, Line::new("g_N(α)", g));
-                marks(p);
-            });
-            titled_plot(ui, t_traction, "traction", "δ [mm]", w, |p| {
-                line(p, projector, Line::new("T(δ)", t));
-                marks(p);
-            });
-            titled_plot(ui, t_mu, "mu", "α [mm]", w, |p| {
-                line(p, projector, Line::new("μ(α)", mu));
-                marks(p);
-            });
-        });
+        self.plot_row(
+            ui,
+            vec![
+                Panel::new(g, t_law, "g_n").marks(marks),
+                Panel::new(t, t_traction, "traction").marks(marks),
+                Panel::new(mu, t_mu, "mu").marks(marks),
+            ],
+        );
     }
 
     pub(super) fn progress_plot_ui(&mut self, ui: &mut egui::Ui) {
-        let projector = self.display.projector;
         let Some(run) = self.curve_run else {
             ui.label("Run a scene to see its interface states over time here.");
             return;
         };
         let points = &self.curve.points;
         let pick = |f: fn(&StateCounts) -> usize| series(points, |p| [p.t, f(&p.counts) as f64]);
-        let residual = series(points, |p| [p.t, p.residual]);
+        let title = format!("run {run}: interface nodes by state (paper fig. 6, right)");
+        let mut states = figure(&title, "t [s]", "nodes");
+        states.trace("elastic", pick(|c| c.elastic), [46, 160, 67], Style::Solid);
+        states.trace(
+            "transition",
+            pick(|c| c.transition),
+            [245, 166, 35],
+            Style::Solid,
+        );
+        states.trace("ruptured", pick(|c| c.ruptured), [208, 2, 27], Style::Solid);
         // Glue that forms on contact: its nodes not formed yet (none in other scenes).
-        let unformed = points.iter().any(|p| p.counts.unformed > 0);
-        let force = series(points, |p| [p.t, p.force]);
+        if points.iter().any(|p| p.counts.unformed > 0) {
+            states.trace("unformed", pick(|c| c.unformed), [90, 90, 90], Style::Solid);
+        }
+        let t_states = self.plot_title(PlotName::States, &title);
+        let title = format!("run {run}: force on the pulled faces [N]");
+        let mut force = figure(&title, "t [s]", "|reaction| [N]");
+        force.trace(
+            "|reaction|",
+            series(points, |p| [p.t, p.force]),
+            INK,
+            Style::Solid,
+        );
+        let t_force = self.plot_title(PlotName::Force, &title);
+        let title = format!("run {run}: balance residual / largest energy");
+        let mut residual = figure(&title, "t [s]", "residual [-]");
+        let data = series(points, |p| [p.t, p.residual]);
+        residual.trace("residual", data, INK, Style::Solid);
         // The open question's prediction, drawn over the force when it is a force.
         let predicted = self.lesson.as_ref().and_then(|s| {
             let q = s.current().question.as_ref()?;
@@ -150,176 +237,149 @@ impl App {
                 .then_some(s.predicted)
                 .flatten()
         });
-        let w = (ui.available_width() / 3.0 - 8.0).max(150.0);
-        let colour = |c: [u8; 3]| egui::Color32::from_rgb(c[0], c[1], c[2]);
-        let t_states = self.plot_title(
-            PlotName::States,
-            &format!("run {run}: interface nodes by state (paper fig. 6, right)"),
+        let prediction = move |p: &mut egui_plot::PlotUi| {
+            if let Some(f) = predicted {
+                let colour = Color32::from_rgb(230, 150, 0);
+                p.hline(egui_plot::HLine::new("your prediction", f).color(colour));
+            }
+        };
+        self.plot_row(
+            ui,
+            vec![
+                Panel::new(states, t_states, "counts"),
+                Panel::new(force, t_force, "force").marks(prediction),
+                Panel::new(residual, title, "residual"),
+            ],
         );
-        let t_force = self.plot_title(
-            PlotName::Force,
-            &format!("run {run}: force on the pulled faces [N]"),
-        );
-        ui.horizontal(|ui| {
-            titled_plot(ui, t_states, "counts", "t [s]", w, |p| {
-                line(
-                    p,
-                    projector,
-                    Line::new("elastic", pick(|c| c.elastic)).color(colour([46, 160, 67])),
-                );
-                line(
-                    p,
-                    projector,
-                    Line::new("transition", pick(|c| c.transition)).color(colour([245, 166, 35])),
-                );
-                line(
-                    p,
-                    projector,
-                    Line::new("ruptured", pick(|c| c.ruptured)).color(colour([208, 2, 27])),
-                );
-                if unformed {
-                    line(
-                        p,
-                        projector,
-                        Line::new("unformed", pick(|c| c.unformed)).color(colour([90, 90, 90])),
-                    );
-                }
-            });
-            titled_plot(ui, t_force, "force", "t [s]", w, |p| {
-                line(p, projector, Line::new("|reaction|", force));
-                if let Some(f) = predicted {
-                    p.hline(
-                        egui_plot::HLine::new("your prediction", f).color(colour([230, 150, 0])),
-                    );
-                }
-            });
-            titled_plot(
-                ui,
-                format!("run {run}: balance residual / largest energy"),
-                "residual",
-                "t [s]",
-                w,
-                |p| line(p, projector, Line::new("residual", residual)),
-            );
-        });
     }
 }
 
-/// Adds `l` to the plot, thicker in the projector mode ([`super::state::Display`]).
-fn line<'a>(p: &mut egui_plot::PlotUi<'a>, projector: bool, l: Line<'a>) {
-    p.line(match projector {
-        true => l.width(super::state::PROJECTOR_LINE),
-        false => l,
-    });
-}
-
-/// A plot of width `w` under its title, with a legend.
-fn titled_plot<'a>(
+/// Draws `fig` at width `w` under `title`, then `marks`; a right-click offers the figure as
+/// PNG, SVG or CSV, and the choice is returned.
+fn figure_plot<'a>(
     ui: &mut egui::Ui,
-    title: impl Into<egui::WidgetText>,
+    title: egui::WidgetText,
+    fig: &Figure,
     id: &str,
-    x_label: &str,
     w: f32,
-    add: impl FnOnce(&mut egui_plot::PlotUi<'a>) + 'a,
-) {
+    projector: bool,
+    marks: Box<dyn FnOnce(&mut egui_plot::PlotUi) + 'a>,
+) -> Option<Export> {
+    let mut asked = None;
     ui.vertical(|ui| {
         // A long title is cut to the plot's width (whole on hover), not widening the row.
         let title = egui::Label::new(title).truncate();
         ui.allocate_ui(egui::vec2(w, 0.0), |ui| ui.add(title));
-        plot_125(Plot::new(id))
+        let shown = plot_125(Plot::new(id))
             .width(w)
             .height(210.0)
-            .x_axis_label(x_label.to_string())
+            .x_axis_label(fig.x_label.clone())
             .legend(Legend::default())
-            .show(ui, add);
+            .show(ui, |p| {
+                for t in &fig.traces {
+                    let colour = Color32::from_rgb(t.colour[0], t.colour[1], t.colour[2]);
+                    let data = t.points.clone();
+                    if t.style == Style::Points {
+                        p.points(Points::new(t.label.clone(), data).radius(3.0).color(colour));
+                        continue;
+                    }
+                    let style = match t.style {
+                        Style::Dashed => LineStyle::dashed_dense(),
+                        Style::Dotted => LineStyle::dotted_dense(),
+                        _ => LineStyle::Solid,
+                    };
+                    let line = Line::new(t.label.clone(), data).color(colour).style(style);
+                    p.line(match projector {
+                        true => line.width(super::state::PROJECTOR_LINE),
+                        false => line,
+                    });
+                }
+                marks(p);
+            });
+        let rect = shown.response.rect;
+        shown
+            .response
+            .on_hover_text("right-click: save as PNG, SVG or CSV")
+            .context_menu(|ui| {
+                for (label, e) in [
+                    ("save PNG", Export::Png(rect)),
+                    ("save SVG", Export::Svg),
+                    ("save CSV", Export::Csv),
+                ] {
+                    if ui.button(label).clicked() {
+                        asked = Some(e);
+                        ui.close();
+                    }
+                }
+            });
     });
+    asked
 }
 
 impl App {
     /// The runs ticked in the history, overlaid: interface states against time (ruptured
     /// solid, transition dashed, elastic dotted), reaction against imposed displacement, mean
-    /// α against time; one legend entry per run (its parameters that differ between the runs).
+    /// α against time; one legend entry per run (its parameters that differ between the runs),
+    /// and the measured curve, if one is loaded, over the reaction.
     pub(super) fn compare_plots_ui(&mut self, ui: &mut egui::Ui) {
-        let projector = self.display.projector;
         let runs = self.compared();
-        let measured = self.measured.as_ref().map(|m| m.si.clone());
-        let measured_name = self
-            .measured
-            .as_ref()
-            .map_or(String::new(), |m| m.curve.file.clone());
         ui.label(format!(
             "{} runs compared (tick or untick them in the history)",
             runs.len()
         ));
-        let w = (ui.available_width() / 3.0 - 8.0).max(150.0);
         let styles = [
-            (
-                LineStyle::Solid,
-                (|c| c.ruptured) as fn(&StateCounts) -> usize,
-            ),
-            (LineStyle::dashed_dense(), |c| c.transition),
-            (LineStyle::dotted_dense(), |c| c.elastic),
+            (Style::Solid, (|c| c.ruptured) as fn(&StateCounts) -> usize),
+            (Style::Dashed, |c| c.transition),
+            (Style::Dotted, |c| c.elastic),
         ];
-        ui.horizontal(|ui| {
-            titled_plot(
-                ui,
-                "interface nodes: ruptured solid, transition dashed, elastic dotted",
-                "compare_counts",
-                "t [s]",
-                w,
-                |p| {
-                    for (row, label) in &runs {
-                        for (style, f) in &styles {
-                            let data = series(&row.curve.points, |q| [q.t, f(&q.counts) as f64]);
-                            line(
-                                p,
-                                projector,
-                                Line::new(label.clone(), data)
-                                    .color(run_colour(row.id))
-                                    .style(*style),
-                            );
-                        }
-                    }
-                },
-            );
-            let overlay = |p: &mut egui_plot::PlotUi, f: &dyn Fn(&CurvePoint) -> [f64; 2]| {
-                for (row, label) in &runs {
-                    let data = series(&row.curve.points, f);
-                    line(
-                        p,
-                        projector,
-                        Line::new(label.clone(), data).color(run_colour(row.id)),
-                    );
-                }
-            };
-            titled_plot(
-                ui,
-                "reaction [kN] against imposed displacement [mm]",
-                "compare_reaction",
-                "U [mm]",
-                w,
-                |p| {
-                    overlay(p, &|q| [1e3 * q.displacement, 1e-3 * q.reaction]);
-                    if let Some(Ok(points)) = &measured {
-                        let points: Vec<[f64; 2]> =
-                            points.iter().map(|[x, y]| [1e3 * x, 1e-3 * y]).collect();
-                        p.points(
-                            Points::new(format!("measured ({})", measured_name), points)
-                                .radius(3.0)
-                                .color(Color32::from_gray(235)),
-                        );
-                    }
-                },
-            );
-            titled_plot(
-                ui,
-                "mean damage α [mm] over the interface",
-                "compare_alpha",
-                "t [s]",
-                w,
-                |p| overlay(p, &|q| [q.t, 1e3 * q.mean_alpha]),
-            );
+        let colour = |id: u32| {
+            let c = run_colour(id);
+            [c.r(), c.g(), c.b()]
+        };
+        let title = "interface nodes: ruptured solid, transition dashed, elastic dotted";
+        let mut counts = figure(title, "t [s]", "nodes");
+        for (row, label) in &runs {
+            for (style, f) in &styles {
+                let data = series(&row.curve.points, |q| [q.t, f(&q.counts) as f64]);
+                counts.trace(label, data, colour(row.id), *style);
+            }
+        }
+        let overlay = |fig: &mut Figure, f: &dyn Fn(&CurvePoint) -> [f64; 2]| {
+            for (row, label) in &runs {
+                fig.trace(
+                    label,
+                    series(&row.curve.points, f),
+                    colour(row.id),
+                    Style::Solid,
+                );
+            }
+        };
+        let title = "reaction [kN] against imposed displacement [mm]";
+        let mut reaction = figure(title, "U [mm]", "reaction [kN]");
+        overlay(&mut reaction, &|q| {
+            [1e3 * q.displacement, 1e-3 * q.reaction]
         });
+        if let Some(m) = &self.measured {
+            if let Ok(points) = &m.si {
+                let points = points.iter().map(|[x, y]| [1e3 * x, 1e-3 * y]).collect();
+                let label = format!("measured ({})", m.curve.file);
+                reaction.trace(&label, points, [235, 235, 235], Style::Points);
+            }
+        }
+        let title = "mean damage α [mm] over the interface";
+        let mut alpha = figure(title, "t [s]", "mean α [mm]");
+        overlay(&mut alpha, &|q| [q.t, 1e3 * q.mean_alpha]);
+        drop(runs);
+        let panel = |fig: Figure, id| {
+            let title = fig.title.clone();
+            Panel::new(fig, title, id)
+        };
+        let panels = vec![
+            panel(counts, "compare_counts"),
+            panel(reaction, "compare_reaction"),
+            panel(alpha, "compare_alpha"),
+        ];
+        self.plot_row(ui, panels);
     }
 }
 

@@ -62,6 +62,8 @@ pub struct View3d {
     frame_times: VecDeque<f32>,
     /// Where the picture was drawn last, in points.
     pub rect: Option<egui::Rect>,
+    /// "save PNG" was pressed: the application saves the picture.
+    pub png_requested: bool,
 }
 
 impl Default for View3d {
@@ -84,6 +86,7 @@ impl Default for View3d {
             version: 0,
             frame_times: VecDeque::new(),
             rect: None,
+            png_requested: false,
         }
     }
 }
@@ -209,6 +212,13 @@ impl View3d {
                 .clicked()
             {
                 self.reset_camera();
+            }
+            if ui
+                .button("save PNG")
+                .on_hover_text("the picture at this frame, as a PNG file (a download in the page)")
+                .clicked()
+            {
+                self.png_requested = true;
             }
         });
     }

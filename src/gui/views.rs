@@ -43,6 +43,7 @@ impl App {
             self.repaint = Some(repaint_handle(ui.ctx()));
         }
         self.take_dropped_files(ui.ctx());
+        self.take_screenshot(ui.ctx());
         let running = self.poll();
         if running || self.settle > 0 {
             self.settle = self.settle.saturating_sub(1);
@@ -81,6 +82,12 @@ impl App {
                 .resizable(true)
                 .default_size(470.0)
                 .show(ui, |ui| self.view.ui(ui));
+            if std::mem::take(&mut self.view.png_requested) {
+                if let Some(rect) = self.view.rect {
+                    let name = format!("{}_3d_view", self.settings.scene_stem());
+                    self.request_png(ui.ctx(), &name, rect);
+                }
+            }
         }
         egui::CentralPanel::default().show(ui, |ui| {
             egui::ScrollArea::vertical().show(ui, |ui| {

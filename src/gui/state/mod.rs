@@ -86,6 +86,8 @@ pub struct App {
     pub lesson: Option<super::lesson::LessonState>,
     /// Panels hidden and the projector mode ([`display`]).
     pub display: Display,
+    /// A plot or the 3-D view to save as PNG once the window's screenshot comes.
+    pub pending_png: Option<super::export::PendingPng>,
     /// The measured curve drawn over the compared runs ([`measured`]).
     pub measured: Option<Measured>,
     /// The fit of the edited law to it (native).
@@ -149,6 +151,7 @@ impl App {
             in_page: cfg!(target_arch = "wasm32"),
             lesson: None,
             display: Display::default(),
+            pending_png: None,
             measured: None,
             #[cfg(not(target_arch = "wasm32"))]
             fit: FitPanel::default(),

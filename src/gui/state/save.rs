@@ -12,20 +12,20 @@ impl App {
         crate::gui::history::export_csv(&self.history, path)
     }
 
-    /// Saves `text` as the file `name`: into the output folder on native, as a download in the
+    /// Saves `bytes` as the file `name`: into the output folder on native, as a download in the
     /// page; notes where it went or why not.
-    pub fn save_file(&mut self, name: &str, text: &str) {
+    pub fn save_file(&mut self, name: &str, bytes: &[u8]) {
         #[cfg(not(target_arch = "wasm32"))]
         let saved = {
             let path = Path::new(&self.settings.output_dir).join(name);
             std::fs::create_dir_all(&self.settings.output_dir)
-                .and_then(|()| std::fs::write(&path, text))
+                .and_then(|()| std::fs::write(&path, bytes))
                 .map(|()| format!("{name} written to {}", path.display()))
                 .map_err(|e| format!("{}: {e}", path.display()))
         };
         #[cfg(target_arch = "wasm32")]
         let saved =
-            crate::gui::browser::download(name, text).map(|()| format!("{name} downloaded"));
+            crate::gui::browser::download(name, bytes).map(|()| format!("{name} downloaded"));
         match saved {
             Ok(note) => self.notes.push(note),
             Err(e) => self.notes.push(format!("cannot save {name}: {e}")),
@@ -35,14 +35,14 @@ impl App {
     /// Saves the history as CSV (`history.csv`, [`crate::gui::history::csv`]).
     pub fn save_history_csv(&mut self) {
         let text = crate::gui::history::csv(&self.history);
-        self.save_file("history.csv", &text);
+        self.save_file("history.csv", text.as_bytes());
     }
 
     /// Saves the curves of the runs as CSV (`curves.csv`, [`crate::gui::history::curves_csv`]): the
     /// force–displacement curve and the node counts over time of every run in the history.
     pub fn save_curves_csv(&mut self) {
         let text = crate::gui::history::curves_csv(&self.history);
-        self.save_file("curves.csv", &text);
+        self.save_file("curves.csv", text.as_bytes());
     }
 
     /// Saves the summary of history row `i` as JSON (`runNNN_<scene>_summary.json`, what
@@ -57,7 +57,7 @@ impl App {
             row.settings.scene_stem()
         );
         match row.summary_json.clone() {
-            Some(json) => self.save_file(&name, &json),
+            Some(json) => self.save_file(&name, json.as_bytes()),
             None => self.notes.push(format!(
                 "run {}: its summary is kept for the runs of this session only",
                 row.id

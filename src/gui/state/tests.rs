@@ -279,3 +279,57 @@ fn panels_hidden_and_the_projector_mode_go_into_links() {
     );
     assert!(app.open(&bad).is_err());
 }
+
+/// Figures for slides, as a right-click on a plot asks: SVG and CSV written at once into the
+/// output folder; PNG when the window's screenshot comes (put here as the window would), cropped
+/// to the plot's rectangle and readable as a PNG of its size.
+#[test]
+fn figures_are_saved_as_svg_csv_and_png() {
+    use crate::figure::{Figure, Style};
+    use crate::gui::export::Export;
+    let dir = std::env::temp_dir().join(format!("decohesion-figures-{}", std::process::id()));
+    let mut app = App::default();
+    app.settings.output_dir = dir.display().to_string();
+    let mut fig = Figure {
+        title: "run 1: force on the pulled faces [N]".into(),
+        x_label: "t [s]".into(),
+        y_label: "|reaction| [N]".into(),
+        traces: vec![],
+    };
+    fig.trace(
+        "|reaction|",
+        vec![[0.0, 0.0], [0.1, 5.0]],
+        [31, 119, 180],
+        Style::Solid,
+    );
+    let ctx = egui::Context::default();
+    app.export_figure(&ctx, &fig, Export::Svg);
+    app.export_figure(&ctx, &fig, Export::Csv);
+    let stem = dir.join("run_1_force_on_the_pulled_faces_N");
+    let svg = std::fs::read_to_string(stem.with_extension("svg")).unwrap();
+    assert_eq!(svg.matches("<polyline").count(), 1);
+    let csv = std::fs::read_to_string(stem.with_extension("csv")).unwrap();
+    assert_eq!(csv.lines().nth(3), Some("|reaction|,0.1,5.0"));
+
+    let rect = egui::Rect::from_min_size(egui::pos2(1.0, 1.0), egui::vec2(2.0, 1.0));
+    app.export_figure(&ctx, &fig, Export::Png(rect));
+    app.take_screenshot(&ctx);
+    assert!(
+        app.pending_png.is_some(),
+        "nothing saved before the screenshot"
+    );
+    let shot = egui::ColorImage::new([4, 3], vec![egui::Color32::RED; 12]);
+    let slot = app.pending_png.as_ref().unwrap().image.clone();
+    *slot.lock().unwrap() = Some(std::sync::Arc::new(shot));
+    app.take_screenshot(&ctx);
+    assert!(app.pending_png.is_none());
+    let png = std::fs::read(stem.with_extension("png")).unwrap();
+    let mut reader = png::Decoder::new(std::io::Cursor::new(png))
+        .read_info()
+        .unwrap();
+    let mut buf = vec![0; reader.output_buffer_size().unwrap()];
+    let info = reader.next_frame(&mut buf).unwrap();
+    assert_eq!((info.width, info.height), (2, 1));
+    assert_eq!(&buf[..4], &[255, 0, 0, 255]);
+    std::fs::remove_dir_all(&dir).ok();
+}
