@@ -16,6 +16,7 @@
 //! [`page_run`], the page's), `views`, `law_editor` and `plots` (the egui code), and here the eframe
 //! application.
 
+pub mod animation;
 /// The browser's services (wasm32 only): the page's document, the console, a download.
 #[cfg(target_arch = "wasm32")]
 pub mod browser;

@@ -64,6 +64,8 @@ pub struct View3d {
     pub rect: Option<egui::Rect>,
     /// "save PNG" was pressed: the application saves the picture.
     pub png_requested: bool,
+    /// "save GIF" was pressed: the application captures the frames as an animation.
+    pub gif_requested: bool,
 }
 
 impl Default for View3d {
@@ -87,6 +89,7 @@ impl Default for View3d {
             frame_times: VecDeque::new(),
             rect: None,
             png_requested: false,
+            gif_requested: false,
         }
     }
 }
@@ -219,6 +222,13 @@ impl View3d {
                 .clicked()
             {
                 self.png_requested = true;
+            }
+            if ui
+                .button("save GIF")
+                .on_hover_text("the run's frames as an animation (at most 60, 10 per second)")
+                .clicked()
+            {
+                self.gif_requested = true;
             }
         });
     }

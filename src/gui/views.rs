@@ -88,6 +88,10 @@ impl App {
                     self.request_png(ui.ctx(), &name, rect);
                 }
             }
+            if std::mem::take(&mut self.view.gif_requested) {
+                self.start_gif();
+            }
+            self.gif_step(ui.ctx());
         }
         egui::CentralPanel::default().show(ui, |ui| {
             egui::ScrollArea::vertical().show(ui, |ui| {

@@ -88,6 +88,8 @@ pub struct App {
     pub display: Display,
     /// A plot or the 3-D view to save as PNG once the window's screenshot comes.
     pub pending_png: Option<super::export::PendingPng>,
+    /// The 3-D view's animation being captured.
+    pub gif: Option<super::animation::GifCapture>,
     /// The measured curve drawn over the compared runs ([`measured`]).
     pub measured: Option<Measured>,
     /// The fit of the edited law to it (native).
@@ -152,6 +154,7 @@ impl App {
             lesson: None,
             display: Display::default(),
             pending_png: None,
+            gif: None,
             measured: None,
             #[cfg(not(target_arch = "wasm32"))]
             fit: FitPanel::default(),

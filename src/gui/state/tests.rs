@@ -333,3 +333,53 @@ fn figures_are_saved_as_svg_csv_and_png() {
     assert_eq!(&buf[..4], &[255, 0, 0, 255]);
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// The 3-D view's animation: after a 3³ pull-off, "save GIF" shows 60 of the run's frames one
+/// after the other (the first and the last included), takes each one's screenshot (put here as
+/// the window would) cropped to the view, and writes a GIF of 60 frames of the view's size.
+#[test]
+fn the_3d_view_is_saved_as_a_gif() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let dir = std::env::temp_dir().join(format!("decohesion-gif-{}", std::process::id()));
+    let mut app = App::default();
+    app.load_scene(&root.join("scenes/pull_off.toml").display().to_string());
+    app.settings.cells = 3;
+    app.settings.record = RecordChoice::Off;
+    app.settings.output_dir = dir.display().to_string();
+    app.start();
+    while app.poll() {
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    let frames = app.view.frames().len();
+    assert!(frames > 60, "{frames} frames");
+    app.view.rect = Some(egui::Rect::from_min_size(
+        egui::pos2(0.0, 0.0),
+        egui::vec2(8.0, 6.0),
+    ));
+    let ctx = egui::Context::default();
+    app.start_gif();
+    let mut shown = vec![];
+    while app.gif.is_some() {
+        app.gif_step(&ctx);
+        let Some(g) = &app.gif else { break };
+        shown.push(app.view.shown.unwrap());
+        let shot = egui::ColorImage::new([10, 10], vec![egui::Color32::GRAY; 100]);
+        let slot = g.slot.clone().expect("a screenshot is asked for");
+        *slot.lock().unwrap() = Some(std::sync::Arc::new(shot));
+    }
+    assert_eq!(shown.len(), crate::gui::animation::GIF_FRAMES);
+    assert_eq!((shown[0], shown[59]), (0, frames - 1));
+    let name = dir.join("pull_off_3d_view.gif");
+    let bytes =
+        std::fs::read(&name).unwrap_or_else(|e| panic!("{}: {e}; {:?}", name.display(), app.notes));
+    let mut decoder = gif::DecodeOptions::new()
+        .read_info(std::io::Cursor::new(bytes))
+        .unwrap();
+    let mut count = 0;
+    while let Some(f) = decoder.read_next_frame().unwrap() {
+        assert_eq!((f.width, f.height), (8, 6));
+        count += 1;
+    }
+    assert_eq!(count, 60);
+    std::fs::remove_dir_all(&dir).ok();
+}
