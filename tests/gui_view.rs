@@ -1,7 +1,8 @@
 //! The explorer's 3-D view in a real window: Xvfb, eframe's glow renderer on Mesa's llvmpipe
 //! (software OpenGL), the explorer application itself. The window runs the 7³ pull-off scene;
 //! the picture in the view's rect is not blank at the first frame nor at the last, and the two
-//! differ (the view follows the time slider). Then a short 28³ run: with the view animating
+//! differ (the view follows the time slider); its "save PNG" and "save GIF" write a PNG of the
+//! view and a 60-frame animation. Then a short 28³ run: with the view animating
 //! (a new frame every repaint, the camera turning) the repaints are timed, and with the camera
 //! alone turning the vertex buffer is not uploaded again. The repaint times are printed, not
 //! asserted.
@@ -35,6 +36,10 @@ struct Report {
     repaint: [f64; 4],
     /// Vertex buffer uploads while playing and while only the camera turned.
     uploads: (u64, u64),
+    /// The view's rectangle in pixels when "save PNG" and "save GIF" were pressed, and the files
+    /// they wrote (in this folder).
+    view_pixels: [usize; 2],
+    files: Option<std::path::PathBuf>,
     error: Option<String>,
 }
 
@@ -44,6 +49,7 @@ enum Phase {
     Pull,
     Shot(usize, u8),
     Waiting,
+    Files,
     Big,
     Play(usize, Instant, u64),
     Spin(usize, Instant, u64),
@@ -99,15 +105,35 @@ impl Driver {
                 let r = self.report.lock().unwrap();
                 if r.last.is_some() {
                     drop(r);
+                    // The 3-D view's "save PNG" and "save GIF", as pressed.
+                    let dir = std::env::temp_dir()
+                        .join(format!("decohesion-view-files-{}", std::process::id()));
+                    let mut r = self.report.lock().unwrap();
+                    let rect = view.rect.expect("the view was drawn");
+                    let ppp = ctx.pixels_per_point();
+                    r.view_pixels = [
+                        ((rect.max.x * ppp) as usize).saturating_sub((rect.min.x * ppp) as usize),
+                        ((rect.max.y * ppp) as usize).saturating_sub((rect.min.y * ppp) as usize),
+                    ];
+                    r.files = Some(dir.clone());
+                    (view.png_requested, view.gif_requested) = (true, true);
+                    self.explorer.app.settings.output_dir = dir.display().to_string();
+                    self.phase = Phase::Files;
+                } else if r.first.is_some() && view.shown == Some(0) {
+                    view.shown = Some(n - 1);
+                    self.phase = Phase::Shot(n - 1, 0);
+                }
+            }
+            Phase::Files => {
+                let app = &self.explorer.app;
+                let busy = app.view.gif_requested || app.gif.is_some() || app.pending_png.is_some();
+                if !busy {
                     let app = &mut self.explorer.app;
                     app.settings.cells = 28;
                     app.settings.end_time = 0.01;
                     app.settings.frames = 200;
                     app.start();
                     self.phase = Phase::Big;
-                } else if r.first.is_some() && view.shown == Some(0) {
-                    view.shown = Some(n - 1);
-                    self.phase = Phase::Shot(n - 1, 0);
                 }
             }
             Phase::Big if finished => {
@@ -311,6 +337,46 @@ fn the_view_draws_the_body_and_follows_the_slider() {
         100.0 * changed
     );
     assert!(changed > 0.05, "the view did not follow the slider");
+
+    // The view saved as PNG (its rectangle, in pixels, within one pixel of rounding) and as
+    // an animation of 60 of the run's frames (halved while wider than 480 pixels).
+    let dir = r.files.clone().expect("the files were asked for");
+    let png = std::fs::read(dir.join("pull_off_3d_view.png")).expect("the view's PNG");
+    let mut png = png::Decoder::new(std::io::Cursor::new(png))
+        .read_info()
+        .unwrap();
+    let mut buf = vec![0; png.output_buffer_size().unwrap()];
+    let info = png.next_frame(&mut buf).unwrap();
+    let [w, h] = r.view_pixels;
+    assert!(
+        (info.width as usize).abs_diff(w) <= 1 && (info.height as usize).abs_diff(h) <= 1,
+        "PNG {}×{}, view {w}×{h}",
+        info.width,
+        info.height
+    );
+    let drawn: Vec<[u8; 4]> = buf[..info.buffer_size()]
+        .chunks(4)
+        .map(|c| [c[0], c[1], c[2], c[3]])
+        .collect();
+    assert!(
+        share_not(&drawn, [24, 24, 24, 255]) > 0.05,
+        "the PNG is blank"
+    );
+    let gif = std::fs::read(dir.join("pull_off_3d_view.gif")).expect("the view's GIF");
+    let mut gif = gif::DecodeOptions::new()
+        .read_info(std::io::Cursor::new(gif))
+        .unwrap();
+    let mut frames = 0;
+    while let Some(f) = gif.read_next_frame().unwrap() {
+        assert!(
+            f.width as usize <= 480 && f.width as usize >= w / 4,
+            "{}",
+            f.width
+        );
+        frames += 1;
+    }
+    assert_eq!(frames, decohesion::gui::animation::GIF_FRAMES);
+    let _ = std::fs::remove_dir_all(&dir);
 
     // 28³: 6 × 28² faces, (29³ − 27³) surface vertices.
     assert_eq!(r.vertices, 29 * 29 * 29 - 27 * 27 * 27);
