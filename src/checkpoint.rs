@@ -63,6 +63,18 @@ pub struct RunRecord {
     pub set: Vec<String>,
     /// The interval, as `--checkpoint-every` takes it.
     pub every: String,
+    /// The Rerun recording's id: the resumed run's recording continues the first's.
+    #[serde(default)]
+    pub recording_id: Option<String>,
+}
+
+/// A recording id for a checkpointed run: the scene's name, the clock's nanoseconds and the
+/// process, unique enough that two runs never share one by chance.
+pub fn new_recording_id(scene: &str) -> String {
+    let nanos = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_nanos());
+    format!("{scene}-{nanos:x}-{:x}", std::process::id())
 }
 
 impl RunRecord {
@@ -129,6 +141,7 @@ impl Checkpointer {
         every: Every,
         scene: &Path,
         set: &[String],
+        recording_id: Option<String>,
         sim: &Simulation,
     ) -> anyhow::Result<Checkpointer> {
         std::fs::create_dir_all(dir).map_err(|e| {
@@ -142,6 +155,7 @@ impl Checkpointer {
             scene,
             set: set.to_vec(),
             every: every.to_string(),
+            recording_id,
         };
         let text = format!(
             "# The run this checkpoint folder continues (decohesion run --resume {}).\n{}",

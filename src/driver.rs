@@ -33,6 +33,9 @@ pub struct Plan {
     /// The time series of the run's scalars to this CSV file (`--series`): a row every step,
     /// or at `cadence` when it is not the default ([`SeriesWriter`]).
     pub series: Option<PathBuf>,
+    /// The Rerun recording's id: a checkpointed run's, kept in its folder so that the resumed
+    /// run's recording continues it (`None`: a random one).
+    pub recording_id: Option<String>,
 }
 
 /// Told of every step, on the solver thread: the command line's progress bar, the explorer's
@@ -91,7 +94,13 @@ impl Driver {
         };
         let mut outputs: Vec<Box<dyn Output>> = Vec::new();
         if let Some((sink, colour)) = &plan.recording {
-            outputs.push(Box::new(Recorder::new(sink.clone(), scene, sim, *colour)?));
+            outputs.push(Box::new(Recorder::new(
+                sink.clone(),
+                scene,
+                sim,
+                *colour,
+                plan.recording_id.clone(),
+            )?));
         }
         // The recording's error comes first when both fail.
         outputs.extend(paraview.map(|w| Box::new(w) as Box<dyn Output>));

@@ -413,6 +413,7 @@ impl RecordArgs {
             paraview: self.vtk.clone(),
             recording: self.sink().map(|s| (s, self.colour)),
             series: self.series.clone(),
+            recording_id: None,
         }
     }
 }

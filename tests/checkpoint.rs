@@ -3,6 +3,7 @@
 //! killed with SIGKILL and continued with `run --resume` ends with the uninterrupted run's
 //! summary; a folder or a file that is not a checkpoint of the scene is refused.
 
+use crate::common::capture::{read_capture, scalars};
 use crate::common::cli::{decohesion, decohesion_ok, scratch, summary, BIN};
 use crate::golden;
 use decohesion::compare::summary::TIMING_KEYS;
@@ -178,5 +179,64 @@ fn resume_refuses_what_is_not_a_checkpoint_of_the_scene() {
     refused(resume(&folder), &["state.ckpt", "another model", "--set"]);
     std::fs::write(folder.join("run.toml"), &run_toml).unwrap();
     decohesion_ok(&["run", "--resume", folder.to_str().unwrap(), "--quiet"]);
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// A checkpointed run stopped by Ctrl-C (SIGINT: a checkpoint at the step it stops at) and
+/// resumed, each with `--save`: the two recordings have one recording id, so the viewer shows
+/// them as one recording, and the resumed one starts at the step the first one ends at.
+#[test]
+fn a_resumed_recording_continues_the_first() {
+    let dir = scratch("checkpoint", "recording");
+    let scene = roller_peel();
+    let folder = dir.join("ck");
+    let (first, second) = (dir.join("first.rrd"), dir.join("second.rrd"));
+    let child = std::process::Command::new(BIN)
+        .args(["run", &scene, "--quiet", "--threads", "1", "--checkpoint"])
+        .arg(&folder)
+        .args(["--checkpoint-every", "1000", "--save"])
+        .arg(&first)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let state = folder.join("state.ckpt");
+    let start = std::time::Instant::now();
+    while !state.exists() {
+        assert!(
+            start.elapsed().as_secs() < 120,
+            "no checkpoint written in two minutes"
+        );
+        std::thread::sleep(std::time::Duration::from_millis(1));
+    }
+    let pid = child.id().to_string();
+    let kill = std::process::Command::new("kill")
+        .args(["-INT", &pid])
+        .status()
+        .unwrap();
+    assert!(kill.success());
+    let out = child.wait_with_output().unwrap();
+    assert!(
+        !out.status.success(),
+        "the run ended before Ctrl-C: too short for this test"
+    );
+    decohesion_ok(&[
+        "run",
+        "--resume",
+        folder.to_str().unwrap(),
+        "--quiet",
+        "--save",
+        second.to_str().unwrap(),
+    ]);
+    let (a, b) = (read_capture(&first), read_capture(&second));
+    assert_eq!(a.id().recording_id(), b.id().recording_id());
+    let (ea, eb) = (scalars(&a, "/energy"), scalars(&b, "/energy"));
+    let last_a = *ea.keys().next_back().unwrap();
+    let first_b = *eb.keys().next().unwrap();
+    assert_eq!(
+        first_b, last_a,
+        "the resumed recording starts where the first stops"
+    );
+    assert!(eb.keys().next_back().unwrap() > &last_a);
     std::fs::remove_dir_all(&dir).ok();
 }

@@ -152,6 +152,7 @@ impl Simulation {
                 None => None,
             },
             series,
+            recording_id: None,
         };
         self.resume(py)?;
         let bar = match progress {

@@ -4,7 +4,7 @@
 //! (`--checkpoint`) or continued from (`--resume`, [`crate::checkpoint`]).
 
 use super::progress::{per_mille, sim_time, tenths, time_bar};
-use crate::checkpoint::{Checkpointer, Every, RunRecord, STATE_FILE};
+use crate::checkpoint::{new_recording_id, Checkpointer, Every, RunRecord, STATE_FILE};
 use crate::driver::{cancel_on_ctrl_c, Driver, Plan, Progress};
 use crate::output::OutputError;
 use crate::scene::load_scene;
@@ -64,11 +64,19 @@ pub fn run(
     })?;
     let mut sim = Simulation::new(scene.model.clone())
         .with_context(|| format!("setting up {}", path.display()))?;
+    // A checkpointed run's recording has an id kept in its folder, which the resumed run's
+    // recording takes again.
+    let mut plan = plan.clone();
     let checkpointer = match checkpoints {
         Checkpoints::None => None,
         Checkpoints::Write { dir, every } => {
             let every = every.unwrap_or(Every::Seconds(sim.model.end_time / 10.0));
-            Some(Checkpointer::create(dir, every, path, set, &sim)?)
+            let id = plan
+                .recording
+                .as_ref()
+                .map(|_| new_recording_id(&sim.model.name));
+            plan.recording_id = id.clone();
+            Some(Checkpointer::create(dir, every, path, set, id, &sim)?)
         }
         Checkpoints::Resume { dir, every } => {
             let state = dir.join(STATE_FILE);
@@ -90,10 +98,14 @@ pub fn run(
                 (None, Some(Ok(e))) => e,
                 _ => Every::Seconds(sim.model.end_time / 10.0),
             };
+            if plan.recording.is_some() {
+                let kept = record.as_ref().and_then(|r| r.recording_id.clone());
+                plan.recording_id = Some(kept.unwrap_or_else(|| new_recording_id(&sim.model.name)));
+            }
             Some(Checkpointer::continuing(dir, every, &sim))
         }
     };
-    let driver = Driver::open(plan, &scene, &sim, wall).map_err(|e| match e {
+    let driver = Driver::open(&plan, &scene, &sim, wall).map_err(|e| match e {
         OutputError::Recording(e) => anyhow::Error::new(e).context("starting the recording"),
         OutputError::Paraview(e) => anyhow::Error::new(e),
         OutputError::Series(e) => anyhow::Error::new(e).context("--series"),

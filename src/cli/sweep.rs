@@ -218,6 +218,7 @@ impl Runner<'_> {
             paraview: None,
             recording: None,
             series: None,
+            recording_id: None,
         };
         let driver = match Driver::open(&plan, &scene, &sim, started) {
             Ok(d) => d,

@@ -27,11 +27,12 @@ pub(super) fn run(
     rx: Receiver<Msg>,
     sink: Sink,
     name: String,
+    id: Option<String>,
     st: Statics,
     colour: ColourField,
 ) -> Result<LoggerEnd, RecordError> {
     let started = Instant::now();
-    let stream = Stream::open(&sink, name, &scene_eye(&st.model))?;
+    let stream = Stream::open(&sink, name, id.as_deref(), &scene_eye(&st.model))?;
     let mut logger = Logger::new(stream, st, colour)?;
     let mut busy = started.elapsed();
     while let Ok(msg) = rx.recv() {

@@ -193,6 +193,7 @@ impl Recorder {
         scene: &Scene,
         sim: &Simulation,
         colour: ColourField,
+        id: Option<String>,
     ) -> Result<Recorder, RecordError> {
         let started = Instant::now();
         if let Sink::Save(path) = &sink {
@@ -230,7 +231,7 @@ impl Recorder {
             "decohesion-recorder",
             queue_frames(sim),
             thread_error,
-            move |rx| logger::run(rx, thread_sink, name, statics, colour),
+            move |rx| logger::run(rx, thread_sink, name, id, statics, colour),
         )?;
         worker.charge(started.elapsed());
         Ok(Recorder {

@@ -41,9 +41,10 @@ fn batcher_config() -> rerun::log::ChunkBatcherConfig {
 pub(super) fn open_stream(
     sink: &Sink,
     name: String,
+    id: Option<&str>,
     eye: Option<&Eye>,
 ) -> Result<RecordingStream, RecordError> {
-    let rec = open_sink(sink, name)?;
+    let rec = open_sink(sink, name, id)?;
     // The layout before anything else, as the builder's `with_blueprint` would send it, with
     // the 3-D view's eye ([`super::eye`]).
     let (bp, view) = default_blueprint();
@@ -51,11 +52,16 @@ pub(super) fn open_stream(
     Ok(rec)
 }
 
-/// The SDK's stream for a sink, without a blueprint.
-fn open_sink(sink: &Sink, name: String) -> Result<RecordingStream, RecordError> {
-    let builder = RecordingStreamBuilder::new(APPLICATION_ID)
+/// The SDK's stream for a sink, without a blueprint; with `id`, the recording's id (a resumed
+/// run's recording continues its first part's: the viewer shows the two files as one
+/// recording), else a random one.
+fn open_sink(sink: &Sink, name: String, id: Option<&str>) -> Result<RecordingStream, RecordError> {
+    let mut builder = RecordingStreamBuilder::new(APPLICATION_ID)
         .recording_name(name)
         .batcher_config(batcher_config());
+    if let Some(id) = id {
+        builder = builder.recording_id(id).send_properties(true);
+    }
     match sink {
         Sink::Save(path) => builder.save(path).map_err(|e| {
             RecordError::Setup(format!(
@@ -253,9 +259,14 @@ pub(super) struct Stream {
 
 impl Stream {
     /// Opens the stream of a sink, recording `name` (see [`open_stream`]).
-    pub(super) fn open(sink: &Sink, name: String, eye: &Eye) -> Result<Stream, RecordError> {
+    pub(super) fn open(
+        sink: &Sink,
+        name: String,
+        id: Option<&str>,
+        eye: &Eye,
+    ) -> Result<Stream, RecordError> {
         Ok(Stream {
-            rec: open_stream(sink, name, Some(eye))?,
+            rec: open_stream(sink, name, id, Some(eye))?,
             columns: Columns::default(),
             network: !matches!(sink, Sink::Save(_)),
             last_flush: Instant::now(),
