@@ -24,6 +24,7 @@ mod cohesive_law;
 mod concave_corner;
 mod contact_start;
 mod corner_jacobian;
+mod dcb;
 mod delay;
 mod extreme;
 mod fbar;
