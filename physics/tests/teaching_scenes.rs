@@ -7,7 +7,6 @@ use crate::common::{mean, slope};
 use crate::validation::{curve, record, Tol};
 use decohesion_physics::scene::load_scene;
 use decohesion_physics::solver::Simulation;
-use std::f64::consts::FRAC_PI_2;
 
 /// The simulation of `scenes/NAME.toml` after `overrides`, at t = 0.
 fn start(name: &str, overrides: &[&str]) -> Simulation {
@@ -23,9 +22,25 @@ fn start(name: &str, overrides: &[&str]) -> Simulation {
 /// per width follows Kendall's energy balance, (F/b)(1 − cos θ) + (F/b)²/(2Et) = G_c + ρtV²
 /// (the second term is the arm's stretch ε = F/(bEt), the last its kinetic energy: the arm
 /// moves at (V_f, V), so it gains ½ρbt(V_f² + V²) per unit of peeled length, ≈ ρbtV²).
+///
+/// The same strip at 45°, its end pulled along a line (up at V, sideways at 0.28 V, as lesson 3
+/// does): Kendall's force is three times that at 90° and the arm stretches by 7.6 %, so the
+/// stretch term matters (the plain G_c/(1 − cos θ) is 12 % above). Both peels run side by side.
 #[test]
 fn peel_front_runs_and_the_force_is_kendall_s() {
-    kendall_peel(start("peel", &[]), "kendall_peel");
+    std::thread::scope(|scope| {
+        scope.spawn(|| kendall_peel(start("peel", &[]), "kendall_peel", 90.0, 0.03));
+        scope.spawn(|| {
+            let sim = start(
+                "peel",
+                &[
+                    "displacement=[{faces=\"x-\",component=\"z\",table=[[0.0,0.0],[0.14,0.14]]},\
+                     {faces=\"x-\",component=\"x\",table=[[0.0,0.0],[0.14,0.0392]]}]",
+                ],
+            );
+            kendall_peel(sim, "kendall_peel_45", 45.0, 0.05)
+        });
+    });
 }
 
 /// The same peel at a laboratory speed, 5 mm/s (28 s to lift the end by 0.14 m), with mass
@@ -51,7 +66,7 @@ fn peel_at_laboratory_speed_with_mass_scaling_is_kendall_s() {
         "a uniform strip: every element"
     );
     assert!(sim.h_crit >= r.target_step, "h_crit {:.4e} s", sim.h_crit);
-    let sim = kendall_peel(sim, "kendall_peel_mass_scaled");
+    let sim = kendall_peel(sim, "kendall_peel_mass_scaled", 90.0, 0.03);
     let r = sim.mass_scaling.expect("mass scaling is on");
     eprintln!(
         "mass-scaled peel: {} steps, h_crit {:.4e} s, density × {:.0}, added kinetic energy {:.3e} J = {:.3} % of the largest stored {:.3e} J",
@@ -70,10 +85,20 @@ fn peel_at_laboratory_speed_with_mass_scaling_is_kendall_s() {
     assert!(sim.advisories().iter().all(|w| !w.contains("mass scaling")));
 }
 
-/// Runs the 90° peel `sim` to its end and checks it against Kendall's balance (doc of
-/// [`peel_front_runs_and_the_force_is_kendall_s`]), recording the comparisons as `case`; the
-/// kinetic term takes the density of the mass actually moving (mass scaling included).
-fn kendall_peel(mut sim: Simulation, case: &str) -> Simulation {
+/// Runs the peel `sim` (scenes/peel.toml, its end face pulled along z and, for an angle other
+/// than 90°, along x) to its end and checks it against Kendall's balance (doc of
+/// [`peel_front_runs_and_the_force_is_kendall_s`]) and the arm's angle against `angle` (in
+/// degrees), recording the comparisons as `case`; the kinetic term takes the density of the
+/// mass actually moving (mass scaling included).
+///
+/// The balance at any angle: once steady, the straight arm moves as a rigid body at the end's
+/// velocity v, and per unit of peeled length the pull's work F(1 − cos θ + ε) pays for G_c b,
+/// the arm's strain energy Fε/2 and the kinetic energy ½ρbt|v|² of the material it takes up:
+/// (F/b)(1 − cos θ) + (F/b)²/(2Et) = G_c + ½ρt|v|². With x free (90°) the end follows the front,
+/// v = (V_f, V); with x prescribed, v is the prescribed velocity. The front runs at
+/// V_f = V_z/((1 + ε) sin θ) (the end is (1 + ε) s along the arm from the front, s the peeled
+/// length).
+fn kendall_peel(mut sim: Simulation, case: &str, angle: f64, tol: f64) -> Simulation {
     let law = sim.model.interfaces[0].law.clone();
     let gc = law.fracture_energy();
     let young = sim.model.material.young;
@@ -85,8 +110,18 @@ fn kendall_peel(mut sim: Simulation, case: &str) -> Simulation {
     // The strip: 200 × 10 × 4 mm, 100 × 1 × 2 elements (element e = i + nx·k).
     let (length, b, t, nx) = (0.2, 0.01, 0.004, 100);
     assert_eq!(mesh.elements.len(), 2 * nx);
-    let v_lift = sim.model.displacements[0].history.value(0.1)[0] / 0.1;
-    // (t, front, F_z/b, θ, stretch of the arm, damage dissipated)
+    // The end's prescribed velocity components (constant speeds): z always, x if prescribed.
+    let speed = |component: usize| {
+        let d = sim
+            .model
+            .displacements
+            .iter()
+            .find(|d| d.component == component)?;
+        Some(d.history.value(0.1)[0] / 0.1)
+    };
+    let v_lift = speed(2).expect("the end is lifted along z");
+    let v_side = speed(0);
+    // (t, front, |F|/b, θ, stretch of the arm, damage dissipated)
     let mut samples: Vec<[f64; 6]> = vec![];
     let mut front_went_back = None;
     while !sim.finished() {
@@ -104,8 +139,9 @@ fn kendall_peel(mut sim: Simulation, case: &str) -> Simulation {
         // The arm's angle. Per column of elements, the mean F·e_x of its two layers is the
         // mid-surface's material direction; the arm's direction from the front to the end is
         // −F·e_x, so cos θ = (F·e_x)_x/|F·e_x| (θ = 0 would be lap shear, 180° peeling back over
-        // the strip), and |F·e_x| − 1 is its stretch. Both bends tilt their neighbourhood towards
-        // θ < 90°: the straight part is the column of largest θ.
+        // the strip), and |F·e_x| − 1 is its stretch. Both bends turn their neighbourhood from
+        // the arm's θ towards 0 (the bonded strip at the front, the end face, which keeps its
+        // orientation, at the end): the straight part is the column of largest θ.
         let (mut theta, mut stretch) = (f64::NAN, f64::NAN);
         for i in 0..nx {
             let xc = (i as f64 + 0.5) * length / nx as f64;
@@ -125,10 +161,18 @@ fn kendall_peel(mut sim: Simulation, case: &str) -> Simulation {
                 (theta, stretch) = (th, len - 1.0);
             }
         }
+        // The pull: every prescribed component's reaction on the end face.
+        let pull = sim
+            .stats
+            .reactions
+            .iter()
+            .map(|r| r * r)
+            .sum::<f64>()
+            .sqrt();
         samples.push([
             sim.time,
             front,
-            sim.stats.reactions[0] / b,
+            pull / b,
             theta,
             stretch,
             sim.ledger.damage_dissipated,
@@ -147,9 +191,11 @@ fn kendall_peel(mut sim: Simulation, case: &str) -> Simulation {
         (a.min(s[3]), z.max(s[3]))
     });
     // Kendall's balance solved for F/b at the measured θ.
-    let rhs = gc + rho * t * v_lift * v_lift;
+    let v_x = v_side.unwrap_or(v_front);
+    let rhs = gc + 0.5 * rho * t * (v_lift * v_lift + v_x * v_x);
     let (a, c1) = (1.0 / (2.0 * young * t), 1.0 - theta.cos());
     let kendall = (-c1 + (c1 * c1 + 4.0 * a * rhs).sqrt()) / (2.0 * a);
+    let v_feed = v_lift / ((1.0 + eps) * theta.sin());
     let last = samples.last().unwrap();
     let ts: Vec<f64> = samples.iter().map(|s| s[0]).collect();
     curve(
@@ -165,10 +211,10 @@ fn kendall_peel(mut sim: Simulation, case: &str) -> Simulation {
         "F/b [N/m]",
     );
     eprintln!(
-        "peel: front at {:.4} m after {:.3} s, steady window {:.4}..{:.4} s ({} steps): \
+        "peel at {angle}°: front at {:.4} m after {:.3} s, steady window {:.4}..{:.4} s ({} steps): \
          F/b = {force:.2} N/m, θ = {:.2}° ({:.2}..{:.2}°), arm stretch {eps:.4} (F/(bEt) = \
          {:.4}); Kendall {kendall:.2} N/m ({:+.2} %; plain G_c/(1 − cos θ) = {:.2}); front speed \
-         {v_front:.4} m/s (V/(1 + ε) = {:.4}, {:+.2} %); dD/dt / (b v_front) = {:.2} J/m² \
+         {v_front:.4} m/s (V_z/((1 + ε) sin θ) = {:.4}, {:+.2} %); dD/dt / (b v_front) = {:.2} J/m² \
          (G_c = {gc}); max relative residual {:.2e}",
         last[1],
         last[0],
@@ -181,8 +227,8 @@ fn kendall_peel(mut sim: Simulation, case: &str) -> Simulation {
         force / (young * t),
         100.0 * (force / kendall - 1.0),
         gc / c1,
-        v_lift / (1.0 + eps),
-        100.0 * (v_front * (1.0 + eps) / v_lift - 1.0),
+        v_feed,
+        100.0 * (v_front / v_feed - 1.0),
         d_rate / (b * v_front),
         sim.ledger.max_relative_residual,
     );
@@ -190,46 +236,48 @@ fn kendall_peel(mut sim: Simulation, case: &str) -> Simulation {
     // The front only advances (damage is irreversible), and it got far: 12 cm of 20.
     assert_eq!(front_went_back, None, "the front moved back");
     assert!(last[1] >= 0.12, "the front reached only {:.4} m", last[1]);
-    // Large rotation: the arm's straight part stands upright, turned by 90° from the bonded
-    // strip, within ±3° all along the window (it swings by up to 2° about the vertical).
+    // Large rotation: the arm's straight part is turned by `angle` from the bonded strip
+    // (upright at 90°), within ±3° all along the window (it swings by up to 2°; with x
+    // prescribed, the angle is set by the end's path and the arm's stretch).
     assert!(
-        (theta_min - FRAC_PI_2).abs() <= 3f64.to_radians()
-            && (theta_max - FRAC_PI_2).abs() <= 3f64.to_radians(),
+        (theta_min.to_degrees() - angle).abs() <= 3.0
+            && (theta_max.to_degrees() - angle).abs() <= 3.0,
         "arm angle {:.2}..{:.2}°",
         theta_min.to_degrees(),
         theta_max.to_degrees()
     );
-    // The peel force per width against Kendall at the measured angle. 3 %: the force drops by
-    // ~10 % each time a node pair lets go (2 mm apart); the mean over the ~25 of the window
-    // is good to ~1 %; θ is a mean over its swing, and 1° on θ moves 1 − cos θ by 1.7 %; the
-    // kinetic term is derived for θ = 90° exactly (it is 0.9 % of G_c).
+    // The peel force per width against Kendall at the measured angle, within `tol`. At 90°,
+    // 3 %: the force drops by ~10 % each time a node pair lets go (2 mm apart); the mean over
+    // the ~25 of the window is good to ~1 %; θ is a mean over its swing, and 1° on θ moves
+    // Kendall's force by 1.7 % at 90°. At 45°, 5 %: 1° on θ moves it by 3.3 % (sin θ over
+    // 1 − cos θ + ε), and the arm's 7.6 % stretch is past the linear elasticity Kendall's
+    // stretch term assumes.
     record(
         case,
         "steady peel force per width F/b [N/m]",
         kendall,
         "Kendall 1975 (with stretch and kinetic terms, at the measured θ)",
         force,
-        Tol::Rel(0.03),
+        Tol::Rel(tol),
     );
     assert!(
-        (force / kendall - 1.0).abs() <= 0.03,
+        (force / kendall - 1.0).abs() <= tol,
         "peel force {force:.2} N/m, Kendall {kendall:.2} N/m at θ = {:.2}°",
         theta.to_degrees()
     );
-    // The front runs at the speed the arm is fed: V/(1 + ε). 2 %: a least-squares slope over
-    // 5 cm of 2 mm steps (measured 0.1 %).
+    // The front runs at the speed the arm is fed: V_z/((1 + ε) sin θ) (V/(1 + ε) at 90°). 2 %:
+    // a least-squares slope over 5 cm of 2 mm steps (measured 0.1 % at 90°).
     record(
         case,
         "front speed [m/s]",
-        v_lift / (1.0 + eps),
-        "analytic (V/(1 + ε), inextensible feed)",
+        v_feed,
+        "analytic (V_z/((1 + ε) sin θ), inextensible feed)",
         v_front,
         Tol::Rel(0.02),
     );
     assert!(
-        (v_front * (1.0 + eps) / v_lift - 1.0).abs() <= 0.02,
-        "front speed {v_front:.4} m/s, V/(1 + ε) = {:.4} m/s",
-        v_lift / (1.0 + eps)
+        (v_front / v_feed - 1.0).abs() <= 0.02,
+        "front speed {v_front:.4} m/s, V_z/((1 + ε) sin θ) = {v_feed:.4} m/s"
     );
     // The arm's stretch is the tension's: ε = F/(bEt) (neo-Hookean at 2.5 %: 1st order).
     assert!(
