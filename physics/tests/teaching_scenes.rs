@@ -29,7 +29,7 @@ fn start(name: &str, overrides: &[&str]) -> Simulation {
 #[test]
 fn peel_front_runs_and_the_force_is_kendall_s() {
     std::thread::scope(|scope| {
-        scope.spawn(|| kendall_peel(start("peel", &[]), "kendall_peel", 90.0, 0.03));
+        scope.spawn(|| kendall_peel(start("peel", &[]), "kendall_peel", 90.0, AT_90));
         scope.spawn(|| {
             let sim = start(
                 "peel",
@@ -38,7 +38,7 @@ fn peel_front_runs_and_the_force_is_kendall_s() {
                      {faces=\"x-\",component=\"x\",table=[[0.0,0.0],[0.14,0.0392]]}]",
                 ],
             );
-            kendall_peel(sim, "kendall_peel_45", 45.0, 0.05)
+            kendall_peel(sim, "kendall_peel_45", 45.0, AT_45)
         });
     });
 }
@@ -66,7 +66,7 @@ fn peel_at_laboratory_speed_with_mass_scaling_is_kendall_s() {
         "a uniform strip: every element"
     );
     assert!(sim.h_crit >= r.target_step, "h_crit {:.4e} s", sim.h_crit);
-    let sim = kendall_peel(sim, "kendall_peel_mass_scaled", 90.0, 0.03);
+    let sim = kendall_peel(sim, "kendall_peel_mass_scaled", 90.0, AT_90);
     let r = sim.mass_scaling.expect("mass scaling is on");
     eprintln!(
         "mass-scaled peel: {} steps, h_crit {:.4e} s, density × {:.0}, added kinetic energy {:.3e} J = {:.3} % of the largest stored {:.3e} J",
@@ -85,6 +85,29 @@ fn peel_at_laboratory_speed_with_mass_scaling_is_kendall_s() {
     assert!(sim.advisories().iter().all(|w| !w.contains("mass scaling")));
 }
 
+/// The tolerances of [`kendall_peel`] (its comments justify each): on the force against
+/// Kendall, on the front speed against the fed one, on the arm's stretch against F/(bEt).
+#[derive(Clone, Copy)]
+struct PeelTolerances {
+    force: f64,
+    front_speed: f64,
+    stretch: f64,
+}
+
+/// At 90° (the shipped peel).
+const AT_90: PeelTolerances = PeelTolerances {
+    force: 0.03,
+    front_speed: 0.02,
+    stretch: 0.05,
+};
+
+/// At 45°.
+const AT_45: PeelTolerances = PeelTolerances {
+    force: 0.05,
+    front_speed: 0.03,
+    stretch: 0.10,
+};
+
 /// Runs the peel `sim` (scenes/peel.toml, its end face pulled along z and, for an angle other
 /// than 90°, along x) to its end and checks it against Kendall's balance (doc of
 /// [`peel_front_runs_and_the_force_is_kendall_s`]) and the arm's angle against `angle` (in
@@ -98,7 +121,7 @@ fn peel_at_laboratory_speed_with_mass_scaling_is_kendall_s() {
 /// v = (V_f, V); with x prescribed, v is the prescribed velocity. The front runs at
 /// V_f = V_z/((1 + ε) sin θ) (the end is (1 + ε) s along the arm from the front, s the peeled
 /// length).
-fn kendall_peel(mut sim: Simulation, case: &str, angle: f64, tol: f64) -> Simulation {
+fn kendall_peel(mut sim: Simulation, case: &str, angle: f64, tol: PeelTolerances) -> Simulation {
     let law = sim.model.interfaces[0].law.clone();
     let gc = law.fracture_energy();
     let young = sim.model.material.young;
@@ -195,7 +218,18 @@ fn kendall_peel(mut sim: Simulation, case: &str, angle: f64, tol: f64) -> Simula
     let rhs = gc + 0.5 * rho * t * (v_lift * v_lift + v_x * v_x);
     let (a, c1) = (1.0 / (2.0 * young * t), 1.0 - theta.cos());
     let kendall = (-c1 + (c1 * c1 + 4.0 * a * rhs).sqrt()) / (2.0 * a);
-    let v_feed = v_lift / ((1.0 + eps) * theta.sin());
+    // The front speed the end's motion feeds: the end moves at V_f(1 + ε) along the arm
+    // relative to the point of the strip at the front, which runs at V_f along x, so
+    // |v − V_f e_x| = V_f (1 + ε): with x free (v_x = V_f), V_f = V_z/(1 + ε); with x
+    // prescribed, the root of V_f²((1 + ε)² − 1) + 2 v_x V_f − |v|² = 0. No θ in it.
+    let v_feed = match v_side {
+        None => v_lift / (1.0 + eps),
+        Some(vx) => {
+            let qa = (1.0 + eps) * (1.0 + eps) - 1.0;
+            let v2 = vx * vx + v_lift * v_lift;
+            (-vx + (vx * vx + qa * v2).sqrt()) / qa
+        }
+    };
     let last = samples.last().unwrap();
     let ts: Vec<f64> = samples.iter().map(|s| s[0]).collect();
     curve(
@@ -214,7 +248,7 @@ fn kendall_peel(mut sim: Simulation, case: &str, angle: f64, tol: f64) -> Simula
         "peel at {angle}°: front at {:.4} m after {:.3} s, steady window {:.4}..{:.4} s ({} steps): \
          F/b = {force:.2} N/m, θ = {:.2}° ({:.2}..{:.2}°), arm stretch {eps:.4} (F/(bEt) = \
          {:.4}); Kendall {kendall:.2} N/m ({:+.2} %; plain G_c/(1 − cos θ) = {:.2}); front speed \
-         {v_front:.4} m/s (V_z/((1 + ε) sin θ) = {:.4}, {:+.2} %); dD/dt / (b v_front) = {:.2} J/m² \
+         {v_front:.4} m/s (fed {:.4}, {:+.2} %); dD/dt / (b v_front) = {:.2} J/m² \
          (G_c = {gc}); max relative residual {:.2e}",
         last[1],
         last[0],
@@ -246,7 +280,7 @@ fn kendall_peel(mut sim: Simulation, case: &str, angle: f64, tol: f64) -> Simula
         theta_min.to_degrees(),
         theta_max.to_degrees()
     );
-    // The peel force per width against Kendall at the measured angle, within `tol`. At 90°,
+    // The peel force per width against Kendall at the measured angle, within `tol.force`. At 90°,
     // 3 %: the force drops by ~10 % each time a node pair lets go (2 mm apart); the mean over
     // the ~25 of the window is good to ~1 %; θ is a mean over its swing, and 1° on θ moves
     // Kendall's force by 1.7 % at 90°. At 45°, 5 %: 1° on θ moves it by 3.3 % (sin θ over
@@ -258,30 +292,35 @@ fn kendall_peel(mut sim: Simulation, case: &str, angle: f64, tol: f64) -> Simula
         kendall,
         "Kendall 1975 (with stretch and kinetic terms, at the measured θ)",
         force,
-        Tol::Rel(tol),
+        Tol::Rel(tol.force),
     );
     assert!(
-        (force / kendall - 1.0).abs() <= tol,
+        (force / kendall - 1.0).abs() <= tol.force,
         "peel force {force:.2} N/m, Kendall {kendall:.2} N/m at θ = {:.2}°",
         theta.to_degrees()
     );
-    // The front runs at the speed the arm is fed: V_z/((1 + ε) sin θ) (V/(1 + ε) at 90°). 2 %:
-    // a least-squares slope over 5 cm of 2 mm steps (measured 0.1 % at 90°).
+    // The front runs at the speed the arm is fed (above), within `tol.front_speed`: at 90°
+    // 2 %, a least-squares slope over 5 cm of 2 mm steps; at 45° 3 %, as the fed speed there
+    // moves by ~1.5 % per 0.005 of the arm's stretch, which is the stretch of one column and
+    // varies by that much along the arm.
     record(
         case,
         "front speed [m/s]",
         v_feed,
-        "analytic (V_z/((1 + ε) sin θ), inextensible feed)",
+        "analytic (|v − V_f e_x| = V_f (1 + ε), inextensible feed)",
         v_front,
-        Tol::Rel(0.02),
+        Tol::Rel(tol.front_speed),
     );
     assert!(
-        (v_front / v_feed - 1.0).abs() <= 0.02,
-        "front speed {v_front:.4} m/s, V_z/((1 + ε) sin θ) = {v_feed:.4} m/s"
+        (v_front / v_feed - 1.0).abs() <= tol.front_speed,
+        "front speed {v_front:.4} m/s, fed {v_feed:.4} m/s"
     );
-    // The arm's stretch is the tension's: ε = F/(bEt) (neo-Hookean at 2.5 %: 1st order).
+    // The arm's stretch is the tension's: ε = F/(bEt), within `tol.stretch`: 5 % at 90°
+    // (neo-Hookean at 2.5 %: 1st order); 10 % at 45°, where the arm stretches by 7.6 % and a
+    // neo-Hookean bar is softer than E by about as much (incompressible: P = μ(λ − λ⁻²)
+    // against 3με).
     assert!(
-        (eps / (force / (young * t)) - 1.0).abs() <= 0.05,
+        (eps / (force / (young * t)) - 1.0).abs() <= tol.stretch,
         "stretch {eps:.4}, F/(bEt) = {:.4}",
         force / (young * t)
     );
