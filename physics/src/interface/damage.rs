@@ -26,9 +26,18 @@ pub fn damage_measure(jump: [f64; 3], n: [f64; 3]) -> f64 {
 /// doc). With r = 1 it is [`damage_measure`] bit for bit (1·x = x).
 #[inline]
 pub fn weighted_damage_measure(jump: [f64; 3], n: [f64; 3], r: f64) -> f64 {
+    weighted_damage_split(jump, n, r).0
+}
+
+/// (f, r|[u]_T|²): the damage measure of [`weighted_damage_measure`], by the same operations,
+/// and its shear part, so that B = r|[u]_T|²/f² is the shear share of the stored energy on
+/// opening (the mode mixity of the `bk` law, model §2.11).
+#[inline]
+pub fn weighted_damage_split(jump: [f64; 3], n: [f64; 3], r: f64) -> (f64, f64) {
     let un = dot(jump, n);
     let t2 = dot(jump, jump) - un * un;
-    (un.max(0.0).powi(2) + r * t2.max(0.0)).sqrt()
+    let shear = r * t2.max(0.0);
+    ((un.max(0.0).powi(2) + shear).sqrt(), shear)
 }
 
 /// Eq. 12 evaluated on a configuration: α' = min(u_r, max(α, f)), the largest jump ever

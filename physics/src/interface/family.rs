@@ -432,6 +432,14 @@ pub trait Family: Sized + Into<LawKind> {
         law.rate_independent_or_delayed(s, alpha_s)
     }
 
+    /// The opening whose running maximum α is, for a damage measure f whose shear part is
+    /// `shear` = r|[u]_T|²: f itself for the families whose damage depends on f only (eq. 12);
+    /// `bk` maps f and the mode mixity to the mode-I opening of the same damage (model §2.11).
+    /// What [`StiffnessLaw::initial_damage`] takes the maximum of.
+    fn damage_opening(&self, _law: &StiffnessLaw, f: f64, _shear: f64) -> f64 {
+        f
+    }
+
     /// Whether the family takes `[interface.delay]`; `Some(reason)` when it does not.
     fn refuses_delay(&self) -> Option<&'static str> {
         None
@@ -439,12 +447,15 @@ pub trait Family: Sized + Into<LawKind> {
 }
 
 /// The data of one stage-8 update at a node (model §4.8): α now, the damage measure f of
-/// the next configuration, the interval h [s] over which it is reached.
+/// the next configuration, the interval h [s] over which it is reached, and the shear part
+/// r|[u]_T|² of f² (the mode mixity B = r|[u]_T|²/f² of `bk`, model §2.11; the other families
+/// do not read it).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct DamageStep {
     pub alpha: f64,
     pub f: f64,
     pub h: f64,
+    pub shear: f64,
 }
 
 /// One row of the table of families: what [`Family`] declares, without its type.

@@ -11,7 +11,7 @@ use serde::Serialize;
 use std::fmt;
 
 pub use super::damage::Loading;
-use super::damage::{damage_update, weighted_damage_measure};
+use super::damage::{damage_update, weighted_damage_measure, weighted_damage_split};
 pub use super::delay::Delay;
 pub use super::family::{
     families, family, family_or_error, DamageStep, Family, FamilySpec, Knots, NumberParam, Param,
@@ -161,9 +161,11 @@ impl StiffnessLaw {
     }
 
     /// α₀ = min(u_r, max(initial damage, f₀)) (eq. 12 with the damage the interface had before
-    /// the run); a delayed law starts with α = α_s = α₀.
+    /// the run; for `bk`, f₀ mapped to its mode-I-equivalent opening, model §2.11); a delayed
+    /// law starts with α = α_s = α₀.
     pub fn initial_damage(&self, initial: f64, jump: [f64; 3], n: [f64; 3]) -> f64 {
-        damage_update(initial, self.damage_measure(jump, n), self.u_r)
+        let (f, shear) = weighted_damage_split(jump, n, self.loading.ratio);
+        damage_update(initial, self.kind.damage_opening(self, f, shear), self.u_r)
     }
 
     /// Stage 8 (model §4.8): α at the end of an interval `h` over which the jump reaches
@@ -177,9 +179,9 @@ impl StiffnessLaw {
         n: [f64; 3],
         h: f64,
     ) -> f64 {
-        let f = self.damage_measure(jump, n);
-        self.kind
-            .next_damage(self, DamageStep { alpha, f, h }, alpha_s)
+        let (f, shear) = weighted_damage_split(jump, n, self.loading.ratio);
+        let step = DamageStep { alpha, f, h, shear };
+        self.kind.next_damage(self, step, alpha_s)
     }
 
     /// Eq. 12, α' = min(u_r, max(α, f)), without a delay (α_s is α: `alpha_s` is neither read
@@ -187,7 +189,7 @@ impl StiffnessLaw {
     /// over `h` by the exact solution of the delay ODE ([`Delay::advance`]).
     #[inline]
     pub fn rate_independent_or_delayed(&self, s: DamageStep, alpha_s: &mut f64) -> f64 {
-        let DamageStep { alpha, f, h } = s;
+        let DamageStep { alpha, f, h, .. } = s;
         match &self.delay {
             None => damage_update(alpha, f, self.u_r),
             Some(d) => {

@@ -62,6 +62,14 @@ macro_rules! families {
                 }
             }
 
+            /// [`Family::damage_opening`] of the family.
+            #[inline]
+            pub(crate) fn damage_opening(&self, law: &StiffnessLaw, f: f64, shear: f64) -> f64 {
+                match self {
+                    $(LawKind::$family(k) => k.damage_opening(law, f, shear),)*
+                }
+            }
+
             /// [`Family::refuses_delay`] of the family.
             pub(crate) fn refuses_delay(&self) -> Option<&'static str> {
                 match self {

@@ -137,7 +137,7 @@ impl Family for Rccm {
     /// b(β' − β)/h = w − β'Y gives β' = (bβ + hw)/(b + hY) ∈ (0, β) for any h (and β'Y ≥ w, the
     /// branch is consistent); b = 0 gives β' = w/Y, i.e. α' = max(α, f). α' = u₀/√β'.
     fn next_damage(&self, law: &StiffnessLaw, s: DamageStep, _alpha_s: &mut f64) -> f64 {
-        let DamageStep { alpha, f, h } = s;
+        let DamageStep { alpha, f, h, .. } = s;
         if self.b == 0.0 {
             return alpha.max(f);
         }
