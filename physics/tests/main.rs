@@ -19,6 +19,7 @@ mod validation;
 
 mod bad_input;
 mod bad_input_corpus;
+mod bk;
 mod bulk_viscosity;
 mod cohesive_law;
 mod concave_corner;

@@ -341,6 +341,15 @@ fn random_law(pick: usize, x: [f64; 5]) -> StiffnessLaw {
                 vec![[0.0, g_n0], [1e-3 * (0.1 + x[1]), g_n0 * x[2]], [4e-3, 0.0]],
             )
             .with("r_t", 10f64.powf(2.0 * x[4] - 1.0)),
+        // G_Ic for u_r = α_e (1.5 … 4.5) as the others', G_IIc from 0.5 to 4.5 × G_Ic.
+        "bk" => {
+            let alpha_e = 1e-3 * (0.05 + x[1]);
+            let g_ic = 0.5 * g_n0 * alpha_e * alpha_e * (1.5 + 3.0 * x[2]);
+            (spec.defaults().with("g_n0", g_n0).with("alpha_e", alpha_e))
+                .with("g_ic", g_ic)
+                .with("g_iic", g_ic * (0.5 + 4.0 * x[3]))
+                .with("r_t", 10f64.powf(2.0 * x[4] - 1.0))
+        }
         _ => {
             let alpha_e = 1e-3 * (0.05 + x[1]);
             let mut v = spec.defaults().with("g_n0", g_n0).with("alpha_e", alpha_e);
