@@ -287,8 +287,9 @@ fn the_delay_applies_to_the_mode_i_equivalent_opening() {
     );
     let fast = law.with_delay(Some(Delay::new(1.0, 3.0).unwrap())).unwrap();
     let mut long = jumps.clone();
-    // Held at the last jump for 10 τ_c: α reaches α_s = u_r (§2.9).
-    long.extend(std::iter::repeat_n(*jumps.last().unwrap(), 100_000));
+    // Held at the last jump for 20 τ_c: the lag falls by e^{−a h/τ_c} a step and α ends at
+    // α_s = u_r once a step makes no representable progress (§2.9).
+    long.extend(std::iter::repeat_n(*jumps.last().unwrap(), 200_000));
     let run = drive(&fast, &long, 1e-4);
     assert_eq!(run.alpha, fast.u_r);
     assert!(run.dissipated > 750.0, "{}", run.dissipated);
