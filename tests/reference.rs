@@ -101,7 +101,14 @@ fn the_scene_page_says_what_the_loader_does() {
         plane_row.contains("(or `mould`)") && plane_row.contains("`[[mould]]`"),
         "{plane_row}"
     );
-    for family in ["plateau_linear", "bilinear", "bk", "exponential", "rccm", "table"] {
+    for family in [
+        "plateau_linear",
+        "bilinear",
+        "bk",
+        "exponential",
+        "rccm",
+        "table",
+    ] {
         assert!(page.contains(&format!("Family `{family}`")), "{family}");
     }
     for shape in ["half_space", "box", "sphere", "cylinder", "surface"] {
