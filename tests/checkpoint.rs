@@ -62,6 +62,30 @@ fn roller_peel() -> String {
         .to_string()
 }
 
+/// `run SCENE --checkpoint FOLDER --checkpoint-every 1000` with `more` arguments, started and
+/// returned once its first checkpoint is written.
+fn checkpointing(scene: &str, folder: &Path, more: &[&str]) -> std::process::Child {
+    let child = std::process::Command::new(BIN)
+        .args(["run", scene, "--quiet", "--threads", "1", "--checkpoint"])
+        .arg(folder)
+        .args(["--checkpoint-every", "1000"])
+        .args(more)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let state = folder.join("state.ckpt");
+    let start = std::time::Instant::now();
+    while !state.exists() {
+        assert!(
+            start.elapsed().as_secs() < 120,
+            "no checkpoint written in two minutes"
+        );
+        std::thread::sleep(std::time::Duration::from_millis(1));
+    }
+    child
+}
+
 /// `run --checkpoint` killed by SIGKILL right after its first checkpoint, then `run --resume`,
 /// ends with the uninterrupted run's summary (without its timings and the checkpoint's report);
 /// the resumed run keeps checkpointing into the folder.
@@ -79,23 +103,7 @@ fn a_run_killed_by_sigkill_resumes_to_the_uninterrupted_summary() {
         full.to_str().unwrap(),
     ]);
     let folder = dir.join("ck");
-    let mut child = std::process::Command::new(BIN)
-        .args(["run", &scene, "--quiet", "--threads", "1", "--checkpoint"])
-        .arg(&folder)
-        .args(["--checkpoint-every", "1000"])
-        .stdout(std::process::Stdio::null())
-        .stderr(std::process::Stdio::null())
-        .spawn()
-        .unwrap();
-    let state = folder.join("state.ckpt");
-    let start = std::time::Instant::now();
-    while !state.exists() {
-        assert!(
-            start.elapsed().as_secs() < 120,
-            "no checkpoint written in two minutes"
-        );
-        std::thread::sleep(std::time::Duration::from_millis(1));
-    }
+    let mut child = checkpointing(&scene, &folder, &[]);
     child.kill().unwrap(); // SIGKILL
     let status = child.wait().unwrap();
     assert_eq!(
@@ -191,24 +199,7 @@ fn a_resumed_recording_continues_the_first() {
     let scene = roller_peel();
     let folder = dir.join("ck");
     let (first, second) = (dir.join("first.rrd"), dir.join("second.rrd"));
-    let child = std::process::Command::new(BIN)
-        .args(["run", &scene, "--quiet", "--threads", "1", "--checkpoint"])
-        .arg(&folder)
-        .args(["--checkpoint-every", "1000", "--save"])
-        .arg(&first)
-        .stdout(std::process::Stdio::null())
-        .stderr(std::process::Stdio::null())
-        .spawn()
-        .unwrap();
-    let state = folder.join("state.ckpt");
-    let start = std::time::Instant::now();
-    while !state.exists() {
-        assert!(
-            start.elapsed().as_secs() < 120,
-            "no checkpoint written in two minutes"
-        );
-        std::thread::sleep(std::time::Duration::from_millis(1));
-    }
+    let child = checkpointing(&scene, &folder, &["--save", first.to_str().unwrap()]);
     let pid = child.id().to_string();
     let kill = std::process::Command::new("kill")
         .args(["-INT", &pid])
