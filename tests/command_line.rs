@@ -246,3 +246,22 @@ fn every_argument_has_help() {
         }
     }
 }
+
+/// `check` on a `bk` (mixed-mode) interface gives the energy to break in each pure mode: its G_c
+/// is the mode-I one, and mode II's is G_IIc × the glued area (0.1 × 0.1 m² of `mixed_mode`).
+#[test]
+fn check_gives_both_pure_mode_energies_of_a_mixed_mode_law() {
+    let law = "interface.law={family=\"bk\", g_n0=2.5e8, alpha_e=1.0e-3, g_ic=250.0, g_iic=750.0, eta=2.0}";
+    let out = decohesion_ok(&["check", "scenes/mixed_mode.toml", "--set", law]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    let line = text
+        .lines()
+        .find(|l| l.contains("to break"))
+        .unwrap_or_else(|| panic!("no energy to break in:\n{text}"));
+    assert!(line.contains("G_c = 2.50000e2 J/m²"), "{line}");
+    assert!(line.contains("2.50000e0 J to break in mode I"), "{line}");
+    assert!(
+        line.contains("G_IIc = 7.50000e2 J/m² → 7.50000e0 J"),
+        "{line}"
+    );
+}

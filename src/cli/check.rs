@@ -87,8 +87,16 @@ pub fn check(path: &Path, set: &[String]) -> Result<()> {
                 itf.law.mu(alpha0, itf.mu_inf)
             );
         }
+        // A mixed-mode law (`bk`): G_c is the mode-I energy; mode II and mixity B differ.
+        let mode_ii = match itf.law.values().get("g_iic") {
+            Some(crate::law::ParamValue::Number(g)) => format!(
+                " in mode I (mode II: G_IIc = {g:.5e} J/m² → {:.5e} J; mixed: Benzeggagh–Kenane)",
+                g * area
+            ),
+            _ => String::new(),
+        };
         println!(
-            "    peak traction              {:.5e} Pa at δ = {:.4e} m; G_c = {:.5e} J/m²; area {:.4e} m² → {:.5e} J to break",
+            "    peak traction              {:.5e} Pa at δ = {:.4e} m; G_c = {:.5e} J/m²; area {:.4e} m² → {:.5e} J to break{mode_ii}",
             tmax,
             at,
             itf.law.fracture_energy(),
