@@ -109,6 +109,53 @@ fn is_binary(bytes: &[u8]) -> bool {
         .unwrap_or(false)
 }
 
+/// The data size of the `$MeshFormat` line (`4.1 file-type data-size`), the bytes of an unsigned
+/// integer in a binary file, refused unless 1, 2, 4, 8 or 16 (Gmsh writes sizeof(size_t) = 8):
+/// mshio 0.4.2 panics on any other value in a binary file, and on digits that overflow an
+/// integer in either kind, instead of returning an error.
+fn check_data_size(bytes: &[u8], file: &str, binary: bool) -> Result<(), MshError> {
+    const TAG: &[u8] = b"$MeshFormat";
+    let head = &bytes[..bytes.len().min(4096)];
+    let Some(start) = head.windows(TAG.len()).position(|w| w == TAG) else {
+        return Ok(());
+    };
+    // mshio separates the three numbers by single spaces, tabs or line ends; tokens split on any
+    // run of them (a run mshio rejects is its own syntax error either way).
+    let is_space = |b: &u8| matches!(b, b' ' | b'\t' | b'\r' | b'\n');
+    let mut at = start + TAG.len();
+    let token = |at: &mut usize| {
+        while *at < head.len() && is_space(&head[*at]) {
+            *at += 1;
+        }
+        let from = *at;
+        while *at < head.len() && !is_space(&head[*at]) {
+            *at += 1;
+        }
+        from
+    };
+    let (_version, _file_type, size_at) = (token(&mut at), token(&mut at), token(&mut at));
+    // mshio reads the leading digits of the data size (what follows them is its syntax error).
+    let digits: String = head[size_at..at]
+        .iter()
+        .take_while(|b| b.is_ascii_digit())
+        .map(|&b| b as char)
+        .collect();
+    if digits.is_empty() {
+        return Ok(());
+    }
+    match digits.parse::<u64>() {
+        Ok(1 | 2 | 4 | 8 | 16) => Ok(()),
+        _ => Err(MshError::Syntax {
+            file: file.to_string(),
+            at: location(bytes, size_at, binary),
+            message: format!(
+                "data size {} in $MeshFormat: admissible 1, 2, 4, 8 or 16 (the bytes of an unsigned integer; Gmsh writes 8)",
+                if digits.len() > 24 { format!("{}…", &digits[..24]) } else { digits }
+            ),
+        }),
+    }
+}
+
 /// "line N" (1-based) of byte `offset`, or "byte N" in a binary file.
 fn location(bytes: &[u8], offset: usize, binary: bool) -> String {
     let offset = offset.min(bytes.len());
@@ -189,6 +236,7 @@ fn physical_names(
 /// Parses the bytes of a `.msh` file; `file` names it in messages.
 pub fn parse_msh(bytes: &[u8], file: &str) -> Result<Mesh, MshError> {
     let binary = is_binary(bytes);
+    check_data_size(bytes, file, binary)?;
     let msh = mshio::parse_msh_bytes(bytes).map_err(|e| syntax_error(&e, bytes, file, binary))?;
     let err = MeshErr(file);
     let names = physical_names(bytes, file, binary)?;
