@@ -196,3 +196,23 @@ def test_bad_arguments_are_refused_naming_the_argument(what, call, error, text, 
     with pytest.raises(error) as e:
         call(pull_off)
     assert text in str(e.value)
+
+
+# (what, the call with an argument of the wrong type, the argument's name)
+WRONG_TYPES = [
+    ("step count a string", lambda s: decohesion.Simulation(s).step("10"), "n"),
+    ("until a string", lambda s: decohesion.Simulation(s).run(until="0.1"), "until"),
+    ("threads a float", lambda s: decohesion.Simulation(s, threads=1.5), "threads"),
+    ("path a number", lambda s: decohesion.Scene.load(3), "path"),
+    ("save path a number", lambda s: decohesion.Simulation(s).save(5), "path"),
+    ("every a string", lambda s: decohesion.Simulation(s).run(every="2"), "every"),
+]
+
+
+@pytest.mark.parametrize("what,call,name", WRONG_TYPES, ids=[c[0] for c in WRONG_TYPES])
+def test_a_wrong_type_is_a_type_error_that_names_the_argument(what, call, name, pull_off):
+    """PyO3 names the argument in the exception's notes (PEP 678), which a traceback prints
+    under the message: "while processing 'n'"."""
+    with pytest.raises(TypeError) as e:
+        call(pull_off)
+    assert f"while processing '{name}'" in getattr(e.value, "__notes__", [])
