@@ -1,4 +1,4 @@
-//! Gmsh meshes (src/gmsh.rs): a box written as `.msh` and read back is `Mesh::boxed` and runs the
+//! Gmsh meshes (physics/src/gmsh/): a box written as `.msh` and read back is `Mesh::boxed` and runs the
 //! pull-off exactly as the box does; the grooved tread block of scenes/tread.toml has the analytic
 //! volume and areas, and tears off; bad files are refused with the file and the item named.
 
@@ -222,7 +222,7 @@ fn tread_scene_tears_off() {
     let mut sim = Simulation::new(scene.model).unwrap();
     sim.run(|_| true).unwrap();
     // 31 × 16 nodes on the bottom, all ruptured, before the end.
-    let n = sim.interface_nodes.len();
+    let n = sim.state.interface_nodes.len();
     assert_eq!(n, 496);
     assert_eq!(sim.state_counts().ruptured, n);
     let t = sim
@@ -230,21 +230,21 @@ fn tread_scene_tears_off() {
         .time_full_rupture
         .expect("the block must tear off");
     assert!(t < 0.75 * sim.model.end_time, "full rupture at {t} s");
-    for itf in &sim.interface_nodes {
+    for itf in &sim.state.interface_nodes {
         assert!(itf.gap > 0.0, "node {} still on the plate", itf.node);
     }
     // Every node ruptured: the damage dissipation is G_c × 1800 mm² up to the discrete rupture
     // steps (O(h), +1.5 % measured; the same bounds as the pull-off test).
     let gc_area = sim.model.interfaces[0].law.fracture_energy() * 1.8e-3;
-    let d = sim.ledger.damage_dissipated;
+    let d = sim.state.ledger.damage_dissipated;
     assert!(
         d >= 0.99 * gc_area && d <= 1.08 * gc_area,
         "damage dissipation {d} J vs G_c·A {gc_area} J"
     );
     assert!(
-        sim.ledger.max_relative_residual < 1e-3,
+        sim.state.ledger.max_relative_residual < 1e-3,
         "residual {}",
-        sim.ledger.max_relative_residual
+        sim.state.ledger.max_relative_residual
     );
 }
 

@@ -25,10 +25,14 @@
 //! are contiguous (min..=max, what Gmsh writes) the k-th node of the section in file order has the
 //! tag min + k, which is how Gmsh numbers them.
 
+mod header;
+mod write;
+
 use crate::mesh::{GaussData, Mesh};
+use header::{check_data_size, is_binary, physical_names, syntax_error};
 use std::collections::{BTreeMap, HashMap};
-use std::io::Write;
 use std::path::Path;
+pub use write::{msh_text, write_msh};
 
 /// Position in a Gmsh hexahedron of the node that [`Mesh`] puts at each local index: the two
 /// conventions coincide (see the module docs).
@@ -99,140 +103,6 @@ fn type_name(t: i32) -> String {
     format!("type {t}, {name}")
 }
 
-/// True when the header says binary (`$MeshFormat` / `4.1 1 8`).
-fn is_binary(bytes: &[u8]) -> bool {
-    let text = String::from_utf8_lossy(&bytes[..bytes.len().min(256)]);
-    text.lines()
-        .skip_while(|l| l.trim() != "$MeshFormat")
-        .nth(1)
-        .and_then(|l| l.split_whitespace().nth(1).map(|t| t == "1"))
-        .unwrap_or(false)
-}
-
-/// The data size of the `$MeshFormat` line (`4.1 file-type data-size`), the bytes of an unsigned
-/// integer in a binary file, refused unless 1, 2, 4, 8 or 16 (Gmsh writes sizeof(size_t) = 8):
-/// mshio 0.4.2 panics on any other value in a binary file, and on digits that overflow an
-/// integer in either kind, instead of returning an error.
-fn check_data_size(bytes: &[u8], file: &str, binary: bool) -> Result<(), MshError> {
-    const TAG: &[u8] = b"$MeshFormat";
-    let head = &bytes[..bytes.len().min(4096)];
-    let Some(start) = head.windows(TAG.len()).position(|w| w == TAG) else {
-        return Ok(());
-    };
-    // mshio separates the three numbers by single spaces, tabs or line ends; tokens split on any
-    // run of them (a run mshio rejects is its own syntax error either way).
-    let is_space = |b: &u8| matches!(b, b' ' | b'\t' | b'\r' | b'\n');
-    let mut at = start + TAG.len();
-    let token = |at: &mut usize| {
-        while *at < head.len() && is_space(&head[*at]) {
-            *at += 1;
-        }
-        let from = *at;
-        while *at < head.len() && !is_space(&head[*at]) {
-            *at += 1;
-        }
-        from
-    };
-    let (_version, _file_type, size_at) = (token(&mut at), token(&mut at), token(&mut at));
-    // mshio reads the leading digits of the data size (what follows them is its syntax error).
-    let digits: String = head[size_at..at]
-        .iter()
-        .take_while(|b| b.is_ascii_digit())
-        .map(|&b| b as char)
-        .collect();
-    if digits.is_empty() {
-        return Ok(());
-    }
-    match digits.parse::<u64>() {
-        Ok(1 | 2 | 4 | 8 | 16) => Ok(()),
-        _ => Err(MshError::Syntax {
-            file: file.to_string(),
-            at: location(bytes, size_at, binary),
-            message: format!(
-                "data size {} in $MeshFormat: admissible 1, 2, 4, 8 or 16 (the bytes of an unsigned integer; Gmsh writes 8)",
-                if digits.len() > 24 { format!("{}…", &digits[..24]) } else { digits }
-            ),
-        }),
-    }
-}
-
-/// "line N" (1-based) of byte `offset`, or "byte N" in a binary file.
-fn location(bytes: &[u8], offset: usize, binary: bool) -> String {
-    let offset = offset.min(bytes.len());
-    if binary {
-        format!("byte {offset}")
-    } else {
-        let line = 1 + bytes[..offset].iter().filter(|&&b| b == b'\n').count();
-        format!("line {line}")
-    }
-}
-
-/// The `$PhysicalNames` section (always ASCII, before the binary sections): (dim, tag) → name.
-/// It is searched before the first `$Entities` or `$Nodes` so that binary data is never read as
-/// text.
-fn physical_names(
-    bytes: &[u8],
-    file: &str,
-    binary: bool,
-) -> Result<BTreeMap<(i32, i32), String>, MshError> {
-    let find = |pat: &[u8], from: usize| {
-        bytes[from..]
-            .windows(pat.len())
-            .position(|w| w == pat)
-            .map(|p| p + from)
-    };
-    let stop = [&b"\n$Entities"[..], b"\n$Nodes"]
-        .iter()
-        .filter_map(|p| find(p, 0))
-        .min()
-        .unwrap_or(bytes.len());
-    let mut names = BTreeMap::new();
-    let Some(start) = find(b"$PhysicalNames", 0).filter(|&s| s < stop) else {
-        return Ok(names);
-    };
-    let first_line = 1 + bytes[..start].iter().filter(|&&b| b == b'\n').count();
-    let end = find(b"$EndPhysicalNames", start).ok_or_else(|| MshError::Syntax {
-        file: file.to_string(),
-        at: location(bytes, start, binary),
-        message: "$PhysicalNames has no $EndPhysicalNames".into(),
-    })?;
-    let text = String::from_utf8_lossy(&bytes[start..end]);
-    let mut lines = text.lines().enumerate().skip(1);
-    let bad = |i: usize, what: &str| MshError::Syntax {
-        file: file.to_string(),
-        at: format!("line {}", first_line + i),
-        message: format!("in $PhysicalNames: {what}"),
-    };
-    let (i, count) = lines
-        .next()
-        .ok_or_else(|| bad(1, "the number of names is missing"))?;
-    let count: usize = count
-        .trim()
-        .parse()
-        .map_err(|_| bad(i, &format!("expected the number of names, found {count:?}")))?;
-    for _ in 0..count {
-        let (i, line) = lines
-            .next()
-            .ok_or_else(|| bad(count + 1, &format!("expected {count} names")))?;
-        let expected = "expected `dimension tag \"name\"`";
-        let mut parts = line.trim().splitn(3, char::is_whitespace);
-        let dim = parts.next().and_then(|s| s.parse::<i32>().ok());
-        let tag = parts.next().and_then(|s| s.parse::<i32>().ok());
-        let name = parts
-            .next()
-            .map(str::trim)
-            .and_then(|s| s.strip_prefix('"'))
-            .and_then(|s| s.strip_suffix('"'));
-        match (dim, tag, name) {
-            (Some(d), Some(t), Some(n)) => {
-                names.insert((d, t), n.to_string());
-            }
-            _ => return Err(bad(i, &format!("{expected}, found {line:?}"))),
-        }
-    }
-    Ok(names)
-}
-
 /// Parses the bytes of a `.msh` file; `file` names it in messages.
 pub fn parse_msh(bytes: &[u8], file: &str) -> Result<Mesh, MshError> {
     let binary = is_binary(bytes);
@@ -253,40 +123,6 @@ pub fn parse_msh(bytes: &[u8], file: &str) -> Result<Mesh, MshError> {
     // A Gmsh file numbers its nodes by geometric entity, not by position: renumber them slab by
     // slab for the element loop's caches (a no-op for a file written along its longest axis).
     Ok(mesh.with_nodes_in_slabs())
-}
-
-/// mshio's parse error as a [`MshError::Syntax`]: the innermost error kind, the sections it was
-/// in from the outermost inwards, and the line (ASCII) or byte offset (binary).
-fn syntax_error(
-    e: &mshio::MshParserError<&[u8]>,
-    bytes: &[u8],
-    file: &str,
-    binary: bool,
-) -> MshError {
-    let trace = e.filtered_backtrace();
-    let offset = trace
-        .first()
-        .map_or(0, |(rest, _)| bytes.len().saturating_sub(rest.len()));
-    let what = trace
-        .iter()
-        .find(|(_, k)| k.context().is_none())
-        .map_or_else(|| "unexpected content".to_string(), |(_, k)| k.to_string());
-    let mut within: Vec<&str> = trace
-        .iter()
-        .rev()
-        .filter_map(|(_, k)| k.context())
-        .collect();
-    within.dedup();
-    let within = if within.is_empty() {
-        String::new()
-    } else {
-        format!(" (in {})", within.join(" › "))
-    };
-    MshError::Syntax {
-        file: file.to_string(),
-        at: location(bytes, offset, binary),
-        message: format!("{}{within}", what.trim_end_matches('.')),
-    }
 }
 
 /// Builds the [`MshError::Mesh`] errors of one file.
@@ -605,92 +441,4 @@ pub fn read_surface_group(bytes: &[u8], file: &str, group: &str) -> Result<Surfa
         }
     }
     Ok((nodes.coords, tris, tags))
-}
-
-/// Writes `mesh` as a `.msh` 4.1 ASCII file: one volume entity (physical group "body") holding
-/// every node and hexahedron, and one surface entity per face set, in a physical group of the
-/// same name, with its quads as stored (outward). Node and element tags start at 1; numbers are
-/// written in their shortest round-trip form, so reading the file back gives the same mesh.
-pub fn write_msh(mesh: &Mesh, out: &mut impl Write) -> std::io::Result<()> {
-    let sets: Vec<(&String, &Vec<[u32; 4]>)> = mesh.face_sets.iter().collect();
-    let bbox = |nodes: &mut dyn Iterator<Item = u32>| {
-        let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
-        let mut nodes = nodes.peekable();
-        if nodes.peek().is_none() {
-            (lo, hi) = ([0.0; 3], [0.0; 3]);
-        }
-        for n in nodes {
-            let x = mesh.nodes[n as usize];
-            for c in 0..3 {
-                lo[c] = lo[c].min(x[c]);
-                hi[c] = hi[c].max(x[c]);
-            }
-        }
-        format!(
-            "{:?} {:?} {:?} {:?} {:?} {:?}",
-            lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]
-        )
-    };
-    writeln!(out, "$MeshFormat\n4.1 0 8\n$EndMeshFormat")?;
-    writeln!(out, "$PhysicalNames\n{}", sets.len() + 1)?;
-    for (k, (name, _)) in sets.iter().enumerate() {
-        writeln!(out, "2 {} \"{}\"", k + 1, name)?;
-    }
-    writeln!(out, "3 1 \"body\"\n$EndPhysicalNames")?;
-    writeln!(out, "$Entities\n0 0 {} 1", sets.len())?;
-    for (k, (_, quads)) in sets.iter().enumerate() {
-        let b = bbox(&mut quads.iter().flatten().copied());
-        writeln!(out, "{} {b} 1 {} 0", k + 1, k + 1)?;
-    }
-    let b = bbox(&mut (0..mesh.nodes.len() as u32));
-    let surfaces: Vec<String> = (1..=sets.len()).map(|s| s.to_string()).collect();
-    writeln!(
-        out,
-        "1 {b} 1 1 {} {}\n$EndEntities",
-        sets.len(),
-        surfaces.join(" ")
-    )?;
-    let n = mesh.nodes.len();
-    writeln!(out, "$Nodes\n1 {n} 1 {n}\n3 1 0 {n}")?;
-    for i in 1..=n {
-        writeln!(out, "{i}")?;
-    }
-    for x in &mesh.nodes {
-        writeln!(out, "{:?} {:?} {:?}", x[0], x[1], x[2])?;
-    }
-    writeln!(out, "$EndNodes")?;
-    let quads: usize = sets.iter().map(|s| s.1.len()).sum();
-    let total = mesh.elements.len() + quads;
-    writeln!(out, "$Elements\n{} {total} 1 {total}", sets.len() + 1)?;
-    writeln!(out, "3 1 {HEX8} {}", mesh.elements.len())?;
-    let mut tag = 0;
-    for conn in &mesh.elements {
-        tag += 1;
-        let ids: Vec<String> = (0..8)
-            .map(|a| (conn[GMSH_HEX8_ORDER[a]] + 1).to_string())
-            .collect();
-        writeln!(out, "{tag} {}", ids.join(" "))?;
-    }
-    for (k, (_, set)) in sets.iter().enumerate() {
-        writeln!(out, "2 {} {QUAD4} {}", k + 1, set.len())?;
-        for q in set.iter() {
-            tag += 1;
-            writeln!(
-                out,
-                "{tag} {} {} {} {}",
-                q[0] + 1,
-                q[1] + 1,
-                q[2] + 1,
-                q[3] + 1
-            )?;
-        }
-    }
-    writeln!(out, "$EndElements")
-}
-
-/// [`write_msh`] into a string.
-pub fn msh_text(mesh: &Mesh) -> String {
-    let mut buf = Vec::new();
-    write_msh(mesh, &mut buf).expect("writing to memory cannot fail");
-    String::from_utf8(buf).expect("the writer emits UTF-8")
 }
