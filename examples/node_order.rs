@@ -57,7 +57,7 @@ fn main() {
                 ns[k][2],
                 ns[k][0],
                 ns[k][4],
-                sim.ledger.damage_dissipated
+                sim.state.ledger.damage_dissipated
             );
         }
     }

@@ -97,13 +97,13 @@ fn main() {
                 let started = std::time::Instant::now();
                 let mut sim = Simulation::new(scene.model).unwrap_or_else(|e| panic!("{e}"));
                 let (mut r, mut stick, mut lifted) = (Vec::new(), Vec::new(), Vec::new());
-                let mut h = sim.h;
+                let mut h = sim.state.h;
                 let outcome = sim.run(|s| {
-                    if s.time >= WINDOW.0 && s.time <= WINDOW.1 {
-                        h = s.h;
+                    if s.state.time >= WINDOW.0 && s.state.time <= WINDOW.1 {
+                        h = s.state.h;
                         r.push(s.stats.reactions[0]);
                         let (mut touching, mut sticking, mut up) = (0usize, 0usize, 0usize);
-                        for itf in &s.interface_nodes {
+                        for itf in &s.state.interface_nodes {
                             match itf.contact {
                                 ContactStatus::Stick => {
                                     touching += 1;
@@ -117,7 +117,7 @@ fn main() {
                             }
                         }
                         stick.push(sticking as f64 / touching.max(1) as f64);
-                        lifted.push(up as f64 / s.interface_nodes.len() as f64);
+                        lifted.push(up as f64 / s.state.interface_nodes.len() as f64);
                     }
                     true
                 });
@@ -136,7 +136,7 @@ fn main() {
                     format!("{c}×{c}×{nz}"),
                     factor,
                     h,
-                    sim.step_count,
+                    sim.state.step_count,
                     mean.abs() / NORMAL,
                     std / NORMAL,
                     dominant_frequency(&r, h),

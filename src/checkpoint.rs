@@ -178,7 +178,7 @@ impl Checkpointer {
             written: 0,
             spent: std::time::Duration::ZERO,
         };
-        c.advance(sim.time);
+        c.advance(sim.state.time);
         c
     }
 
@@ -194,8 +194,8 @@ impl Checkpointer {
     /// Writes a checkpoint of `sim` if one is due at its step.
     pub fn after_step(&mut self, sim: &Simulation) -> Result<(), CheckpointError> {
         let due = match self.every {
-            Every::Steps(n) => sim.step_count.is_multiple_of(n),
-            Every::Seconds(_) => sim.time >= self.next_time,
+            Every::Steps(n) => sim.state.step_count.is_multiple_of(n),
+            Every::Seconds(_) => sim.state.time >= self.next_time,
         };
         if due {
             self.write(sim)?;
@@ -205,13 +205,17 @@ impl Checkpointer {
 
     /// Writes a checkpoint of `sim` now (once per step).
     pub fn write(&mut self, sim: &Simulation) -> Result<(), CheckpointError> {
-        if self.last.as_ref().is_some_and(|h| h.step == sim.step_count) {
+        if self
+            .last
+            .as_ref()
+            .is_some_and(|h| h.step == sim.state.step_count)
+        {
             return Ok(());
         }
         let started = std::time::Instant::now();
         let header = sim.save_checkpoint(&self.dir.join(STATE_FILE))?;
         self.spent += started.elapsed();
-        self.advance(sim.time);
+        self.advance(sim.state.time);
         self.last = Some(header);
         self.written += 1;
         Ok(())

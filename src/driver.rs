@@ -157,7 +157,7 @@ impl Driver {
 
     /// The snapshot of `sim` if its step was not taken yet and some output takes frames.
     fn snapshot(&mut self, sim: &Simulation) -> Option<Arc<Snapshot>> {
-        (self.clock.take(sim.step_count, sim.time) && self.frames)
+        (self.clock.take(sim.state.step_count, sim.state.time) && self.frames)
             .then(|| Arc::new(Snapshot::capture(sim, self.spent, self.velocities)))
     }
 
@@ -204,7 +204,7 @@ impl Driver {
     ) -> Finished {
         let mut output_error = None;
         let outcome = loop {
-            if sim.time >= until - 1e-6 * sim.h {
+            if sim.state.time >= until - 1e-6 * sim.state.h {
                 break Ok(());
             }
             if let Err(e) = sim.step() {
@@ -215,7 +215,7 @@ impl Driver {
                 output_error = Some(e);
                 break Err(cancelled(s));
             }
-            if self.clock.due(s.step_count, s.time) {
+            if self.clock.due(s.state.step_count, s.state.time) {
                 if let Err(e) = self.frame(s) {
                     output_error = Some(e);
                     break Err(cancelled(s));
@@ -243,8 +243,8 @@ impl Driver {
         }
         let last = self.snapshot(sim);
         let end = Ending {
-            step: sim.step_count,
-            time: sim.time,
+            step: sim.state.step_count,
+            time: sim.state.time,
             error: outcome.as_ref().err(),
         };
         let mut reports = Vec::new();
@@ -277,8 +277,8 @@ impl Driver {
 /// The error of a run stopped at the current step of `sim` (Ctrl-C, Stop, an output's error).
 fn cancelled(sim: &Simulation) -> SolverError {
     SolverError::Cancelled {
-        step: sim.step_count,
-        time: sim.time,
+        step: sim.state.step_count,
+        time: sim.state.time,
     }
 }
 
@@ -355,7 +355,7 @@ mod tests {
     impl Progress for Counter {
         fn step(&mut self, sim: &Simulation) {
             self.steps += 1;
-            if sim.step_count == self.stop_at {
+            if sim.state.step_count == self.stop_at {
                 self.cancel.store(true, Ordering::SeqCst);
             }
         }
@@ -493,7 +493,7 @@ mod tests {
         let model = crate::scene::load_scene(&path, &set).unwrap().model;
         let until = 0.0071;
         let mut by_steps = Simulation::new(model.clone()).unwrap();
-        while by_steps.time < until - 1e-6 * by_steps.h {
+        while by_steps.state.time < until - 1e-6 * by_steps.state.h {
             by_steps.step().unwrap();
         }
         let mut sim = Simulation::new(model).unwrap();
@@ -519,11 +519,11 @@ mod tests {
         let done = driver.run_until(&mut sim, until, &cancel, &mut counter);
         assert!(done.outcome.is_ok());
         assert_eq!(done.summary.status, "completed");
-        let n = by_steps.step_count;
-        assert!(n > 5 && sim.step_count == n && sim.time == by_steps.time);
+        let n = by_steps.state.step_count;
+        assert!(n > 5 && sim.state.step_count == n && sim.state.time == by_steps.state.time);
         assert_eq!(seen.lock().unwrap().frames, vec![0, n]);
         let driver = Driver::with_outputs(vec![], Cadence::Default, &sim, Instant::now()).unwrap();
         let done = driver.run(&mut sim, &cancel, &mut counter);
-        assert!(done.outcome.is_ok() && sim.finished() && sim.step_count > n);
+        assert!(done.outcome.is_ok() && sim.finished() && sim.state.step_count > n);
     }
 }

@@ -136,10 +136,10 @@ impl RunSummary {
             error: error.map(|e| e.to_string()),
             nodes: sim.model.mesh.nodes.len(),
             elements: sim.model.mesh.elements.len(),
-            interface_nodes: sim.interface_nodes.len(),
+            interface_nodes: sim.state.interface_nodes.len(),
             threads: sim.threads(),
-            steps: sim.step_count,
-            time_step: sim.h,
+            steps: sim.state.step_count,
+            time_step: sim.state.h,
             h_crit_initial: sim.stats.h_crit_initial,
             h_crit_min: sim.stats.h_crit_min,
             time_step_factor: sim.model.scheme.time_step_factor,
@@ -152,7 +152,7 @@ impl RunSummary {
                 h_crit_certified: sim.stats.h_crit_certified,
                 h_crit_unconverged: sim.stats.h_crit_unconverged,
             },
-            simulated_time: sim.time,
+            simulated_time: sim.state.time,
             wall_seconds,
             step_wall_seconds: step_wall,
             element_steps_per_second: if step_wall > 0.0 {
@@ -170,7 +170,7 @@ impl RunSummary {
             time_full_rupture: sim.stats.time_full_rupture,
             final_counts: sim.state_counts(),
             energies: sim.energies(),
-            max_relative_residual: sim.ledger.max_relative_residual,
+            max_relative_residual: sim.state.ledger.max_relative_residual,
             stage_seconds: sim.stats.stage_times.clone(),
             #[cfg(not(target_arch = "wasm32"))]
             recording: None,
@@ -181,7 +181,7 @@ impl RunSummary {
             series: None,
             #[cfg(not(target_arch = "wasm32"))]
             checkpoint: None,
-            glued_start_offsets: sim.start_offsets.clone(),
+            glued_start_offsets: sim.setup.start_offsets.clone(),
             mould_work: if moulds_listed {
                 sim.mould_works()
             } else {
@@ -194,7 +194,7 @@ impl RunSummary {
             },
             damage_clamped: sim.stats.damage_clamped,
             joint_contact: sim.stats.joint_contact,
-            mass_scaling: sim.mass_scaling,
+            mass_scaling: sim.setup.mass_scaling,
         }
     }
 
@@ -379,6 +379,7 @@ pub fn state_bytes(sim: &Simulation) -> usize {
     let nodal = nodes * (4 * 24 + 2 * 8);
     let elements = m.elements.len() * (32 + 4 + 4);
     let classes = sim.element_class_count() * std::mem::size_of::<crate::mesh::GaussData>();
-    let iface = sim.interface_nodes.len() * std::mem::size_of::<crate::solver::InterfaceNode>();
+    let iface =
+        sim.state.interface_nodes.len() * std::mem::size_of::<crate::solver::InterfaceNode>();
     nodal + elements + classes + iface
 }

@@ -184,14 +184,14 @@ pub fn run(
         true
     });
     row.wall_seconds = t.elapsed().as_secs_f64();
-    row.steps = sim.step_count;
+    row.steps = sim.state.step_count;
     row.ns_per_element_step =
-        1e9 * row.wall_seconds / (sim.step_count.max(1) as f64 * elements as f64);
+        1e9 * row.wall_seconds / (sim.state.step_count.max(1) as f64 * elements as f64);
     row.peak_force = sim.stats.peaks.first().map(|p| p.force);
     row.time_first_damage = sim.stats.time_first_damage;
     row.time_full_rupture = sim.stats.time_full_rupture;
-    row.damage_dissipated = sim.ledger.damage_dissipated;
-    row.max_relative_residual = sim.ledger.max_relative_residual;
+    row.damage_dissipated = sim.state.ledger.damage_dissipated;
+    row.max_relative_residual = sim.state.ledger.max_relative_residual;
     row.failure = outcome.err().map(|e| e.to_string());
     Ok(row)
 }

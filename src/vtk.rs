@@ -321,6 +321,7 @@ impl Series {
             pvd,
             mesh_xml,
             interface_nodes: sim
+                .state
                 .interface_nodes
                 .iter()
                 .map(|n| (n.node, n.interface))

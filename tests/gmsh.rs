@@ -145,8 +145,8 @@ fn box_from_a_file_runs_the_pull_off_as_the_box() {
     };
     let a = run(load_scene("scenes/pull_off.toml".as_ref(), &[]).unwrap());
     let b = run(load_scene(&scene_path, &[]).unwrap());
-    assert_eq!(b.interface_nodes.len(), 64);
-    assert_eq!(a.step_count, b.step_count);
+    assert_eq!(b.state.interface_nodes.len(), 64);
+    assert_eq!(a.state.step_count, b.state.step_count);
     // The same mesh up to the order of the nodes inside each boundary quad, which changes only
     // the summation order of the tributary areas: round-off.
     let (ta, tb) = (
@@ -154,7 +154,10 @@ fn box_from_a_file_runs_the_pull_off_as_the_box() {
         b.stats.time_full_rupture.unwrap(),
     );
     assert_eq!(ta, tb, "full rupture at {ta} s (box) and {tb} s (file)");
-    let (da, db) = (a.ledger.damage_dissipated, b.ledger.damage_dissipated);
+    let (da, db) = (
+        a.state.ledger.damage_dissipated,
+        b.state.ledger.damage_dissipated,
+    );
     // Measured: identical to the bit (the glued and pulled z∓ quads even come back in the box's
     // node order); 1e-12 allows the round-off a different quad order would bring.
     assert!(

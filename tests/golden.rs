@@ -79,11 +79,12 @@ pub fn record_of(sim: &Simulation, outcome: &Result<(), decohesion::solver::Solv
         map.remove(k);
     }
     let hash = hash_bits(
-        sim.u
+        sim.state
+            .u
             .rows()
-            .chain(sim.v.rows())
+            .chain(sim.state.v.rows())
             .flatten()
-            .chain(sim.interface_nodes.iter().map(|n| n.alpha)),
+            .chain(sim.state.interface_nodes.iter().map(|n| n.alpha)),
     );
     let mut out = serde_json::Map::new();
     out.insert("summary".into(), v);

@@ -130,7 +130,7 @@ fn mould_pose_is_the_prescribed_motion() {
         sim.step().unwrap();
         steps += 1;
         let (r, t) = sim.mould_pose(k);
-        let d = sim.model.planes[k].displacement(sim.time);
+        let d = sim.model.planes[k].displacement(sim.state.time);
         assert_eq!(r, identity);
         let err = (0..3).map(|c| (t[c] - d[c]).abs()).fold(0.0, f64::max);
         let size = d.iter().map(|c| c.abs()).fold(0.0, f64::max);

@@ -53,10 +53,10 @@ fn time_steps(sim: &mut Simulation, steps: usize) -> (f64, f64) {
 
 /// The contact nodes' positions now.
 fn positions(sim: &Simulation) -> Vec<[f64; 3]> {
-    (sim.contact_nodes.iter())
+    (sim.state.contact_nodes.iter())
         .map(|c| {
             let i = c.node as usize;
-            std::array::from_fn(|k| sim.model.mesh.nodes[i][k] + sim.u.get(i)[k])
+            std::array::from_fn(|k| sim.model.mesh.nodes[i][k] + sim.state.u.get(i)[k])
         })
         .collect()
 }
@@ -139,8 +139,10 @@ fn main() {
     let Shape::Surface(s) = sim.model.planes[0].shape.clone() else {
         panic!("the mould is a surface")
     };
-    let nodes = sim.contact_nodes.len();
-    let in_contact = (sim.contact_nodes.iter()).filter(|c| c.gap <= 0.0).count();
+    let nodes = sim.state.contact_nodes.len();
+    let in_contact = (sim.state.contact_nodes.iter())
+        .filter(|c| c.gap <= 0.0)
+        .count();
     // The cache as the step leaves it before the last step: primed at the positions one step
     // earlier, then timed at the last positions.
     let before = positions(&sim);

@@ -45,7 +45,7 @@ fn main() {
     );
     println!(
         "steps {}  h {:.4e} … {:.4e} s ({} changes)  h_crit initial {:.4e} min {:.4e} s",
-        sim.step_count, s.h_min, s.h_max, s.step_changes, s.h_crit_initial, s.h_crit_min
+        sim.state.step_count, s.h_min, s.h_max, s.step_changes, s.h_crit_initial, s.h_crit_min
     );
     println!(
         "estimates {}  Lanczos iterations {}  certified by the element bound {}",
@@ -53,7 +53,7 @@ fn main() {
     );
     println!(
         "wall {wall:.3} s (setup {setup:.3} s, steps {steps_wall:.3} s)  {:.1} ns per element-step",
-        1e9 * steps_wall / (sim.step_count as f64 * elements as f64)
+        1e9 * steps_wall / (sim.state.step_count as f64 * elements as f64)
     );
     println!(
         "stage_seconds: positions {:.3}  internal_forces {:.3}  h_crit {:.3}  free_velocity {:.3}  interface_contact {:.3}  bookkeeping {:.3}",
@@ -64,7 +64,7 @@ fn main() {
         st.interface_contact,
         st.bookkeeping
     );
-    let per_assembly = st.internal_forces / sim.step_count as f64;
+    let per_assembly = st.internal_forces / sim.state.step_count as f64;
     println!(
         "h_crit share {:.2} % of the steps' time; {:.2} assemblies per Lanczos iteration",
         100.0 * st.h_crit / steps_wall,
@@ -85,6 +85,8 @@ fn main() {
     );
     println!(
         "D {:.6} J  full rupture {:?} s  max relative residual {:.3e}",
-        sim.ledger.damage_dissipated, s.time_full_rupture, sim.ledger.max_relative_residual
+        sim.state.ledger.damage_dissipated,
+        s.time_full_rupture,
+        sim.state.ledger.max_relative_residual
     );
 }

@@ -100,11 +100,13 @@ fn triangulated_mould_steps_allocate_nothing() {
     let mut touching = 0;
     for _ in 0..200 {
         sim.step().unwrap();
-        touching += (sim.contact_nodes.iter()).filter(|c| c.gap <= 0.0).count();
+        touching += (sim.state.contact_nodes.iter())
+            .filter(|c| c.gap <= 0.0)
+            .count();
     }
     let during = ALLOCATIONS.load(Ordering::SeqCst) - before;
     let end = sim.mould_near_stats()[1];
-    let nodes = sim.contact_nodes.len() as u64;
+    let nodes = sim.state.contact_nodes.len() as u64;
     assert_eq!(
         during, 0,
         "triangulated mould: {during} allocations in 200 steps"

@@ -451,8 +451,8 @@ fn a_block_pulled_off_dissipates_the_bk_energy_in_each_mode() {
             e.damage_dissipated,
             e.damage_dissipated / expected - 1.0,
             e.plane_work,
-            sim.ledger.max_relative_residual,
-            sim.h
+            sim.state.ledger.max_relative_residual,
+            sim.state.h
         );
         record(
             "bk_scene",
@@ -467,6 +467,6 @@ fn a_block_pulled_off_dissipates_the_bk_energy_in_each_mode() {
             "mode {mode}: dissipated {} J, G_c(B)·A = {expected} J",
             e.damage_dissipated
         );
-        assert!(sim.ledger.max_relative_residual <= 1e-4);
+        assert!(sim.state.ledger.max_relative_residual <= 1e-4);
     }
 }

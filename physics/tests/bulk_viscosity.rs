@@ -61,7 +61,7 @@ fn a_breathing_cube_decays_with_the_damping_ratio_of_the_model() {
     let mut xs = vec![];
     while !sim.finished() {
         sim.step().unwrap();
-        xs.push(sim.u.get(corner)[0]);
+        xs.push(sim.state.u.get(corner)[0]);
     }
     let peaks: Vec<f64> = (1..xs.len() - 1)
         .filter(|&i| xs[i] > xs[i - 1] && xs[i] >= xs[i + 1] && xs[i] > 0.0)
@@ -79,9 +79,9 @@ fn a_breathing_cube_decays_with_the_damping_ratio_of_the_model() {
     let e = sim.energies();
     assert!(e.bulk_viscous_dissipated > 0.0);
     assert!(
-        sim.ledger.max_relative_residual <= 1e-4,
+        sim.state.ledger.max_relative_residual <= 1e-4,
         "residual {:.2e}",
-        sim.ledger.max_relative_residual
+        sim.state.ledger.max_relative_residual
     );
 }
 
@@ -98,12 +98,12 @@ fn the_step_is_shortened_by_the_damping_and_the_run_stays_stable() {
     let omega = (4.0 * 3.0 * k / 1000.0).sqrt();
     let period = 2.0 * std::f64::consts::PI / omega;
     let mut sim = breathing_cube(b1, 0.99, 1e-7 * omega, 20.0 * period);
-    let h_undamped = 0.99 * sim.h_crit;
-    assert!(sim.h < 0.7 * h_undamped, "h {:.4e} s", sim.h);
+    let h_undamped = 0.99 * sim.state.h_crit;
+    assert!(sim.state.h < 0.7 * h_undamped, "h {:.4e} s", sim.state.h);
     sim.run(|_| true).unwrap();
     let e = sim.energies();
     assert!(e.kinetic + e.strain < 1e-3 * e.bulk_viscous_dissipated);
-    assert!(sim.ledger.max_relative_residual <= 1e-4);
+    assert!(sim.state.ledger.max_relative_residual <= 1e-4);
 }
 
 /// The bar dropped on a plane (scenes/impact.toml) with Abaqus/Explicit's default bulk
@@ -119,8 +119,8 @@ fn the_ledger_closes_with_bulk_viscosity_in_an_impact() {
     let e = sim.energies();
     assert!(e.bulk_viscous_dissipated > 0.0);
     assert!(
-        sim.ledger.max_relative_residual <= 5e-5,
+        sim.state.ledger.max_relative_residual <= 5e-5,
         "max relative residual {:.3e}",
-        sim.ledger.max_relative_residual
+        sim.state.ledger.max_relative_residual
     );
 }

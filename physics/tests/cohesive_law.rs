@@ -51,7 +51,7 @@ fn pull_damaged(case: &str, law: StiffnessLaw, alpha0: f64) {
         history: ramp(t_end, speed * t_end),
     });
     let mut sim = Simulation::new(m).unwrap();
-    for itf in &sim.interface_nodes {
+    for itf in &sim.state.interface_nodes {
         assert_eq!(itf.alpha, alpha0.min(law.u_r), "α at t = 0");
     }
     let area = 0.01;
@@ -63,9 +63,15 @@ fn pull_damaged(case: &str, law: StiffnessLaw, alpha0: f64) {
     let mut samples = vec![];
     while !sim.finished() {
         sim.step().unwrap();
-        let delta = sim.interface_nodes.iter().map(|i| i.jump[2]).sum::<f64>() / 4.0;
+        let delta = sim
+            .state
+            .interface_nodes
+            .iter()
+            .map(|i| i.jump[2])
+            .sum::<f64>()
+            / 4.0;
         // Below the ramp's start-up transient and away from the rupture point.
-        if sim.time > 0.05 * t_end && delta < 0.98 * law.u_r {
+        if sim.state.time > 0.05 * t_end && delta < 0.98 * law.u_r {
             let t_num = sim.stats.reactions[0] / area;
             let t_law = law.g_n(delta.max(alpha0)) * delta;
             worst = worst.max((t_num - t_law).abs() / tmax);
@@ -73,7 +79,7 @@ fn pull_damaged(case: &str, law: StiffnessLaw, alpha0: f64) {
             samples.push((delta, t_num, t_law));
         }
         if rupture_dissipation.is_none() && sim.state_counts().ruptured == 4 {
-            rupture_dissipation = Some(sim.ledger.damage_dissipated);
+            rupture_dissipation = Some(sim.state.ledger.damage_dissipated);
         }
     }
     assert!(checked > 1000);

@@ -115,7 +115,12 @@ fn a_block_squeezed_into_a_concave_corner_enters_neither_face() {
     ];
     let mut sim = Simulation::new(model).unwrap();
     let nodes: Vec<usize> = {
-        let mut n: Vec<usize> = sim.contact_nodes.iter().map(|c| c.node as usize).collect();
+        let mut n: Vec<usize> = sim
+            .state
+            .contact_nodes
+            .iter()
+            .map(|c| c.node as usize)
+            .collect();
         n.dedup();
         n
     };
@@ -127,22 +132,26 @@ fn a_block_squeezed_into_a_concave_corner_enters_neither_face() {
     while !sim.finished() {
         sim.step().expect("stable run");
         for &i in &nodes {
-            let (x0, u, v) = (sim.model.mesh.nodes[i], sim.u.get(i), sim.v.get(i));
+            let (x0, u, v) = (
+                sim.model.mesh.nodes[i],
+                sim.state.u.get(i),
+                sim.state.v.get(i),
+            );
             let x: [f64; 3] = std::array::from_fn(|c| x0[c] + u[c]);
             let depth = (-x[0]).max(-x[2]);
             if depth > deepest {
-                (deepest, at) = (depth, (sim.time, i));
+                (deepest, at) = (depth, (sim.state.time, i));
             }
             v_max = v_max.max(v.iter().map(|c| c * c).sum::<f64>().sqrt());
             if x[0] < -1e-12 && x[2] < -1e-12 {
                 both += 1;
                 let approach = (-v[0]).max(-v[2]);
                 if approach > worst.0 {
-                    worst = (approach, sim.time, i, v);
+                    worst = (approach, sim.state.time, i, v);
                 }
             }
         }
-        travel = travel.max(sim.h * v_max);
+        travel = travel.max(sim.state.h * v_max);
     }
     eprintln!("deepest {deepest:e} m (t, node {at:?}); travel bound {travel:e} m; {both} node-steps behind both faces; fastest approach into a face behind both {worst:?}");
     assert!(
@@ -179,7 +188,7 @@ fn two_face_sets_on_one_mould_share_the_friction_of_one_constraint_per_face() {
     model.initial_velocity = [0.0, 0.5, 0.0];
     let mut sim = Simulation::new(model).unwrap();
     let mut by_node: std::collections::BTreeMap<u32, Vec<usize>> = Default::default();
-    for (j, cn) in sim.contact_nodes.iter().enumerate() {
+    for (j, cn) in sim.state.contact_nodes.iter().enumerate() {
         by_node.entry(cn.node).or_default().push(j);
     }
     let shared: Vec<(usize, usize, usize)> = (by_node.iter())
@@ -187,7 +196,7 @@ fn two_face_sets_on_one_mould_share_the_friction_of_one_constraint_per_face() {
         .map(|(&n, js)| {
             let (a, b) = (js[0], js[1]);
             // (node, the x- entry, the z- entry)
-            if sim.contact_nodes[a].mu == mu_x {
+            if sim.state.contact_nodes[a].mu == mu_x {
                 (n as usize, a, b)
             } else {
                 (n as usize, b, a)
@@ -199,9 +208,13 @@ fn two_face_sets_on_one_mould_share_the_friction_of_one_constraint_per_face() {
     while !sim.finished() {
         sim.step().expect("stable run");
         for &(i, jx, jz) in &shared {
-            let (x0, u, v) = (sim.model.mesh.nodes[i], sim.u.get(i), sim.v.get(i));
+            let (x0, u, v) = (
+                sim.model.mesh.nodes[i],
+                sim.state.u.get(i),
+                sim.state.v.get(i),
+            );
             let x: [f64; 3] = std::array::from_fn(|c| x0[c] + u[c]);
-            let (ex, ez) = (&sim.contact_nodes[jx], &sim.contact_nodes[jz]);
+            let (ex, ez) = (&sim.state.contact_nodes[jx], &sim.state.contact_nodes[jz]);
             let (px, pz) = (
                 ex.contact_impulse.map(|c| c * ex.area),
                 ez.contact_impulse.map(|c| c * ez.area),

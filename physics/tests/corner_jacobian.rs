@@ -37,10 +37,10 @@ fn an_hourglassing_element_stops_the_run_at_its_inverted_corner() {
         }
         let n = v.len();
         let mut sim = Simulation::with_initial_state(m, vec![[0.0; 3]; n], v).unwrap();
-        let h = sim.h;
+        let h = sim.state.h;
         let err = sim.run(|s| {
             // Until the corners turn, the centre sees nothing: F(0) = I, J = 1.
-            assert!((s.min_jacobian - (1.0 - 2.0 * v0 * s.time)).abs() <= 1e-9);
+            assert!((s.state.min_jacobian - (1.0 - 2.0 * v0 * s.state.time)).abs() <= 1e-9);
             true
         });
         match err {

@@ -62,6 +62,7 @@ fn dcb_propagation_follows_beam_theory_and_dissipates_g_c() {
     while !sim.finished() {
         sim.step().unwrap();
         let front = sim
+            .state
             .interface_nodes
             .iter()
             .filter(|itf| itf.alpha >= law.u_r)
@@ -69,7 +70,7 @@ fn dcb_propagation_follows_beam_theory_and_dissipates_g_c() {
             .fold(a0, f64::max);
         let e = sim.energies();
         samples.push(Sample {
-            delta: 2.0 * sim.model.displacements[0].history.value(sim.time)[0],
+            delta: 2.0 * sim.model.displacements[0].history.value(sim.state.time)[0],
             force: sim.stats.reactions[0],
             front,
             dissipated: e.damage_dissipated,
@@ -152,8 +153,8 @@ fn dcb_propagation_follows_beam_theory_and_dissipates_g_c() {
          P = {:.4} N vs {:.4} N ({:+.2} %); windows {:?}; 2 dD/d(b a) = {gc_measured:.2} J/m² \
          (G_c = {gc}, {:+.2} %, {} points); offset a_e − a = {:.2} mm (χh = {:.2} mm); largest \
          kinetic share after the peak {:.2e}",
-        sim.step_count,
-        sim.h,
+        sim.state.step_count,
+        sim.state.h,
         samples[peak].force,
         delta_c * 1e3,
         k / a0,
@@ -236,5 +237,5 @@ fn dcb_propagation_follows_beam_theory_and_dissipates_g_c() {
         offset * 1e3
     );
     // The ledger closes (model §5.10).
-    assert!(sim.ledger.max_relative_residual <= 1e-4);
+    assert!(sim.state.ledger.max_relative_residual <= 1e-4);
 }

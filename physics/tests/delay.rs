@@ -250,15 +250,18 @@ fn vanishing_delay_is_the_rate_independent_law_bit_for_bit() {
     };
     let (a, b) = (run(&text), run(&delayed_text));
     assert!(b.model.interfaces[0].law.delay().is_some());
-    assert_eq!(a.step_count, b.step_count);
+    assert_eq!(a.state.step_count, b.state.step_count);
     let bits = |s: &Simulation| -> Vec<u64> {
-        (s.u.rows().chain(s.v.rows()).flatten())
-            .chain(s.interface_nodes.iter().map(|i| i.alpha))
+        (s.state.u.rows().chain(s.state.v.rows()).flatten())
+            .chain(s.state.interface_nodes.iter().map(|i| i.alpha))
             .map(f64::to_bits)
             .collect()
     };
     assert!(bits(&a) == bits(&b), "the runs differ");
-    assert_eq!(a.ledger.damage_dissipated, b.ledger.damage_dissipated);
+    assert_eq!(
+        a.state.ledger.damage_dissipated,
+        b.state.ledger.damage_dissipated
+    );
 }
 
 /// A bad `[interface.delay]`, r_T or a delay on `rccm` is refused before anything runs, the
@@ -341,16 +344,16 @@ fn pull_at(speed: f64, tau_c: f64) -> Pull {
     let mut max_rate = 0.0f64;
     while !sim.finished() {
         sim.step().unwrap();
-        for itf in &sim.interface_nodes {
-            max_rate = max_rate.max((itf.alpha_next - itf.alpha) / sim.h);
+        for itf in &sim.state.interface_nodes {
+            max_rate = max_rate.max((itf.alpha_next - itf.alpha) / sim.state.h);
         }
     }
     Pull {
-        dissipated: sim.ledger.damage_dissipated,
+        dissipated: sim.state.ledger.damage_dissipated,
         peak: sim.stats.peaks[0].force,
         max_rate,
-        ruptured: sim.state_counts().ruptured == sim.interface_nodes.len(),
-        residual: sim.ledger.max_relative_residual,
+        ruptured: sim.state_counts().ruptured == sim.state.interface_nodes.len(),
+        residual: sim.state.ledger.max_relative_residual,
     }
 }
 

@@ -25,7 +25,7 @@ fn run_finite(sim: &mut Simulation) -> Result<(), SolverError> {
                 .iter()
                 .all(|x| x.is_finite()),
             "non-finite energy at step {}: {e:?}",
-            s.step_count
+            s.state.step_count
         );
         true
     })
@@ -34,7 +34,7 @@ fn run_finite(sim: &mut Simulation) -> Result<(), SolverError> {
 /// G_c × glued area of interface 0 [J].
 fn fracture_work(sim: &Simulation) -> f64 {
     let law = &sim.model.interfaces[0].law;
-    let area: f64 = sim.interface_nodes.iter().map(|n| n.area).sum();
+    let area: f64 = sim.state.interface_nodes.iter().map(|n| n.area).sum();
     law.fracture_energy() * area
 }
 
@@ -46,20 +46,27 @@ fn has_warning(sim: &Simulation, needle: &str) -> bool {
 fn glue_dominated_step_at_095_h_crit_runs_bounded() {
     let mut sim = scene("stiff_glue_h095", &[]);
     // The premise: the glue sets the step, 10× and more below the bulk's.
-    let bulk = sim.h_crit_bulk.expect("the bulk-only h_crit is measured");
-    assert!(bulk > 10.0 * sim.h_crit, "{bulk} vs {}", sim.h_crit);
+    let bulk = sim
+        .state
+        .h_crit_bulk
+        .expect("the bulk-only h_crit is measured");
+    assert!(
+        bulk > 10.0 * sim.state.h_crit,
+        "{bulk} vs {}",
+        sim.state.h_crit
+    );
     assert!(has_warning(
         &sim,
         "interface stiffness sets the stable step"
     ));
     run_finite(&mut sim).expect("0.95 h_crit is stable");
-    assert_eq!(sim.state_counts().ruptured, sim.interface_nodes.len());
+    assert_eq!(sim.state_counts().ruptured, sim.state.interface_nodes.len());
     // Bounded energy: the ledger closes to the O(h²) level of the reference scene (4.7e-4 at
     // factor 0.5; an instability is unbounded).
     assert!(
-        sim.ledger.max_relative_residual < 1e-3,
+        sim.state.ledger.max_relative_residual < 1e-3,
         "{}",
-        sim.ledger.max_relative_residual
+        sim.state.ledger.max_relative_residual
     );
 }
 
@@ -72,21 +79,21 @@ fn glue_dominated_factor_105_is_capped_at_h_crit() {
         &sim,
         "time_step_factor = 1.05 > 1: the step is capped at h = h_crit"
     ));
-    assert_eq!(sim.h, sim.h_crit);
+    assert_eq!(sim.state.h, sim.state.h_crit);
     let mut worst: f64 = 0.0;
     sim.run(|s| {
-        worst = worst.max(s.h / s.h_crit);
+        worst = worst.max(s.state.h / s.state.h_crit);
         true
     })
     .expect("h = h_crit runs");
     assert!(worst <= 1.0, "h/h_crit reached {worst}");
-    assert_eq!(sim.state_counts().ruptured, sim.interface_nodes.len());
+    assert_eq!(sim.state_counts().ruptured, sim.state.interface_nodes.len());
     // Bounded energy: the ledger closes as at 0.95 h_crit (an instability is unbounded).
     eprintln!(
         "max relative residual {:.2e}",
-        sim.ledger.max_relative_residual
+        sim.state.ledger.max_relative_residual
     );
-    assert!(sim.ledger.max_relative_residual < 1e-3);
+    assert!(sim.state.ledger.max_relative_residual < 1e-3);
 }
 
 #[test]
@@ -96,19 +103,20 @@ fn glue_1000_times_stiffer_than_the_bulk() {
     // stiffness, the coupled top mode differs from it by O(10⁻³).
     let g = sim.model.interfaces[0].law.g_n0;
     let omega_sq = sim
+        .state
         .interface_nodes
         .iter()
-        .map(|n| n.area * g / sim.mass[n.node as usize])
+        .map(|n| n.area * g / sim.setup.mass[n.node as usize])
         .fold(0.0, f64::max);
     let h_spring = 2.0 / omega_sq.sqrt();
     assert!(
-        (sim.h_crit / h_spring - 1.0).abs() < 1e-2,
+        (sim.state.h_crit / h_spring - 1.0).abs() < 1e-2,
         "h_crit {} vs 2/ω of a glued node {h_spring}",
-        sim.h_crit
+        sim.state.h_crit
     );
     run_finite(&mut sim).unwrap();
-    assert_eq!(sim.state_counts().ruptured, sim.interface_nodes.len());
-    assert!(sim.ledger.max_relative_residual < 1e-3);
+    assert_eq!(sim.state_counts().ruptured, sim.state.interface_nodes.len());
+    assert!(sim.state.ledger.max_relative_residual < 1e-3);
     // The dissipated energy converges to G_c × area at first order in h: the softening range
     // u_r − α_e = 13 µm is crossed within one step at the default factor.
     let gc = fracture_work(&sim);
@@ -131,8 +139,8 @@ fn brittle_law_dissipates_g_c() {
     let mut sim = scene("brittle", &["scheme.h_crit_update_interval=0"]);
     assert!(has_warning(&sim, "is brittle"));
     run_finite(&mut sim).unwrap();
-    assert_eq!(sim.state_counts().ruptured, sim.interface_nodes.len());
-    assert!(sim.ledger.max_relative_residual < 1e-3);
+    assert_eq!(sim.state_counts().ruptured, sim.state.interface_nodes.len());
+    assert!(sim.state.ledger.max_relative_residual < 1e-3);
     let (gc, d) = (fracture_work(&sim), sim.energies().damage_dissipated);
     assert!((d / gc - 1.0).abs() < 1e-2, "D = {d} J vs G_c A = {gc} J");
     // As the scene runs, h grows once the glue has torn (model §6.6) and is held while it tears:
@@ -140,11 +148,14 @@ fn brittle_law_dissipates_g_c() {
     // (O(h²), model §5.8), keeps main's bound scaled by (h_max/h₀)².
     let mut grown = scene("brittle", &[]);
     run_finite(&mut grown).unwrap();
-    assert_eq!(grown.state_counts().ruptured, grown.interface_nodes.len());
+    assert_eq!(
+        grown.state_counts().ruptured,
+        grown.state.interface_nodes.len()
+    );
     let d = grown.energies().damage_dissipated;
     assert!((d / gc - 1.0).abs() < 1e-2, "D = {d} J vs G_c A = {gc} J");
     let ratio = grown.stats.h_max / grown.stats.h_min;
-    let r = grown.ledger.max_relative_residual;
+    let r = grown.state.ledger.max_relative_residual;
     eprintln!("brittle: h grew {ratio:.3}×, residual {r:.3e}");
     assert!(ratio > 1.1, "h grew {ratio}× only");
     assert!(r < 1e-3 * ratio * ratio, "{r} with h × {ratio}");
@@ -158,7 +169,7 @@ fn frictionless_interface_never_rubs() {
     let n = sim.model.planes[0].normal;
     let mut max_rn = 0.0f64;
     run_finite_with(&mut sim, |s| {
-        for itf in &s.interface_nodes {
+        for itf in &s.state.interface_nodes {
             let r = itf.contact_impulse;
             let rn = r[0] * n[0] + r[1] * n[1] + r[2] * n[2];
             max_rn = max_rn.max(rn);
@@ -169,10 +180,10 @@ fn frictionless_interface_never_rubs() {
     })
     .unwrap();
     assert!(max_rn > 0.0, "the pressed block never touched the plane");
-    assert_eq!(sim.state_counts().ruptured, sim.interface_nodes.len());
+    assert_eq!(sim.state_counts().ruptured, sim.state.interface_nodes.len());
     let e = sim.energies();
     assert_eq!(e.friction_dissipated, 0.0);
-    assert!(sim.ledger.max_relative_residual < 1e-3);
+    assert!(sim.state.ledger.max_relative_residual < 1e-3);
 }
 
 #[test]
@@ -183,7 +194,7 @@ fn high_friction_stays_in_the_coulomb_cone() {
     let (mut worst, mut max_ratio, mut max_mu) = (f64::NEG_INFINITY, 0.0f64, 0.0f64);
     sim.run(|s| {
         let law = &s.model.interfaces[0].law;
-        for itf in &s.interface_nodes {
+        for itf in &s.state.interface_nodes {
             let r = itf.contact_impulse;
             let rn = r[0] * n[0] + r[1] * n[1] + r[2] * n[2];
             let rt = (0..3)
@@ -206,7 +217,7 @@ fn high_friction_stays_in_the_coulomb_cone() {
     assert!(worst < 1e-9, "|r_T| − μ r_N reached {worst} Pa·s");
     assert!(max_mu <= mu_inf);
     assert!(max_ratio > 1.0, "largest |r_T|/r_N {max_ratio}");
-    assert!(sim.ledger.max_relative_residual < 1e-3);
+    assert!(sim.state.ledger.max_relative_residual < 1e-3);
 }
 
 #[test]
@@ -214,15 +225,15 @@ fn spinning_ten_turns_is_objective() {
     let mut sim = scene("spinning", &[]);
     let momentum = |s: &Simulation| {
         let mut l = [0.0; 3];
-        for i in 0..s.u.len() {
+        for i in 0..s.state.u.len() {
             let x = s.model.mesh.nodes[i];
             let p = [
-                x[0] + s.u.get(i)[0],
-                x[1] + s.u.get(i)[1],
-                x[2] + s.u.get(i)[2],
+                x[0] + s.state.u.get(i)[0],
+                x[1] + s.state.u.get(i)[1],
+                x[2] + s.state.u.get(i)[2],
             ];
-            let v = s.v.get(i);
-            let m = s.mass[i];
+            let v = s.state.v.get(i);
+            let m = s.setup.mass[i];
             l[0] += m * (p[1] * v[2] - p[2] * v[1]);
             l[1] += m * (p[2] * v[0] - p[0] * v[2]);
             l[2] += m * (p[0] * v[1] - p[1] * v[0]);
@@ -240,9 +251,9 @@ fn spinning_ten_turns_is_objective() {
         let dl = (0..3).map(|c| (l[c] - l0[c]).powi(2)).sum::<f64>().sqrt();
         max_dl = max_dl.max(dl);
         let psi = s.energies().strain;
-        if s.time <= turn {
+        if s.state.time <= turn {
             psi_first = psi_first.max(psi);
-        } else if s.time >= end - turn {
+        } else if s.state.time >= end - turn {
             psi_last = psi_last.max(psi);
         }
     })
@@ -269,7 +280,7 @@ fn spinning_ten_turns_is_objective() {
         psi_last < 1.5 * psi_first,
         "Ψ max {psi_last} J in the last turn vs {psi_first} J in the first"
     );
-    assert!(sim.ledger.max_relative_residual < 1e-4);
+    assert!(sim.state.ledger.max_relative_residual < 1e-4);
 }
 
 /// Mean z displacement of the free end (face x+) over the run, and its largest excursion.
@@ -278,7 +289,7 @@ fn tip_sag(set: &[&str]) -> (f64, f64, Simulation) {
     let tip = face_nodes(&sim.model, "x+");
     let (mut sum, mut steps, mut max) = (0.0, 0usize, 0.0f64);
     run_finite_with(&mut sim, |s| {
-        let z = tip.iter().map(|&i| s.u.get(i)[2]).sum::<f64>() / tip.len() as f64;
+        let z = tip.iter().map(|&i| s.state.u.get(i)[2]).sum::<f64>() / tip.len() as f64;
         sum += z;
         steps += 1;
         max = max.max(-z);
@@ -346,12 +357,12 @@ fn impact_at_100_m_s() {
     let k0 = sim.energies().kinetic;
     let (mut min_gap, mut max_e, mut max_h) = (f64::INFINITY, 0.0f64, 0.0f64);
     let r = run_finite_with(&mut sim, |s| {
-        for c in &s.contact_nodes {
+        for c in &s.state.contact_nodes {
             min_gap = min_gap.min(c.gap);
         }
         let e = s.energies();
         max_e = max_e.max(e.kinetic + e.strain);
-        max_h = max_h.max(s.h);
+        max_h = max_h.max(s.state.h);
     });
     // The issue admits bounded energy or the solver's diagnostic; with the Jacobian-triggered
     // h_crit estimates this run completes (before them, element 26 inverted at step 7), and a
@@ -373,7 +384,7 @@ fn impact_at_100_m_s() {
     // re-estimates), and no element inverted.
     assert!(sim.stats.h_crit_estimates > 0);
     assert!(sim.stats.h_crit_min < 0.5 * sim.stats.h_crit_initial);
-    assert!(sim.min_jacobian > 0.0);
+    assert!(sim.state.min_jacobian > 0.0);
     // The ledger pairs exactly across the changes of h (step-change work, model
     // §5.8): what is left is the trapezoid error of the stored energy,
     // Σ [Ψ(Uₙ₊₁) − Ψ(Uₙ) − ½ΔU·(fₙ + fₙ₊₁)], local O(ΔU³ Ψ''') and so O(h²) over the run —
@@ -383,10 +394,10 @@ fn impact_at_100_m_s() {
     // trapezoid error.) Main's bound 0.05 holds at h/2 with the h² factor to spare
     // (0.05/4), and halving h divides the residual by 4 (second order; measured 5.1, then 4.3
     // and 4.2 at h/4, h/8), so the bound is the order, not a copied value.
-    let coarse = sim.ledger.max_relative_residual;
+    let coarse = sim.state.ledger.max_relative_residual;
     let mut fine = scene("impact_100", &["scheme.time_step_factor=0.25"]);
     run_finite(&mut fine).expect("the 100 m/s impact completes at h/2");
-    let fine = fine.ledger.max_relative_residual;
+    let fine = fine.state.ledger.max_relative_residual;
     eprintln!("impact_100 max relative residual: {coarse:.3e} at h, {fine:.3e} at h/2");
     assert!(fine < 0.05 / 4.0, "{fine} at h/2");
     assert!(
@@ -400,7 +411,7 @@ fn a_million_steps_of_free_vibration_do_not_drift() {
     let mut sim = scene("long_vibration", &[]);
     let mut series = Vec::new();
     run_finite_with(&mut sim, |s| {
-        if s.time > 3e-5 {
+        if s.state.time > 3e-5 {
             let e = s.energies();
             series.push(e.kinetic + e.strain);
         }
@@ -414,7 +425,11 @@ fn a_million_steps_of_free_vibration_do_not_drift() {
             - v.iter().fold(f64::INFINITY, |a: f64, &x| a.min(x))
     };
     let (first, last) = (&series[..tenth], &series[n - tenth..]);
-    assert!(sim.step_count >= 1_000_000, "{} steps", sim.step_count);
+    assert!(
+        sim.state.step_count >= 1_000_000,
+        "{} steps",
+        sim.state.step_count
+    );
     // Symplectic: K + Ψ oscillates with the step (relative spread ~1e-4 here, the (hω)² level)
     // but its mean does not drift. A drift of the mean 100× below that spread over 10⁶ steps,
     // and an oscillation that does not grow, is bounded energy.
@@ -433,11 +448,11 @@ fn single_element_pull_off() {
     // A fixed step (no re-estimate, so h never grows after the rupture): the order in h below
     // needs one h per run.
     let mut sim = scene("single_element", &["scheme.h_crit_update_interval=0"]);
-    let mut rupture_steps = vec![None; sim.interface_nodes.len()];
+    let mut rupture_steps = vec![None; sim.state.interface_nodes.len()];
     run_finite_with(&mut sim, |s| {
-        for (k, itf) in s.interface_nodes.iter().enumerate() {
+        for (k, itf) in s.state.interface_nodes.iter().enumerate() {
             if rupture_steps[k].is_none() && itf.alpha >= s.model.interfaces[0].law.u_r {
-                rupture_steps[k] = Some(s.step_count);
+                rupture_steps[k] = Some(s.state.step_count);
             }
         }
     })
@@ -451,7 +466,7 @@ fn single_element_pull_off() {
     // Quasi-static (pulled at 0.1 m/s; the element's first mode is ~ms): the peak reaction is
     // the peak traction times the area, within the inertia M·a and the O(h) step of the peak.
     let (tmax, _) = sim.model.interfaces[0].law.peak_traction();
-    let area: f64 = sim.interface_nodes.iter().map(|n| n.area).sum();
+    let area: f64 = sim.state.interface_nodes.iter().map(|n| n.area).sum();
     let peak = sim.stats.peaks[0].force;
     assert!((peak / (tmax * area) - 1.0).abs() < 1e-2, "peak {peak} N");
     // Past the peak the element holds ½F²/k = 100 J of strain energy for G_c A = 23 J: it
@@ -478,8 +493,8 @@ fn single_element_pull_off() {
     // The ledger closes at second order through the snap: h ÷ 10 divides the residual by ~100
     // (measured 6.8e-3 → 6.7e-5); first order would give 10.
     let (r_coarse, r_fine) = (
-        sim.ledger.max_relative_residual,
-        fine.ledger.max_relative_residual,
+        sim.state.ledger.max_relative_residual,
+        fine.state.ledger.max_relative_residual,
     );
     assert!(r_coarse < 1e-2, "{r_coarse}");
     assert!(
@@ -498,9 +513,9 @@ fn aspect_ratio_100() {
     let dz = sim.model.mesh.min_edge();
     let h_1d = dz / mat.wave_speed();
     assert!(
-        (sim.h_crit / h_1d - 1.0).abs() < 0.02,
+        (sim.state.h_crit / h_1d - 1.0).abs() < 0.02,
         "{} vs {h_1d}",
-        sim.h_crit
+        sim.state.h_crit
     );
     // Quasi-statically the glue is damaged once the top has moved α_e plus the pad's stretch
     // under the peak traction in uniaxial strain, T_max H/(λ+2μ).
@@ -513,6 +528,6 @@ fn aspect_ratio_100() {
         (t / onset - 1.0).abs() < 0.05,
         "first damage at {t} s vs {onset} s"
     );
-    assert_eq!(sim.state_counts().ruptured, sim.interface_nodes.len());
-    assert!(sim.ledger.max_relative_residual < 1e-3);
+    assert_eq!(sim.state_counts().ruptured, sim.state.interface_nodes.len());
+    assert!(sim.state.ledger.max_relative_residual < 1e-3);
 }

@@ -28,7 +28,7 @@ fn relaxed(sim: &mut Simulation, probe: impl Fn(&Simulation) -> f64) -> (f64, f6
         let e = sim.energies();
         if e.kinetic < last {
             peak_share = last / e.strain;
-            for p in sim.v.planes_mut() {
+            for p in sim.state.v.planes_mut() {
                 p.fill(0.0);
             }
             last = 0.0;
@@ -74,7 +74,7 @@ pub(crate) fn cantilever_within_euler_bernoulli(rule: &str, case: &str) {
         );
         let tip = face_nodes(&sim.model, "x+");
         let (s, share) = relaxed(&mut sim, |s| {
-            -tip.iter().map(|&i| s.u.get(i)[2]).sum::<f64>() / tip.len() as f64
+            -tip.iter().map(|&i| s.state.u.get(i)[2]).sum::<f64>() / tip.len() as f64
         });
         assert!(share < 1e-6, "not relaxed: K/Ψ = {share}");
         let m = &sim.model.material;
@@ -157,10 +157,10 @@ fn cook_mid_edge(mut sim: Simulation, load: f64, steps: usize) -> (f64, f64) {
         })
         .collect();
     assert_eq!(probe.len(), 2);
-    let end = sim.h * steps as f64;
+    let end = sim.state.h * steps as f64;
     std::sync::Arc::make_mut(&mut sim.model).end_time = end;
     relaxed(&mut sim, |s| {
-        probe.iter().map(|&i| s.u.get(i)[1]).sum::<f64>() / probe.len() as f64 / load
+        probe.iter().map(|&i| s.state.u.get(i)[1]).sum::<f64>() / probe.len() as f64 / load
     })
 }
 

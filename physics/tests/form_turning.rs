@@ -97,34 +97,35 @@ fn run(factor: f64) -> Run {
     let roller = sim.model.planes[0].clone();
     let c0 = roller.pivot();
     let omega = roller.angular_velocity.clone().unwrap();
-    let mut was_formed: Vec<bool> = sim.interface_nodes.iter().map(|n| n.formed).collect();
+    let mut was_formed: Vec<bool> = sim.state.interface_nodes.iter().map(|n| n.formed).collect();
     let (mut max_residual, mut anchor_error, mut formation_error) = (0.0f64, 0.0f64, 0.0f64);
     let mut hs = vec![];
     let mut formed_while_turning = 0;
     sim.run(|s| {
-        hs.push(s.h);
-        max_residual = max_residual.max(s.ledger.residual().abs());
+        hs.push(s.state.h);
+        max_residual = max_residual.max(s.state.ledger.residual().abs());
         // The state counts: a node not glued yet is `unformed`, not `elastic`; they sum to the
         // interface nodes.
         let n = s.state_counts();
-        let unformed = s.interface_nodes.iter().filter(|n| !n.formed).count();
+        let unformed = s.state.interface_nodes.iter().filter(|n| !n.formed).count();
         assert_eq!(n.unformed, unformed);
         assert_eq!(
             n.elastic + n.transition + n.ruptured + n.unformed,
-            s.interface_nodes.len()
+            s.state.interface_nodes.len()
         );
         // The mould's analytic pose at tₙ₊₁: c(t) = c₀ + ∫v, R(t) = R_y(∫ω_y).
-        let d = roller.displacement(s.time);
-        let theta = omega.integral(s.time)[1];
-        for (j, n) in s.interface_nodes.iter().enumerate() {
+        let d = roller.displacement(s.state.time);
+        let theta = omega.integral(s.state.time)[1];
+        for (j, n) in s.state.interface_nodes.iter().enumerate() {
             if !n.formed {
                 continue;
             }
             let i = n.node as usize;
-            let x: [f64; 3] = std::array::from_fn(|c| s.model.mesh.nodes[i][c] + s.u.get(i)[c]);
+            let x: [f64; 3] =
+                std::array::from_fn(|c| s.model.mesh.nodes[i][c] + s.state.u.get(i)[c]);
             if !was_formed[j] {
                 was_formed[j] = true;
-                formed_while_turning += usize::from(s.time >= 0.005);
+                formed_while_turning += usize::from(s.state.time >= 0.005);
                 // Formed this step: intact glue with [u]ₙ₊₁ = 0 exactly (stored energy 0), and
                 // the anchor is the mould's material point at xₙ₊₁ in the pose at tₙ₊₁.
                 assert_eq!(n.jump, [0.0; 3], "node {i} formed with a jump");
@@ -144,17 +145,17 @@ fn run(factor: f64) -> Run {
     })
     .unwrap();
     let e = sim.energies();
-    let glued = || sim.interface_nodes.iter().filter(|n| n.formed);
+    let glued = || sim.state.interface_nodes.iter().filter(|n| n.formed);
     let law = &sim.model.interfaces[0].law;
     hs.sort_by(f64::total_cmp);
     Run {
         h: hs[hs.len() / 2],
         max_residual,
-        energy: sim.ledger.max_energy_seen,
+        energy: sim.state.ledger.max_energy_seen,
         anchor_error,
         formation_error,
         formed_while_turning,
-        steps: sim.step_count,
+        steps: sim.state.step_count,
         formed: glued().count(),
         torn: glued().filter(|n| n.alpha >= law.u_r).count(),
         formed_area: glued().map(|n| n.area).sum(),

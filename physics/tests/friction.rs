@@ -76,17 +76,20 @@ fn sliding_block_stops_after_v0_squared_over_2_mu_g() {
     let n = u0.len();
     let mut sim =
         Simulation::with_initial_state(model, u0, vec![[v0, 0.0, 0.0]; n]).expect("valid model");
-    let mass: f64 = sim.mass.iter().sum();
+    let mass: f64 = sim.setup.mass.iter().sum();
     let kinetic = 0.5 * mass * v0 * v0;
-    let h0 = sim.h;
+    let h0 = sim.state.h;
     let mut stopped_at = None;
     // (t, v_cm) for the report's curve (V_{n+½} at tₙ + h/2).
     let mut v_cm = vec![];
     while !sim.finished() {
         sim.step().expect("stable run");
-        v_cm.push((sim.time + 0.5 * sim.h, centre_of_mass(&sim, &sim.v, 0)));
-        if stopped_at.is_none() && centre_of_mass(&sim, &sim.v, 0) <= 0.0 {
-            stopped_at = Some(sim.time);
+        v_cm.push((
+            sim.state.time + 0.5 * sim.state.h,
+            centre_of_mass(&sim, &sim.state.v, 0),
+        ));
+        if stopped_at.is_none() && centre_of_mass(&sim, &sim.state.v, 0) <= 0.0 {
+            stopped_at = Some(sim.state.time);
         }
     }
     let ts: Vec<f64> = v_cm.iter().map(|p| p.0).collect();
@@ -102,8 +105,8 @@ fn sliding_block_stops_after_v0_squared_over_2_mu_g() {
         "centre-of-mass velocity [m/s]",
     );
     let stopped_at = stopped_at.expect("the block never stopped");
-    let travelled = centre_of_mass(&sim, &sim.u, 0);
-    let v_end = centre_of_mass(&sim, &sim.v, 0);
+    let travelled = centre_of_mass(&sim, &sim.state.u, 0);
+    let v_end = centre_of_mass(&sim, &sim.state.v, 0);
     let e = sim.energies();
     eprintln!(
         "stop at {stopped_at:.6} s (v₀/μg = {stop_time:.6} s, {:+.2e} rel), distance \
@@ -117,7 +120,7 @@ fn sliding_block_stops_after_v0_squared_over_2_mu_g() {
         e.contact_normal_dissipated,
         e.friction_dissipated / kinetic - 1.0,
         (e.friction_dissipated + e.contact_normal_dissipated) / kinetic - 1.0,
-        sim.ledger.max_relative_residual,
+        sim.state.ledger.max_relative_residual,
     );
 
     // Stopping distance. The total friction impulse is μ × the total normal impulse, which
@@ -156,7 +159,8 @@ fn sliding_block_stops_after_v0_squared_over_2_mu_g() {
     // of order μg/ω₁ ≈ 5e-5 m/s (ω₁ ≈ 2π·9 kHz, its first shear mode).
     assert!(v_end.abs() <= 1e-3 * v0, "still moving at {v_end:.3e} m/s");
     assert!(
-        sim.contact_nodes
+        sim.state
+            .contact_nodes
             .iter()
             .all(|c| c.contact == ContactStatus::Stick),
         "not every base node sticks after the stop"
@@ -192,7 +196,7 @@ fn sliding_block_stops_after_v0_squared_over_2_mu_g() {
         e.friction_dissipated
     );
     // Ledger: model §5.10 expects order 1e-5 at h = 0.5 h_crit; 5e-5.
-    assert!(sim.ledger.max_relative_residual <= 5e-5);
+    assert!(sim.state.ledger.max_relative_residual <= 5e-5);
 }
 
 #[test]
@@ -213,27 +217,28 @@ fn block_under_subcritical_traction_sticks() {
     let (mut friction_sum, mut held_time) = (0.0, 0.0);
     while !sim.finished() {
         sim.step().expect("stable run");
-        for c in &sim.contact_nodes {
+        for c in &sim.state.contact_nodes {
             if c.contact != ContactStatus::Stick {
-                not_stuck.push((sim.step_count, c.node, c.contact));
+                not_stuck.push((sim.state.step_count, c.node, c.contact));
             }
         }
         for &i in &bottom {
-            slip = slip.max(sim.u.get(i)[0].hypot(sim.u.get(i)[1]));
+            slip = slip.max(sim.state.u.get(i)[0].hypot(sim.state.u.get(i)[1]));
         }
         for &i in &top {
-            top_motion = top_motion.max(sim.u.get(i)[0].abs());
+            top_motion = top_motion.max(sim.state.u.get(i)[0].abs());
         }
-        if sim.time > t_ramp {
+        if sim.state.time > t_ramp {
             // Total friction force this step: impulse per area × area / h.
             let f: f64 = sim
+                .state
                 .contact_nodes
                 .iter()
                 .map(|c| c.contact_impulse[0] * c.area)
                 .sum::<f64>()
-                / sim.h;
-            friction_sum += f * sim.h;
-            held_time += sim.h;
+                / sim.state.h;
+            friction_sum += f * sim.state.h;
+            held_time += sim.state.h;
         }
     }
     let friction = friction_sum / held_time;
@@ -241,7 +246,7 @@ fn block_under_subcritical_traction_sticks() {
         "steps {}, non-stick node-steps {}, max base slip {slip:.3e} m, max top x-motion \
          {top_motion:.3e} m, mean friction force while held {friction:.4} N vs applied \
          {force:.4} N ({:+.2e} rel)",
-        sim.step_count,
+        sim.state.step_count,
         not_stuck.len(),
         friction / -force - 1.0
     );
@@ -287,12 +292,12 @@ fn block_under_supercritical_traction_slides_at_t_over_m_minus_mu_g() {
     let mut sim =
         Simulation::with_initial_state(model, u0, vec![[0.0; 3]; n]).expect("valid model");
     sim.run(|_| true).expect("stable run");
-    let mass: f64 = sim.mass.iter().sum();
-    let v = centre_of_mass(&sim, &sim.v, 0);
-    let v_expected = (force / mass - MU * G) * (sim.time + 0.5 * sim.h);
+    let mass: f64 = sim.setup.mass.iter().sum();
+    let v = centre_of_mass(&sim, &sim.state.v, 0);
+    let v_expected = (force / mass - MU * G) * (sim.state.time + 0.5 * sim.state.h);
     eprintln!(
         "v_cm = {v:.6} m/s at t = {:.4} s, (T/M − μg)·t = {v_expected:.6} m/s ({:+.2e} rel)",
-        sim.time,
+        sim.state.time,
         v / v_expected - 1.0
     );
     // Slipping base: friction = μ × normal = μMg, so v_cm = (T/M − μg)t. Only the first

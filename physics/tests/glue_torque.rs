@@ -147,14 +147,14 @@ fn ledger_closes(law: StiffnessLaw, second_mould: bool) -> (f64, f64) {
     // residual before it did.
     let normal = |s: &Simulation| s.mould_pose(0).0.map(|row| row[2]);
     let state = |s: &Simulation| -> Vec<([f64; 3], f64)> {
-        (s.interface_nodes.iter())
+        (s.state.interface_nodes.iter())
             .map(|n| (n.jump, n.stiffness))
             .collect()
     };
     let (mut before, mut n_before, mut torque) = (state(&sim), normal(&sim), 0.0);
     sim.run(|s| {
         let (now, n_now) = (state(s), normal(s));
-        for (itf, (b, a)) in s.interface_nodes.iter().zip(before.iter().zip(&now)) {
+        for (itf, (b, a)) in s.state.interface_nodes.iter().zip(before.iter().zip(&now)) {
             let opening_only = law.loading().opening_only;
             let turned =
                 product(b.0, a.0, n_now, opening_only) - product(b.0, a.0, n_before, opening_only);
@@ -165,13 +165,24 @@ fn ledger_closes(law: StiffnessLaw, second_mould: bool) -> (f64, f64) {
     })
     .unwrap();
     let e = sim.energies();
-    assert!(sim.step_count >= 100, "{label}: {} steps", sim.step_count);
-    let moved = (0..sim.v.len())
-        .map(|i| sim.v.get(i).iter().map(|c| c.abs()).fold(0.0, f64::max))
+    assert!(
+        sim.state.step_count >= 100,
+        "{label}: {} steps",
+        sim.state.step_count
+    );
+    let moved = (0..sim.state.v.len())
+        .map(|i| {
+            sim.state
+                .v
+                .get(i)
+                .iter()
+                .map(|c| c.abs())
+                .fold(0.0, f64::max)
+        })
         .fold(0.0, f64::max);
     assert_eq!(moved, 0.0, "{label}: the block moved");
     assert_eq!(e.damage_dissipated, 0.0, "{label}: damage");
-    let expected = stored_at(&law, OMEGA * sim.time);
+    let expected = stored_at(&law, OMEGA * sim.state.time);
     assert!(
         (e.interface_stored - expected).abs() <= 1e-9 * expected,
         "{label}: Ψ_d = {:e} J, the geometry gives {expected:e} J",
@@ -183,7 +194,7 @@ fn ledger_closes(law: StiffnessLaw, second_mould: bool) -> (f64, f64) {
         "{label}: residual {:e} J, without W_τ {:e} J, Σ W_τ {torque:e} J, ΔΨ_d {d_stored:e} J, {} steps",
         e.residual,
         e.residual - torque,
-        sim.step_count
+        sim.state.step_count
     );
     // The case tests the term: without it the ledger would be off by a sizeable part of ΔΨ_d.
     assert!(torque.abs() >= 0.1 * scale, "{label}: Σ W_τ = {torque:e} J");

@@ -32,7 +32,7 @@ fn assert_has(message: &str, parts: &[&str]) {
 fn a_face_set_on_its_mould_loads_without_warning() {
     let scene = load("", "").unwrap();
     let sim = Simulation::new(scene.model).unwrap();
-    assert!(sim.start_offsets.is_empty());
+    assert!(sim.setup.start_offsets.is_empty());
     assert!(!sim
         .advisories()
         .iter()
@@ -91,7 +91,7 @@ fn glued_nodes_inside_the_mould_beyond_the_tolerance_are_refused() {
 fn glued_nodes_inside_within_the_tolerance_load_with_a_warning() {
     let scene = load("point = [0.0, 0.0, 0.0]", "point = [0.0, 0.0, 1.0e-7]").unwrap();
     let sim = Simulation::new(scene.model).unwrap();
-    let o = &sim.start_offsets[0];
+    let o = &sim.setup.start_offsets[0];
     assert_eq!((o.off_nodes, o.inside_nodes, o.deep_nodes), (0, 9, 0));
     assert!((o.deepest - 1e-7).abs() < 1e-15);
     let w = sim.advisories().join("\n");
@@ -112,7 +112,7 @@ fn glued_nodes_inside_within_the_tolerance_load_with_a_warning() {
 fn glued_nodes_off_the_mould_load_with_a_warning_that_the_run_confirms() {
     let scene = load("point = [0.0, 0.0, 0.0]", "point = [0.0, 0.0, -7.0e-4]").unwrap();
     let sim = Simulation::new(scene.model).unwrap();
-    let o = &sim.start_offsets[0];
+    let o = &sim.setup.start_offsets[0];
     assert_eq!((o.off_nodes, o.inside_nodes), (9, 0));
     assert!((o.largest_off - 7e-4).abs() < 1e-15);
     let w = sim.advisories().join("\n");
@@ -127,7 +127,7 @@ fn glued_nodes_off_the_mould_load_with_a_warning_that_the_run_confirms() {
     );
     let counts = sim.state_counts();
     assert_eq!((counts.elastic, counts.transition), (0, 9));
-    for itf in &sim.interface_nodes {
+    for itf in &sim.state.interface_nodes {
         assert!((itf.alpha - 7e-4).abs() < 1e-15, "α₀ = {}", itf.alpha);
     }
 }

@@ -45,7 +45,8 @@ fn impact_model(end_time: f64) -> Model {
 }
 
 fn total_contact_impulse(sim: &Simulation) -> f64 {
-    sim.contact_nodes
+    sim.state
+        .contact_nodes
         .iter()
         .map(|c| c.contact_impulse.iter().map(|x| x.abs()).sum::<f64>())
         .sum()
@@ -60,8 +61,8 @@ fn bar_rebounds_after_2l_over_c_without_penetration() {
     let bottom: Vec<usize> = face_nodes(&model, "z-");
     let z_ref: Vec<f64> = model.mesh.nodes.iter().map(|x| x[2]).collect();
     let mut sim = Simulation::new(model).expect("valid model");
-    let mass: f64 = sim.mass.iter().sum();
-    let m_bottom: f64 = bottom.iter().map(|&i| sim.mass[i]).sum();
+    let mass: f64 = sim.setup.mass.iter().sum();
+    let m_bottom: f64 = bottom.iter().map(|&i| sim.setup.mass[i]).sum();
     let e_initial = 0.5 * mass * V0 * V0;
     let t0_loss = 0.5 * m_bottom * V0 * V0;
 
@@ -77,21 +78,27 @@ fn bar_rebounds_after_2l_over_c_without_penetration() {
     while !sim.finished() {
         sim.step().expect("stable run");
         if total_contact_impulse(&sim) > 0.0 {
-            last = sim.time;
-            last_step = sim.step_count;
+            last = sim.state.time;
+            last_step = sim.state.step_count;
         }
         for &i in &bottom {
-            min_gap = min_gap.min(z_ref[i] + sim.u.get(i)[2]);
+            min_gap = min_gap.min(z_ref[i] + sim.state.u.get(i)[2]);
         }
         let e = sim.energies();
-        let p: f64 = sim.v.rows().zip(&sim.mass).map(|(v, m)| m * v[2]).sum();
+        let p: f64 = sim
+            .state
+            .v
+            .rows()
+            .zip(&sim.setup.mass)
+            .map(|(v, m)| m * v[2])
+            .sum();
         history.push((
-            sim.step_count,
+            sim.state.step_count,
             e.kinetic + e.strain,
             e.contact_normal_dissipated,
             p / mass,
         ));
-        v_history.push((sim.time, p / mass));
+        v_history.push((sim.state.time, p / mass));
     }
     let duration = last - first;
     // From the step after the last impulse on, the impulse's forward half is in the ledger.
@@ -109,7 +116,8 @@ fn bar_rebounds_after_2l_over_c_without_penetration() {
         .map(|h| (h.3 - v_cm).abs())
         .fold(0.0, f64::max);
     let front_width =
-        (2.0 * CELLS as f64 * (1.0 - (c * sim.h / (LENGTH / CELLS as f64)).powi(2)) / 8.0).cbrt();
+        (2.0 * CELLS as f64 * (1.0 - (c * sim.state.h / (LENGTH / CELLS as f64)).powi(2)) / 8.0)
+            .cbrt();
     eprintln!(
         "contact {first:.4e} .. {last:.6e} s: duration = {duration:.6e} s, 2L/c = {:.6e} s, \
          excess = {:.3} L_e/c ({:.3} %), front width after 2L = {front_width:.3} L_e\n\
@@ -124,7 +132,7 @@ fn bar_rebounds_after_2l_over_c_without_penetration() {
         e_initial - e_sep,
         v_cm / V0,
         (2.0 * e_sep / mass).sqrt() / V0,
-        sim.ledger.max_relative_residual,
+        sim.state.ledger.max_relative_residual,
     );
 
     let ts: Vec<f64> = v_history.iter().map(|p| p.0 / transit).collect();
@@ -145,7 +153,7 @@ fn bar_rebounds_after_2l_over_c_without_penetration() {
         2.0 * transit,
         "analytic (1-D impact, 2L/c)",
         duration,
-        Tol::Abs(front_width * element_transit + sim.h),
+        Tol::Abs(front_width * element_transit + sim.state.h),
     );
     record(
         "bar_impact",
@@ -171,14 +179,14 @@ fn bar_rebounds_after_2l_over_c_without_penetration() {
         "largest relative residual of the energy balance",
         0.0,
         "energy balance (model §5.10)",
-        sim.ledger.max_relative_residual,
+        sim.state.ledger.max_relative_residual,
         Tol::Abs(5e-5),
     );
     // 1. Contact lasts 2L/c. The release front that ends it has travelled 2L = 2N elements and
     //    is spread over its Airy width w = (2N(1 − r²)/8)^{1/3} L_e (1.96 L_e here, see
     //    tests/wave_speed.rs); the last impulse is resolved to one step h = L_e/(2c).
     assert!(
-        (duration - 2.0 * transit).abs() <= front_width * element_transit + sim.h,
+        (duration - 2.0 * transit).abs() <= front_width * element_transit + sim.state.h,
         "contact lasted {duration:.6e} s, 2L/c = {:.6e} s",
         2.0 * transit
     );
@@ -216,9 +224,9 @@ fn bar_rebounds_after_2l_over_c_without_penetration() {
     // 4. The ledger closes: model §5.10 expects a relative residual of order 1e-5 at
     //    h = 0.5 h_crit (the O(h²) bulk term); 5e-5 leaves a factor 5, 1e-3 would be a bug.
     assert!(
-        sim.ledger.max_relative_residual <= 5e-5,
+        sim.state.ledger.max_relative_residual <= 5e-5,
         "max relative residual {:.3e}",
-        sim.ledger.max_relative_residual
+        sim.state.ledger.max_relative_residual
     );
     // 5. Rebound: the centre of mass goes up, no faster than the energy left allows
     //    (½Mv² ≤ K + Ψ), and constant in free flight (no force acts: round-off only).
@@ -264,21 +272,27 @@ fn dropped_column_scene() {
     let bottom: Vec<usize> = face_nodes(&model, "z-");
     let z_ref: Vec<f64> = model.mesh.nodes.iter().map(|x| x[2]).collect();
     let mut sim = Simulation::new(model).unwrap();
-    let mass: f64 = sim.mass.iter().sum();
-    let m_b: f64 = bottom.iter().map(|&i| sim.mass[i]).sum();
+    let mass: f64 = sim.setup.mass.iter().sum();
+    let m_b: f64 = bottom.iter().map(|&i| sim.setup.mass[i]).sum();
     // (step, t, in contact, D_normal, min bottom gap, bottom v_z, v_cm)
     let mut rows = vec![];
     while !sim.finished() {
-        let vb = sim.v.get(bottom[0])[2];
+        let vb = sim.state.v.get(bottom[0])[2];
         sim.step().unwrap();
         let gap = bottom
             .iter()
-            .map(|&i| z_ref[i] + sim.u.get(i)[2])
+            .map(|&i| z_ref[i] + sim.state.u.get(i)[2])
             .fold(f64::INFINITY, f64::min);
-        let p: f64 = sim.v.rows().zip(&sim.mass).map(|(v, m)| m * v[2]).sum();
+        let p: f64 = sim
+            .state
+            .v
+            .rows()
+            .zip(&sim.setup.mass)
+            .map(|(v, m)| m * v[2])
+            .sum();
         rows.push((
-            sim.step_count,
-            sim.time,
+            sim.state.step_count,
+            sim.state.time,
             total_contact_impulse(&sim) > 0.0,
             sim.energies().contact_normal_dissipated,
             gap,
@@ -296,7 +310,7 @@ fn dropped_column_scene() {
             }
         }
     }
-    let h = sim.h;
+    let h = sim.state.h;
     let t_fall = (2.0 * drop / g).sqrt();
     let v_land = g * t_fall;
     let transit = 2.0 * length / c;
@@ -350,7 +364,7 @@ fn dropped_column_scene() {
     eprintln!(
         "t_fall {t_fall:.6} s, v {v_land:.5} m/s, front width {front_width:.3} L_e, max \
          relative residual {:.2e}",
-        sim.ledger.max_relative_residual
+        sim.state.ledger.max_relative_residual
     );
     assert_eq!(landings.len(), 2, "two landings in the run");
     // And at every step of the run, in flight or not, no deeper than the deepest landing allows.
@@ -411,7 +425,7 @@ fn dropped_column_scene() {
             );
         }
     }
-    assert!(sim.ledger.max_relative_residual <= 1e-4);
+    assert!(sim.state.ledger.max_relative_residual <= 1e-4);
     // What a landing loses is the inelastic stop of the bottom layer, ½ m_b v_b v_free with
     // v_free = v_b + h a_b its velocity once the step's forces act. First landing: the column
     // falls as a whole (a_b = −g), so h g/v = 2.5e-4 off ½ m_b v²; 1e-3.

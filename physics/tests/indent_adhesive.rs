@@ -18,18 +18,18 @@ type Curve = Vec<(f64, f64, f64)>;
 fn run() -> (Curve, Simulation) {
     let scene = load_scene(&scene_file("indent_adhesive.toml"), &[]).unwrap();
     let mut sim = Simulation::new(scene.model).unwrap();
-    let mut h_prev = sim.h;
+    let mut h_prev = sim.state.h;
     let mut curve = vec![];
     sim.run(|s| {
-        let h_bar = 0.5 * (h_prev + s.h);
-        h_prev = s.h;
+        let h_bar = 0.5 * (h_prev + s.state.h);
+        h_prev = s.state.h;
         let ball = &s.model.planes[1];
-        let delta = -ball.displacement(s.time)[2];
-        let fz: f64 = (s.interface_nodes.iter())
+        let delta = -ball.displacement(s.state.time)[2];
+        let fz: f64 = (s.state.interface_nodes.iter())
             .filter(|n| s.model.interfaces[n.interface as usize].plane == 1)
             .map(|n| n.area * (n.contact_impulse[2] / h_bar - n.cohesive_traction[2]))
             .sum();
-        curve.push((s.time, delta, -4.0 * fz));
+        curve.push((s.state.time, delta, -4.0 * fz));
         true
     })
     .unwrap();
@@ -40,7 +40,7 @@ fn run() -> (Curve, Simulation) {
 /// ruptured ones) [m²] on the quarter.
 fn glued_areas(sim: &Simulation) -> (f64, f64) {
     let (mut formed, mut ruptured) = (0.0, 0.0);
-    for n in &sim.interface_nodes {
+    for n in &sim.state.interface_nodes {
         let spec = &sim.model.interfaces[n.interface as usize];
         if spec.forms_on_contact.is_some() && n.formed {
             formed += n.area;

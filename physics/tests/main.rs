@@ -44,6 +44,7 @@ mod mould_motion;
 mod mould_shapes;
 mod multi_constraint;
 mod partial_contact;
+mod peel;
 mod physical;
 mod properties;
 mod pull_off;

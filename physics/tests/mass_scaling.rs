@@ -21,10 +21,10 @@ fn setup(scene: &str, overrides: &[&str]) -> Result<Simulation, String> {
 #[test]
 fn a_uniform_mesh_is_scaled_as_a_whole_and_h_crit_grows_by_the_square_root() {
     let plain = setup("impact.toml", &[]).unwrap();
-    let target = 3.0 * plain.h_crit;
+    let target = 3.0 * plain.state.h_crit;
     let set = format!("mass_scaling.target_step={target:e}");
     let scaled = setup("impact.toml", &[&set]).unwrap();
-    let r = scaled.mass_scaling.expect("mass scaling is on");
+    let r = scaled.setup.mass_scaling.expect("mass scaling is on");
     assert_eq!(r.scaled_elements, r.elements);
     let s = r.largest_factor;
     assert!(
@@ -32,7 +32,7 @@ fn a_uniform_mesh_is_scaled_as_a_whole_and_h_crit_grows_by_the_square_root() {
         "factor {s}, (h_t/h_e)² = {}",
         (r.target_step / r.smallest_element_step).powi(2)
     );
-    let mass: f64 = plain.mass.iter().sum();
+    let mass: f64 = plain.setup.mass.iter().sum();
     assert!((r.mass / mass - 1.0).abs() <= 1e-12);
     assert!(
         (r.added_mass / ((s - 1.0) * mass) - 1.0).abs() <= 1e-12,
@@ -40,7 +40,7 @@ fn a_uniform_mesh_is_scaled_as_a_whole_and_h_crit_grows_by_the_square_root() {
         r.added_mass,
         (s - 1.0) * mass
     );
-    let ratio = scaled.h_crit / plain.h_crit;
+    let ratio = scaled.state.h_crit / plain.state.h_crit;
     assert!(
         (ratio / s.sqrt() - 1.0).abs() <= 1e-5,
         "h_crit × {ratio:.8}, √s = {:.8}",
@@ -50,11 +50,11 @@ fn a_uniform_mesh_is_scaled_as_a_whole_and_h_crit_grows_by_the_square_root() {
     // its tolerance (1e-6 on ω², h_crit_tolerance) of the true value, and on this bar the bound
     // is tight (the elements' breathing mode).
     assert!(
-        scaled.h_crit >= target * (1.0 - 1e-6),
+        scaled.state.h_crit >= target * (1.0 - 1e-6),
         "h_crit {:.9e} s, target {target:.9e} s ({:.3e} below), plain {:.9e} s, element step {:.9e} s",
-        scaled.h_crit,
-        1.0 - scaled.h_crit / target,
-        plain.h_crit,
+        scaled.state.h_crit,
+        1.0 - scaled.state.h_crit / target,
+        plain.state.h_crit,
         r.smallest_element_step
     );
     assert!(scaled
@@ -71,12 +71,12 @@ fn a_uniform_mesh_is_scaled_as_a_whole_and_h_crit_grows_by_the_square_root() {
 fn a_graded_mesh_is_scaled_where_its_elements_are_below_the_target_only() {
     let unglued = ["interface=[]", "mass_scaling.target_step=1e-12"];
     let probe = setup("tread.toml", &unglued).unwrap();
-    let smallest = probe.mass_scaling.unwrap().smallest_element_step;
-    assert_eq!(probe.mass_scaling.unwrap().scaled_elements, 0);
+    let smallest = probe.setup.mass_scaling.unwrap().smallest_element_step;
+    assert_eq!(probe.setup.mass_scaling.unwrap().scaled_elements, 0);
     let target = 1.2 * smallest;
     let set = format!("mass_scaling.target_step={target:e}");
     let scaled = setup("tread.toml", &["interface=[]", &set]).unwrap();
-    let r = scaled.mass_scaling.expect("mass scaling is on");
+    let r = scaled.setup.mass_scaling.expect("mass scaling is on");
     assert!(
         r.scaled_elements > 0 && r.scaled_elements < r.elements,
         "{} of {} elements scaled",
@@ -85,9 +85,9 @@ fn a_graded_mesh_is_scaled_where_its_elements_are_below_the_target_only() {
     );
     assert!(r.added_mass > 0.0 && r.added_share() < r.largest_factor - 1.0);
     assert!(
-        scaled.h_crit >= target * (1.0 - 1e-6),
+        scaled.state.h_crit >= target * (1.0 - 1e-6),
         "h_crit {:.6e} s below the target {target:.6e} s",
-        scaled.h_crit
+        scaled.state.h_crit
     );
 }
 
@@ -97,7 +97,7 @@ fn a_graded_mesh_is_scaled_where_its_elements_are_below_the_target_only() {
 #[test]
 fn a_target_the_glue_does_not_allow_is_refused() {
     let plain = setup("extreme/stiff_glue_h105.toml", &[]).unwrap();
-    let target = 2.0 * plain.h_crit;
+    let target = 2.0 * plain.state.h_crit;
     let set = format!("mass_scaling.target_step={target:e}");
     let err = match setup("extreme/stiff_glue_h105.toml", &[&set]) {
         Ok(_) => panic!("a target of 2 h_crit with glue-limited steps was accepted"),
@@ -126,26 +126,27 @@ fn a_target_the_glue_does_not_allow_is_refused() {
 #[test]
 fn the_ledger_closes_with_the_added_mass_and_its_kinetic_energy_is_reported() {
     let plain = setup("pull_off.toml", &[]).unwrap();
-    let target = 4.0 * plain.h_crit;
+    let target = 4.0 * plain.state.h_crit;
     let set = format!("mass_scaling.target_step={target:e}");
     let mut residuals = vec![];
     for factor in ["0.5", "0.25"] {
         let f = format!("scheme.time_step_factor={factor}");
         let mut sim = setup("pull_off.toml", &[&set, &f]).unwrap();
-        let s = sim.mass_scaling.unwrap().largest_factor;
+        let s = sim.setup.mass_scaling.unwrap().largest_factor;
         let mut worst = 0.0f64;
         while !sim.finished() {
             sim.step().unwrap();
-            let expected = (1.0 - 1.0 / s) * sim.kinetic_half;
-            let got = sim.ledger.added_mass_kinetic;
-            worst = worst.max((got - expected).abs() / sim.kinetic_half.max(f64::MIN_POSITIVE));
+            let expected = (1.0 - 1.0 / s) * sim.state.kinetic_half;
+            let got = sim.state.ledger.added_mass_kinetic;
+            worst =
+                worst.max((got - expected).abs() / sim.state.kinetic_half.max(f64::MIN_POSITIVE));
         }
         assert!(worst <= 1e-12, "K_add against (1 − 1/s) K: {worst:.2e}");
-        residuals.push(sim.ledger.max_relative_residual);
+        residuals.push(sim.state.ledger.max_relative_residual);
         if factor != "0.5" {
             continue;
         }
-        let r = sim.mass_scaling.unwrap();
+        let r = sim.setup.mass_scaling.unwrap();
         assert!(r.kinetic_share() > 0.05, "share {:.4}", r.kinetic_share());
         let warnings = sim.advisories();
         assert!(

@@ -211,19 +211,28 @@ fn a_run_from_the_lists_is_the_cold_run_bit_for_bit() {
         sim
     };
     let (mut cold, mut warm) = (sim(true), sim(false));
-    let nodes = warm.contact_nodes.len();
+    let nodes = warm.state.contact_nodes.len();
     let mut touching = 0;
     for step in 0..400 {
         cold.step().unwrap();
         warm.step().unwrap();
         let gaps = |s: &Simulation| -> Vec<u64> {
-            s.contact_nodes.iter().map(|c| c.gap.to_bits()).collect()
+            s.state
+                .contact_nodes
+                .iter()
+                .map(|c| c.gap.to_bits())
+                .collect()
         };
         assert_eq!(gaps(&warm), gaps(&cold), "step {step}: the gaps differ");
-        touching += warm.contact_nodes.iter().filter(|c| c.gap <= 0.0).count();
+        touching += warm
+            .state
+            .contact_nodes
+            .iter()
+            .filter(|c| c.gap <= 0.0)
+            .count();
     }
     let bits = |s: &Simulation| -> Vec<u64> {
-        (s.u.rows().chain(s.v.rows()).flatten())
+        (s.state.u.rows().chain(s.state.v.rows()).flatten())
             .map(|x| x.to_bits())
             .collect()
     };

@@ -18,13 +18,13 @@ fn indent() -> (Curve, Curve, Simulation) {
     let (mut load, mut unload) = (vec![], vec![]);
     sim.run(|s| {
         let ball = &s.model.planes[1];
-        let delta = -ball.displacement(s.time)[2];
-        let f: f64 = (s.contact_nodes.iter())
+        let delta = -ball.displacement(s.state.time)[2];
+        let f: f64 = (s.state.contact_nodes.iter())
             .map(|c| c.contact_impulse[2] * c.area)
             .sum::<f64>()
-            / s.h;
+            / s.state.h;
         let row = (delta, -4.0 * f);
-        if s.time < 0.1 {
+        if s.state.time < 0.1 {
             load.push(row);
         } else {
             unload.push(row);

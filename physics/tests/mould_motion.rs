@@ -39,7 +39,7 @@ fn riding(v: [f64; 3], w: [f64; 3], end_time: f64) -> Model {
 
 /// Largest |[u]| of the glued nodes.
 fn max_jump(sim: &Simulation) -> f64 {
-    (sim.interface_nodes.iter())
+    (sim.state.interface_nodes.iter())
         .map(|n| n.jump.iter().map(|c| c * c).sum::<f64>().sqrt())
         .fold(0.0, f64::max)
 }
@@ -52,7 +52,7 @@ fn max_jump(sim: &Simulation) -> f64 {
 fn translating_mould_and_body_stay_unstrained() {
     let mut sim = Simulation::new(riding([0.6, -0.8, 0.0], [0.0; 3], 0.05)).unwrap();
     sim.run(|_| true).unwrap();
-    assert!(sim.step_count > 500, "{} steps", sim.step_count);
+    assert!(sim.state.step_count > 500, "{} steps", sim.state.step_count);
     let e = sim.energies();
     assert!(max_jump(&sim) <= 1e-12 * L, "|[u]| = {:e}", max_jump(&sim));
     assert!(e.strain <= 1e-20, "strain energy {:e}", e.strain);
@@ -63,11 +63,15 @@ fn translating_mould_and_body_stay_unstrained() {
         "{diss:e} J dissipated, K = {:e}",
         e.kinetic
     );
-    assert!(sim.interface_nodes.iter().all(|n| n.alpha < 1e-9 * 2e-3));
+    assert!(sim
+        .state
+        .interface_nodes
+        .iter()
+        .all(|n| n.alpha < 1e-9 * 2e-3));
     // And the body went where the mould went: x = X + v t.
-    let x = sim.u.get(0);
+    let x = sim.state.u.get(0);
     assert!(
-        (x[0] - 0.6 * sim.time).abs() < 1e-12 && (x[1] + 0.8 * sim.time).abs() < 1e-12,
+        (x[0] - 0.6 * sim.state.time).abs() < 1e-12 && (x[1] + 0.8 * sim.state.time).abs() < 1e-12,
         "{x:?}"
     );
 }
@@ -97,8 +101,12 @@ fn turning_mould_and_body_stay_unstrained() {
         e.damage_dissipated.abs() + e.contact_normal_dissipated.abs() + e.friction_dissipated.abs();
     assert!(diss <= 3e-8, "{diss:e} J dissipated, K = {:e}", e.kinetic);
     assert_eq!(e.damage_dissipated, 0.0);
-    assert!(sim.interface_nodes.iter().all(|n| n.alpha < 1e-3 * 2e-3));
-    let t = sim.time;
+    assert!(sim
+        .state
+        .interface_nodes
+        .iter()
+        .all(|n| n.alpha < 1e-3 * 2e-3));
+    let t = sim.state.time;
     let (th, c) = (5.0 * t, [0.5 * L, 0.5 * L, 0.5 * L]);
     let nodes = &sim.model.mesh.nodes;
     let i = (0..nodes.len())
@@ -117,7 +125,7 @@ fn turning_mould_and_body_stay_unstrained() {
         x0[2] + v[2] * t,
     ];
     for k in 0..3 {
-        let x = x0[k] + sim.u.get(i)[k];
+        let x = x0[k] + sim.state.u.get(i)[k];
         assert!(
             (x - exact[k]).abs() <= 10.0 * 2.5e-7 * L,
             "{k}: {x} vs {}",

@@ -309,12 +309,12 @@ fn a_block_thrown_into_a_sixty_degree_corner_between_two_moulds() {
     while !sim.finished() {
         sim.step().expect("stable run");
         let mut active: std::collections::BTreeMap<u32, usize> = Default::default();
-        for cn in sim.contact_nodes.iter().filter(|c| c.gap <= 0.0) {
+        for cn in sim.state.contact_nodes.iter().filter(|c| c.gap <= 0.0) {
             *active.entry(cn.node).or_default() += 1;
         }
         for (&node, _) in active.iter().filter(|(_, &k)| k == 2) {
             corner_steps += 1;
-            let v = sim.v.get(node as usize);
+            let v = sim.state.v.get(node as usize);
             for n in normals {
                 assert!(dot(v, n) >= -1e-9, "node {node} approaches: v = {v:?}");
             }
@@ -327,13 +327,13 @@ fn a_block_thrown_into_a_sixty_degree_corner_between_two_moulds() {
     assert_eq!(sim.stats.joint_contact.capped, 0);
     // Velocity-level contact: a node enters a surface by at most one step's travel before its
     // gap turns ≤ 0 (|V| ≤ √2 m/s here, the throw's speed, with margin for the rebound).
-    let travel = sim.h * 2.0;
+    let travel = sim.state.h * 2.0;
     for (i, x) in sim.model.mesh.nodes.iter().enumerate() {
-        let y: [f64; 3] = std::array::from_fn(|c| x[c] + sim.u.get(i)[c]);
+        let y: [f64; 3] = std::array::from_fn(|c| x[c] + sim.state.u.get(i)[c]);
         for n in normals {
             assert!(dot(y, n) >= -travel, "node {i} inside: {y:?}");
         }
     }
-    let residual = sim.ledger.max_relative_residual;
+    let residual = sim.state.ledger.max_relative_residual;
     assert!(residual < 1e-3, "ledger residual {residual:e}");
 }

@@ -51,13 +51,14 @@ fn a_symmetry_edge_keeps_contact_and_friction_on_its_free_components() {
         .collect();
     assert_eq!(edge.len(), 3);
     let mut sim = Simulation::with_initial_state(model, u0, vec![[0.0, v0, 0.0]; n]).unwrap();
-    let h = sim.h;
+    let h = sim.state.h;
     let (mut min_gap, mut min_gap_free) = (f64::INFINITY, f64::INFINITY);
     let (mut edge_slip_steps, mut other_slip_steps) = (0, 0);
     let mut edge_impulse = [0.0; 3];
     while !sim.finished() {
         sim.step().expect("stable run");
         for cn in sim
+            .state
             .contact_nodes
             .iter()
             .filter(|c| !edge.contains(&(c.node as usize)))
@@ -66,6 +67,7 @@ fn a_symmetry_edge_keeps_contact_and_friction_on_its_free_components() {
             other_slip_steps += usize::from(cn.contact == ContactStatus::Slip);
         }
         for cn in sim
+            .state
             .contact_nodes
             .iter()
             .filter(|c| edge.contains(&(c.node as usize)))
@@ -87,11 +89,11 @@ fn a_symmetry_edge_keeps_contact_and_friction_on_its_free_components() {
             }
         }
     }
-    let t = sim.time;
+    let t = sim.state.time;
     // Constant deceleration μg: y_cm(t) = v₀t − ½μgt² (tolerance as the friction test's 1e-4
     // of the distance: the t₀ impulse's half step and the elastic motion of the base).
     let expect = v0 * t - 0.5 * MU * G * t * t;
-    let travelled = centre_of_mass(&sim, &sim.u, 1);
+    let travelled = centre_of_mass(&sim, &sim.state.u, 1);
     eprintln!(
         "y_cm {travelled:.7} m at t = {t:.5} s vs {expect:.7} m (d = {distance:.5}); lowest edge \
          gap {min_gap:.3e} m (other base nodes {min_gap_free:.3e} m; h·v_fall would be {:.1e}); edge slip steps {edge_slip_steps}",
@@ -113,8 +115,8 @@ fn a_symmetry_edge_keeps_contact_and_friction_on_its_free_components() {
     // base node stick or lift now and then): the same share of slipping node-steps, within
     // 10 %, and over the run a friction impulse of μ times the normal one, within 2 % (the
     // sticking steps carry less than μ).
-    let edge_share = edge_slip_steps as f64 / (3 * sim.step_count) as f64;
-    let other_share = other_slip_steps as f64 / (6 * sim.step_count) as f64;
+    let edge_share = edge_slip_steps as f64 / (3 * sim.state.step_count) as f64;
+    let other_share = other_slip_steps as f64 / (6 * sim.state.step_count) as f64;
     let ratio = -edge_impulse[1] / edge_impulse[2];
     eprintln!(
         "slipping node-steps: edge {edge_share:.3}, other base nodes {other_share:.3}; edge \
@@ -127,5 +129,5 @@ fn a_symmetry_edge_keeps_contact_and_friction_on_its_free_components() {
     );
     assert_eq!(edge_impulse[0], 0.0);
     // Symmetry held exactly.
-    assert!(edge.iter().all(|&i| sim.u.get(i)[0] == 0.0));
+    assert!(edge.iter().all(|&i| sim.state.u.get(i)[0] == 0.0));
 }

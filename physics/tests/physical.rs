@@ -58,7 +58,7 @@ fn pull_off_with_physical_stabilisation() {
     };
     let sim = run(0.5);
     assert_eq!(sim.state_counts().ruptured, 64);
-    let d = sim.ledger.damage_dissipated;
+    let d = sim.state.ledger.damage_dissipated;
     let gc_area = 7000.0 / 3.0;
     let excess = d / gc_area - 1.0;
     record(
@@ -75,9 +75,9 @@ fn pull_off_with_physical_stabilisation() {
         100.0 * excess
     );
     let r = [
-        sim.ledger.max_relative_residual,
-        run(0.25).ledger.max_relative_residual,
-        run(0.125).ledger.max_relative_residual,
+        sim.state.ledger.max_relative_residual,
+        run(0.25).state.ledger.max_relative_residual,
+        run(0.125).state.ledger.max_relative_residual,
     ];
     eprintln!("physical pull-off: D = {:+.2} % of G_c·A; ledger residual at h/h_crit = 0.5, 0.25, 0.125: {r:?}", 100.0 * excess);
     assert!(

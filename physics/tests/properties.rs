@@ -93,8 +93,8 @@ fn run_case(law: &StiffnessLaw, mu_inf: f64, zs: &[f64], xs: &[f64]) -> Result<C
         });
     }
     let mut sim = Simulation::new(m).map_err(|e| e.to_string())?;
-    let mut alpha_prev: Vec<f64> = sim.interface_nodes.iter().map(|i| i.alpha).collect();
-    let mut d_prev = sim.ledger.damage_dissipated;
+    let mut alpha_prev: Vec<f64> = sim.state.interface_nodes.iter().map(|i| i.alpha).collect();
+    let mut d_prev = sim.state.ledger.damage_dissipated;
     let mut case = Case {
         damaged: false,
         contacts: 0,
@@ -102,7 +102,7 @@ fn run_case(law: &StiffnessLaw, mu_inf: f64, zs: &[f64], xs: &[f64]) -> Result<C
     let n = [0.0, 0.0, 1.0];
     while !sim.finished() {
         sim.step().map_err(|e| e.to_string())?;
-        for (itf, a0) in sim.interface_nodes.iter().zip(alpha_prev.iter_mut()) {
+        for (itf, a0) in sim.state.interface_nodes.iter().zip(alpha_prev.iter_mut()) {
             if itf.alpha < *a0 || itf.alpha > law.u_r {
                 return Err(format!(
                     "α = {} after {} (u_r = {})",
@@ -137,7 +137,7 @@ fn run_case(law: &StiffnessLaw, mu_inf: f64, zs: &[f64], xs: &[f64]) -> Result<C
                 }
             }
         }
-        let d = sim.ledger.damage_dissipated;
+        let d = sim.state.ledger.damage_dissipated;
         if d < d_prev {
             return Err(format!("damage dissipation decreased: {d_prev} -> {d}"));
         }

@@ -20,7 +20,7 @@ fn run(overrides: &[&str]) -> Simulation {
 fn pull_off_tears_off_at_a_third_and_the_ledger_closes() {
     let sim = run(&[]);
     let end = sim.model.end_time;
-    let n_itf = sim.interface_nodes.len();
+    let n_itf = sim.state.interface_nodes.len();
     assert_eq!(n_itf, 64);
     // Paper fig. 6: the whole interface is damaged at about a third of the simulated time.
     let t_rupture = sim
@@ -43,7 +43,7 @@ fn pull_off_tears_off_at_a_third_and_the_ledger_closes() {
     assert!(t_damage < t_rupture);
     assert_eq!(sim.state_counts().ruptured, n_itf);
     // The cube then moves freely: positive gap everywhere at the end.
-    for itf in &sim.interface_nodes {
+    for itf in &sim.state.interface_nodes {
         assert!(
             itf.gap > 0.0,
             "node {} still touches the mould (gap {})",
@@ -69,13 +69,13 @@ fn pull_off_tears_off_at_a_third_and_the_ledger_closes() {
         "largest relative residual of the energy balance",
         0.0,
         "energy balance (model §5.10)",
-        sim.ledger.max_relative_residual,
+        sim.state.ledger.max_relative_residual,
         Tol::Abs(1e-3),
     );
     assert!(
-        sim.ledger.max_relative_residual < 1e-3,
+        sim.state.ledger.max_relative_residual < 1e-3,
         "residual {}",
-        sim.ledger.max_relative_residual
+        sim.state.ledger.max_relative_residual
     );
 }
 
@@ -91,8 +91,8 @@ fn balance_residual_falls_as_h_squared() {
         "scheme.h_crit_update_interval=0",
     ]);
     let (ra, rb) = (
-        a.ledger.max_relative_residual,
-        b.ledger.max_relative_residual,
+        a.state.ledger.max_relative_residual,
+        b.state.ledger.max_relative_residual,
     );
     // Second order: ratio 4 in theory; measured 3.7. Below 2.8 the ledger has an O(h) leak.
     record(
@@ -125,13 +125,14 @@ fn summaries_are_bit_identical_with_one_two_and_three_threads() {
                 let sim = run(&["mesh.cells=[14,14,14]", "end_time=0.03", &rule]);
                 let e = sim.energies();
                 let alphas: Vec<u64> = sim
+                    .state
                     .interface_nodes
                     .iter()
                     .map(|i| i.alpha.to_bits())
                     .collect();
-                let u: Vec<u64> = sim.u.rows().flatten().map(|x| x.to_bits()).collect();
+                let u: Vec<u64> = sim.state.u.rows().flatten().map(|x| x.to_bits()).collect();
                 let r: Vec<u64> = sim.stats.reactions.iter().map(|x| x.to_bits()).collect();
-                (format!("{e:?}"), alphas, u, r, sim.step_count)
+                (format!("{e:?}"), alphas, u, r, sim.state.step_count)
             })
         };
         let (one, two, three) = (go(1), go(2), go(3));
@@ -148,11 +149,11 @@ fn summaries_are_bit_identical_with_one_two_and_three_threads() {
 pub fn assert_full_rupture_dissipation(sim: &Simulation, case: &str) {
     assert_eq!(
         sim.state_counts().ruptured,
-        sim.interface_nodes.len(),
+        sim.state.interface_nodes.len(),
         "{case}: not every glued node ruptured"
     );
     let gc_area = sim.model.interfaces[0].law.fracture_energy();
-    let d = sim.ledger.damage_dissipated;
+    let d = sim.state.ledger.damage_dissipated;
     record(
         case,
         "damage dissipation D [J]",

@@ -407,11 +407,11 @@ fn rccm_shear_scene_loads_with_c_t_and_spends_g_c() {
     let (mut closed, mut late) = (true, vec![]);
     while !sim.finished() {
         sim.step().unwrap();
-        for n in &sim.interface_nodes {
+        for n in &sim.state.interface_nodes {
             // Pressed: no normal cohesion wherever the normal jump is closed.
             closed &= n.jump[2] > 0.0 || n.cohesive_traction[2] == 0.0;
         }
-        if sim.time > sim.model.end_time - 0.01 {
+        if sim.state.time > sim.model.end_time - 0.01 {
             late.push(sim.stats.reactions[0].abs());
         }
     }
@@ -420,11 +420,11 @@ fn rccm_shear_scene_loads_with_c_t_and_spends_g_c() {
     let (glue, friction) = ((w * c_t).sqrt() * area, mu_inf * p * area);
     assert!(peak > 0.5 * glue && peak < glue + friction, "peak {peak} N");
     assert!(peak < 0.5 * (w * c_n).sqrt() * area, "peak {peak} N");
-    assert_eq!(sim.state_counts().ruptured, sim.interface_nodes.len());
+    assert_eq!(sim.state_counts().ruptured, sim.state.interface_nodes.len());
     let g_c = sim.model.interfaces[0].law.fracture_energy();
     assert!(g_c < w);
-    assert_eq!(sim.ledger.interface_stored, 0.0);
-    let spent = sim.ledger.damage_dissipated;
+    assert_eq!(sim.state.ledger.interface_stored, 0.0);
+    let spent = sim.state.ledger.damage_dissipated;
     assert!(
         (spent / (g_c * area) - 1.0).abs() < 0.01,
         "spent {spent} J, G_c A = {} J",

@@ -104,10 +104,11 @@ pub(crate) fn free_vibration_drift(rule: Integration, mat: Material) -> f64 {
         .collect();
     let v0 = vec![[0.0; 3]; u0.len()];
     let mut sim = Simulation::with_initial_state(m, u0, v0).unwrap();
-    let total = |s: &Simulation| s.ledger.kinetic + s.ledger.strain + s.ledger.hourglass;
+    let total =
+        |s: &Simulation| s.state.ledger.kinetic + s.state.ledger.strain + s.state.ledger.hourglass;
     let e0 = total(&sim);
     assert!(
-        sim.ledger.hourglass > 1e-3 * e0,
+        sim.state.ledger.hourglass > 1e-3 * e0,
         "the field excites hourglass modes"
     );
     let mut worst = 0.0f64;
@@ -144,7 +145,7 @@ fn pull_off_with_one_point_integration() {
         let mut sim = Simulation::new(scene.model).unwrap();
         let (mut peak_strain, mut hg_at_peak, mut hg_after) = (0.0f64, 0.0f64, 0.0f64);
         sim.run(|s| {
-            let l = &s.ledger;
+            let l = &s.state.ledger;
             if l.strain > peak_strain {
                 peak_strain = l.strain;
                 hg_at_peak = l.hourglass / l.strain;
@@ -166,8 +167,8 @@ fn pull_off_with_one_point_integration() {
         (t_red / t_full - 1.0).abs() < 0.1,
         "rupture {t_red} vs {t_full}"
     );
-    let d_full = full.ledger.damage_dissipated;
-    let d_red = reduced.ledger.damage_dissipated;
+    let d_full = full.state.ledger.damage_dissipated;
+    let d_red = reduced.state.ledger.damage_dissipated;
     assert!(
         (d_red / d_full - 1.0).abs() < 0.1,
         "dissipation {d_red} vs {d_full}"
@@ -195,10 +196,10 @@ fn pull_off_with_one_point_integration() {
     let residual = |factor: f64| {
         let f = format!("scheme.time_step_factor={factor}");
         let (sim, _, _) = run(&["scheme.integration=\"reduced\"", &f]);
-        sim.ledger.max_relative_residual
+        sim.state.ledger.max_relative_residual
     };
     let r = [
-        reduced.ledger.max_relative_residual,
+        reduced.state.ledger.max_relative_residual,
         residual(0.25),
         residual(0.125),
     ];
@@ -207,7 +208,7 @@ fn pull_off_with_one_point_integration() {
         r[0] / r[1] >= 3.0 && r[1] / r[2] >= 3.0,
         "residual at factor 0.5, 0.25, 0.125: {r:?}"
     );
-    assert!(reduced.ledger.hourglass >= 0.0);
+    assert!(reduced.state.ledger.hourglass >= 0.0);
     eprintln!(
         "one-point pull-off: rupture {t_red:.5} s (full {t_full:.5}), D = {d_red:.1} J = \
          {:+.2} % of G_c·A (full {d_full:.1}), hourglass/strain energy {:.1} % at the peak of \

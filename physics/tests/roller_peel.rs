@@ -67,7 +67,9 @@ struct Sample {
 fn roller_load(sim: &Simulation, k: usize, c: [f64; 3]) -> ([f64; 3], [f64; 3]) {
     let (mut f, mut m) = ([0.0; 3], [0.0; 3]);
     let x = |n: u32| -> [f64; 3] {
-        std::array::from_fn(|i| sim.model.mesh.nodes[n as usize][i] + sim.u.get(n as usize)[i])
+        std::array::from_fn(|i| {
+            sim.model.mesh.nodes[n as usize][i] + sim.state.u.get(n as usize)[i]
+        })
     };
     let mut add = |p: [f64; 3], fr: [f64; 3]| {
         let mm = cross(std::array::from_fn(|i| p[i] - c[i]), fr);
@@ -76,7 +78,7 @@ fn roller_load(sim: &Simulation, k: usize, c: [f64; 3]) -> ([f64; 3], [f64; 3]) 
             m[i] += mm[i];
         }
     };
-    for itf in &sim.interface_nodes {
+    for itf in &sim.state.interface_nodes {
         if sim.model.interfaces[itf.interface as usize].plane != k {
             continue;
         }
@@ -84,11 +86,19 @@ fn roller_load(sim: &Simulation, k: usize, c: [f64; 3]) -> ([f64; 3], [f64; 3]) 
         add(anchor, itf.cohesive_traction.map(|r| r * itf.area));
         add(
             x(itf.node),
-            itf.contact_impulse.map(|r| -r * itf.area / sim.h),
+            itf.contact_impulse.map(|r| -r * itf.area / sim.state.h),
         );
     }
-    for cn in sim.contact_nodes.iter().filter(|cn| cn.plane as usize == k) {
-        add(x(cn.node), cn.contact_impulse.map(|r| -r * cn.area / sim.h));
+    for cn in sim
+        .state
+        .contact_nodes
+        .iter()
+        .filter(|cn| cn.plane as usize == k)
+    {
+        add(
+            x(cn.node),
+            cn.contact_impulse.map(|r| -r * cn.area / sim.state.h),
+        );
     }
     (f, m)
 }
@@ -122,13 +132,18 @@ fn run(set: &[String]) -> Run {
     let (mut roller_work, mut clamp_alpha) = (0.0, 0.0f64);
     while !sim.finished() {
         sim.step().unwrap();
-        let t = sim.time;
+        let t = sim.state.time;
         let d = integral(&vel, t);
         let c: [f64; 3] = std::array::from_fn(|i| c0[i] + d[i]);
         let phi = integral(&omega, t)[1];
         // The clamp's anchors: y(t) = c(t) + R_y(φ)(y₀ − c₀), φ = ∫ω_y, R_y the rotation about
         // +y: (x, z) ↦ (x cos φ + z sin φ, −x sin φ + z cos φ).
-        for itf in sim.interface_nodes.iter().filter(|i| i.interface == 1) {
+        for itf in sim
+            .state
+            .interface_nodes
+            .iter()
+            .filter(|i| i.interface == 1)
+        {
             let r: [f64; 3] = std::array::from_fn(|i| itf.bonded_point[i] - c0[i]);
             let y = [
                 c[0] + r[0] * phi.cos() + r[2] * phi.sin(),
@@ -137,7 +152,7 @@ fn run(set: &[String]) -> Run {
             ];
             let n = itf.node as usize;
             for (i, yi) in y.into_iter().enumerate() {
-                let anchor = mesh.nodes[n][i] + sim.u.get(n)[i] - itf.jump[i];
+                let anchor = mesh.nodes[n][i] + sim.state.u.get(n)[i] - itf.jump[i];
                 anchor_error = anchor_error.max((anchor - yi).abs());
             }
             clamp_alpha = clamp_alpha.max(itf.alpha);
@@ -146,20 +161,22 @@ fn run(set: &[String]) -> Run {
         // (|V| + |ω|R), times h.
         let (v_now, w_now) = (value(&vel, t), value(&omega, t)[1]);
         let surface = dot(v_now, v_now).sqrt() + w_now.abs() * radius;
-        let travel =
-            |n: u32| sim.h * (dot(sim.v.get(n as usize), sim.v.get(n as usize)).sqrt() + surface);
-        let gaps = (sim.interface_nodes.iter().map(|i| (i.gap, i.node)))
-            .chain(sim.contact_nodes.iter().map(|c| (c.gap, c.node)));
+        let travel = |n: u32| {
+            sim.state.h
+                * (dot(sim.state.v.get(n as usize), sim.state.v.get(n as usize)).sqrt() + surface)
+        };
+        let gaps = (sim.state.interface_nodes.iter().map(|i| (i.gap, i.node)))
+            .chain(sim.state.contact_nodes.iter().map(|c| (c.gap, c.node)));
         for (g, n) in gaps {
             worst_gap = worst_gap.min(g / travel(n));
         }
         let (force, moment) = roller_load(&sim, roller, c);
-        roller_work -= sim.h * (dot(force, v_now) + moment[1] * w_now);
-        let front = (sim.interface_nodes.iter())
+        roller_work -= sim.state.h * (dot(force, v_now) + moment[1] * w_now);
+        let front = (sim.state.interface_nodes.iter())
             .filter(|i| i.interface == 0 && i.alpha >= u_r)
             .map(|i| mesh.nodes[i.node as usize][0])
             .fold(0.0, f64::max);
-        let damage = sim.ledger.damage_dissipated;
+        let damage = sim.state.ledger.damage_dissipated;
         samples.push(Sample {
             t,
             front,
@@ -187,14 +204,14 @@ fn the_clamp_turns_with_the_roller_and_the_ledger_closes() {
         "roller_peel: {} steps; anchor error {:.2e} m; worst gap {:.3} steps' travel; clamp α \
          ≤ {:.3e} m; roller work {:.6e} J (ledger {:.6e}), plate {:.1e}; max relative \
          residual {:.2e}",
-        sim.step_count,
+        sim.state.step_count,
         r.anchor_error,
         r.worst_gap,
         r.clamp_alpha,
         r.roller_work,
         works[1].1,
         works[0].1,
-        sim.ledger.max_relative_residual,
+        sim.state.ledger.max_relative_residual,
     );
     // A turning mould's glue anchors are material points of it: the analytic rotation about
     // the moving pivot to round-off (≈ 2·10⁴ composed step rotations, each exact to a few ε,
@@ -220,7 +237,7 @@ fn the_clamp_turns_with_the_roller_and_the_ledger_closes() {
         "rebuilt {rebuilt} J, ledger {ledger} J"
     );
     assert_eq!(works[0].1, 0.0);
-    assert!(sim.ledger.max_relative_residual <= 1e-4);
+    assert!(sim.state.ledger.max_relative_residual <= 1e-4);
 }
 
 /// A contact held on the turning roller stays out of it whatever the step (`contact_impulse`,
@@ -240,7 +257,7 @@ fn a_contact_held_on_the_turning_roller_stays_out_of_it() {
         let r = run(&[format!("scheme.time_step_factor={factor}")]);
         let sim = &r.sim;
         let contact = sim.energies().contact_normal_dissipated;
-        let residual = sim.ledger.max_relative_residual;
+        let residual = sim.state.ledger.max_relative_residual;
         eprintln!(
             "factor {factor}: worst gap {:.3} steps' travel, contact dissipation {contact:.3e} J, \
              residual {residual:.2e}",
@@ -289,7 +306,7 @@ fn the_steady_peel_is_kendall_s_and_follows_the_roller() {
     // The peeled area: ruptured nodes (α ≥ u_r), and the transition zone (0 < α < u_r) that
     // has dissipated part of its G_c.
     let area = |keep: &dyn Fn(f64) -> bool| -> f64 {
-        (sim.interface_nodes.iter())
+        (sim.state.interface_nodes.iter())
             .filter(|i| i.interface == 0 && keep(i.alpha))
             .map(|i| i.area)
             .sum()

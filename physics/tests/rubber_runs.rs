@@ -52,16 +52,16 @@ fn the_pull_off_closes_its_ledger_with_every_rubber() {
         let model = sim.model.material.model;
         assert_eq!(
             sim.state_counts().ruptured,
-            sim.interface_nodes.len(),
+            sim.state.interface_nodes.len(),
             "{model:?}: not torn off"
         );
         let gc_area = sim.model.interfaces[0].law.fracture_energy();
-        let d = sim.ledger.damage_dissipated;
+        let d = sim.state.ledger.damage_dissipated;
         assert!(
             d >= 0.99 * gc_area && d <= 1.08 * gc_area,
             "{model:?}: damage dissipation {d} vs G_c·A {gc_area}"
         );
-        let residual = sim.ledger.max_relative_residual;
+        let residual = sim.state.ledger.max_relative_residual;
         record(
             "ledger_pull_off_rubber",
             &format!("largest relative residual of the energy balance, {model:?}"),
@@ -82,7 +82,7 @@ fn pull_off_rubber_scene() {
     let mut sim = Simulation::new(scene.model).unwrap();
     sim.run(|_| true).unwrap();
     crate::pull_off::assert_full_rupture_dissipation(&sim, "pull_off_rubber");
-    assert!(sim.ledger.max_relative_residual < 1e-3);
+    assert!(sim.state.ledger.max_relative_residual < 1e-3);
 }
 
 /// The scene's name in messages.

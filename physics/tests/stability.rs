@@ -26,9 +26,9 @@ fn stable_below_h_crit() {
     // Bounded energy: the ledger still closes (second order, larger h: 1e-2 is generous but
     // far below what an instability gives, which is unbounded).
     assert!(
-        sim.ledger.max_relative_residual < 1e-2,
+        sim.state.ledger.max_relative_residual < 1e-2,
         "{}",
-        sim.ledger.max_relative_residual
+        sim.state.ledger.max_relative_residual
     );
 }
 
@@ -45,10 +45,10 @@ fn a_factor_above_1_never_steps_above_h_crit() {
         ];
         let scene = load_scene(&scene_file("pull_off.toml"), &set).unwrap();
         let mut sim = Simulation::new(scene.model).unwrap();
-        assert_eq!(sim.h, sim.h_crit, "factor {factor}");
+        assert_eq!(sim.state.h, sim.state.h_crit, "factor {factor}");
         let mut worst: f64 = 0.0;
         let _ = sim.run(|s| {
-            worst = worst.max(s.h / s.h_crit);
+            worst = worst.max(s.state.h / s.state.h_crit);
             true
         });
         assert!(worst <= 1.0, "factor {factor}: h/h_crit reached {worst}");
@@ -63,7 +63,7 @@ fn a_factor_above_1_never_steps_above_h_crit() {
     let mut sim = Simulation::new(scene.model).unwrap();
     let mut worst: f64 = 0.0;
     let _ = sim.run(|s| {
-        worst = worst.max(s.h / s.h_crit);
+        worst = worst.max(s.state.h / s.state.h_crit);
         true
     });
     assert!(
@@ -84,7 +84,7 @@ fn blow_up_caught_above_h_crit() {
     .map(String::from);
     let scene = load_scene(&scene_file("pull_off.toml"), &set).unwrap();
     let mut sim = Simulation::new(scene.model).unwrap();
-    sim.h = 1.1 * sim.h_crit;
+    sim.state.h = 1.1 * sim.state.h_crit;
     let err = sim
         .run(|_| true)
         .expect_err("h = 1.1 h_crit must be unstable");
@@ -111,7 +111,7 @@ fn blow_up_caught_above_h_crit() {
         msg.contains("The time step factor 1.100 is at or above the stability limit 1"),
         "{msg}"
     );
-    assert!(sim.step_count < 150);
+    assert!(sim.state.step_count < 150);
 }
 
 #[test]

@@ -50,11 +50,11 @@ fn compare_estimates(sim: &mut Simulation, every: u64, tol: f64) -> Comparisons 
     let factor = sim.model.scheme.time_step_factor;
     while !sim.finished() {
         sim.step().unwrap_or_else(|e| panic!("{e}"));
-        if !sim.step_count.is_multiple_of(every) {
+        if !sim.state.step_count.is_multiple_of(every) {
             continue;
         }
-        let step = sim.step_count;
-        let h = sim.h;
+        let step = sim.state.step_count;
+        let h = sim.state.h;
         let certified_before = sim.stats.h_crit_certified;
         let upd = sim.update_stable_step();
         let certified = sim.stats.h_crit_certified > certified_before;
@@ -106,7 +106,7 @@ fn update_estimates_hold_their_margin_as_the_glue_tears() {
     // The pull-off (7³): the glue sets h_crit at the start, softens from t = 0.068 s, is torn
     // at 0.108 s; h_crit rises from the glued value to the bulk's (6.3e-4 → 9.4e-4 s).
     let mut sim = scene("pull_off.toml", &[]);
-    let h0 = sim.h;
+    let h0 = sim.state.h;
     let c = compare_estimates(&mut sim, 40, 1e-6);
     assert!(c.checked >= 15, "{c:?}");
     // At the default factor 0.5 the bound certifies every update (κ s ≤ 1/(1.05 × 0.5)² = 3.6
@@ -119,7 +119,11 @@ fn update_estimates_hold_their_margin_as_the_glue_tears() {
         "the run's own estimates"
     );
     // The step followed the softening: it grew by more than the glue/bulk ratio's third.
-    assert!(sim.h > 1.3 * h0, "h {:.4e} from {h0:.4e}", sim.h);
+    assert!(
+        sim.state.h > 1.3 * h0,
+        "h {:.4e} from {h0:.4e}",
+        sim.state.h
+    );
 }
 
 #[test]
@@ -199,11 +203,12 @@ fn the_ledger_stays_exact_across_many_changes_of_step() {
     // different histories of the two runs).
     let bound = 1.5 * growth * growth;
     assert!(
-        grown.ledger.max_relative_residual <= bound * fixed.ledger.max_relative_residual,
+        grown.state.ledger.max_relative_residual
+            <= bound * fixed.state.ledger.max_relative_residual,
         "max relative residual {:.3e} with {} changes of step, {:.3e} at a fixed step",
-        grown.ledger.max_relative_residual,
+        grown.state.ledger.max_relative_residual,
         grown.stats.step_changes,
-        fixed.ledger.max_relative_residual
+        fixed.state.ledger.max_relative_residual
     );
     assert!(
         eg.residual.abs() <= bound * ef.residual.abs(),
@@ -239,7 +244,7 @@ fn the_element_bound_holds_with_one_point_integration() {
     let mut kappa = (f64::INFINITY, 0.0f64);
     while !sim.finished() {
         sim.step().unwrap_or_else(|e| panic!("{e}"));
-        if !sim.step_count.is_multiple_of(5) {
+        if !sim.state.step_count.is_multiple_of(5) {
             continue;
         }
         let theta = sim.converged_stable_step().ritz_value;
@@ -247,14 +252,14 @@ fn the_element_bound_holds_with_one_point_integration() {
         assert!(
             bound >= theta * (1.0 - 1e-6),
             "step {}: ω_b² = {bound:.6e} below θ_c = {theta:.6e}",
-            sim.step_count
+            sim.state.step_count
         );
         kappa = (kappa.0.min(bound / theta), kappa.1.max(bound / theta));
         checked += 1;
     }
     eprintln!("one point: {checked} checks, κ in {kappa:?}");
     assert!(checked >= 10, "{checked} checks");
-    assert!(sim.min_jacobian < 0.9 || sim.stats.h_crit_min < 0.9 * sim.stats.h_crit_initial);
+    assert!(sim.state.min_jacobian < 0.9 || sim.stats.h_crit_min < 0.9 * sim.stats.h_crit_initial);
 }
 
 /// An estimate meant to converge that stops on the Lanczos cap (model §6.4): with
@@ -267,7 +272,7 @@ fn an_unconverged_estimate_takes_the_proven_bound() {
     let mut sim = scene("pull_off.toml", &["scheme.h_crit_tolerance=1e-300"]);
     assert_eq!(sim.stats.h_crit_unconverged, 1);
     let bound = sim.stiffness_bound();
-    assert_eq!(sim.h_crit, 2.0 / bound.sqrt());
+    assert_eq!(sim.state.h_crit, 2.0 / bound.sqrt());
     let warnings = sim.advisories();
     assert!(
         warnings

@@ -9,347 +9,11 @@ use decohesion_physics::scene::load_scene;
 use decohesion_physics::solver::Simulation;
 
 /// The simulation of `scenes/NAME.toml` after `overrides`, at t = 0.
-fn start(name: &str, overrides: &[&str]) -> Simulation {
+pub(crate) fn start(name: &str, overrides: &[&str]) -> Simulation {
     let set: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
     let scene =
         load_scene(&scene_file(&format!("{name}.toml")), &set).unwrap_or_else(|e| panic!("{e}"));
     Simulation::new(scene.model).unwrap_or_else(|e| panic!("{e}"))
-}
-
-/// The 90° peel (scenes/peel.toml). The strip's end face is lifted at V with x free, so the
-/// pulling force is vertical; once the arm is long enough to have a straight part between the
-/// bend at the front and the one at the clamped end, the front runs at V/(1 + ε) and the force
-/// per width follows Kendall's energy balance, (F/b)(1 − cos θ) + (F/b)²/(2Et) = G_c + ρtV²
-/// (the second term is the arm's stretch ε = F/(bEt), the last its kinetic energy: the arm
-/// moves at (V_f, V), so it gains ½ρbt(V_f² + V²) per unit of peeled length, ≈ ρbtV²).
-///
-/// The same strip at 45°, its end pulled along a line (up at V, sideways at 0.28 V, as lesson 3
-/// does): Kendall's force is three times that at 90° and the arm stretches by 7.6 %, so the
-/// stretch term matters (the plain G_c/(1 − cos θ) is 12 % above). Both peels run side by side.
-#[test]
-fn peel_front_runs_and_the_force_is_kendall_s() {
-    std::thread::scope(|scope| {
-        scope.spawn(|| kendall_peel(start("peel", &[]), "kendall_peel", 90.0, AT_90));
-        scope.spawn(|| {
-            let sim = start(
-                "peel",
-                &[
-                    "displacement=[{faces=\"x-\",component=\"z\",table=[[0.0,0.0],[0.14,0.14]]},\
-                     {faces=\"x-\",component=\"x\",table=[[0.0,0.0],[0.14,0.0392]]}]",
-                ],
-            );
-            kendall_peel(sim, "kendall_peel_45", 45.0, AT_45)
-        });
-    });
-}
-
-/// The same peel at a laboratory speed, 5 mm/s (28 s to lift the end by 0.14 m), with mass
-/// scaling (model §6.8) to a target step of 1 ms: about 11 000 times the density, and 160 times
-/// fewer steps than the 6·10⁶ the unscaled strip would take. The lifting speed over the scaled
-/// bar wave speed is 1 %, as at 1 m/s unscaled, so the peel is as quasi-static, and Kendall's
-/// balance holds with the same tolerances (its kinetic term takes the scaled density). The
-/// added mass's kinetic energy stays below the 5 % of the stored energy that the warning
-/// watches.
-#[test]
-fn peel_at_laboratory_speed_with_mass_scaling_is_kendall_s() {
-    let sim = start(
-        "peel",
-        &[
-            "end_time=28",
-            "displacement.0.table=[[0.0, 0.0], [28.0, 0.14]]",
-            "mass_scaling.target_step=1e-3",
-        ],
-    );
-    let r = sim.mass_scaling.expect("mass scaling is on");
-    assert_eq!(
-        r.scaled_elements, r.elements,
-        "a uniform strip: every element"
-    );
-    assert!(sim.h_crit >= r.target_step, "h_crit {:.4e} s", sim.h_crit);
-    let sim = kendall_peel(sim, "kendall_peel_mass_scaled", 90.0, AT_90);
-    let r = sim.mass_scaling.expect("mass scaling is on");
-    eprintln!(
-        "mass-scaled peel: {} steps, h_crit {:.4e} s, density × {:.0}, added kinetic energy {:.3e} J = {:.3} % of the largest stored {:.3e} J",
-        sim.step_count,
-        sim.h_crit,
-        r.largest_factor,
-        r.added_kinetic_peak,
-        100.0 * r.kinetic_share(),
-        r.stored_peak
-    );
-    assert!(
-        r.kinetic_share() <= 0.05,
-        "added kinetic energy {:.3} % of the stored",
-        100.0 * r.kinetic_share()
-    );
-    assert!(sim.advisories().iter().all(|w| !w.contains("mass scaling")));
-}
-
-/// The tolerances of [`kendall_peel`] (its comments justify each): on the force against
-/// Kendall, on the front speed against the fed one, on the arm's stretch against F/(bEt).
-#[derive(Clone, Copy)]
-struct PeelTolerances {
-    force: f64,
-    front_speed: f64,
-    stretch: f64,
-}
-
-/// At 90° (the shipped peel).
-const AT_90: PeelTolerances = PeelTolerances {
-    force: 0.03,
-    front_speed: 0.02,
-    stretch: 0.05,
-};
-
-/// At 45°.
-const AT_45: PeelTolerances = PeelTolerances {
-    force: 0.05,
-    front_speed: 0.03,
-    stretch: 0.10,
-};
-
-/// Runs the peel `sim` (scenes/peel.toml, its end face pulled along z and, for an angle other
-/// than 90°, along x) to its end and checks it against Kendall's balance (doc of
-/// [`peel_front_runs_and_the_force_is_kendall_s`]) and the arm's angle against `angle` (in
-/// degrees), recording the comparisons as `case`; the kinetic term takes the density of the
-/// mass actually moving (mass scaling included).
-///
-/// The balance at any angle: once steady, the straight arm moves as a rigid body at the end's
-/// velocity v, and per unit of peeled length the pull's work F(1 − cos θ + ε) pays for G_c b,
-/// the arm's strain energy Fε/2 and the kinetic energy ½ρbt|v|² of the material it takes up:
-/// (F/b)(1 − cos θ) + (F/b)²/(2Et) = G_c + ½ρt|v|². With x free (90°) the end follows the front,
-/// v = (V_f, V); with x prescribed, v is the prescribed velocity. The front runs at
-/// V_f = V_z/((1 + ε) sin θ) (the end is (1 + ε) s along the arm from the front, s the peeled
-/// length).
-fn kendall_peel(mut sim: Simulation, case: &str, angle: f64, tol: PeelTolerances) -> Simulation {
-    let law = sim.model.interfaces[0].law.clone();
-    let gc = law.fracture_energy();
-    let young = sim.model.material.young;
-    let rho = sim.model.material.density
-        * sim
-            .mass_scaling
-            .map_or(1.0, |r| 1.0 + r.added_mass / r.mass);
-    let mesh = sim.model.mesh.clone();
-    // The strip: 200 × 10 × 4 mm, 100 × 1 × 2 elements (element e = i + nx·k).
-    let (length, b, t, nx) = (0.2, 0.01, 0.004, 100);
-    assert_eq!(mesh.elements.len(), 2 * nx);
-    // The end's prescribed velocity components (constant speeds): z always, x if prescribed.
-    let speed = |component: usize| {
-        let d = sim
-            .model
-            .displacements
-            .iter()
-            .find(|d| d.component == component)?;
-        Some(d.history.value(0.1)[0] / 0.1)
-    };
-    let v_lift = speed(2).expect("the end is lifted along z");
-    let v_side = speed(0);
-    // (t, front, |F|/b, θ, stretch of the arm, damage dissipated)
-    let mut samples: Vec<[f64; 6]> = vec![];
-    let mut front_went_back = None;
-    while !sim.finished() {
-        sim.step().unwrap();
-        // The front: the largest reference x of a ruptured interface node.
-        let front = sim
-            .interface_nodes
-            .iter()
-            .filter(|itf| itf.alpha >= law.u_r)
-            .map(|itf| mesh.nodes[itf.node as usize][0])
-            .fold(0.0, f64::max);
-        if samples.last().is_some_and(|s| front < s[1]) {
-            front_went_back.get_or_insert(sim.time);
-        }
-        // The arm's angle. Per column of elements, the mean F·e_x of its two layers is the
-        // mid-surface's material direction; the arm's direction from the front to the end is
-        // −F·e_x, so cos θ = (F·e_x)_x/|F·e_x| (θ = 0 would be lap shear, 180° peeling back over
-        // the strip), and |F·e_x| − 1 is its stretch. Both bends turn their neighbourhood from
-        // the arm's θ towards 0 (the bonded strip at the front, the end face, which keeps its
-        // orientation, at the end): the straight part is the column of largest θ.
-        let (mut theta, mut stretch) = (f64::NAN, f64::NAN);
-        for i in 0..nx {
-            let xc = (i as f64 + 0.5) * length / nx as f64;
-            if xc < 0.01 || xc > front - 0.01 {
-                continue;
-            }
-            let mut fx = [0.0; 3];
-            for k in 0..2 {
-                let f = mesh.centre_deformation_gradient(i + nx * k, &sim.u);
-                for c in 0..3 {
-                    fx[c] += 0.5 * f[c][0];
-                }
-            }
-            let len = (fx[0] * fx[0] + fx[1] * fx[1] + fx[2] * fx[2]).sqrt();
-            let th = (fx[0] / len).acos();
-            if theta.is_nan() || th > theta {
-                (theta, stretch) = (th, len - 1.0);
-            }
-        }
-        // The pull: every prescribed component's reaction on the end face.
-        let pull = sim
-            .stats
-            .reactions
-            .iter()
-            .map(|r| r * r)
-            .sum::<f64>()
-            .sqrt();
-        samples.push([
-            sim.time,
-            front,
-            pull / b,
-            theta,
-            stretch,
-            sim.ledger.damage_dissipated,
-        ]);
-    }
-    // Steady window: the front past 8 cm. Before, the arm is too short for a straight part
-    // between the two bends (elastica length √(D b/F) ≈ 1 cm each, longer with the bending
-    // stiffness of two full-integration hex8 through the thickness) and still swings.
-    let steady: Vec<&[f64; 6]> = samples.iter().filter(|s| s[1] >= 0.08).collect();
-    let force = mean(steady.iter().map(|s| s[2]));
-    let theta = mean(steady.iter().map(|s| s[3]));
-    let eps = mean(steady.iter().map(|s| s[4]));
-    let v_front = slope(&steady.iter().map(|s| (s[0], s[1])).collect::<Vec<_>>());
-    let d_rate = slope(&steady.iter().map(|s| (s[0], s[5])).collect::<Vec<_>>());
-    let (theta_min, theta_max) = steady.iter().fold((f64::INFINITY, 0.0f64), |(a, z), s| {
-        (a.min(s[3]), z.max(s[3]))
-    });
-    // Kendall's balance solved for F/b at the measured θ.
-    let v_x = v_side.unwrap_or(v_front);
-    let rhs = gc + 0.5 * rho * t * (v_lift * v_lift + v_x * v_x);
-    let (a, c1) = (1.0 / (2.0 * young * t), 1.0 - theta.cos());
-    let kendall = (-c1 + (c1 * c1 + 4.0 * a * rhs).sqrt()) / (2.0 * a);
-    // The front speed the end's motion feeds: the end moves at V_f(1 + ε) along the arm
-    // relative to the point of the strip at the front, which runs at V_f along x, so
-    // |v − V_f e_x| = V_f (1 + ε): with x free (v_x = V_f), V_f = V_z/(1 + ε); with x
-    // prescribed, the root of V_f²((1 + ε)² − 1) + 2 v_x V_f − |v|² = 0. No θ in it.
-    let v_feed = match v_side {
-        None => v_lift / (1.0 + eps),
-        Some(vx) => {
-            let qa = (1.0 + eps) * (1.0 + eps) - 1.0;
-            let v2 = vx * vx + v_lift * v_lift;
-            (-vx + (vx * vx + qa * v2).sqrt()) / qa
-        }
-    };
-    let last = samples.last().unwrap();
-    let ts: Vec<f64> = samples.iter().map(|s| s[0]).collect();
-    curve(
-        case,
-        "peel force",
-        &ts,
-        &samples.iter().map(|s| s[2]).collect::<Vec<_>>(),
-        &samples
-            .iter()
-            .map(|s| if s[1] >= 0.08 { kendall } else { f64::NAN })
-            .collect::<Vec<_>>(),
-        "t [s]",
-        "F/b [N/m]",
-    );
-    eprintln!(
-        "peel at {angle}°: front at {:.4} m after {:.3} s, steady window {:.4}..{:.4} s ({} steps): \
-         F/b = {force:.2} N/m, θ = {:.2}° ({:.2}..{:.2}°), arm stretch {eps:.4} (F/(bEt) = \
-         {:.4}); Kendall {kendall:.2} N/m ({:+.2} %; plain G_c/(1 − cos θ) = {:.2}); front speed \
-         {v_front:.4} m/s (fed {:.4}, {:+.2} %); dD/dt / (b v_front) = {:.2} J/m² \
-         (G_c = {gc}); max relative residual {:.2e}",
-        last[1],
-        last[0],
-        steady[0][0],
-        last[0],
-        steady.len(),
-        theta.to_degrees(),
-        theta_min.to_degrees(),
-        theta_max.to_degrees(),
-        force / (young * t),
-        100.0 * (force / kendall - 1.0),
-        gc / c1,
-        v_feed,
-        100.0 * (v_front / v_feed - 1.0),
-        d_rate / (b * v_front),
-        sim.ledger.max_relative_residual,
-    );
-
-    // The front only advances (damage is irreversible), and it got far: 12 cm of 20.
-    assert_eq!(front_went_back, None, "the front moved back");
-    assert!(last[1] >= 0.12, "the front reached only {:.4} m", last[1]);
-    // Large rotation: the arm's straight part is turned by `angle` from the bonded strip
-    // (upright at 90°), within ±3° all along the window (it swings by up to 2°; with x
-    // prescribed, the angle is set by the end's path and the arm's stretch).
-    assert!(
-        (theta_min.to_degrees() - angle).abs() <= 3.0
-            && (theta_max.to_degrees() - angle).abs() <= 3.0,
-        "arm angle {:.2}..{:.2}°",
-        theta_min.to_degrees(),
-        theta_max.to_degrees()
-    );
-    // The peel force per width against Kendall at the measured angle, within `tol.force`. At 90°,
-    // 3 %: the force drops by ~10 % each time a node pair lets go (2 mm apart); the mean over
-    // the ~25 of the window is good to ~1 %; θ is a mean over its swing, and 1° on θ moves
-    // Kendall's force by 1.7 % at 90°. At 45°, 5 %: 1° on θ moves it by 3.3 % (sin θ over
-    // 1 − cos θ + ε), and the arm's 7.6 % stretch is past the linear elasticity Kendall's
-    // stretch term assumes.
-    record(
-        case,
-        "steady peel force per width F/b [N/m]",
-        kendall,
-        "Kendall 1975 (with stretch and kinetic terms, at the measured θ)",
-        force,
-        Tol::Rel(tol.force),
-    );
-    assert!(
-        (force / kendall - 1.0).abs() <= tol.force,
-        "peel force {force:.2} N/m, Kendall {kendall:.2} N/m at θ = {:.2}°",
-        theta.to_degrees()
-    );
-    // The front runs at the speed the arm is fed (above), within `tol.front_speed`: at 90°
-    // 2 %, a least-squares slope over 5 cm of 2 mm steps; at 45° 3 %, as the fed speed there
-    // moves by ~1.5 % per 0.005 of the arm's stretch, which is the stretch of one column and
-    // varies by that much along the arm.
-    record(
-        case,
-        "front speed [m/s]",
-        v_feed,
-        "analytic (|v − V_f e_x| = V_f (1 + ε), inextensible feed)",
-        v_front,
-        Tol::Rel(tol.front_speed),
-    );
-    assert!(
-        (v_front / v_feed - 1.0).abs() <= tol.front_speed,
-        "front speed {v_front:.4} m/s, fed {v_feed:.4} m/s"
-    );
-    // The arm's stretch is the tension's: ε = F/(bEt), within `tol.stretch`: 5 % at 90°
-    // (neo-Hookean at 2.5 %: 1st order); 10 % at 45°, where the arm stretches by 7.6 % and a
-    // neo-Hookean bar is softer than E by about as much (incompressible: P = μ(λ − λ⁻²)
-    // against 3με).
-    assert!(
-        (eps / (force / (young * t)) - 1.0).abs() <= tol.stretch,
-        "stretch {eps:.4}, F/(bEt) = {:.4}",
-        force / (young * t)
-    );
-    // Steady state: the energy dissipated per unit of peeled area is G_c (the cohesive zone
-    // travels with the front). 2 %, as the front speed.
-    record(
-        case,
-        "dissipation per peeled area [J/m²]",
-        gc,
-        "G_c (steady front)",
-        d_rate / (b * v_front),
-        Tol::Rel(0.02),
-    );
-    assert!(
-        (d_rate / (b * v_front) / gc - 1.0).abs() <= 0.02,
-        "dissipation rate {:.2} J/m² of peeled area, G_c = {gc}",
-        d_rate / (b * v_front)
-    );
-    // Model §5.10: the ledger closes to ~1e-5; 1e-4.
-    record(
-        &format!("ledger_{}", case.trim_start_matches("kendall_")),
-        "largest relative residual of the energy balance",
-        0.0,
-        "energy balance (model §5.10)",
-        sim.ledger.max_relative_residual,
-        Tol::Abs(1e-4),
-    );
-    assert!(sim.ledger.max_relative_residual <= 1e-4);
-    sim
 }
 
 /// The glued pad sheared under pressure (scenes/shear.toml): friction is 0 on a sound
@@ -371,9 +35,9 @@ fn shear_friction_takes_over_from_the_glue() {
     while !sim.finished() {
         sim.step().unwrap();
         let (mut normal, mut friction, mut cohesion, mut mu_sum) = (0.0, 0.0, 0.0, 0.0);
-        for itf in &sim.interface_nodes {
+        for itf in &sim.state.interface_nodes {
             // Contact impulses per unit area over the step → forces.
-            let r = itf.contact_impulse.map(|c| c * itf.area / sim.h);
+            let r = itf.contact_impulse.map(|c| c * itf.area / sim.state.h);
             let rt = r[0].hypot(r[1]);
             let mu = law.mu(itf.alpha, mu_inf);
             assert!(mu <= mu_inf, "μ(α) = {mu} above μ_inf = {mu_inf}");
@@ -388,12 +52,12 @@ fn shear_friction_takes_over_from_the_glue() {
             mu_sum += mu;
         }
         rows.push([
-            sim.time,
+            sim.state.time,
             sim.stats.reactions[0],
             normal,
             friction,
             cohesion,
-            mu_sum / sim.interface_nodes.len() as f64,
+            mu_sum / sim.state.interface_nodes.len() as f64,
         ]);
     }
     let t_damage = sim
@@ -436,7 +100,7 @@ fn shear_friction_takes_over_from_the_glue() {
         sliding_friction / sliding_normal,
         sliding_force / (mu_inf * normal_expected),
         e.damage_dissipated,
-        sim.ledger.max_relative_residual,
+        sim.state.ledger.max_relative_residual,
     );
     for w in &windows {
         eprintln!(
@@ -520,7 +184,7 @@ fn shear_friction_takes_over_from_the_glue() {
         "damage dissipated {:.6} J, G_c A = {gc_area:.6} J",
         e.damage_dissipated
     );
-    assert!(sim.ledger.max_relative_residual <= 1e-4);
+    assert!(sim.state.ledger.max_relative_residual <= 1e-4);
 }
 
 /// The brick on an already-ruptured interface (scenes/sliding.toml, `initial_damage` ≥ u_r):
@@ -534,37 +198,38 @@ fn sliding_stops_after_v0_squared_over_2_mu_g() {
     let distance = v0 * v0 / (2.0 * mu * g);
     let stop_time = v0 / (mu * g);
     // Ruptured from the start: no glue, μ = μ_inf everywhere.
-    assert_eq!(sim.state_counts().ruptured, sim.interface_nodes.len());
+    assert_eq!(sim.state_counts().ruptured, sim.state.interface_nodes.len());
     let law = sim.model.interfaces[0].law.clone();
-    for itf in &sim.interface_nodes {
+    for itf in &sim.state.interface_nodes {
         assert_eq!((itf.stiffness, law.mu(itf.alpha, mu)), (0.0, mu));
     }
-    let mass: f64 = sim.mass.iter().sum();
+    let mass: f64 = sim.setup.mass.iter().sum();
     let kinetic = 0.5 * mass * v0 * v0;
     let mut stopped_at = None;
     // While the brick is fast, (t, v_cm) and the base's friction/normal force ratio.
     let (mut fast, mut impulses) = (vec![], [0.0; 2]);
     while !sim.finished() {
         sim.step().unwrap();
-        let v = centre_of_mass(&sim, &sim.v, 0);
+        let v = centre_of_mass(&sim, &sim.state.v, 0);
         if stopped_at.is_none() && v <= 0.0 {
-            stopped_at = Some(sim.time);
+            stopped_at = Some(sim.state.time);
         }
         if v > 0.1 {
             let sum = |c: usize| -> f64 {
-                sim.interface_nodes
+                sim.state
+                    .interface_nodes
                     .iter()
                     .map(|i| i.contact_impulse[c] * i.area)
                     .sum()
             };
-            fast.push((sim.time, v));
+            fast.push((sim.state.time, v));
             impulses[0] -= sum(0);
             impulses[1] += sum(2);
         }
     }
     let stopped_at = stopped_at.expect("the brick never stopped");
-    let travelled = centre_of_mass(&sim, &sim.u, 0);
-    let v_end = centre_of_mass(&sim, &sim.v, 0);
+    let travelled = centre_of_mass(&sim, &sim.state.u, 0);
+    let v_end = centre_of_mass(&sim, &sim.state.v, 0);
     let decel = -slope(&fast);
     let ratio = impulses[0] / impulses[1];
     let e = sim.energies();
@@ -591,7 +256,7 @@ fn sliding_stops_after_v0_squared_over_2_mu_g() {
         e.friction_dissipated,
         e.contact_normal_dissipated,
         e.gravity_work,
-        sim.ledger.max_relative_residual
+        sim.state.ledger.max_relative_residual
     );
     // While it slides fast the base slips: its friction impulse is μ_inf × its normal impulse
     // (the normal force itself swings by ±80 % with the brick's settling under its weight,
@@ -656,7 +321,7 @@ fn sliding_stops_after_v0_squared_over_2_mu_g() {
         "contact dissipated {contact:.6} J, ½Mv₀² = {kinetic:.6} J"
     );
     assert!(e.contact_normal_dissipated <= 0.05 * kinetic);
-    assert!(sim.ledger.max_relative_residual <= 1e-4);
+    assert!(sim.state.ledger.max_relative_residual <= 1e-4);
 }
 
 /// The 45° opening (scenes/mixed_mode.toml): the block is rigid next to the glue, so the jump is
@@ -671,6 +336,7 @@ fn mixed_mode_opens_along_the_norm_of_the_jump() {
     let area = 0.1 * 0.1;
     let (tmax, _) = law.peak_traction();
     let centre = sim
+        .state
         .interface_nodes
         .iter()
         .position(|i| {
@@ -679,12 +345,12 @@ fn mixed_mode_opens_along_the_norm_of_the_jump() {
         })
         .unwrap();
     let (mut ratio_worst, mut curve_worst, mut angle_worst) = (0.0f64, 0.0f64, 0.0f64);
-    let mut rupture_steps = vec![None; sim.interface_nodes.len()];
-    let mut before: Vec<f64> = vec![0.0; sim.interface_nodes.len()];
+    let mut rupture_steps = vec![None; sim.state.interface_nodes.len()];
+    let mut before: Vec<f64> = vec![0.0; sim.state.interface_nodes.len()];
     let mut rupture_jumps = vec![];
     while !sim.finished() {
         sim.step().unwrap();
-        let itf = &sim.interface_nodes[centre];
+        let itf = &sim.state.interface_nodes[centre];
         let n = decohesion_physics::interface::damage::damage_measure(itf.jump, base.normal);
         if itf.alpha < law.u_r && n > 0.05 * law.u_r {
             // Tangential over normal jump (the base moves in x and −z: the jump is (+, 0, +)).
@@ -697,10 +363,10 @@ fn mixed_mode_opens_along_the_norm_of_the_jump() {
             // Its component across 45°.
             angle_worst = angle_worst.max((f[0] - f[1]).abs() / 2f64.sqrt() / (tmax * area));
         }
-        for (k, itf) in sim.interface_nodes.iter().enumerate() {
+        for (k, itf) in sim.state.interface_nodes.iter().enumerate() {
             let m = decohesion_physics::interface::damage::damage_measure(itf.jump, base.normal);
             if rupture_steps[k].is_none() && itf.alpha >= law.u_r {
-                rupture_steps[k] = Some(sim.time);
+                rupture_steps[k] = Some(sim.state.time);
                 rupture_jumps.push((before[k], m));
             }
             before[k] = m;
@@ -731,10 +397,10 @@ fn mixed_mode_opens_along_the_norm_of_the_jump() {
          the first node {first:.6} s, of all {t_rupture:.6} s, base at |d| = u_r at {lo:.6} s \
          (h = {:.2e} s); damage {:.6} J vs G_c·A {gc_area:.6} J, plane work {:.6} J; max \
          relative residual {:.2e}",
-        sim.h,
+        sim.state.h,
         e.damage_dissipated,
         e.plane_work,
-        sim.ledger.max_relative_residual
+        sim.state.ledger.max_relative_residual
     );
     // The jump at the centre is equally normal and tangential: series springs, glue (g_N(0))
     // and block, give [u]_t/[u]_n = (1 + g_N(0)H/M)/(1 + g_N(0)H/G) = 1 − 3.5e-4 for
@@ -773,7 +439,7 @@ fn mixed_mode_opens_along_the_norm_of_the_jump() {
     // …which, the block being rigid, is when the base has moved by u_r: every node within
     // two steps of it.
     assert!(
-        (first - lo).abs() <= 2.0 * sim.h && (t_rupture - lo).abs() <= 2.0 * sim.h,
+        (first - lo).abs() <= 2.0 * sim.state.h && (t_rupture - lo).abs() <= 2.0 * sim.state.h,
         "ruptures {first:.6}..{t_rupture:.6} s, |d| = u_r at {lo:.6} s"
     );
     // Dissipation G_c × area as in pure mode, to the O(v h/u_r) of the discrete rupture
@@ -798,7 +464,7 @@ fn mixed_mode_opens_along_the_norm_of_the_jump() {
         "plane work {:.6} J",
         e.plane_work
     );
-    assert!(sim.ledger.max_relative_residual <= 1e-4);
+    assert!(sim.state.ledger.max_relative_residual <= 1e-4);
 }
 
 /// Demoulding (scenes/demould.toml): the mould (floor and four walls) moves down while the
@@ -814,29 +480,29 @@ fn demould_block_leaves_the_cavity() {
     let (mut wall_impulse, mut side_speed) = (0.0, 0.0f64);
     while !sim.finished() {
         sim.step().unwrap();
-        for c in &sim.contact_nodes {
+        for c in &sim.state.contact_nodes {
             let node = c.node as usize;
             let prescribed_top = sim.model.mesh.nodes[node][2] == depth;
             if !prescribed_top {
                 wall_gap_min = wall_gap_min.min(c.gap);
-                let v = sim.v.get(node);
+                let v = sim.state.v.get(node);
                 side_speed = side_speed.max((v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt());
             }
             let r: f64 = c.contact_impulse.iter().map(|x| x.abs()).sum();
             wall_impulse += r * c.area;
-            if sim.time > walls_open_at && r > 0.0 {
+            if sim.state.time > walls_open_at && r > 0.0 {
                 wall_contact_late += 1;
             }
         }
     }
-    let floor_z = sim.model.planes[0].displacement(sim.time)[2];
+    let floor_z = sim.model.planes[0].displacement(sim.state.time)[2];
     let rim_z = depth + floor_z;
     let bottom_z = sim
         .model
         .mesh
         .nodes
         .iter()
-        .zip(sim.u.rows())
+        .zip(sim.state.u.rows())
         .map(|(x, u)| x[2] + u[2])
         .fold(f64::INFINITY, f64::min);
     let e = sim.energies();
@@ -850,17 +516,17 @@ fn demould_block_leaves_the_cavity() {
          contacts after the walls opened {wall_contact_late}; plane work {:.4} J = damage {:.4} \
          J (G_c·A = {gc_area:.4}) + friction {:.4} J + normal contact {:.4} J + kinetic {:.4} J \
          + strain {:.4} J; max relative residual {:.2e}",
-        sim.h * side_speed,
+        sim.state.h * side_speed,
         e.plane_work,
         e.damage_dissipated,
         e.friction_dissipated,
         e.contact_normal_dissipated,
         e.kinetic,
         e.strain,
-        sim.ledger.max_relative_residual
+        sim.state.ledger.max_relative_residual
     );
     // Every interface node tears off, early in the pull (the mould has moved 11 mm by then).
-    assert_eq!(sim.state_counts().ruptured, sim.interface_nodes.len());
+    assert_eq!(sim.state_counts().ruptured, sim.state.interface_nodes.len());
     assert!(
         t_rupture.is_some_and(|t| t < 0.02),
         "full rupture at {t_rupture:?}"
@@ -894,7 +560,7 @@ fn demould_block_leaves_the_cavity() {
     // past the wall and does not push it back).
     assert!(wall_impulse > 0.0 && e.friction_dissipated > 0.0);
     assert!(
-        wall_gap_min >= -sim.h * side_speed,
+        wall_gap_min >= -sim.state.h * side_speed,
         "a side node {wall_gap_min:.3e} m into a wall"
     );
     // The mould's work is in the ledger: it paid for all of it (nothing else moves), at least
@@ -904,7 +570,7 @@ fn demould_block_leaves_the_cavity() {
         "largest relative residual of the energy balance",
         0.0,
         "energy balance (model §5.10)",
-        sim.ledger.max_relative_residual,
+        sim.state.ledger.max_relative_residual,
         Tol::Abs(5e-4),
     );
     assert!(e.plane_work >= gc_area, "plane work {:.4} J", e.plane_work);
@@ -914,8 +580,8 @@ fn demould_block_leaves_the_cavity() {
         e.external_work - e.plane_work
     );
     assert!(
-        sim.ledger.max_relative_residual <= 5e-4,
+        sim.state.ledger.max_relative_residual <= 5e-4,
         "max relative residual {:.2e}",
-        sim.ledger.max_relative_residual
+        sim.state.ledger.max_relative_residual
     );
 }

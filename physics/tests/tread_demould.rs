@@ -23,7 +23,11 @@ fn glued_area() -> f64 {
 fn tread_demoulds() {
     let scene = load_scene(&scene_file("tread_demould.toml"), &[]).unwrap();
     let mut sim = Simulation::new(scene.model).unwrap();
-    assert!(sim.start_offsets.is_empty(), "{:?}", sim.start_offsets);
+    assert!(
+        sim.setup.start_offsets.is_empty(),
+        "{:?}",
+        sim.setup.start_offsets
+    );
     let ribbed = sim.model.planes.iter().position(|p| p.name == "ribbed");
     let k = ribbed.expect("the scene's mould is `ribbed`");
     // Contact is a velocity-level condition (Signorini on V_{n+3/2}, model §3.1, §4.7)
@@ -41,17 +45,20 @@ fn tread_demoulds() {
     // mould the closest feature can switch between faces and the update is exact only to
     // O(h²κ): the test asserts the bound to a relative 1e-6, which is the one-step travel
     // bound itself on flat faces (exact to round-off).
-    let n_itf = sim.interface_nodes.len();
-    let mut v_prev: Vec<[f64; 3]> = sim.v.to_rows();
-    let mut prev_gap: Vec<f64> = sim.interface_nodes.iter().map(|e| e.gap).collect();
+    let n_itf = sim.state.interface_nodes.len();
+    let mut v_prev: Vec<[f64; 3]> = sim.state.v.to_rows();
+    let mut prev_gap: Vec<f64> = sim.state.interface_nodes.iter().map(|e| e.gap).collect();
     let mut allowed = vec![0.0f64; n_itf];
-    let (mut t_prev, mut c_prev) = (sim.time, sim.model.planes[k].displacement(sim.time));
+    let (mut t_prev, mut c_prev) = (
+        sim.state.time,
+        sim.model.planes[k].displacement(sim.state.time),
+    );
     let (mut worst, mut deepest, mut at) = (0.0f64, 0.0f64, (0.0, [0.0; 3]));
     sim.run(|s| {
-        let h = s.time - t_prev;
-        let c = s.model.planes[k].displacement(s.time);
+        let h = s.state.time - t_prev;
+        let c = s.model.planes[k].displacement(s.state.time);
         let mould_travel = norm(std::array::from_fn(|i| c[i] - c_prev[i]));
-        for (j, itf) in s.interface_nodes.iter().enumerate() {
+        for (j, itf) in s.state.interface_nodes.iter().enumerate() {
             let i = itf.node as usize;
             if prev_gap[j] > 0.0 {
                 allowed[j] = h * norm(v_prev[i]) + mould_travel;
@@ -60,13 +67,13 @@ fn tread_demoulds() {
                 let r = -itf.gap / allowed[j];
                 deepest = deepest.max(-itf.gap);
                 if r > worst {
-                    (worst, at) = (r, (s.time, s.model.mesh.nodes[i]));
+                    (worst, at) = (r, (s.state.time, s.model.mesh.nodes[i]));
                 }
             }
             prev_gap[j] = itf.gap;
         }
-        v_prev.copy_from_slice(&s.v.to_rows());
-        (t_prev, c_prev) = (s.time, c);
+        v_prev.copy_from_slice(&s.state.v.to_rows());
+        (t_prev, c_prev) = (s.state.time, c);
         true
     })
     .unwrap();
@@ -77,16 +84,16 @@ fn tread_demoulds() {
     );
     // The depth is small next to the glue's length scales (α_e = 50 µm).
     assert!(deepest < 0.5 * 50e-6, "deepest {deepest} m");
-    let n = sim.interface_nodes.len();
+    let n = sim.state.interface_nodes.len();
     assert_eq!(n, 816, "glued entries on the top and groove faces");
     assert_eq!(sim.state_counts().ruptured, n, "every glued node torn");
     let t = sim.stats.time_full_rupture.expect("every glued node tears");
     assert!(t < 0.5 * sim.model.end_time, "full rupture at {t} s");
     // The ribs have cleared the grooves: the mould has risen by more than the groove depth
     // (8 mm) plus the block's stretch before the glue let go, and every node is off it.
-    let rise = sim.model.planes[k].displacement(sim.time)[2];
+    let rise = sim.model.planes[k].displacement(sim.state.time)[2];
     assert!(rise > 0.012, "the mould rose {rise} m");
-    for itf in &sim.interface_nodes {
+    for itf in &sim.state.interface_nodes {
         assert!(itf.gap > 0.0, "node {} still on the mould", itf.node);
     }
     // Friction on the rib walls: dissipated on the mould and reported for it.
@@ -104,9 +111,9 @@ fn tread_demoulds() {
     // scene tests; 1e-3 as they use (pull_off, tread, extreme) would still catch a missing
     // term (the friction here is 1 % of the energies, the normal contact 0.3 %).
     assert!(
-        sim.ledger.max_relative_residual < 1e-3,
+        sim.state.ledger.max_relative_residual < 1e-3,
         "residual {}",
-        sim.ledger.max_relative_residual
+        sim.state.ledger.max_relative_residual
     );
     // Every glued node tears once: the damage dissipation is G_c × the glued area up to the
     // discrete rupture steps (O(h)), within the pull-off test's bounds [0.99, 1.08].

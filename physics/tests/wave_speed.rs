@@ -68,22 +68,22 @@ fn run(cells: usize) -> Front {
         .collect();
     let mut sim = Simulation::new(model).expect("valid model");
     assert!(
-        (sim.h / sim.h_crit - 0.5).abs() < 1e-12,
+        (sim.state.h / sim.state.h_crit - 0.5).abs() < 1e-12,
         "default factor 0.5"
     );
-    let courant = c * sim.h / (LENGTH / cells as f64);
+    let courant = c * sim.state.h / (LENGTH / cells as f64);
 
     let mean_vz =
-        |s: &Simulation| far.iter().map(|&i| s.v.get(i)[2]).sum::<f64>() / far.len() as f64;
+        |s: &Simulation| far.iter().map(|&i| s.state.v.get(i)[2]).sum::<f64>() / far.len() as f64;
     // V_{n+½} lives at tₙ + h/2.
-    let mut prev = (sim.time + 0.5 * sim.h, mean_vz(&sim));
+    let mut prev = (sim.state.time + 0.5 * sim.state.h, mean_vz(&sim));
     let mut arrival = None;
     let mut samples = vec![prev];
     let mut precursor = 0.0f64;
     let (mut plateau_sum, mut plateau_time) = (0.0, 0.0);
     while !sim.finished() {
         sim.step().expect("stable run");
-        let cur = (sim.time + 0.5 * sim.h, mean_vz(&sim));
+        let cur = (sim.state.time + 0.5 * sim.state.h, mean_vz(&sim));
         samples.push(cur);
         if cur.0 < 0.75 * transit {
             precursor = precursor.max(cur.1.abs());

@@ -263,25 +263,25 @@ impl Simulation {
     /// tₙ [s].
     #[getter]
     fn t(&self) -> f64 {
-        self.sim.time
+        self.sim.state.time
     }
 
     /// The step about to be taken, h_{n+½} [s].
     #[getter]
     fn h(&self) -> f64 {
-        self.sim.h
+        self.sim.state.h
     }
 
     /// The last stable-step estimate 2/ω_max [s].
     #[getter]
     fn h_crit(&self) -> f64 {
-        self.sim.h_crit
+        self.sim.state.h_crit
     }
 
     /// Steps taken, n.
     #[getter]
     fn step_count(&self) -> u64 {
-        self.sim.step_count
+        self.sim.state.step_count
     }
 
     #[getter]
@@ -323,43 +323,46 @@ impl Simulation {
     /// Lumped nodal masses, (nodes,) float64 [kg].
     #[getter]
     fn mass<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        column(py, self.sim.mass.iter().copied())
+        column(py, self.sim.setup.mass.iter().copied())
     }
 
     /// Uₙ, (nodes, 3) float64 [m].
     #[getter]
     fn displacement<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        vectors(py, self.sim.u.rows())
+        vectors(py, self.sim.state.u.rows())
     }
 
     /// V_{n+½}, (nodes, 3) float64 [m/s].
     #[getter]
     fn velocity<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        vectors(py, self.sim.v.rows())
+        vectors(py, self.sim.state.v.rows())
     }
 
     /// The interface nodes' indices into the node arrays, (m,) int64.
     #[getter]
     fn interface_nodes<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        column(py, self.sim.interface_nodes.iter().map(|n| n.node as i64))
+        column(
+            py,
+            self.sim.state.interface_nodes.iter().map(|n| n.node as i64),
+        )
     }
 
     /// Damage αₙ of the interface nodes, (m,) float64 [m].
     #[getter]
     fn alpha<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        column(py, self.sim.interface_nodes.iter().map(|n| n.alpha))
+        column(py, self.sim.state.interface_nodes.iter().map(|n| n.alpha))
     }
 
     /// Normal gap gₙ of the interface nodes (> 0 open), (m,) float64 [m].
     #[getter]
     fn gap<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        column(py, self.sim.interface_nodes.iter().map(|n| n.gap))
+        column(py, self.sim.state.interface_nodes.iter().map(|n| n.gap))
     }
 
     /// Displacement jump [u]ₙ of the interface nodes, (m, 3) float64 [m].
     #[getter]
     fn jump<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        vectors(py, self.sim.interface_nodes.iter().map(|n| n.jump))
+        vectors(py, self.sim.state.interface_nodes.iter().map(|n| n.jump))
     }
 
     /// Cohesive traction R_d = g_N(α)[u] of the interface nodes, (m, 3) float64 [Pa].
@@ -367,7 +370,11 @@ impl Simulation {
     fn cohesive_traction<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
         vectors(
             py,
-            self.sim.interface_nodes.iter().map(|n| n.cohesive_traction),
+            self.sim
+                .state
+                .interface_nodes
+                .iter()
+                .map(|n| n.cohesive_traction),
         )
     }
 
@@ -378,7 +385,7 @@ impl Simulation {
         let laws = &self.sim.model.interfaces;
         column(
             py,
-            self.sim.interface_nodes.iter().map(|n| {
+            self.sim.state.interface_nodes.iter().map(|n| {
                 match n.state(&laws[n.interface as usize].law) {
                     InterfaceState::Elastic => 0i8,
                     InterfaceState::Transition => 1,
@@ -394,26 +401,40 @@ impl Simulation {
     fn interface_contact<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
         column(
             py,
-            self.sim.interface_nodes.iter().map(|n| status(n.contact)),
+            self.sim
+                .state
+                .interface_nodes
+                .iter()
+                .map(|n| status(n.contact)),
         )
     }
 
     /// The contact-only nodes' indices into the node arrays, (k,) int64.
     #[getter]
     fn contact_nodes<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        column(py, self.sim.contact_nodes.iter().map(|n| n.node as i64))
+        column(
+            py,
+            self.sim.state.contact_nodes.iter().map(|n| n.node as i64),
+        )
     }
 
     /// Normal gap of the contact-only nodes, (k,) float64 [m].
     #[getter]
     fn contact_gap<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        column(py, self.sim.contact_nodes.iter().map(|n| n.gap))
+        column(py, self.sim.state.contact_nodes.iter().map(|n| n.gap))
     }
 
     /// Contact status of the contact-only nodes, (k,) int8: 0 open, 1 stick, 2 slip.
     #[getter]
     fn contact_status<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        column(py, self.sim.contact_nodes.iter().map(|n| status(n.contact)))
+        column(
+            py,
+            self.sim
+                .state
+                .contact_nodes
+                .iter()
+                .map(|n| status(n.contact)),
+        )
     }
 
     /// Names `<faces>_<axis>` of the prescribed-displacement conditions.
@@ -435,7 +456,7 @@ impl Simulation {
     /// Imposed displacement of each prescribed condition at tₙ, (p,) float64 [m].
     #[getter]
     fn imposed_displacements<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        let t = self.sim.time;
+        let t = self.sim.state.time;
         let m = &self.sim.model;
         column(py, m.displacements.iter().map(|d| d.history.value(t)[0]))
     }
@@ -457,11 +478,11 @@ impl Simulation {
         format!(
             "Simulation({:?}, step {}, t = {:.6e} s of {} s, h = {:.4e} s, h_crit = {:.4e} s)",
             self.sim.model.name,
-            self.sim.step_count,
-            self.sim.time,
+            self.sim.state.step_count,
+            self.sim.state.time,
             self.sim.model.end_time,
-            self.sim.h,
-            self.sim.h_crit
+            self.sim.state.h,
+            self.sim.state.h_crit
         )
     }
 }
@@ -494,8 +515,8 @@ enum Stop {
 /// The cancellation at the current step of `sim`.
 fn cancelled(sim: &Solver) -> SolverError {
     SolverError::Cancelled {
-        step: sim.step_count,
-        time: sim.time,
+        step: sim.state.step_count,
+        time: sim.state.time,
     }
 }
 
@@ -565,9 +586,10 @@ impl Progress for Watch<'_> {
 /// A progress bar from `decohesion._progress.bar` (tqdm if installed, else a plain line) from
 /// the current time to `until`.
 fn progress_bar(py: Python<'_>, sim: &Solver, until: f64) -> PyResult<Py<PyAny>> {
-    let bar = py
-        .import("decohesion._progress")?
-        .call_method1("bar", (sim.model.name.as_str(), sim.time, until, sim.h))?;
+    let bar = py.import("decohesion._progress")?.call_method1(
+        "bar",
+        (sim.model.name.as_str(), sim.state.time, until, sim.state.h),
+    )?;
     Ok(bar.unbind())
 }
 
@@ -578,10 +600,10 @@ fn update_bar(py: Python<'_>, bar: &Py<PyAny>, sim: &Solver) -> PyResult<()> {
         py,
         "update",
         (
-            sim.time,
-            sim.step_count,
+            sim.state.time,
+            sim.state.step_count,
             ruptured,
-            sim.interface_nodes.len(),
+            sim.state.interface_nodes.len(),
         ),
     )?;
     Ok(())

@@ -105,7 +105,7 @@ impl Config {
         let dt = t.elapsed().as_secs_f64();
         self.ns.push(dt * 1e9 / (self.steps * elements) as f64);
         let di = sim.stats.stage_times.interface_contact - before;
-        let per_node = self.steps as f64 * sim.interface_nodes.len().max(1) as f64;
+        let per_node = self.steps as f64 * sim.state.interface_nodes.len().max(1) as f64;
         self.iface.push(di * 1e9 / per_node);
         Ok(())
     }
@@ -160,7 +160,7 @@ fn print_times(configs: &mut [Config]) -> Vec<(String, Vec<(f64, f64)>)> {
         let elements = sim.model.mesh.elements.len() as u64;
         let med = median(&mut c.ns);
         // At fixed simulated time: steps ∝ 1/h, so wall = elements × ns/element-step / h.
-        let wall_per_sim = elements as f64 * med * 1e-9 / sim.h;
+        let wall_per_sim = elements as f64 * med * 1e-9 / sim.state.h;
         match fits.last_mut() {
             Some((name, points)) if *name == c.integration => {
                 points.push((elements as f64, wall_per_sim))

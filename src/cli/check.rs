@@ -33,11 +33,11 @@ pub fn check(path: &Path, set: &[String]) -> Result<()> {
     println!("  wave speed c_d               {:.4} m/s", mat.wave_speed());
     println!(
         "  h_crit (Lanczos, §6)         {:.5e} s   (L_e/c_d = {:.5e} s would be {:+.1} % off)",
-        sim.h_crit,
+        sim.state.h_crit,
         le / mat.wave_speed(),
-        100.0 * (le / mat.wave_speed() / sim.h_crit - 1.0)
+        100.0 * (le / mat.wave_speed() / sim.state.h_crit - 1.0)
     );
-    if let Some(r) = &sim.mass_scaling {
+    if let Some(r) = &sim.setup.mass_scaling {
         println!(
             "  mass scaling (§6.8)          target h_t = {:.5e} s; smallest element step {:.5e} s before; {} of {} elements scaled (density × {:.4} at most); {:.6e} kg added to {:.6e} kg ({:.3} %)",
             r.target_step,
@@ -52,11 +52,11 @@ pub fn check(path: &Path, set: &[String]) -> Result<()> {
     }
     println!(
         "  time step                    h = {:.5e} s = min(factor {}, 1) × h_crit (h never exceeds h_crit)",
-        sim.h, m.scheme.time_step_factor
+        sim.state.h, m.scheme.time_step_factor
     );
     println!(
         "  expected steps               {} to t = {} s",
-        (m.end_time / sim.h).ceil(),
+        (m.end_time / sim.state.h).ceil(),
         m.end_time
     );
     for (k, itf) in m.interfaces.iter().enumerate() {

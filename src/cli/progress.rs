@@ -17,7 +17,7 @@ pub fn per_mille(sim: &Simulation) -> u64 {
     if sim.finished() {
         return PER_MILLE;
     }
-    let fraction = sim.time / sim.model.end_time;
+    let fraction = sim.state.time / sim.model.end_time;
     if fraction.is_nan() || fraction <= 0.0 {
         return 0;
     }

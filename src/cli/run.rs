@@ -202,7 +202,7 @@ impl Terminal {
     /// Prints the run's size and advisories and starts the bar.
     fn new(sim: &Simulation, quiet: bool) -> Terminal {
         let end_time = sim.model.end_time;
-        let expected = ((end_time - sim.time).max(0.0) / sim.h).ceil() as u64;
+        let expected = ((end_time - sim.state.time).max(0.0) / sim.state.h).ceil() as u64;
         let tty = std::io::stderr().is_terminal() && !quiet;
         let bar = tty.then(|| {
             time_bar("{spinner} [{elapsed_precise}] {bar:40} {percent:>3} %  {msg}  ETA {eta}")
@@ -212,8 +212,8 @@ impl Terminal {
                 "{}: {} elements, h = {:.4e} s (h_crit {:.4e} s), ~{} steps to t = {} s",
                 sim.model.name,
                 sim.model.mesh.elements.len(),
-                sim.h,
-                sim.h_crit,
+                sim.state.h,
+                sim.state.h_crit,
                 expected,
                 end_time
             );
@@ -234,15 +234,15 @@ impl Terminal {
 impl Progress for Terminal {
     fn step(&mut self, s: &Simulation) {
         if let Some(pb) = &self.bar {
-            if s.step_count.is_multiple_of(16) || s.finished() {
+            if s.state.step_count.is_multiple_of(16) || s.finished() {
                 pb.set_position(per_mille(s));
                 let c = s.state_counts();
                 pb.set_message(format!(
                     "t = {}, step {}, ruptured {}/{}",
-                    sim_time(s.time, self.end_time),
-                    s.step_count,
+                    sim_time(s.state.time, self.end_time),
+                    s.state.step_count,
                     c.ruptured,
-                    s.interface_nodes.len()
+                    s.state.interface_nodes.len()
                 ));
             }
         } else if !self.quiet && tenths(s) > self.printed {
@@ -251,11 +251,11 @@ impl Progress for Terminal {
             eprintln!(
                 "  {:>3} %  t = {}  step {}  ruptured {}/{}  residual {:.2e}",
                 10 * self.printed,
-                sim_time(s.time, self.end_time),
-                s.step_count,
+                sim_time(s.state.time, self.end_time),
+                s.state.step_count,
                 c.ruptured,
-                s.interface_nodes.len(),
-                s.ledger.relative_residual()
+                s.state.interface_nodes.len(),
+                s.state.ledger.relative_residual()
             );
         }
     }

@@ -305,10 +305,10 @@ struct RunBar {
 
 impl Progress for RunBar {
     fn step(&mut self, s: &Simulation) {
-        if s.step_count.is_multiple_of(64) || s.finished() {
+        if s.state.step_count.is_multiple_of(64) || s.finished() {
             self.bar.set_position(per_mille(s));
             self.bar
-                .set_message(format!("t = {}", sim_time(s.time, self.end_time)));
+                .set_message(format!("t = {}", sim_time(s.state.time, self.end_time)));
         }
     }
 

@@ -63,9 +63,9 @@ pub fn tradeoff(
         let bar = multi.add(time_bar("  {bar:30} {percent:>3} %  {prefix}  {msg}"));
         bar.set_prefix(name.clone());
         let mut on_step = |s: &crate::solver::Simulation| {
-            if s.step_count.is_multiple_of(64) || s.finished() {
+            if s.state.step_count.is_multiple_of(64) || s.finished() {
                 bar.set_position(per_mille(s));
-                bar.set_message(format!("t = {}", sim_time(s.time, s.model.end_time)));
+                bar.set_message(format!("t = {}", sim_time(s.state.time, s.model.end_time)));
             }
         };
         let row = run_one(path, c, set, &mut on_step)?;

@@ -179,15 +179,15 @@ impl FrameBuilder {
     /// The frame of `sim`'s current state.
     pub fn frame(&self, sim: &Simulation) -> Frame {
         let m = &sim.model;
-        let u = &sim.u;
+        let u = &sim.state.u;
         let field = |f: Field| -> Vec<f32> {
             let v = self.surface.values(m, u, f.scalar());
             v.into_iter().map(|x| x as f32).collect()
         };
         Frame {
             topology: self.topology.clone(),
-            step: sim.step_count,
-            time: sim.time,
+            step: sim.state.step_count,
+            time: sim.state.time,
             positions: self
                 .surface
                 .nodes
@@ -196,11 +196,13 @@ impl FrameBuilder {
                 .collect(),
             fields: Field::ALL.map(field),
             points: sim
+                .state
                 .interface_nodes
                 .iter()
                 .map(|n| position(m, u, n.node))
                 .collect(),
             states: sim
+                .state
                 .interface_nodes
                 .iter()
                 .map(|n| {
@@ -209,11 +211,12 @@ impl FrameBuilder {
                 })
                 .collect(),
             contact_points: sim
+                .state
                 .contact_nodes
                 .iter()
                 .map(|n| position(m, u, n.node))
                 .collect(),
-            contact_states: sim.contact_nodes.iter().map(|n| n.contact).collect(),
+            contact_states: sim.state.contact_nodes.iter().map(|n| n.contact).collect(),
             mould_poses: (0..m.planes.len())
                 .map(|k| {
                     let (r, t) = sim.mould_pose(k);
@@ -228,8 +231,8 @@ impl FrameBuilder {
     /// headers (the moulds' triangles are the topology's, shared by every frame).
     pub fn frame_bytes(&self, sim: &Simulation) -> usize {
         24 * self.topology.vertices
-            + 14 * sim.interface_nodes.len()
-            + 13 * sim.contact_nodes.len()
+            + 14 * sim.state.interface_nodes.len()
+            + 13 * sim.state.contact_nodes.len()
             + std::mem::size_of::<Pose>() * self.topology.moulds.len()
             + std::mem::size_of::<Frame>()
     }
@@ -257,26 +260,26 @@ impl FrameSampler {
         FrameSampler {
             builder,
             interval: sim.model.end_time / frames as f64,
-            next: sim.time,
+            next: sim.state.time,
             last_step: None,
         }
     }
 
     /// The frame of `sim` if one is due at its time.
     pub fn due(&mut self, sim: &Simulation) -> Option<Frame> {
-        if sim.time < self.next {
+        if sim.state.time < self.next {
             return None;
         }
         // Next multiple of the interval after t (a long step may pass several).
-        self.next = ((sim.time / self.interval).floor() + 1.0) * self.interval;
-        self.last_step = Some(sim.step_count);
+        self.next = ((sim.state.time / self.interval).floor() + 1.0) * self.interval;
+        self.last_step = Some(sim.state.step_count);
         Some(self.builder.frame(sim))
     }
 
     /// The frame of the final state, unless it was given already.
     pub fn last(&mut self, sim: &Simulation) -> Option<Frame> {
-        (self.last_step != Some(sim.step_count)).then(|| {
-            self.last_step = Some(sim.step_count);
+        (self.last_step != Some(sim.state.step_count)).then(|| {
+            self.last_step = Some(sim.state.step_count);
             self.builder.frame(sim)
         })
     }
@@ -316,13 +319,16 @@ mod tests {
         let key = |p: [f32; 3]| p.map(f32::to_bits);
         let mut expected: Vec<_> = (0..m.mesh.nodes.len())
             .filter(|&k| on_face(&m.mesh.nodes[k]))
-            .map(|k| key([0, 1, 2].map(|i| (m.mesh.nodes[k][i] + sim.u.get(k)[i]) as f32)))
+            .map(|k| key([0, 1, 2].map(|i| (m.mesh.nodes[k][i] + sim.state.u.get(k)[i]) as f32)))
             .collect();
         let mut got: Vec<_> = f.positions.iter().map(|&p| key(p)).collect();
         expected.sort_unstable();
         got.sort_unstable();
         assert_eq!(got, expected);
-        assert!(sim.u.rows().any(|u| u[2] > 1e-4), "the body has moved");
+        assert!(
+            sim.state.u.rows().any(|u| u[2] > 1e-4),
+            "the body has moved"
+        );
         assert_eq!(f.positions.len(), (n + 1).pow(3) - (n - 1).pow(3));
         assert_eq!(f.topology.triangles.len(), 2 * 6 * n * n);
         assert!(f.fields.iter().all(|v| v.len() == f.positions.len()));
@@ -337,7 +343,7 @@ mod tests {
         let max_u = |v: &[f32]| v.iter().fold(0.0f32, |a, &b| a.max(b));
         let surface_max = (0..m.mesh.nodes.len())
             .filter(|&k| on_face(&m.mesh.nodes[k]))
-            .map(|k| crate::mesh::norm(sim.u.get(k)) as f32)
+            .map(|k| crate::mesh::norm(sim.state.u.get(k)) as f32)
             .fold(0.0f32, f32::max);
         assert_eq!(max_u(f.field(Field::Displacement)), surface_max);
     }
@@ -361,7 +367,7 @@ mod tests {
         let mut s = FrameSampler::new(&sim, 10);
         let mut times = vec![];
         times.extend(s.due(&sim).map(|f| f.time));
-        while sim.time < sim.model.end_time - 1e-6 * sim.h {
+        while sim.state.time < sim.model.end_time - 1e-6 * sim.state.h {
             sim.step().unwrap();
             times.extend(s.due(&sim).map(|f| f.time));
         }
@@ -371,7 +377,7 @@ mod tests {
         assert_eq!(times[0], 0.0);
         for w in times.windows(2) {
             // One frame per interval, within a step of its multiple of the interval.
-            assert!(w[1] - w[0] <= s.interval + sim.h, "{times:?}");
+            assert!(w[1] - w[0] <= s.interval + sim.state.h, "{times:?}");
         }
         let big = FrameSampler::new(&sim, u32::MAX);
         // t = 0, one a full interval, the final state.

@@ -77,7 +77,7 @@ fn nan() -> f64 {
 impl CurvePoint {
     /// The sample of `sim` now.
     pub fn of(sim: &crate::solver::Simulation) -> CurvePoint {
-        let nodes = &sim.interface_nodes;
+        let nodes = &sim.state.interface_nodes;
         let mean_alpha = if nodes.is_empty() {
             f64::NAN
         } else {
@@ -85,11 +85,11 @@ impl CurvePoint {
         };
         let first = sim.model.displacements.first();
         CurvePoint {
-            t: sim.time,
+            t: sim.state.time,
             counts: sim.state_counts(),
-            residual: sim.ledger.relative_residual(),
+            residual: sim.state.ledger.relative_residual(),
             mean_alpha,
-            displacement: first.map_or(f64::NAN, |d| d.history.value(sim.time)[0]),
+            displacement: first.map_or(f64::NAN, |d| d.history.value(sim.state.time)[0]),
             reaction: sim.stats.reactions.first().copied().unwrap_or(f64::NAN),
             force: first.map_or(f64::NAN, |d| {
                 let mut f = [0.0; 3];

@@ -78,13 +78,15 @@ impl Sampler {
         if let Some(f) = self.frames.due(s) {
             send(JobMessage::Frame(Box::new(f)));
         }
-        if self.last_report.elapsed() >= Duration::from_millis(50) || s.time >= self.next_sample {
+        if self.last_report.elapsed() >= Duration::from_millis(50)
+            || s.state.time >= self.next_sample
+        {
             self.last_report = Instant::now();
-            self.next_sample = s.time + self.sample;
+            self.next_sample = s.state.time + self.sample;
             let point = CurvePoint::of(s);
             self.curve.push(point);
             send(JobMessage::Progress {
-                step: s.step_count,
+                step: s.state.step_count,
                 point,
             });
         }

@@ -141,8 +141,8 @@ impl PageRun {
 /// The error of a run stopped at the current step of `sim` (Stop).
 fn cancelled(sim: &Simulation) -> SolverError {
     SolverError::Cancelled {
-        step: sim.step_count,
-        time: sim.time,
+        step: sim.state.step_count,
+        time: sim.state.time,
     }
 }
 

@@ -139,9 +139,9 @@ impl Columns {
     pub fn row(&self, sim: &Simulation, out: &mut Vec<f64>) {
         out.clear();
         let m = &sim.model;
-        out.extend([sim.time, sim.step_count as f64, sim.h]);
+        out.extend([sim.state.time, sim.state.step_count as f64, sim.state.h]);
         for (k, d) in m.displacements.iter().enumerate() {
-            out.push(d.history.value(sim.time)[0]);
+            out.push(d.history.value(sim.state.time)[0]);
             out.push(sim.stats.reactions.get(k).copied().unwrap_or(0.0));
         }
         for (f, mm) in mould_loads(sim) {
@@ -157,8 +157,8 @@ impl Columns {
         let c = sim.state_counts();
         out.extend([c.elastic, c.transition, c.ruptured, c.unformed].map(|n| n as f64));
         let mut status = [0usize; 3];
-        let statuses = (sim.interface_nodes.iter().map(|n| n.contact))
-            .chain(sim.contact_nodes.iter().map(|n| n.contact));
+        let statuses = (sim.state.interface_nodes.iter().map(|n| n.contact))
+            .chain(sim.state.contact_nodes.iter().map(|n| n.contact));
         for s in statuses {
             status[match s {
                 ContactStatus::Open => 0,
@@ -234,10 +234,10 @@ impl History {
 
     /// Appends the row of `sim` now, unless its step is the last row's.
     pub fn push(&mut self, sim: &Simulation) {
-        if self.last_step == Some(sim.step_count) {
+        if self.last_step == Some(sim.state.step_count) {
             return;
         }
-        self.last_step = Some(sim.step_count);
+        self.last_step = Some(sim.state.step_count);
         self.columns.row(sim, &mut self.row);
         for (column, v) in self.values.iter_mut().zip(&self.row) {
             column.push(*v);
@@ -352,8 +352,8 @@ impl SeriesWriter {
 
     /// Adds the row of `sim` (unless its step has one) and writes when due.
     fn add(&mut self, sim: &Simulation, force: bool) -> Result<(), SeriesError> {
-        let due = force || self.clock.due(sim.step_count, sim.time);
-        if !(due && self.clock.take(sim.step_count, sim.time)) {
+        let due = force || self.clock.due(sim.state.step_count, sim.state.time);
+        if !(due && self.clock.take(sim.state.step_count, sim.state.time)) {
             return Ok(());
         }
         self.columns.row(sim, &mut self.row);

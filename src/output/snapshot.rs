@@ -70,17 +70,18 @@ impl Snapshot {
     pub fn capture(sim: &Simulation, output_time: Duration, velocities: bool) -> Snapshot {
         let started = Instant::now();
         let mut s = Snapshot {
-            step: sim.step_count,
-            time: sim.time,
-            h: sim.h,
-            h_crit: sim.h_crit,
-            u: sim.u.to_rows(),
+            step: sim.state.step_count,
+            time: sim.state.time,
+            h: sim.state.h,
+            h_crit: sim.state.h_crit,
+            u: sim.state.u.to_rows(),
             v: if velocities {
-                sim.v.to_rows()
+                sim.state.v.to_rows()
             } else {
                 Vec::new()
             },
             interface: sim
+                .state
                 .interface_nodes
                 .iter()
                 .map(|n| InterfaceSnapshot {
@@ -93,6 +94,7 @@ impl Snapshot {
                 })
                 .collect(),
             contact: sim
+                .state
                 .contact_nodes
                 .iter()
                 .map(|n| (n.contact, n.contact_impulse))
@@ -117,7 +119,9 @@ impl Snapshot {
     /// the outputs of the run): for the sizes of the writer queues, which the frames of one run
     /// share.
     pub fn bytes(sim: &Simulation) -> usize {
-        48 * sim.u.len() + 96 * (sim.interface_nodes.len() + sim.contact_nodes.len()) + 512
+        48 * sim.state.u.len()
+            + 96 * (sim.state.interface_nodes.len() + sim.state.contact_nodes.len())
+            + 512
     }
 }
 
@@ -133,7 +137,7 @@ impl Snapshot {
 pub fn mould_loads(sim: &Simulation) -> Vec<([f64; 3], [f64; 3])> {
     let n = sim.model.planes.len();
     let mut loads = vec![([0.0; 3], [0.0; 3]); n];
-    if n == 0 || sim.step_count == 0 || sim.h <= 0.0 {
+    if n == 0 || sim.state.step_count == 0 || sim.state.h <= 0.0 {
         return loads;
     }
     let pivots: Vec<[f64; 3]> = (0..n)
@@ -146,7 +150,7 @@ pub fn mould_loads(sim: &Simulation) -> Vec<([f64; 3], [f64; 3])> {
     let x = |node: u32| -> [f64; 3] {
         let (x0, u) = (
             sim.model.mesh.nodes[node as usize],
-            sim.u.get(node as usize),
+            sim.state.u.get(node as usize),
         );
         std::array::from_fn(|i| x0[i] + u[i])
     };
@@ -163,7 +167,7 @@ pub fn mould_loads(sim: &Simulation) -> Vec<([f64; 3], [f64; 3])> {
             moment[i] += m[i];
         }
     };
-    for itf in &sim.interface_nodes {
+    for itf in &sim.state.interface_nodes {
         let k = sim.model.interfaces[itf.interface as usize].plane;
         let xn = x(itf.node);
         let law = &sim.model.interfaces[itf.interface as usize].law;
@@ -173,10 +177,14 @@ pub fn mould_loads(sim: &Simulation) -> Vec<([f64; 3], [f64; 3])> {
             xn
         };
         add(k, glue_at, itf.cohesive_traction.map(|r| r * itf.area));
-        add(k, xn, itf.contact_impulse.map(|r| -r * itf.area / sim.h));
+        add(
+            k,
+            xn,
+            itf.contact_impulse.map(|r| -r * itf.area / sim.state.h),
+        );
     }
-    for cn in &sim.contact_nodes {
-        let f = cn.contact_impulse.map(|r| -r * cn.area / sim.h);
+    for cn in &sim.state.contact_nodes {
+        let f = cn.contact_impulse.map(|r| -r * cn.area / sim.state.h);
         add(cn.plane as usize, x(cn.node), f);
     }
     loads

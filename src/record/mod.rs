@@ -210,14 +210,16 @@ impl Recorder {
             file: scene.file.clone(),
             text: scene.text.clone(),
             resolved: scene.resolved.clone(),
-            h: sim.h,
-            h_crit: sim.h_crit,
+            h: sim.state.h,
+            h_crit: sim.state.h_crit,
             interface_nodes: sim
+                .state
                 .interface_nodes
                 .iter()
                 .map(|n| (n.node, n.interface))
                 .collect(),
             contact_nodes: sim
+                .state
                 .contact_nodes
                 .iter()
                 .map(|n| (n.node, n.plane))

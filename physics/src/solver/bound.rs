@@ -404,12 +404,12 @@ impl Simulation {
             // certify with.
             return f64::INFINITY;
         }
-        let mut cache = std::mem::take(&mut self.step_control.bound);
+        let mut cache = std::mem::take(&mut self.state.step_control.bound);
         let full = self.model.scheme.integration == Integration::Full;
-        let classes = &self.classes;
+        let classes = &self.work.classes;
         if cache.class_g.len() != classes.data.len() {
             let kappa = self.model.scheme.hourglass_coefficient;
-            cache.class_g = class_bounds(&mat, classes, full, kappa, &self.class_density);
+            cache.class_g = class_bounds(&mat, classes, full, kappa, &self.setup.class_density);
         }
         let elements = &self.model.mesh.elements;
         let pass = ElementPass {
@@ -418,13 +418,13 @@ impl Simulation {
             elements,
             classes,
             class_g: &cache.class_g,
-            u: &self.u,
+            u: &self.state.u,
         };
         // SAFETY: the dispatch runs the build the CPU supports; chunk c's range is clamped to
         // the elements, whose nodes are in range of U.
         let chunk = |c: usize| unsafe { element_pass_chunk(&pass, c) };
         let n_chunks = elements.len().div_ceil(ELEMENT_CHUNK);
-        match self.team.as_ref() {
+        match self.work.team.as_ref() {
             Some(team) => team.map_into(n_chunks, &mut cache.maxima, chunk),
             None => {
                 cache.maxima.clear();
@@ -433,9 +433,9 @@ impl Simulation {
         }
         let bulk = cache.maxima.iter().fold(0.0f64, |m, &x| m.max(x));
         // The glue springs W g_N(α) per node (a node of several interfaces sums them).
-        cache.node_springs.resize(self.u.len(), 0.0);
+        cache.node_springs.resize(self.state.u.len(), 0.0);
         cache.spring_nodes.clear();
-        for itf in &self.interface_nodes {
+        for itf in &self.state.interface_nodes {
             let law = &self.model.interfaces[itf.interface as usize].law;
             let i = itf.node as usize;
             if cache.node_springs[i] == 0.0 {
@@ -445,10 +445,10 @@ impl Simulation {
         }
         let mut springs = 0.0f64;
         for &i in &cache.spring_nodes {
-            springs = springs.max(cache.node_springs[i] * self.inv_mass[i]);
+            springs = springs.max(cache.node_springs[i] * self.setup.inv_mass[i]);
             cache.node_springs[i] = 0.0;
         }
-        self.step_control.bound = cache;
+        self.state.step_control.bound = cache;
         (bulk + springs) * (1.0 + ROUNDING_SLACK)
     }
 }

@@ -18,9 +18,11 @@ use crate::team::SharedSlice;
 use std::ops::Range;
 
 mod adhesion;
+mod entries;
 mod joint;
 mod moulds;
 
+pub(super) use entries::{Boundary, BoundaryNode};
 pub(super) use joint::check_constraint_count;
 
 /// No prescribed condition on this component.
@@ -31,91 +33,6 @@ pub(super) const NONE: u16 = u16::MAX;
 /// setup, with up to [`MAX_FACES`] faces of a concave edge or vertex, model §7.5), so no
 /// impulse that acted is left out of the ledger.
 const MAX_CONSTRAINTS: usize = joint::MAX_JOINT * MAX_FACES;
-
-/// Per boundary node: which interface entries, contact entries, traction entries and prescribed
-/// components act on it.
-#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
-pub(super) struct BoundaryNode {
-    pub node: u32,
-    pub interfaces: Range<u32>,
-    pub contacts: Range<u32>,
-    pub tractions: Range<u32>,
-    /// Index of the prescribed-displacement condition of each component (`NONE` if free).
-    pub prescribed: [u16; 3],
-}
-
-/// The boundary nodes and, per node, ranges into the flat lists of its entries.
-#[derive(Debug, Clone, Default, serde::Serialize, serde::Deserialize)]
-pub(super) struct Boundary {
-    pub nodes: Vec<BoundaryNode>,
-    /// Indices into `Simulation::interface_nodes`.
-    pub interfaces: Vec<u32>,
-    /// Indices into `Simulation::contact_nodes`.
-    pub contacts: Vec<u32>,
-    /// (traction index, nodal force at amplitude 1 [N]).
-    pub tractions: Vec<(u16, [f64; 3])>,
-    /// Interface nodes whose glue forms on contact and has not formed yet (indices into
-    /// `Simulation::interface_nodes`, allocated at setup; [`Simulation::form_glue`] removes
-    /// each as it forms).
-    pub forming: Vec<u32>,
-}
-
-impl Boundary {
-    /// Gathers the entries per node: `interfaces` and `contacts` are the nodes of
-    /// `Simulation::interface_nodes` and `contact_nodes` in order, `tractions` (node, traction,
-    /// nodal force), `prescribed` the prescribed condition of each component per node.
-    pub fn gather(
-        interfaces: impl Iterator<Item = u32>,
-        contacts: impl Iterator<Item = u32>,
-        mut tractions: Vec<(u32, u16, [f64; 3])>,
-        prescribed: &std::collections::BTreeMap<u32, [u16; 3]>,
-    ) -> Boundary {
-        let by_node = |nodes: &mut dyn Iterator<Item = u32>| {
-            let mut v: Vec<(u32, u32)> = nodes.enumerate().map(|(k, n)| (n, k as u32)).collect();
-            v.sort_unstable();
-            v
-        };
-        let by_node_i = by_node(&mut { interfaces });
-        let by_node_c = by_node(&mut { contacts });
-        tractions.sort_by_key(|t| (t.0, t.1));
-        let mut touched: Vec<u32> = by_node_i
-            .iter()
-            .chain(&by_node_c)
-            .map(|e| e.0)
-            .chain(tractions.iter().map(|t| t.0))
-            .chain(prescribed.keys().copied())
-            .collect();
-        touched.sort_unstable();
-        touched.dedup();
-        let mut out = Boundary::default();
-        let (mut pi, mut pc, mut pt) = (0usize, 0usize, 0usize);
-        // The entries of `node` from a list sorted by node, from cursor `p` on.
-        fn take<T: Copy>(
-            list: &[(u32, T)],
-            p: &mut usize,
-            node: u32,
-            out: &mut Vec<T>,
-        ) -> Range<u32> {
-            let start = out.len() as u32;
-            while *p < list.len() && list[*p].0 == node {
-                out.push(list[*p].1);
-                *p += 1;
-            }
-            start..out.len() as u32
-        }
-        let tr: Vec<(u32, (u16, [f64; 3]))> = tractions.iter().map(|t| (t.0, (t.1, t.2))).collect();
-        for &node in &touched {
-            out.nodes.push(BoundaryNode {
-                node,
-                interfaces: take(&by_node_i, &mut pi, node, &mut out.interfaces),
-                contacts: take(&by_node_c, &mut pc, node, &mut out.contacts),
-                tractions: take(&tr, &mut pt, node, &mut out.tractions),
-                prescribed: prescribed.get(&node).copied().unwrap_or([NONE; 3]),
-            });
-        }
-        out
-    }
-}
 
 /// Read-only data of the boundary pass for one step.
 struct BoundaryStep<'a> {
@@ -139,14 +56,14 @@ macro_rules! boundary_step {
     ($sim:ident, $h_bar:expr, $h_next:expr) => {
         BoundaryStep {
             model: &$sim.model,
-            boundary: &$sim.boundary,
-            scratch: &$sim.scratch,
-            mass: &$sim.mass,
-            inv_mass: &$sim.inv_mass,
-            f_int: &$sim.f_int,
+            boundary: &$sim.state.boundary,
+            scratch: &$sim.state.scratch,
+            mass: &$sim.setup.mass,
+            inv_mass: &$sim.setup.inv_mass,
+            f_int: &$sim.state.f_int,
             h_bar: $h_bar,
             h_next: $h_next,
-            general: $sim.scratch.moulds.any_general(),
+            general: $sim.state.scratch.moulds.any_general(),
         }
     };
 }
@@ -562,19 +479,19 @@ impl Simulation {
     /// [`Simulation::free_velocity`] of this step; leaves the chunks' sums and the reactions in
     /// the step's scratch for stage 9.
     pub(super) fn boundary_pass(&mut self, h_bar: f64, h_next: f64) {
-        self.scratch.moulds.h_bar = h_bar;
+        self.state.scratch.moulds.h_bar = h_bar;
         let cx = boundary_step!(self, h_bar, h_next);
         let (v_all, itfs, cns) = (
-            self.v.ptr(),
-            SharedSlice::new(&mut self.interface_nodes),
-            SharedSlice::new(&mut self.contact_nodes),
+            self.state.v.ptr(),
+            SharedSlice::new(&mut self.state.interface_nodes),
+            SharedSlice::new(&mut self.state.contact_nodes),
         );
-        let n_b = self.boundary.nodes.len();
+        let n_b = self.state.boundary.nodes.len();
         let n_bc = self.model.displacements.len();
         let chunks = n_b.div_ceil(BOUNDARY_GRAIN);
-        self.parts_reactions.clear();
-        self.parts_reactions.resize(chunks * n_bc, 0.0);
-        let reaction_parts = SharedSlice::new(&mut self.parts_reactions);
+        self.work.parts_reactions.clear();
+        self.work.parts_reactions.resize(chunks * n_bc, 0.0);
+        let reaction_parts = SharedSlice::new(&mut self.work.parts_reactions);
         // SAFETY: each boundary node has its own node, interface and contact entries, and the
         // chunks are disjoint ranges of boundary nodes with their own rows of reactions.
         let run = |c: usize| unsafe {
@@ -582,19 +499,19 @@ impl Simulation {
             let reactions = reaction_parts.range(c * n_bc, (c + 1) * n_bc);
             boundary_chunk(&cx, range, v_all, itfs, cns, reactions)
         };
-        let parts = &mut self.parts_boundary;
-        match &self.team {
+        let parts = &mut self.work.parts_boundary;
+        match &self.work.team {
             Some(team) if chunks > 1 => team.map_into(chunks, parts, run),
             _ => {
                 parts.clear();
                 parts.extend((0..chunks).map(run));
             }
         }
-        let sc = &mut self.scratch;
+        let sc = &mut self.state.scratch;
         sc.boundary_sums = parts.iter().fold(BoundarySums::default(), |a, &b| a.add(b));
         self.stats.joint_contact = self.stats.joint_contact.merge(sc.boundary_sums.joint);
         for (k, r) in sc.reactions.iter_mut().enumerate() {
-            *r = (0..chunks).fold(0.0, |acc, c| acc + self.parts_reactions[c * n_bc + k]);
+            *r = (0..chunks).fold(0.0, |acc, c| acc + self.work.parts_reactions[c * n_bc + k]);
         }
         self.form_glue();
     }
@@ -606,15 +523,15 @@ impl Simulation {
     /// with the same formulas as a step.
     pub(super) fn smooth_impulses(&mut self, h_bar: f64) {
         let cx = boundary_step!(self, h_bar, h_bar);
-        let itfs = SharedSlice::new(&mut self.interface_nodes);
+        let itfs = SharedSlice::new(&mut self.state.interface_nodes);
         let (mut sums, mut impulses) = (BoundarySums::default(), NodeImpulses::default());
-        for (k, b) in self.boundary.nodes.iter().enumerate() {
-            let mut v = self.v.get(b.node as usize);
+        for (k, b) in self.state.boundary.nodes.iter().enumerate() {
+            let mut v = self.state.v.get(b.node as usize);
             cx.tractions(b, cx.scratch.v_old[k], &mut v, &mut sums);
             impulses.clear();
             // SAFETY: one thread, one node at a time.
             unsafe { cx.cohesion(b, itfs, &mut v, &mut impulses) };
-            self.v.set(b.node as usize, v);
+            self.state.v.set(b.node as usize, v);
         }
     }
 }

@@ -43,18 +43,18 @@ impl Simulation {
             return;
         }
         let mat = self.model.material;
-        let lengths = class_lengths(&self.model, &self.classes);
+        let lengths = class_lengths(&self.model, &self.work.classes);
         let m = mat.p_wave_modulus();
         let class = (lengths.iter().enumerate())
             .map(|(c, &l)| {
-                let rho = mat.density * self.class_density.get(c).copied().unwrap_or(1.0);
+                let rho = mat.density * self.setup.class_density.get(c).copied().unwrap_or(1.0);
                 [l, rho, (m / rho).sqrt()]
             })
             .collect();
-        self.bulk_viscosity = Some(BulkViscosityState {
+        self.state.bulk_viscosity = Some(BulkViscosityState {
             class,
             mode_ratio: mode_ratio(&mat),
-            force: Planes::zeros(self.u.len()),
+            force: Planes::zeros(self.state.u.len()),
             ..Default::default()
         });
     }
@@ -71,15 +71,15 @@ impl Simulation {
         let Some(bv) = self.model.scheme.bulk_viscosity else {
             return;
         };
-        let Some(state) = self.bulk_viscosity.as_mut() else {
+        let Some(state) = self.state.bulk_viscosity.as_mut() else {
             return;
         };
         let BulkViscosity { linear, quadratic } = bv;
         let b2 = quadratic * quadratic;
         state.force.fill_zero();
         let (mut power, mut xi_max) = (0.0, linear);
-        let (u, v) = (&self.u, &self.v);
-        let classes = &self.classes;
+        let (u, v) = (&self.state.u, &self.state.v);
+        let classes = &self.work.classes;
         for (e, conn) in self.model.mesh.elements.iter().enumerate() {
             let c = classes.class_of[e] as usize;
             let cd = &classes.centre[c];
@@ -120,7 +120,7 @@ impl Simulation {
                 state.force.set(n, fa);
             }
         }
-        let [fx, fy, fz] = self.f_int.planes_mut();
+        let [fx, fy, fz] = self.state.f_int.planes_mut();
         let [gx, gy, gz] = state.force.planes();
         for (fi, gi) in [(fx, gx), (fy, gy), (fz, gz)] {
             for (a, b) in fi.iter_mut().zip(gi) {
@@ -134,10 +134,10 @@ impl Simulation {
     /// half ½V_{n+½}·P = −½h̄ × [`BulkViscosityState::power`] and the forward half ½V_{n+3/2}·P
     /// with the final velocities; (0, 0) without bulk viscosity.
     pub(super) fn bulk_viscosity_halves(&self) -> (f64, f64) {
-        let Some(state) = self.bulk_viscosity.as_ref() else {
+        let Some(state) = self.state.bulk_viscosity.as_ref() else {
             return (0.0, 0.0);
         };
-        let (v, f) = (self.v.planes(), state.force.planes());
+        let (v, f) = (self.state.v.planes(), state.force.planes());
         let vf: f64 = (0..3)
             .map(|c| v[c].iter().zip(f[c]).map(|(a, b)| a * b).sum::<f64>())
             .sum();

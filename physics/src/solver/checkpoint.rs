@@ -2,15 +2,14 @@
 //! the same model, so that a run continues from it as if it had never stopped (model §4.13).
 //!
 //! A checkpoint holds everything a step reads that the set-up did not compute from the model:
-//! U, V_{n+½}, F_int, every interface and contact node (damage, jumps, impulses, the glue
-//! formed), the moulds' poses and per-node geometry, the step control, the bulk viscosity's
-//! step values, the ledger's sums, the run's statistics, tₙ, n and h. What the set-up computes
-//! from the model (masses, element classes and blocks, the boundary's lists, the stable-step
-//! operator's constants) is not written: [`Simulation::restore`] writes the state into a
-//! simulation freshly set up from the same model, which has them already. The fields of
-//! [`Simulation`] are listed without `..` in [`Simulation::checkpoint`], and those of the state
-//! in [`Simulation::restore`], so a field added to either does not compile until it is written
-//! or declared the set-up's, and restored.
+//! the run's [`State`] (U, V_{n+½}, F_int, every interface and contact node, the moulds' poses
+//! and per-node geometry, the step control, the bulk viscosity's step values, the ledger's sums,
+//! tₙ, n and h) and its statistics. What the set-up computes from the model (masses, element
+//! classes and blocks, the stable-step operator's constants) is not written:
+//! [`Simulation::restore`] writes the state into a simulation freshly set up from the same model,
+//! which has them already. The fields of [`Simulation`] are listed without `..` in
+//! [`Simulation::checkpoint`], so a field added to it does not compile until it is placed in the
+//! state or declared the set-up's.
 //!
 //! The bytes: a magic line, a header (format, the model's name, sizes and fingerprint, n and
 //! tₙ, the payload's length and CRC-32) with its own CRC-32, then the payload in postcard
@@ -18,7 +17,7 @@
 //! written atomically ([`write_atomically`]: a temporary file, fsync, rename, fsync of the
 //! folder), so a run killed while writing leaves the previous checkpoint whole.
 
-use super::Simulation;
+use super::{Simulation, State};
 use crate::model::Model;
 use serde::{Deserialize, Serialize};
 use std::borrow::Cow;
@@ -29,7 +28,7 @@ use std::path::{Path, PathBuf};
 /// The first bytes of every checkpoint.
 const MAGIC: &[u8; 22] = b"decohesion checkpoint\n";
 /// The layout of the payload; a checkpoint of another format is refused.
-pub const CHECKPOINT_FORMAT: u32 = 1;
+pub const CHECKPOINT_FORMAT: u32 = 2;
 
 /// Why a checkpoint could not be written or read back.
 #[derive(Debug, thiserror::Error)]
@@ -95,32 +94,12 @@ pub fn model_fingerprint(model: &Model) -> u32 {
     crc.0.finalize()
 }
 
-/// The state a checkpoint holds (see the module docs), borrowed when written, owned when read.
+/// What a checkpoint holds (see the module docs): the run's [`State`] and its statistics,
+/// borrowed when written, owned when read.
 #[derive(Serialize, Deserialize)]
-struct State<'a> {
-    u: Cow<'a, crate::kernels::Planes>,
-    v: Cow<'a, crate::kernels::Planes>,
-    f_int: Cow<'a, crate::kernels::Planes>,
-    interface_nodes: Cow<'a, [super::InterfaceNode]>,
-    contact_nodes: Cow<'a, [super::ContactNode]>,
-    boundary: Cow<'a, super::boundary::Boundary>,
-    scratch: Cow<'a, super::stages::StepScratch>,
-    bulk_viscosity: Cow<'a, Option<super::bulk_viscosity::BulkViscosityState>>,
-    time: f64,
-    step_count: u64,
-    h: f64,
-    h_crit: f64,
-    ledger: Cow<'a, crate::energy::Ledger>,
+struct Saved<'a> {
+    state: Cow<'a, State>,
     stats: Cow<'a, super::RunStats>,
-    min_jacobian: f64,
-    stress_jacobian: f64,
-    ritz_vector: Cow<'a, [f64]>,
-    h_crit_bulk: Option<f64>,
-    jacobian_at_estimate: f64,
-    step_control: Cow<'a, super::stable_step::StepControl>,
-    kinetic_half: f64,
-    energy_budget: f64,
-    last_external_work: f64,
 }
 
 impl Simulation {
@@ -130,79 +109,22 @@ impl Simulation {
     pub fn checkpoint(&self) -> Vec<u8> {
         // Every field, named: a new one must be placed here (written) or in the list of what
         // the set-up computes (not written).
+        // Every part, named: a new one must be placed here, as state (written) or not.
         let Simulation {
-            // Computed by the set-up from the model alone.
             model,
-            classes: _,
-            blocks: _,
-            team: _,
-            prefetch: _,
-            mass: _,
-            inv_mass: _,
-            class_density: _,
-            added_mass: _,
-            mass_scaling: _,
-            energy_floor: _,
-            coordinate_scale: _,
-            start_offsets: _,
-            // Scratch of the parallel loops, written before it is read in every step.
-            parts_elements: _,
-            parts_nodes: _,
-            parts_boundary: _,
-            parts_reactions: _,
-            // The state.
-            u,
-            v,
-            f_int,
-            interface_nodes,
-            contact_nodes,
-            boundary,
-            scratch,
-            bulk_viscosity,
-            time,
-            step_count,
-            h,
-            h_crit,
-            ledger,
+            // Computed by the set-up from the model alone, and the loops' buffers.
+            setup: _,
+            work: _,
+            // The state, and the statistics.
+            state,
             stats,
-            min_jacobian,
-            stress_jacobian,
-            ritz_vector,
-            h_crit_bulk,
-            jacobian_at_estimate,
-            step_control,
-            kinetic_half,
-            energy_budget,
-            last_external_work,
-            fingerprint: _,
         } = self;
-        let state = State {
-            u: Cow::Borrowed(u),
-            v: Cow::Borrowed(v),
-            f_int: Cow::Borrowed(f_int),
-            interface_nodes: Cow::Borrowed(interface_nodes),
-            contact_nodes: Cow::Borrowed(contact_nodes),
-            boundary: Cow::Borrowed(boundary),
-            scratch: Cow::Borrowed(scratch),
-            bulk_viscosity: Cow::Borrowed(bulk_viscosity),
-            time: *time,
-            step_count: *step_count,
-            h: *h,
-            h_crit: *h_crit,
-            ledger: Cow::Borrowed(ledger),
+        let saved = Saved {
+            state: Cow::Borrowed(state),
             stats: Cow::Borrowed(stats),
-            min_jacobian: *min_jacobian,
-            stress_jacobian: *stress_jacobian,
-            ritz_vector: Cow::Borrowed(ritz_vector),
-            h_crit_bulk: *h_crit_bulk,
-            jacobian_at_estimate: *jacobian_at_estimate,
-            step_control: Cow::Borrowed(step_control),
-            kinetic_half: *kinetic_half,
-            energy_budget: *energy_budget,
-            last_external_work: *last_external_work,
         };
         // Serialising plain data into a vector cannot fail.
-        let payload = postcard::to_stdvec(&state).expect("a checkpoint's state serialises");
+        let payload = postcard::to_stdvec(&saved).expect("a checkpoint's state serialises");
         let header = CheckpointHeader {
             format: CHECKPOINT_FORMAT,
             writer: env!("CARGO_PKG_VERSION").into(),
@@ -210,8 +132,8 @@ impl Simulation {
             nodes: model.mesh.nodes.len(),
             elements: model.mesh.elements.len(),
             fingerprint: self.fingerprint(),
-            step: *step_count,
-            time: *time,
+            step: state.step_count,
+            time: state.time,
             payload_len: payload.len() as u64,
             payload_crc: crc32fast::hash(&payload),
         };
@@ -228,6 +150,7 @@ impl Simulation {
     /// The model's [`model_fingerprint`], computed once.
     pub fn fingerprint(&self) -> u32 {
         *self
+            .setup
             .fingerprint
             .get_or_init(|| model_fingerprint(&self.model))
     }
@@ -263,25 +186,25 @@ impl Simulation {
             why,
         };
         let payload = &bytes[bytes.len() - header.payload_len as usize..];
-        let state: State = postcard::from_bytes(payload)
+        let Saved { state, stats } = postcard::from_bytes(payload)
             .map_err(|e| corrupt(format!("its state does not read back ({e})")))?;
         let sizes = [
-            (state.u.len(), self.u.len(), "U"),
-            (state.v.len(), self.v.len(), "V"),
-            (state.f_int.len(), self.f_int.len(), "F_int"),
+            (state.u.len(), self.state.u.len(), "U"),
+            (state.v.len(), self.state.v.len(), "V"),
+            (state.f_int.len(), self.state.f_int.len(), "F_int"),
             (
                 state.interface_nodes.len(),
-                self.interface_nodes.len(),
+                self.state.interface_nodes.len(),
                 "interface nodes",
             ),
             (
                 state.contact_nodes.len(),
-                self.contact_nodes.len(),
+                self.state.contact_nodes.len(),
                 "contact nodes",
             ),
             (
                 state.boundary.nodes.len(),
-                self.boundary.nodes.len(),
+                self.state.boundary.nodes.len(),
                 "boundary nodes",
             ),
         ];
@@ -290,53 +213,13 @@ impl Simulation {
                 "it has {found} {name} where the model has {expected}"
             )));
         }
-        // Every field of the state, named: a field added to `State` must be restored here.
-        let State {
-            u,
-            v,
-            f_int,
-            interface_nodes,
-            contact_nodes,
-            boundary,
-            scratch,
-            bulk_viscosity,
-            time,
-            step_count,
-            h,
-            h_crit,
-            ledger,
-            stats,
-            min_jacobian,
-            stress_jacobian,
-            ritz_vector,
-            h_crit_bulk,
-            jacobian_at_estimate,
-            step_control,
-            kinetic_half,
-            energy_budget,
-            last_external_work,
-        } = state;
-        self.u = u.into_owned();
-        self.v = v.into_owned();
-        self.f_int = f_int.into_owned();
-        self.interface_nodes = interface_nodes.into_owned();
-        self.contact_nodes = contact_nodes.into_owned();
-        self.boundary = boundary.into_owned();
-        self.scratch = scratch.into_owned();
-        self.bulk_viscosity = bulk_viscosity.into_owned();
-        (self.time, self.step_count, self.h, self.h_crit) = (time, step_count, h, h_crit);
-        self.ledger = ledger.into_owned();
-        self.stats = stats.into_owned();
-        (self.min_jacobian, self.stress_jacobian) = (min_jacobian, stress_jacobian);
-        self.ritz_vector = ritz_vector.into_owned();
-        (self.h_crit_bulk, self.jacobian_at_estimate) = (h_crit_bulk, jacobian_at_estimate);
+        let mut state = state.into_owned();
         // The stable-step operator's constants and buffers are this simulation's own.
-        let mut control = step_control.into_owned();
-        control.estimates = std::mem::take(&mut self.step_control.estimates);
-        control.bound = std::mem::take(&mut self.step_control.bound);
-        self.step_control = control;
-        self.kinetic_half = kinetic_half;
-        (self.energy_budget, self.last_external_work) = (energy_budget, last_external_work);
+        let control = &mut self.state.step_control;
+        state.step_control.estimates = std::mem::take(&mut control.estimates);
+        state.step_control.bound = std::mem::take(&mut control.bound);
+        self.state = state;
+        self.stats = stats.into_owned();
         Ok(header)
     }
 

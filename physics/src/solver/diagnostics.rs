@@ -18,7 +18,7 @@ const PHYSICAL_DOES_NOT_LOCK: &str =
 impl Simulation {
     /// The blow-up diagnostic: where, with which h and h_crit, and what to change.
     pub(super) fn unstable(&self, reason: String) -> SolverError {
-        let factor = self.h / self.h_crit;
+        let factor = self.state.h / self.state.h_crit;
         let configured = self.model.scheme.time_step_factor;
         let advice = if configured >= 1.0 {
             format!("scheme.time_step_factor = {configured} is at or above the stability limit 1 (h is capped at h_crit, the limit itself, with no margin for the estimate or for stiffening between estimates): set it ≤ 0.9 (default 0.5).")
@@ -28,10 +28,10 @@ impl Simulation {
             "The step is below the estimated limit: stiffening under large strain may have lowered h_crit (lower scheme.h_crit_update_interval or scheme.time_step_factor), or the loading is too violent for the mesh (refine it or slow the load).".to_string()
         };
         SolverError::Unstable {
-            step: self.step_count,
-            time: self.time,
-            h: self.h,
-            h_crit: self.h_crit,
+            step: self.state.step_count,
+            time: self.state.time,
+            h: self.state.h,
+            h_crit: self.state.h_crit,
             factor,
             reason,
             advice,
@@ -45,8 +45,8 @@ impl Simulation {
             Integration::Full | Integration::Fbar => "at a Gauss point".to_string(),
             Integration::Reduced | Integration::ReducedPhysical => {
                 let conn = self.model.mesh.elements[element];
-                let cd = &self.classes.centre[self.classes.class_of[element] as usize];
-                let ue = conn.map(|n| self.u.get(n as usize));
+                let cd = &self.work.classes.centre[self.work.classes.class_of[element] as usize];
+                let ue = conn.map(|n| self.state.u.get(n as usize));
                 let corners = element_corner_jacobians(cd, &ue);
                 let (a, j_a) =
                     (corners.iter().copied().enumerate()).fold((0, f64::INFINITY), |m, (a, x)| {
@@ -59,7 +59,7 @@ impl Simulation {
                 let f = self
                     .model
                     .mesh
-                    .centre_deformation_gradient(element, &self.u);
+                    .centre_deformation_gradient(element, &self.state.u);
                 let j_centre = nalgebra::Matrix3::from_fn(|r, c| f[r][c]).determinant();
                 let remedy = match self.model.scheme.integration {
                     Integration::Reduced => {
@@ -81,10 +81,10 @@ impl Simulation {
             element,
             j,
             at,
-            step: self.step_count,
-            time: self.time,
-            h: self.h,
-            h_crit: self.h_crit,
+            step: self.state.step_count,
+            time: self.state.time,
+            h: self.state.h,
+            h_crit: self.state.h_crit,
         }
     }
 
@@ -105,6 +105,65 @@ impl Simulation {
     /// - Glued nodes that start off their mould by more than the tolerance, or inside it
     ///   ([`StartOffset`]): their glue starts pre-stressed (pre-damaged beyond α_e).
     pub fn advisories(&self) -> Vec<String> {
+        let m = &self.model;
+        let mut out = Vec::new();
+        out.extend(self.material_advisories());
+        let le = m.mesh.min_edge();
+        if let Some(h_bulk) = self
+            .state
+            .h_crit_bulk
+            .filter(|&hb| hb >= 1.5 * self.stats.h_crit_initial)
+        {
+            let h0 = self.stats.h_crit_initial;
+            let names: Vec<String> = m
+                .interfaces
+                .iter()
+                .enumerate()
+                .map(|(k, itf)| format!("interface[{k}] (g_N(0) = {:.3e} Pa/m)", itf.law.g_n0))
+                .collect();
+            out.push(format!(
+                "the interface stiffness sets the stable step: h_crit = {h0:.3e} s with the glue springs of {}, {h_bulk:.3e} s for the bulk alone, so the run takes {:.1}× the steps. A glued node's spring against its mass has ω² = W g_N(0)/m: g_N(0) about {:.0}× smaller would no longer limit the step.",
+                names.join(", "),
+                h_bulk / h0,
+                (h_bulk / h0).powi(2)
+            ));
+        }
+        for (k, itf) in m.interfaces.iter().enumerate() {
+            let law = &itf.law;
+            if law.alpha_e > 0.0 && (law.u_r - law.alpha_e) < 0.01 * law.alpha_e {
+                out.push(format!(
+                    "interface[{k}] is brittle: u_r − α_e = {:.3e} m is {:.2} % of α_e; a node goes from damage onset to rupture within a step or two, the softening branch T(δ) is not resolved in time (the dissipation still is, by the ledger's ΔD).",
+                    law.u_r - law.alpha_e,
+                    100.0 * (law.u_r - law.alpha_e) / law.alpha_e
+                ));
+            }
+        }
+        let aspect = m.mesh.max_aspect_ratio();
+        if aspect >= 10.0 {
+            out.push(format!(
+                "elements with aspect ratio up to {aspect:.0}: the shortest edge ({le:.3e} m) sets the stable step, h_crit = {:.3e} s.",
+                self.state.h_crit
+            ));
+        }
+        out.extend(
+            self.setup
+                .start_offsets
+                .iter()
+                .map(|o| self.start_offset_warning(o)),
+        );
+        out.extend(self.run_advisories());
+        let factor = m.scheme.time_step_factor;
+        if factor > 1.0 {
+            out.push(format!(
+                "scheme.time_step_factor = {factor} > 1: the step is capped at h = h_crit, since the central-difference scheme is unstable above it (model §6); at h_crit itself there is no margin for the estimate or for stiffening between estimates: ≤ 0.9 is safe."
+            ));
+        }
+        out
+    }
+
+    /// The material's advisories: a rubber's constants that fail Drucker's stability check, and
+    /// near incompressibility with what the chosen quadrature does about it.
+    fn material_advisories(&self) -> Vec<String> {
         let m = &self.model;
         let mat = &m.material;
         let mut out = Vec::new();
@@ -156,47 +215,15 @@ impl Simulation {
                 "material.poisson = {nu} is nearly incompressible (K/G = {k_over_g:.0}): {quadrature}. The stable step follows the pressure wave, c_p = {cp_over_cs:.1} c_s, so shear motion costs {cp_over_cs:.1}× more steps than at ν = 0."
             ));
         }
-        let le = m.mesh.min_edge();
-        if let Some(h_bulk) = self
-            .h_crit_bulk
-            .filter(|&hb| hb >= 1.5 * self.stats.h_crit_initial)
-        {
-            let h0 = self.stats.h_crit_initial;
-            let names: Vec<String> = m
-                .interfaces
-                .iter()
-                .enumerate()
-                .map(|(k, itf)| format!("interface[{k}] (g_N(0) = {:.3e} Pa/m)", itf.law.g_n0))
-                .collect();
-            out.push(format!(
-                "the interface stiffness sets the stable step: h_crit = {h0:.3e} s with the glue springs of {}, {h_bulk:.3e} s for the bulk alone, so the run takes {:.1}× the steps. A glued node's spring against its mass has ω² = W g_N(0)/m: g_N(0) about {:.0}× smaller would no longer limit the step.",
-                names.join(", "),
-                h_bulk / h0,
-                (h_bulk / h0).powi(2)
-            ));
-        }
-        for (k, itf) in m.interfaces.iter().enumerate() {
-            let law = &itf.law;
-            if law.alpha_e > 0.0 && (law.u_r - law.alpha_e) < 0.01 * law.alpha_e {
-                out.push(format!(
-                    "interface[{k}] is brittle: u_r − α_e = {:.3e} m is {:.2} % of α_e; a node goes from damage onset to rupture within a step or two, the softening branch T(δ) is not resolved in time (the dissipation still is, by the ledger's ΔD).",
-                    law.u_r - law.alpha_e,
-                    100.0 * (law.u_r - law.alpha_e) / law.alpha_e
-                ));
-            }
-        }
-        let aspect = m.mesh.max_aspect_ratio();
-        if aspect >= 10.0 {
-            out.push(format!(
-                "elements with aspect ratio up to {aspect:.0}: the shortest edge ({le:.3e} m) sets the stable step, h_crit = {:.3e} s.",
-                self.h_crit
-            ));
-        }
-        out.extend(
-            self.start_offsets
-                .iter()
-                .map(|o| self.start_offset_warning(o)),
-        );
+        out
+    }
+
+    /// What the run met: joint contact solves that fell back, h_crit estimates on the iteration
+    /// cap, clamped delayed-damage dissipation, mass scaling short of its target or whose added
+    /// mass carried too much kinetic energy.
+    fn run_advisories(&self) -> Vec<String> {
+        let m = &self.model;
+        let mut out = Vec::new();
         let joint = &self.stats.joint_contact;
         if joint.capped + joint.friction_dropped > 0 {
             out.push(format!(
@@ -223,12 +250,12 @@ impl Simulation {
                 "delayed damage: at {} steps a negative damage dissipation ΔD (the loaded jump reversing while α still grows, a first-order error of the time step, model §5.5) was taken as 0: {:.3e} J in all ({:.2e} of the damage dissipated), at most {:.3e} J in one step; the balance residual carries it. A smaller scheme.time_step_factor shrinks it.",
                 clamped.steps,
                 clamped.energy,
-                clamped.energy / self.ledger.damage_dissipated.max(f64::MIN_POSITIVE),
+                clamped.energy / self.state.ledger.damage_dissipated.max(f64::MIN_POSITIVE),
                 clamped.largest_step
             ));
         }
         out.extend(self.mass_scaling_shortfall());
-        if let (Some(r), Some(ms)) = (self.mass_scaling, m.scheme.mass_scaling) {
+        if let (Some(r), Some(ms)) = (self.setup.mass_scaling, m.scheme.mass_scaling) {
             if r.kinetic_share() > ms.kinetic_share {
                 out.push(format!(
                     "mass scaling: the added mass's kinetic energy reached {:.3e} J, {:.1} % of the largest elastic energy stored ({:.3e} J), above mass_scaling.kinetic_share = {}: the added inertia ({:.1} % more mass on {} of {} elements) is no longer negligible, so the run is not quasi-static. A smaller target_step or a slower loading brings it down (model §6.8).",
@@ -241,12 +268,6 @@ impl Simulation {
                     r.elements
                 ));
             }
-        }
-        let factor = m.scheme.time_step_factor;
-        if factor > 1.0 {
-            out.push(format!(
-                "scheme.time_step_factor = {factor} > 1: the step is capped at h = h_crit, since the central-difference scheme is unstable above it (model §6); at h_crit itself there is no margin for the estimate or for stiffening between estimates: ≤ 0.9 is safe."
-            ));
         }
         out
     }

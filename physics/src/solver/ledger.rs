@@ -60,17 +60,17 @@ impl Simulation {
     /// the cohesive part uses [u]ₙ − [u]ₙ₋₁ directly ([`StepChange`]).
     pub(super) fn ledger(&mut self, first: bool) -> Result<(), SolverError> {
         self.reactions_and_peaks();
-        let c = &mut self.step_control;
+        let c = &mut self.state.step_control;
         if first {
-            c.h_before = self.h;
+            c.h_before = self.state.h;
         }
-        let (h_before, h, h_next) = (c.h_before, self.h, c.h_next);
+        let (h_before, h, h_next) = (c.h_before, self.state.h, c.h_next);
         let change = (!first && (h_before != h || h_next != h)).then(|| StepChange {
             prev: (h - h_before) / (2.0 * h),
             now: (h_next - h) / (2.0 * h),
         });
         let itf = self.interface_sums(first, change);
-        let c = &mut self.step_control;
+        let c = &mut self.state.step_control;
         c.springs_now = itf.springs;
         c.damage_evolving = itf.evolving + usize::from(tearing(itf.counts));
         if first {
@@ -88,7 +88,7 @@ impl Simulation {
             let worst = &mut self.stats.damage_clamped.largest_step;
             *worst = worst.max(itf.clamped);
         }
-        let l = &mut self.ledger;
+        let l = &mut self.state.ledger;
         l.interface_stored = itf.stored;
         l.damage_dissipated += itf.dissipated;
         if first {
@@ -96,18 +96,18 @@ impl Simulation {
             l.initial_strain = l.strain;
             l.initial_hourglass = l.hourglass;
             l.initial_interface_stored = l.interface_stored;
-            self.energy_budget =
-                (self.kinetic_half + l.strain + l.hourglass + l.interface_stored).abs();
+            self.state.energy_budget =
+                (self.state.kinetic_half + l.strain + l.hourglass + l.interface_stored).abs();
         }
         l.close_step();
         self.added_mass_energy();
-        let l = &self.ledger;
+        let l = &self.state.ledger;
         // The budget is compared with ½V_{n+½}ᵀMV_{n+½}, so it takes the works up to the forward
         // halves of this step's impulses: with the work up to tₙ only, a load ramped from zero
         // (no work yet at t₁, a velocity already) reads as energy created at step 1.
         let ext = l.external_work_settled();
-        self.energy_budget += (ext - self.last_external_work).abs();
-        self.last_external_work = ext;
+        self.state.energy_budget += (ext - self.state.last_external_work).abs();
+        self.state.last_external_work = ext;
         self.damage_times(itf.counts);
         self.blow_up_checks(itf.worst)
     }
@@ -116,13 +116,13 @@ impl Simulation {
     /// prescribed velocity jumps, and after full rupture, when the body is free and the
     /// reaction only measures its vibration).
     fn reactions_and_peaks(&mut self) {
-        let t = self.time;
-        let sc = &self.scratch;
+        let t = self.state.time;
+        let sc = &self.state.scratch;
         for (k, r) in sc.reactions.iter().enumerate() {
             self.stats.reactions[k] = *r;
             let peak = &mut self.stats.peaks[k];
             let before_rupture =
-                self.interface_nodes.is_empty() || self.stats.time_full_rupture.is_none();
+                self.state.interface_nodes.is_empty() || self.stats.time_full_rupture.is_none();
             if before_rupture && !sc.bc_jump[k] && r.abs() > peak.force.abs() {
                 peak.force = *r;
                 peak.time = t;
@@ -138,7 +138,10 @@ impl Simulation {
     /// ρb and −ρa ([`Simulation::ledger`]); and the glue's torque work W_τ of the interval just
     /// taken, `torque`, to the moulds' work (model §5.5, §5.7).
     fn push_work(&mut self, first: bool, internal: Option<f64>, cohesive: f64, torque: f64) {
-        let (mut s, bs) = (self.scratch.node_sums, self.scratch.boundary_sums);
+        let (mut s, bs) = (
+            self.state.scratch.node_sums,
+            self.state.scratch.boundary_sums,
+        );
         s.int_a += bs.int_a;
         // The viscous part of F_int is not conservative: its halves go to its own work
         // (model §5.11), not to the internal work or the step-change work.
@@ -156,7 +159,7 @@ impl Simulation {
         } else {
             bs.plane_b
         };
-        let l = &mut self.ledger;
+        let l = &mut self.state.ledger;
         l.kinetic = s.kinetic;
         let works: [(&mut Work, f64, f64); 8] = [
             (&mut l.bulk_viscous_work, bv_b, bv_a),
@@ -181,7 +184,7 @@ impl Simulation {
         } else {
             l.step_change_work.push(rb + cohesive, ra);
         }
-        self.kinetic_half = s.kinetic_half;
+        self.state.kinetic_half = s.kinetic_half;
     }
 
     /// Each mould's work (model §5.7, §7.6), with the trapezoid pairing of the other works: the
@@ -199,10 +202,10 @@ impl Simulation {
             return;
         }
         let mut halves = self.mould_halves(n);
-        for j in 0..self.interface_nodes.len() {
-            let itf = &self.interface_nodes[j];
+        for j in 0..self.state.interface_nodes.len() {
+            let itf = &self.state.interface_nodes[j];
             let k = self.model.interfaces[itf.interface as usize].plane;
-            let h_bar = self.scratch.moulds.h_bar;
+            let h_bar = self.state.scratch.moulds.h_bar;
             let coh = itf.cohesive_traction.map(|c| -h_bar * itf.area * c);
             let con = itf.contact_impulse.map(|c| c * itf.area);
             let (anchor, point) = self.mould_points(k, Some(j), None);
@@ -213,8 +216,8 @@ impl Simulation {
             halves[k].0 += 0.5 * (dot(a[0], coh) + dot(b[0], con));
             halves[k].1 += 0.5 * (dot(a[1], coh) + dot(b[1], con));
         }
-        for j in 0..self.contact_nodes.len() {
-            let cn = &self.contact_nodes[j];
+        for j in 0..self.state.contact_nodes.len() {
+            let cn = &self.state.contact_nodes[j];
             let k = cn.plane as usize;
             let con = cn.contact_impulse.map(|c| c * cn.area);
             let (_, point) = self.mould_points(k, None, Some(j));
@@ -222,19 +225,19 @@ impl Simulation {
             halves[k].0 += 0.5 * dot(v[0], con);
             halves[k].1 += 0.5 * dot(v[1], con);
         }
-        for (half, &torque) in halves.iter_mut().zip(&self.scratch.moulds.torque) {
+        for (half, &torque) in halves.iter_mut().zip(&self.state.scratch.moulds.torque) {
             if torque != 0.0 {
                 half.0 += torque;
             }
         }
-        push_halves(&mut self.scratch.moulds.work, &halves, first);
-        self.scratch.moulds.halves = halves;
+        push_halves(&mut self.state.scratch.moulds.work, &halves, first);
+        self.state.scratch.moulds.halves = halves;
     }
 
     /// The per-mould (before, after) work array, zeroed for `n` moulds: taken out of the
     /// step's scratch (give it back after use), so that no step allocates.
     fn mould_halves(&mut self, n: usize) -> Vec<(f64, f64)> {
-        let mut halves = std::mem::take(&mut self.scratch.moulds.halves);
+        let mut halves = std::mem::take(&mut self.state.scratch.moulds.halves);
         halves.clear();
         halves.resize(n, (0.0, 0.0));
         halves
@@ -254,8 +257,11 @@ impl Simulation {
             return;
         }
         let mut halves = self.mould_halves(n_moulds);
-        for (b, node) in self.boundary.nodes.iter().enumerate() {
-            let (vo, v) = (self.scratch.v_old[b], self.v.get(node.node as usize));
+        for (b, node) in self.state.boundary.nodes.iter().enumerate() {
+            let (vo, v) = (
+                self.state.scratch.v_old[b],
+                self.state.v.get(node.node as usize),
+            );
             let mut add = |k: usize, p: [f64; 3], geo: Option<usize>, interface: bool| {
                 let (n, vm) = self.contact_frame(k, geo, interface);
                 let pn = dot(p, n);
@@ -266,20 +272,20 @@ impl Simulation {
                 halves[k].1 += 0.5 * dot(rel(v, vm[1]), pt);
             };
             for e in node.interfaces.clone() {
-                let j = self.boundary.interfaces[e as usize] as usize;
-                let itf = &self.interface_nodes[j];
+                let j = self.state.boundary.interfaces[e as usize] as usize;
+                let itf = &self.state.interface_nodes[j];
                 let k = self.model.interfaces[itf.interface as usize].plane;
                 add(k, itf.contact_impulse.map(|c| c * itf.area), Some(j), true);
             }
             for e in node.contacts.clone() {
-                let j = self.boundary.contacts[e as usize] as usize;
-                let cn = &self.contact_nodes[j];
+                let j = self.state.boundary.contacts[e as usize] as usize;
+                let cn = &self.state.contact_nodes[j];
                 let p = cn.contact_impulse.map(|c| c * cn.area);
                 add(cn.plane as usize, p, Some(j), false);
             }
         }
-        push_halves(&mut self.scratch.moulds.friction, &halves, first);
-        self.scratch.moulds.halves = halves;
+        push_halves(&mut self.state.scratch.moulds.friction, &halves, first);
+        self.state.scratch.moulds.halves = halves;
     }
 
     /// The normal of mould `k` at the contact point of interface entry (`interface`) or contact
@@ -291,7 +297,7 @@ impl Simulation {
         j: Option<usize>,
         interface: bool,
     ) -> ([f64; 3], [[f64; 3]; 2]) {
-        let ms = &self.scratch.moulds;
+        let ms = &self.state.scratch.moulds;
         if ms.plane[k] {
             return (
                 self.model.planes[k].normal,
@@ -315,9 +321,12 @@ impl Simulation {
     pub fn mould_frictions(&self) -> Vec<(String, f64)> {
         let planes = &self.model.planes;
         if planes.len() == 1 {
-            return vec![(planes[0].name.clone(), self.ledger.friction_dissipated)];
+            return vec![(
+                planes[0].name.clone(),
+                self.state.ledger.friction_dissipated,
+            )];
         }
-        let works = &self.scratch.moulds.friction;
+        let works = &self.state.scratch.moulds.friction;
         (planes.iter().zip(works))
             .map(|(p, w)| (p.name.clone(), 0.0 - w.value))
             .collect()
@@ -342,15 +351,15 @@ impl Simulation {
             evolving: 0,
             clamped: 0.0,
         };
-        self.scratch.moulds.torque.fill(0.0);
-        for j in 0..self.interface_nodes.len() {
+        self.state.scratch.moulds.torque.fill(0.0);
+        for j in 0..self.state.interface_nodes.len() {
             let n = self.glue_normal(j);
             let n_before = if first {
                 None
             } else {
                 self.glue_normal_before(j)
             };
-            let itf = &mut self.interface_nodes[j];
+            let itf = &mut self.state.interface_nodes[j];
             let spec = &self.model.interfaces[itf.interface as usize];
             let law = &spec.law;
             out.stored += law.stored_energy(itf.area, itf.stiffness, itf.jump, n);
@@ -386,7 +395,7 @@ impl Simulation {
                     [n_prev, n],
                 );
                 out.torque += torque;
-                self.scratch.moulds.torque[spec.plane] += torque;
+                self.state.scratch.moulds.torque[spec.plane] += torque;
             }
             itf.prev_stiffness = itf.stiffness;
             itf.prev_jump = itf.jump;
@@ -398,12 +407,12 @@ impl Simulation {
 
     /// Times of first damage and of full rupture (paper fig. 6).
     fn damage_times(&mut self, counts: StateCounts) {
-        let n = self.interface_nodes.len();
+        let n = self.state.interface_nodes.len();
         if counts.transition + counts.ruptured > 0 && self.stats.time_first_damage.is_none() {
-            self.stats.time_first_damage = Some(self.time);
+            self.stats.time_first_damage = Some(self.state.time);
         }
         if counts.ruptured == n && n > 0 && self.stats.time_full_rupture.is_none() {
-            self.stats.time_full_rupture = Some(self.time);
+            self.stats.time_full_rupture = Some(self.state.time);
         }
     }
 
@@ -411,14 +420,14 @@ impl Simulation {
     /// dissipation increment `worst`, a negative cumulative contact dissipation, mechanical
     /// energy grown past `energy_growth_limit` × what was supplied.
     fn blow_up_checks(&self, worst: f64) -> Result<(), SolverError> {
-        let l = &self.ledger;
-        let mech = self.kinetic_half + l.strain + l.hourglass + l.interface_stored;
+        let l = &self.state.ledger;
+        let mech = self.state.kinetic_half + l.strain + l.hourglass + l.interface_stored;
         if !(mech.is_finite() && l.residual().is_finite()) {
             return Err(
                 self.unstable("non-finite energy (NaN or infinity in velocities or forces)".into())
             );
         }
-        if worst < -1e-9 * l.max_energy_seen.max(self.energy_floor) {
+        if worst < -1e-9 * l.max_energy_seen.max(self.setup.energy_floor) {
             return Err(self.unstable(format!(
                 "negative damage dissipation increment ({worst:.3e} J): the jump turned by more than 90° in one step"
             )));
@@ -426,17 +435,18 @@ impl Simulation {
         // Contact dissipation is not ≥ 0 step by step with the trapezoid pairing (model §5.6),
         // but it must be cumulatively, to the ledger's own accuracy: 1e-3 of the largest energy.
         let contact = l.contact_normal_dissipated + l.friction_dissipated;
-        if contact < -1e-3 * l.max_energy_seen.max(self.energy_floor) {
+        if contact < -1e-3 * l.max_energy_seen.max(self.setup.energy_floor) {
             return Err(self.unstable(format!(
                 "the cumulative contact dissipation is negative ({contact:.3e} J, beyond 1e-3 of the largest energy {:.3e} J): contact is creating energy",
                 l.max_energy_seen
             )));
         }
-        let limit = self.model.scheme.energy_growth_limit * self.energy_budget + self.energy_floor;
+        let limit = self.model.scheme.energy_growth_limit * self.state.energy_budget
+            + self.setup.energy_floor;
         if mech > limit {
             return Err(self.unstable(format!(
                 "the mechanical energy ({mech:.4e} J) grew past {}× the energy supplied ({:.4e} J) with no source",
-                self.model.scheme.energy_growth_limit, self.energy_budget
+                self.model.scheme.energy_growth_limit, self.state.energy_budget
             )));
         }
         Ok(())

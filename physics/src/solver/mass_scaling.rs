@@ -103,17 +103,17 @@ impl Simulation {
     /// At stage 9 with mass scaling: the added mass's kinetic energy ½ Σ Δmₐ|Vₐ|² at the latest
     /// half step into the ledger, and the peaks the end-of-run check compares.
     pub(super) fn added_mass_energy(&mut self) {
-        let Some(report) = self.mass_scaling.as_mut() else {
+        let Some(report) = self.setup.mass_scaling.as_mut() else {
             return;
         };
-        let v = self.v.planes();
-        let kinetic: f64 = (self.added_mass.iter())
+        let v = self.state.v.planes();
+        let kinetic: f64 = (self.setup.added_mass.iter())
             .map(|&(i, dm)| {
                 let i = i as usize;
                 0.5 * dm * (v[0][i] * v[0][i] + v[1][i] * v[1][i] + v[2][i] * v[2][i])
             })
             .sum();
-        let l = &mut self.ledger;
+        let l = &mut self.state.ledger;
         l.added_mass_kinetic = kinetic;
         report.added_kinetic_peak = report.added_kinetic_peak.max(kinetic);
         let stored = l.strain + l.hourglass + l.interface_stored;
@@ -125,7 +125,7 @@ impl Simulation {
     /// (mass scaling adds mass to elements, not to the glue; the element bound then cannot
     /// reach the target).
     pub(super) fn check_mass_scaling_target(&self) -> Result<(), super::SolverError> {
-        let Some(r) = self.mass_scaling else {
+        let Some(r) = self.setup.mass_scaling else {
             return Ok(());
         };
         let h_glue = 2.0 / self.glue_spring_omega_sq().sqrt();
@@ -141,7 +141,7 @@ impl Simulation {
     /// The warning when h_crit of the scaled model at t₀ is more than 1 % below the target: the
     /// glue's springs add to the elements' stiffness at the glued nodes (model §6.8).
     pub(super) fn mass_scaling_shortfall(&self) -> Option<String> {
-        let r = self.mass_scaling?;
+        let r = self.setup.mass_scaling?;
         let h0 = self.stats.h_crit_initial;
         (h0 < 0.99 * r.target_step).then(|| {
             format!(

@@ -37,10 +37,10 @@ mod stiffness;
 
 pub use state::{
     ContactNode, CornerChecks, DamageClamped, InterfaceNode, PeakReaction, RunStats, SolverError,
-    StableStep, StageTimes, StateCounts,
+    StableStep, StageTimes, State, StateCounts,
 };
 
-use crate::energy::{EnergySnapshot, Ledger};
+use crate::energy::EnergySnapshot;
 use crate::kernels::{
     assemble_internal_forces, Assembly, ElementRule, ElementSums, NodeSums, Planes,
 };
@@ -48,14 +48,12 @@ use crate::law::InterfaceState;
 use crate::mesh::ElementClasses;
 use crate::model::{Model, StartOffset};
 use crate::team::Team;
-use boundary::{Boundary, BoundarySums};
+use boundary::BoundarySums;
 pub use checkpoint::{
     model_fingerprint, read_header, write_atomically, CheckpointError, CheckpointHeader,
     CHECKPOINT_FORMAT,
 };
 pub use mass_scaling::MassScalingReport;
-use stable_step::StepControl;
-use stages::StepScratch;
 use std::sync::Arc;
 // std's `Instant` on native; the browser's clock on wasm32, where std's panics.
 use web_time::Instant;
@@ -72,22 +70,23 @@ pub const PARALLEL_MIN_ELEMENTS: usize = 2048;
 
 /// A simulation in progress. Build it with [`Simulation::new`], advance it with
 /// [`Simulation::step`] or [`Simulation::run`].
+///
+/// Four parts: the model (immutable, shared), what the set-up computes from it ([`Setup`], fixed
+/// for the run), the run's [`State`] at tₙ (what a checkpoint saves), the buffers the step's
+/// loops reuse ([`Workspace`], written before they are read in every step), and the statistics.
 pub struct Simulation {
     pub model: Arc<Model>,
-    classes: ElementClasses,
-    /// Colours → node-disjoint blocks → elements ([`crate::mesh::Mesh::element_blocks`]).
-    blocks: Vec<Vec<Vec<u32>>>,
-    /// The threads of the parallel loops (None: everything on the calling thread).
-    team: Option<Team>,
-    /// The element loops prefetch each lane group's nodes: the nodal fields exceed the
-    /// last-level cache ([`crate::kernels::prefetch_pays`]).
-    prefetch: bool,
-    /// Per-block / per-chunk results of the parallel loops, reused from step to step.
-    parts_elements: Vec<ElementSums>,
-    parts_nodes: Vec<NodeSums>,
-    parts_boundary: Vec<BoundarySums>,
-    /// Reaction impulse of each prescribed condition from each boundary chunk.
-    parts_reactions: Vec<f64>,
+    /// What the set-up computed from the model: masses, mass scaling, scales, start offsets.
+    pub setup: Setup,
+    /// What defines the run at tₙ (model §4.13): everything a checkpoint saves.
+    pub state: State,
+    /// Element classes and blocks, the thread team, the loops' per-block results.
+    work: Workspace,
+    pub stats: RunStats,
+}
+
+/// What the set-up computes from the model alone, fixed for the run.
+pub struct Setup {
     /// Lumped nodal masses [kg] and their inverses.
     pub mass: Vec<f64>,
     inv_mass: Vec<f64>,
@@ -96,55 +95,6 @@ pub struct Simulation {
     class_density: Vec<f64>,
     added_mass: Vec<(u32, f64)>,
     pub mass_scaling: Option<MassScalingReport>,
-    /// Bulk viscosity's constants, forces and step values (model §4.12); None without.
-    bulk_viscosity: Option<bulk_viscosity::BulkViscosityState>,
-    /// Displacements Uₙ [m], by component ([`Planes`]: a row of elements along x loads its
-    /// nodes 8 at a time, and the node loops run lane against lane).
-    pub u: Planes,
-    /// Velocities V_{n+½} [m/s], by component.
-    pub v: Planes,
-    /// Internal forces F_int(Uₙ) [N], by component ([`Planes`]: the element loop adds a row of
-    /// elements' forces 8 nodes at a time).
-    pub f_int: Planes,
-    pub interface_nodes: Vec<InterfaceNode>,
-    pub contact_nodes: Vec<ContactNode>,
-    /// What acts on each boundary node (glue, contact, tractions, prescribed components).
-    boundary: Boundary,
-    /// Per-step values and sums, in buffers reused from step to step.
-    scratch: StepScratch,
-    /// Current time tₙ [s] and step count n.
-    pub time: f64,
-    pub step_count: u64,
-    /// h_{n+½} = tₙ₊₁ − tₙ, the interval about to be taken [s].
-    pub h: f64,
-    pub h_crit: f64,
-    pub ledger: Ledger,
-    pub stats: RunStats,
-    /// Smallest Jacobian seen at the last force evaluation (one point: the centre and the
-    /// corners): exact when ≤ 0 (an inverted element, which stops the run) and at t₀;
-    /// otherwise, with one-point integration, possibly a positive lower bound of it
-    /// ([`crate::kernels::assemble_internal_forces`], [`crate::kernels::CORNER_EXACT_BELOW`]).
-    pub min_jacobian: f64,
-    /// Smallest J where the stress is evaluated at the last force evaluation (the Gauss points,
-    /// or one point's centre: [`crate::kernels::Assembly::min_stress_j`]), always exact: the
-    /// step control's compression indicator. With one point the corners' J (in
-    /// `min_jacobian`) may be far lower under hourglassing while the stiffness, set by the
-    /// centre's F and the constant hourglass stiffness, has not moved.
-    pub stress_jacobian: f64,
-    /// Ritz vector of the last stable-step estimate (warm start of the next one).
-    ritz_vector: Vec<f64>,
-    /// h_crit of the bulk alone (interface springs left out) at t = 0 [s], measured when a glued
-    /// node's spring comes near the system's ω_max, i.e. when an interface may set the step.
-    pub h_crit_bulk: Option<f64>,
-    /// [`Simulation::stress_jacobian`] when h_crit was last estimated.
-    jacobian_at_estimate: f64,
-    /// The variable step's state: the previous interval, the growth goal, the glue's stiffness.
-    step_control: StepControl,
-    /// ½ V_{n+½}ᵀ M V_{n+½}, for the energy-growth check.
-    pub kinetic_half: f64,
-    /// Initial energy plus Σ|ΔW_ext|: what may have entered the system [J].
-    energy_budget: f64,
-    last_external_work: f64,
     /// Energy below which growth is round-off, E·V·1e-14 [J].
     energy_floor: f64,
     /// Largest |reference coordinate| of the mesh [m]: the scale of position round-off.
@@ -157,12 +107,32 @@ pub struct Simulation {
     fingerprint: std::sync::OnceLock<u32>,
 }
 
+/// The element classes and blocks the loops walk, the threads that run them, and the loops'
+/// per-block results, reused from step to step (none of it is state: a restored simulation
+/// builds its own).
+struct Workspace {
+    classes: ElementClasses,
+    /// Colours → node-disjoint blocks → elements ([`crate::mesh::Mesh::element_blocks`]).
+    blocks: Vec<Vec<Vec<u32>>>,
+    /// The threads of the parallel loops (None: everything on the calling thread).
+    team: Option<Team>,
+    /// The element loops prefetch each lane group's nodes: the nodal fields exceed the
+    /// last-level cache ([`crate::kernels::prefetch_pays`]).
+    prefetch: bool,
+    /// Per-block / per-chunk results of the parallel loops.
+    parts_elements: Vec<ElementSums>,
+    parts_nodes: Vec<NodeSums>,
+    parts_boundary: Vec<BoundarySums>,
+    /// Reaction impulse of each prescribed condition from each boundary chunk.
+    parts_reactions: Vec<f64>,
+}
+
 impl Simulation {
     /// One CD-Lagrange step tₙ → tₙ₊₁ (model §4.1–§4.9), written with the index of
     /// the step just completed as n − 1: on entry Uₙ, αₙ, V_{n+½}; on exit Uₙ₊₁, αₙ₊₁, V_{n+3/2}.
     pub fn step(&mut self) -> Result<(), SolverError> {
         let t0 = Instant::now();
-        let h = self.h;
+        let h = self.state.h;
         // 1. Uₙ₊₁ = Uₙ + h V_{n+½}; αₙ₊₁ = αₙ + h α̇_{n+½}.
         self.advance_positions(h);
         // 2. Rigid surfaces to tₙ₊₁: jumps [u]ₙ₊₁ and gaps gₙ₊₁.
@@ -185,10 +155,10 @@ impl Simulation {
         self.boundary_pass(h_bar, h_next);
         let t5 = Instant::now();
         // 9. Energy ledger and blow-up checks.
-        self.step_control.h_next = h_next;
+        self.state.step_control.h_next = h_next;
         self.ledger(false)?;
         self.count_step_change(h, h_next);
-        self.h = h_next;
+        self.state.h = h_next;
         let t6 = Instant::now();
         let st = &mut self.stats.stage_times;
         st.positions += (t1 - t0).as_secs_f64();
@@ -221,8 +191,8 @@ impl Simulation {
             self.step()?;
             if !on_step(self) {
                 return Err(SolverError::Cancelled {
-                    step: self.step_count,
-                    time: self.time,
+                    step: self.state.step_count,
+                    time: self.state.time,
                 });
             }
         }
@@ -231,29 +201,29 @@ impl Simulation {
 
     /// True once tₙ has reached the end time (to within a millionth of a step).
     pub fn finished(&self) -> bool {
-        self.time >= self.model.end_time - 1e-6 * self.h
+        self.state.time >= self.model.end_time - 1e-6 * self.state.h
     }
 
     /// Threads that run the step's loops: the team's size, or 1 when the mesh is below the size
     /// where parallel sections pay off (or one thread was asked for).
     pub fn threads(&self) -> usize {
-        self.team.as_ref().map_or(1, Team::size)
+        self.work.team.as_ref().map_or(1, Team::size)
     }
 
     /// Runs the step's loops on a team of `threads` threads from now on (1: on the calling
     /// thread), whatever the mesh size. Results do not depend on it.
     pub fn use_threads(&mut self, threads: usize) {
-        self.team = (threads > 1).then(|| Team::new(threads));
+        self.work.team = (threads > 1).then(|| Team::new(threads));
     }
 
     /// Number of elements times steps done.
     pub fn element_steps(&self) -> u64 {
-        self.model.mesh.elements.len() as u64 * self.step_count
+        self.model.mesh.elements.len() as u64 * self.state.step_count
     }
 
     /// Number of distinct element shapes (each has its own precomputed Gauss data).
     pub fn element_class_count(&self) -> usize {
-        self.classes.data.len()
+        self.work.classes.data.len()
     }
 
     /// Whether every element shape is an axis-aligned box (J₀ diagonal,
@@ -262,14 +232,14 @@ impl Simulation {
     /// ([`crate::kernels::flops::full`]), the one-point kernel goes through the modes of the
     /// trilinear field ([`crate::kernels::flops::one_point`]).
     pub fn axis_aligned(&self) -> bool {
-        self.classes.data.iter().all(|gd| gd.axis_aligned)
-            && self.classes.centre.iter().all(|cd| cd.axis_aligned)
+        self.work.classes.data.iter().all(|gd| gd.axis_aligned)
+            && self.work.classes.centre.iter().all(|cd| cd.axis_aligned)
     }
 
     /// Interface state counts now (paper fig. 6, right).
     pub fn state_counts(&self) -> StateCounts {
         let mut c = StateCounts::default();
-        for itf in &self.interface_nodes {
+        for itf in &self.state.interface_nodes {
             c.add(itf.state(&self.model.interfaces[itf.interface as usize].law));
         }
         c
@@ -277,7 +247,7 @@ impl Simulation {
 
     /// The ledger's values now.
     pub fn energies(&self) -> EnergySnapshot {
-        self.ledger.snapshot()
+        self.state.ledger.snapshot()
     }
 
     /// The pose of mould `k` (index into `model.planes`) at the current time tₙ, as the affine
@@ -290,11 +260,11 @@ impl Simulation {
     pub fn mould_pose(&self, k: usize) -> ([[f64; 3]; 3], [f64; 3]) {
         use crate::mould::motion::{mat_vec, IDENTITY};
         let m = &self.model.planes[k];
-        let ms = &self.scratch.moulds;
+        let ms = &self.state.scratch.moulds;
         if ms.plane.get(k).copied().unwrap_or(true) {
-            return (IDENTITY, m.displacement(self.time));
+            return (IDENTITY, m.displacement(self.state.time));
         }
-        let pose = ms.pose_at(k, self.time);
+        let pose = ms.pose_at(k, self.state.time);
         let (c0, d) = (m.pivot(), m.displacement(pose.time));
         let rc0 = mat_vec(&pose.rotation, c0);
         (

@@ -6,8 +6,8 @@ use super::boundary::{Boundary, NONE};
 use super::mass_scaling::class_factors;
 use super::stable_step::{capped_step, StepControl};
 use super::stages::StepScratch;
-use super::state::{ContactNode, InterfaceNode, PeakReaction, RunStats, SolverError};
-use super::{Simulation, ELEMENT_GRAIN, PARALLEL_MIN_ELEMENTS};
+use super::state::{ContactNode, InterfaceNode, PeakReaction, RunStats, SolverError, State};
+use super::{Setup, Simulation, Workspace, ELEMENT_GRAIN, PARALLEL_MIN_ELEMENTS};
 use crate::energy::Ledger;
 use crate::interface::contact::ContactStatus;
 use crate::kernels::Planes;
@@ -252,33 +252,54 @@ impl Simulation {
             .filter(StartOffset::any)
             .collect();
         let mut sim = Simulation {
-            start_offsets,
-            blocks: mesh.element_blocks(ELEMENT_GRAIN),
-            prefetch: crate::kernels::prefetch_pays(mesh.nodes.len()),
-            classes,
-            team,
-            parts_elements: Vec::new(),
-            parts_nodes: Vec::new(),
-            parts_boundary: Vec::new(),
-            parts_reactions: Vec::new(),
-            inv_mass: mass.iter().map(|m| 1.0 / m).collect(),
-            mass,
-            class_density,
-            added_mass,
-            mass_scaling,
-            bulk_viscosity: None,
-            u: Planes::from_rows(&u0),
-            v: Planes::from_rows(&v0),
-            f_int: Planes::zeros(n_nodes),
-            interface_nodes,
-            contact_nodes,
-            boundary,
-            scratch: StepScratch::default(),
-            time: 0.0,
-            step_count: 0,
-            h: 0.0,
-            h_crit: 0.0,
-            ledger: Ledger::default(),
+            setup: Setup {
+                start_offsets,
+                inv_mass: mass.iter().map(|m| 1.0 / m).collect(),
+                mass,
+                class_density,
+                added_mass,
+                mass_scaling,
+                energy_floor: model.material.young * volume * 1e-14,
+                coordinate_scale,
+                fingerprint: std::sync::OnceLock::new(),
+            },
+            work: Workspace {
+                blocks: mesh.element_blocks(ELEMENT_GRAIN),
+                prefetch: crate::kernels::prefetch_pays(mesh.nodes.len()),
+                classes,
+                team,
+                parts_elements: Vec::new(),
+                parts_nodes: Vec::new(),
+                parts_boundary: Vec::new(),
+                parts_reactions: Vec::new(),
+            },
+            state: State {
+                bulk_viscosity: None,
+                u: Planes::from_rows(&u0),
+                v: Planes::from_rows(&v0),
+                f_int: Planes::zeros(n_nodes),
+                interface_nodes,
+                contact_nodes,
+                boundary,
+                scratch: StepScratch::default(),
+                time: 0.0,
+                step_count: 0,
+                h: 0.0,
+                h_crit: 0.0,
+                ledger: Ledger::default(),
+                min_jacobian: 1.0,
+                stress_jacobian: 1.0,
+                ritz_vector: Vec::new(),
+                h_crit_bulk: None,
+                jacobian_at_estimate: 1.0,
+                step_control: StepControl {
+                    try_certify: true,
+                    ..Default::default()
+                },
+                kinetic_half: 0.0,
+                energy_budget: 0.0,
+                last_external_work: 0.0,
+            },
             stats: RunStats {
                 peaks: model
                     .displacements
@@ -294,24 +315,9 @@ impl Simulation {
                 reactions: vec![0.0; model.displacements.len()],
                 ..Default::default()
             },
-            min_jacobian: 1.0,
-            stress_jacobian: 1.0,
-            ritz_vector: Vec::new(),
-            h_crit_bulk: None,
-            jacobian_at_estimate: 1.0,
-            step_control: StepControl {
-                try_certify: true,
-                ..Default::default()
-            },
-            kinetic_half: 0.0,
-            energy_budget: 0.0,
-            last_external_work: 0.0,
-            energy_floor: model.material.young * volume * 1e-14,
-            coordinate_scale,
             model,
-            fingerprint: std::sync::OnceLock::new(),
         };
-        sim.scratch.moulds = MouldStep::new(&sim.model.planes, 0.0);
+        sim.state.scratch.moulds = MouldStep::new(&sim.model.planes, 0.0);
         sim.mould_geometry_at_start();
         sim.bulk_viscosity_setup();
         sim.start()?;
@@ -322,14 +328,14 @@ impl Simulation {
     /// V_{−½} = V₀ − ½h M⁻¹F₀ and the first step's stages 2 (velocities), 5, 4–8 and 9 give V_{½}
     /// (so K₀ = ½V_{−½}ᵀMV_{½}).
     fn start(&mut self) -> Result<(), SolverError> {
-        for b in &self.boundary.nodes {
+        for b in &self.state.boundary.nodes {
             for c in 0..3 {
                 if b.prescribed[c] != NONE {
-                    let mut x = self.u.get(b.node as usize);
+                    let mut x = self.state.u.get(b.node as usize);
                     x[c] = self.model.displacements[b.prescribed[c] as usize]
                         .history
                         .value(0.0)[0];
-                    self.u.set(b.node as usize, x);
+                    self.state.u.set(b.node as usize, x);
                 }
             }
         }
@@ -338,7 +344,7 @@ impl Simulation {
         self.first_time_step()?;
         self.check_mass_scaling_target()?;
         self.internal_forces(true, false)?;
-        let h = self.h;
+        let h = self.state.h;
         self.half_step_back(h);
         self.free_velocity(h);
         self.boundary_pass(h, h);
@@ -348,9 +354,9 @@ impl Simulation {
     /// α₀ = min(u_r, max(initial damage, f₀)): eq. 12's "largest jump ever reached", with the
     /// damage the interface had before the run.
     fn initial_damage(&mut self) {
-        for j in 0..self.interface_nodes.len() {
+        for j in 0..self.state.interface_nodes.len() {
             let n = self.glue_normal(j);
-            let itf = &mut self.interface_nodes[j];
+            let itf = &mut self.state.interface_nodes[j];
             if !itf.formed {
                 continue; // α = 0 and g_N = 0 until the glue forms
             }
@@ -370,22 +376,22 @@ impl Simulation {
     /// step: the bulk alone is then measured once, for [`Simulation::advisories`].
     fn first_time_step(&mut self) -> Result<(), SolverError> {
         let est = self.estimate_stable_step(None);
-        self.h_crit = est.h_crit;
+        self.state.h_crit = est.h_crit;
         let omega_itf_sq = self.glue_spring_omega_sq();
         if omega_itf_sq > 0.0 && 2.0 / omega_itf_sq.sqrt() < 1.5 * est.h_crit {
-            let ritz = std::mem::take(&mut self.ritz_vector);
-            self.h_crit_bulk = Some(self.stable_step_estimate(None, false).h_crit);
-            self.ritz_vector = ritz;
+            let ritz = std::mem::take(&mut self.state.ritz_vector);
+            self.state.h_crit_bulk = Some(self.stable_step_estimate(None, false).h_crit);
+            self.state.ritz_vector = ritz;
         }
         self.stats.h_crit_initial = est.h_crit;
         self.stats.h_crit_min = est.h_crit;
-        self.h = capped_step(self.model.scheme.time_step_factor, est.h_crit);
+        self.state.h = capped_step(self.model.scheme.time_step_factor, est.h_crit);
         if let Some(bv) = self.model.scheme.bulk_viscosity {
             // The viscosity's damping ratio at rest, b₁ (λ + 2μ)/K (model §4.12).
             let xi = bv.linear * super::bulk_viscosity::mode_ratio(&self.model.material);
-            self.h *= super::bulk_viscosity::damped_step_factor(xi);
+            self.state.h *= super::bulk_viscosity::damped_step_factor(xi);
         }
-        if !(self.h.is_finite() && self.h > 0.0) {
+        if !(self.state.h.is_finite() && self.state.h > 0.0) {
             return Err(SolverError::Setup(format!(
                 "the stable time step estimate is not usable (ω_max² = {:e}); check the material and interface stiffness",
                 est.omega_max_sq
@@ -397,8 +403,8 @@ impl Simulation {
     /// The largest ω² = W k/m of a glued node's spring alone against its mass [1/s²] (0
     /// without glue).
     pub(super) fn glue_spring_omega_sq(&self) -> f64 {
-        (self.interface_nodes.iter())
-            .map(|n| n.area * n.stiffness * self.inv_mass[n.node as usize])
+        (self.state.interface_nodes.iter())
+            .map(|n| n.area * n.stiffness * self.setup.inv_mass[n.node as usize])
             .fold(0.0, f64::max)
     }
 

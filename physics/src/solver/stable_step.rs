@@ -117,19 +117,19 @@ impl Simulation {
     /// ([`Simulation::ledger`], the step-change work of model §5.8).
     pub(super) fn next_time_step(&mut self) -> f64 {
         if self.model.scheme.h_crit_update_interval == 0 {
-            return self.h;
+            return self.state.h;
         }
-        let c = &self.step_control;
+        let c = &self.state.step_control;
         let trigger = c.jacobian_trigger.max(JACOBIAN_RETRIGGER);
-        let compressed = self.stress_jacobian < JACOBIAN_COMPRESSED;
-        let strained =
-            compressed && (self.stress_jacobian - self.jacobian_at_estimate).abs() > trigger;
+        let compressed = self.state.stress_jacobian < JACOBIAN_COMPRESSED;
+        let strained = compressed
+            && (self.state.stress_jacobian - self.state.jacobian_at_estimate).abs() > trigger;
         if self.estimate_without_strain() || strained {
-            let before = (2.0 / self.h_crit).powi(2);
+            let before = (2.0 / self.state.h_crit).powi(2);
             let est = self.update_stable_step();
             if strained {
                 let moved = (est.omega_max_sq / before - 1.0).abs();
-                self.step_control.jacobian_trigger = if moved > OMEGA_MOVED {
+                self.state.step_control.jacobian_trigger = if moved > OMEGA_MOVED {
                     0.5 * trigger
                 } else if moved < OMEGA_STILL {
                     (2.0 * trigger).min(JACOBIAN_RETRIGGER_MAX)
@@ -137,31 +137,31 @@ impl Simulation {
                     trigger
                 };
             }
-            self.jacobian_at_estimate = self.stress_jacobian;
-            self.step_control.springs_at_estimate = self.step_control.springs_now;
+            self.state.jacobian_at_estimate = self.state.stress_jacobian;
+            self.state.step_control.springs_at_estimate = self.state.step_control.springs_now;
             self.stats.h_crit_estimates += 1;
             self.stats.h_crit_estimate_iterations += est.iterations as u64;
-            self.h_crit = est.h_crit;
+            self.state.h_crit = est.h_crit;
             self.stats.h_crit_min = self.stats.h_crit_min.min(est.h_crit);
             let factor = self.model.scheme.time_step_factor;
             let target = capped_step(factor, est.h_crit);
-            let c = &mut self.step_control;
-            if self.h > ((1.0 + STEP_BAND) * factor * est.h_crit).min(est.h_crit) {
+            let c = &mut self.state.step_control;
+            if self.state.h > ((1.0 + STEP_BAND) * factor * est.h_crit).min(est.h_crit) {
                 c.goal = None;
                 return capped_step((1.0 - STEP_BAND) * factor, est.h_crit);
             }
-            if target > (1.0 + STEP_BAND) * self.h {
+            if target > (1.0 + STEP_BAND) * self.state.h {
                 c.goal = Some(target);
             } else if let Some(goal) = c.goal {
                 c.goal = Some(goal.min(target));
             }
         }
-        match self.step_control.goal {
-            Some(_) if compressed || self.step_control.damage_evolving > 0 => self.h,
-            Some(goal) if goal > self.h => (GROWTH_RATIO * self.h).min(goal),
+        match self.state.step_control.goal {
+            Some(_) if compressed || self.state.step_control.damage_evolving > 0 => self.state.h,
+            Some(goal) if goal > self.state.h => (GROWTH_RATIO * self.state.h).min(goal),
             _ => {
-                self.step_control.goal = None;
-                self.h
+                self.state.step_control.goal = None;
+                self.state.h
             }
         }
     }
@@ -172,15 +172,15 @@ impl Simulation {
     /// the controller's goal is the undamped target, so h grows back (by at most
     /// [`GROWTH_RATIO`] per step) once ξ falls. Without bulk viscosity, `h_next` itself.
     pub(super) fn damped_step(&mut self, h_next: f64) -> f64 {
-        let Some(bv) = self.bulk_viscosity.as_ref() else {
+        let Some(bv) = self.state.bulk_viscosity.as_ref() else {
             return h_next;
         };
-        let target = capped_step(self.model.scheme.time_step_factor, self.h_crit);
+        let target = capped_step(self.model.scheme.time_step_factor, self.state.h_crit);
         let cap = target * super::bulk_viscosity::damped_step_factor(bv.xi_max);
         if h_next <= cap {
             return h_next;
         }
-        self.step_control.goal = Some(target);
+        self.state.step_control.goal = Some(target);
         cap
     }
 
@@ -191,16 +191,16 @@ impl Simulation {
         if every == 0 {
             return false;
         }
-        let c = &self.step_control;
+        let c = &self.state.step_control;
         // Softening only ever lowers ω_max: it is worth an estimate only while the glue may
         // hold h below what the bulk alone allows (h_crit_bulk, measured at t₀ when a glued
         // node's spring is near the system's ω_max).
-        let may_grow = self.h_crit_bulk.is_some_and(|hb| {
-            capped_step(self.model.scheme.time_step_factor, hb) > (1.0 + STEP_BAND) * self.h
+        let may_grow = self.state.h_crit_bulk.is_some_and(|hb| {
+            capped_step(self.model.scheme.time_step_factor, hb) > (1.0 + STEP_BAND) * self.state.h
         });
         let softened = may_grow
             && (c.springs_now - c.springs_at_estimate).abs() > SPRING_RETRIGGER * c.springs_initial;
-        self.step_count.is_multiple_of(every) || softened
+        self.state.step_count.is_multiple_of(every) || softened
     }
 
     /// The stable step now by a warm-started Lanczos estimate: from the previous Ritz vector
@@ -245,9 +245,9 @@ impl Simulation {
     /// estimate, never on a measured margin. Between estimates the triggers of
     /// [`Simulation::next_time_step`] follow the stiffening, as before.
     pub fn update_stable_step(&mut self) -> StableStep {
-        let compressed = self.stress_jacobian < JACOBIAN_COMPRESSED;
-        let element = self.step_control.compressed_element;
-        let cheap = self.step_control.try_certify;
+        let compressed = self.state.stress_jacobian < JACOBIAN_COMPRESSED;
+        let element = self.state.step_control.compressed_element;
+        let cheap = self.state.step_control.try_certify;
         let mut iterations = 0;
         if cheap {
             let stop = LanczosStop {
@@ -307,7 +307,7 @@ impl Simulation {
         let factor = self.model.scheme.time_step_factor;
         let h_allowed = ((1.0 + STEP_BAND) * factor).min(1.0) * est.h_crit;
         let ok = h_allowed * h_allowed * bound <= 4.0;
-        self.step_control.try_certify = ok;
+        self.state.step_control.try_certify = ok;
         ok
     }
 
@@ -315,7 +315,7 @@ impl Simulation {
     /// springs (`springs`), F_int(U) the step's own (`forces_current`) or assembled; `start`
     /// sets the start vector (given the previous Ritz vector); `stop.max_iter` is capped at
     /// the number of degrees of freedom. Leaves the Ritz vector of the run in
-    /// `self.ritz_vector`, formed from the kept basis (within [`BASIS_BUDGET`]) or by a second
+    /// `self.state.ritz_vector`, formed from the kept basis (within [`BASIS_BUDGET`]) or by a second
     /// pass.
     fn run_estimate(
         &mut self,
@@ -324,8 +324,8 @@ impl Simulation {
         mut stop: LanczosStop,
         start: impl FnOnce(&mut StiffnessOperator, &[f64]),
     ) -> LanczosOut {
-        let mut cache = std::mem::take(&mut self.step_control.estimates);
-        let mut ritz = std::mem::take(&mut self.ritz_vector);
+        let mut cache = std::mem::take(&mut self.state.step_control.estimates);
+        let mut ritz = std::mem::take(&mut self.state.ritz_vector);
         let mut op = StiffnessOperator::new(self, springs, forces_current, &mut cache);
         start(&mut op, &ritz);
         let start = std::mem::take(&mut op.cache.start);
@@ -333,13 +333,13 @@ impl Simulation {
         let n = start.len();
         stop.max_iter = stop.max_iter.min(n);
         work.basis_limit = stop.max_iter.min(BASIS_BUDGET / n.max(1));
-        let team = self.team.as_ref();
+        let team = self.work.team.as_ref();
         let mut apply = |q: &[f64], y: &mut [f64]| op.apply(q, y);
         let out = lanczos(&mut apply, &start, &stop, None, team, &mut work);
         work.ritz_vector(&mut apply, &start, &out, team, &mut ritz);
         (cache.start, cache.work) = (start, work);
-        self.step_control.estimates = cache;
-        self.ritz_vector = ritz;
+        self.state.step_control.estimates = cache;
+        self.state.ritz_vector = ritz;
         out
     }
 
@@ -347,9 +347,9 @@ impl Simulation {
     /// leaves the warm start of the run's next update as it was: the reference the update
     /// estimates are checked against.
     pub fn converged_stable_step(&mut self) -> StableStep {
-        let ritz = self.ritz_vector.clone();
+        let ritz = self.state.ritz_vector.clone();
         let est = self.estimate_stable_step(None);
-        self.ritz_vector = ritz;
+        self.state.ritz_vector = ritz;
         est
     }
 

@@ -42,12 +42,12 @@ impl Simulation {
     /// tₙ₊₁ = tₙ + h; and F_int ← 0 for stage 3.
     pub(super) fn advance_positions(&mut self, h: f64) {
         let grain = NODE_GRAIN;
-        let n = self.v.len();
+        let n = self.state.v.len();
         // Plane by plane (component slices, so the loops vectorise); the same pass zeroes
         // F_int for stage 3 (nothing reads it in between).
-        let u = self.u.planes_mut().map(SharedSlice::new);
-        let f = self.f_int.planes_mut().map(SharedSlice::new);
-        let v = self.v.planes();
+        let u = self.state.u.planes_mut().map(SharedSlice::new);
+        let f = self.state.f_int.planes_mut().map(SharedSlice::new);
+        let v = self.state.v.planes();
         // SAFETY: nodes a..b of each plane of u and f are touched by item i only.
         let chunk = |i: usize| unsafe {
             let (a, b) = (i * grain, ((i + 1) * grain).min(n));
@@ -58,17 +58,17 @@ impl Simulation {
                 f[c].range(a, b).fill(0.0);
             }
         };
-        match &self.team {
+        match &self.work.team {
             Some(team) => {
                 team.map(n.div_ceil(grain), chunk);
             }
             None => (0..n.div_ceil(grain)).for_each(chunk),
         }
-        for itf in self.interface_nodes.iter_mut() {
+        for itf in self.state.interface_nodes.iter_mut() {
             itf.alpha = itf.alpha_next;
         }
-        self.time += h;
-        self.step_count += 1;
+        self.state.time += h;
+        self.state.step_count += 1;
     }
 
     /// Stage 2: the rigid surfaces at tₙ₊₁ (plane displacement d(t)), and at every interface
@@ -81,16 +81,16 @@ impl Simulation {
     /// step takes it through the plane with the full free velocity (a spurious inelastic
     /// impact of h·V depth inside a persistent contact).
     pub(super) fn surfaces_and_gaps(&mut self) {
-        let t = self.time;
+        let t = self.state.time;
         let planes = &self.model.planes;
-        let sc = &mut self.scratch;
+        let sc = &mut self.state.scratch;
         sc.plane_disp.clear();
         sc.plane_disp
             .extend(planes.iter().map(|p| p.displacement(t)));
         sc.plane_tol.clear();
         sc.plane_tol
             .extend(planes.iter().zip(&sc.plane_disp).map(|(p, d)| {
-                let scale = (0..3).fold(self.coordinate_scale, |a, c| {
+                let scale = (0..3).fold(self.setup.coordinate_scale, |a, c| {
                     a.max(p.point[c].abs()).max((p.point[c] + d[c]).abs())
                 });
                 16.0 * f64::EPSILON * scale
@@ -98,11 +98,11 @@ impl Simulation {
         let (disp, tol) = (&sc.plane_disp, &sc.plane_tol);
         let snap = |g: f64, tol: f64| if g.abs() <= tol { 0.0 } else { g };
         let nodes = &self.model.mesh.nodes;
-        for itf in self.interface_nodes.iter_mut() {
+        for itf in self.state.interface_nodes.iter_mut() {
             let k = self.model.interfaces[itf.interface as usize].plane;
             let (p, d) = (&planes[k], disp[k]);
             let i = itf.node as usize;
-            let ui = self.u.get(i);
+            let ui = self.state.u.get(i);
             let x: [f64; 3] = std::array::from_fn(|c| nodes[i][c] + ui[c]);
             itf.jump = std::array::from_fn(|c| x[c] - (itf.bonded_point[c] + d[c]));
             itf.gap = snap(
@@ -112,10 +112,10 @@ impl Simulation {
                 tol[k],
             );
         }
-        for cn in self.contact_nodes.iter_mut() {
+        for cn in self.state.contact_nodes.iter_mut() {
             let (p, d) = (&planes[cn.plane as usize], disp[cn.plane as usize]);
             let i = cn.node as usize;
-            let ui = self.u.get(i);
+            let ui = self.state.u.get(i);
             cn.gap = snap(
                 (0..3)
                     .map(|c| p.normal[c] * (nodes[i][c] + ui[c] - p.point[c] - d[c]))
@@ -136,14 +136,14 @@ impl Simulation {
     ) -> Result<(), SolverError> {
         if !zeroed {
             // (Else F_int was zeroed by stage 1.)
-            self.f_int.fill_zero();
+            self.state.f_int.fill_zero();
         }
         let elements = ElementLoop {
             model: &self.model,
-            classes: &self.classes,
-            blocks: &self.blocks,
-            team: self.team.as_ref(),
-            prefetch: self.prefetch,
+            classes: &self.work.classes,
+            blocks: &self.work.blocks,
+            team: self.work.team.as_ref(),
+            prefetch: self.work.prefetch,
         };
         // The smallest J of the corners has one consumer in the step, the inversion check
         // (J ≤ 0), which needs its sign only. So the one-point kernel skips a lane group's exact
@@ -152,27 +152,27 @@ impl Simulation {
         // positive, and an inverted corner (J_a ≤ 0, so a bound ≤ 0) is checked exactly. Exact
         // everywhere at t₀. The step control reads the stress points' J (`stress_jacobian`),
         // always exact.
-        let exact_below = if self.step_count == 0 {
+        let exact_below = if self.state.step_count == 0 {
             f64::INFINITY
         } else {
             CORNER_EXACT_BELOW
         };
         let asm = elements.assemble(
-            &self.u,
-            &mut self.f_int,
+            &self.state.u,
+            &mut self.state.f_int,
             energy,
-            &mut self.parts_elements,
+            &mut self.work.parts_elements,
             exact_below,
         );
         self.stats.corner_checks.groups += asm.corner_groups;
         self.stats.corner_checks.skipped += asm.corner_skipped;
         let (min_j, min_e) = (asm.min_j, asm.min_element);
-        self.min_jacobian = min_j;
-        self.stress_jacobian = asm.min_stress_j;
-        self.step_control.compressed_element = asm.min_stress_element;
+        self.state.min_jacobian = min_j;
+        self.state.stress_jacobian = asm.min_stress_j;
+        self.state.step_control.compressed_element = asm.min_stress_element;
         if energy {
-            self.ledger.strain = asm.strain;
-            self.ledger.hourglass = asm.hourglass;
+            self.state.ledger.strain = asm.strain;
+            self.state.ledger.hourglass = asm.hourglass;
         }
         if !(min_j > 0.0) {
             if min_j.is_nan() {
@@ -192,11 +192,11 @@ impl Simulation {
     /// that jump's impulse, not a force to report), and the traction amplitudes at tₙ₊₁.
     /// `first`: the start of the run (nothing moved before t₀).
     pub(super) fn prescribed_motion(&mut self, h_next: f64, first: bool) {
-        let t = self.time;
+        let t = self.state.time;
         let t_next = t + h_next;
         let planes = &self.model.planes;
-        let h_prev = self.h;
-        let sc = &mut self.scratch;
+        let h_prev = self.state.h;
+        let sc = &mut self.state.scratch;
         (sc.moulds).advance(planes, t, h_next, h_prev, first || h_prev <= 0.0);
         sc.plane_v_old.clear();
         sc.plane_v_old.extend(planes.iter().map(|p| {
@@ -240,13 +240,14 @@ impl Simulation {
     /// the boundary nodes first (their stages 4–8 follow in [`Simulation::boundary_pass`]).
     pub(super) fn free_velocity(&mut self, h_bar: f64) {
         // Keep V_{n+½} of boundary nodes for the ledger's backward halves.
-        let sc = &mut self.scratch;
+        let sc = &mut self.state.scratch;
         sc.v_old.clear();
         sc.v_old.extend(
-            self.boundary
+            self.state
+                .boundary
                 .nodes
                 .iter()
-                .map(|b| self.v.get(b.node as usize)),
+                .map(|b| self.state.v.get(b.node as usize)),
         );
         let g = self.model.gravity;
         // SAFETY: the dispatch runs the build the CPU supports; the slices have one length.
@@ -254,25 +255,29 @@ impl Simulation {
             unsafe { free_velocity_chunk(v, f, m, im, h_bar, g) }
         };
         let grain = NODE_GRAIN;
-        let parts = &mut self.parts_nodes;
-        let n = self.v.len();
-        let v = self.v.planes_mut().map(SharedSlice::new);
-        let (f, m, im) = (self.f_int.planes(), &self.mass, &self.inv_mass);
+        let parts = &mut self.work.parts_nodes;
+        let n = self.state.v.len();
+        let v = self.state.v.planes_mut().map(SharedSlice::new);
+        let (f, m, im) = (
+            self.state.f_int.planes(),
+            &self.setup.mass,
+            &self.setup.inv_mass,
+        );
         // SAFETY: nodes a..b of each plane of v are touched by item i only.
         let chunk = |i: usize| unsafe {
             let (a, b) = (i * grain, ((i + 1) * grain).min(n));
             let vc = v.each_ref().map(|p| p.range(a, b));
             body((vc, f.map(|p| &p[a..b]), (&m[a..b], &im[a..b])))
         };
-        match &self.team {
+        match &self.work.team {
             Some(team) => team.map_into(n.div_ceil(grain), parts, chunk),
             None => {
                 parts.clear();
                 parts.extend((0..n.div_ceil(grain)).map(chunk));
             }
         }
-        self.scratch.node_sums = parts.iter().fold(NodeSums::default(), |a, &b| a.add(b));
-        if let Some(bv) = self.bulk_viscosity.as_mut() {
+        self.state.scratch.node_sums = parts.iter().fold(NodeSums::default(), |a, &b| a.add(b));
+        if let Some(bv) = self.state.bulk_viscosity.as_mut() {
             bv.h_bar = h_bar;
         }
     }

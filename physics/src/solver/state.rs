@@ -8,6 +8,73 @@ use crate::interface::law::{InterfaceState, StiffnessLaw};
 use serde::Serialize;
 use std::time::Duration;
 
+use super::boundary::Boundary;
+use super::bulk_viscosity::BulkViscosityState;
+use super::stable_step::StepControl;
+use super::stages::StepScratch;
+use crate::energy::Ledger;
+use crate::kernels::Planes;
+
+/// What defines a run at tₙ (model §4.13): the displacements, velocities and internal forces,
+/// every interface and contact node (damage, jumps, impulses, the glue formed), the moulds' poses
+/// and per-node geometry (in the step's buffers), the step control, the ledger's sums, tₙ, n and
+/// h. Everything else of a [`Simulation`](super::Simulation) is the model, what the set-up computes from it (masses,
+/// element classes and blocks, the stable-step operator's constants), buffers that every step
+/// writes before it reads them, or the statistics. A checkpoint is this state and the
+/// statistics ([`Simulation::checkpoint`](super::Simulation::checkpoint)).
+#[derive(Clone, Serialize, serde::Deserialize)]
+pub struct State {
+    /// Displacements Uₙ [m], by component ([`Planes`]: a row of elements along x loads its
+    /// nodes 8 at a time, and the node loops run lane against lane).
+    pub u: Planes,
+    /// Velocities V_{n+½} [m/s], by component.
+    pub v: Planes,
+    /// Internal forces F_int(Uₙ) [N], by component ([`Planes`]: the element loop adds a row of
+    /// elements' forces 8 nodes at a time).
+    pub f_int: Planes,
+    pub interface_nodes: Vec<InterfaceNode>,
+    pub contact_nodes: Vec<ContactNode>,
+    /// What acts on each boundary node (glue, contact, tractions, prescribed components), with
+    /// the glue still to form.
+    pub(super) boundary: Boundary,
+    /// Per-step values and sums, in buffers reused from step to step, with the moulds' poses.
+    pub(super) scratch: StepScratch,
+    /// Bulk viscosity's constants, forces and step values (model §4.12); None without.
+    pub(super) bulk_viscosity: Option<BulkViscosityState>,
+    /// Current time tₙ [s] and step count n.
+    pub time: f64,
+    pub step_count: u64,
+    /// h_{n+½} = tₙ₊₁ − tₙ, the interval about to be taken [s].
+    pub h: f64,
+    pub h_crit: f64,
+    pub ledger: Ledger,
+    /// Smallest Jacobian seen at the last force evaluation (one point: the centre and the
+    /// corners): exact when ≤ 0 (an inverted element, which stops the run) and at t₀;
+    /// otherwise, with one-point integration, possibly a positive lower bound of it
+    /// ([`crate::kernels::assemble_internal_forces`], [`crate::kernels::CORNER_EXACT_BELOW`]).
+    pub min_jacobian: f64,
+    /// Smallest J where the stress is evaluated at the last force evaluation (the Gauss points,
+    /// or one point's centre: [`crate::kernels::Assembly::min_stress_j`]), always exact: the
+    /// step control's compression indicator. With one point the corners' J (in
+    /// `min_jacobian`) may be far lower under hourglassing while the stiffness, set by the
+    /// centre's F and the constant hourglass stiffness, has not moved.
+    pub stress_jacobian: f64,
+    /// Ritz vector of the last stable-step estimate (warm start of the next one).
+    pub(super) ritz_vector: Vec<f64>,
+    /// h_crit of the bulk alone (interface springs left out) at t = 0 [s], measured when a glued
+    /// node's spring comes near the system's ω_max, i.e. when an interface may set the step.
+    pub h_crit_bulk: Option<f64>,
+    /// [`State::stress_jacobian`] when h_crit was last estimated.
+    pub(super) jacobian_at_estimate: f64,
+    /// The variable step's state: the previous interval, the growth goal, the glue's stiffness.
+    pub(super) step_control: StepControl,
+    /// ½ V_{n+½}ᵀ M V_{n+½}, for the energy-growth check.
+    pub kinetic_half: f64,
+    /// Initial energy plus Σ|ΔW_ext|: what may have entered the system [J].
+    pub(super) energy_budget: f64,
+    pub(super) last_external_work: f64,
+}
+
 /// Why a simulation could not be built or could not go on.
 #[derive(Debug, Clone, thiserror::Error)]
 pub enum SolverError {

@@ -66,12 +66,12 @@ impl<'a> StiffnessOperator<'a> {
     ) -> Self {
         let elements = ElementLoop {
             model: &sim.model,
-            classes: &sim.classes,
-            blocks: &sim.blocks,
-            team: sim.team.as_ref(),
-            prefetch: sim.prefetch,
+            classes: &sim.work.classes,
+            blocks: &sim.work.blocks,
+            team: sim.work.team.as_ref(),
+            prefetch: sim.work.prefetch,
         };
-        let nodes = sim.u.len();
+        let nodes = sim.state.u.len();
         if cache.mask.len() != 3 * nodes {
             cache.mask = prescribed_mask(sim);
             cache.sqrt_inv_m = (0..3 * nodes)
@@ -79,7 +79,7 @@ impl<'a> StiffnessOperator<'a> {
                     if cache.mask[k] {
                         0.0
                     } else {
-                        sim.inv_mass[k / 3].sqrt()
+                        sim.setup.inv_mass[k / 3].sqrt()
                     }
                 })
                 .collect();
@@ -99,7 +99,7 @@ impl<'a> StiffnessOperator<'a> {
             }
             // (The smallest J is not used here: no corner check.)
             elements.assemble(
-                &sim.u,
+                &sim.state.u,
                 &mut cache.f0,
                 false,
                 &mut cache.parts,
@@ -107,7 +107,7 @@ impl<'a> StiffnessOperator<'a> {
             );
         }
         cache.springs.clear();
-        for itf in sim.interface_nodes.iter().filter(|_| springs) {
+        for itf in sim.state.interface_nodes.iter().filter(|_| springs) {
             let law = &sim.model.interfaces[itf.interface as usize].law;
             let ks = itf.area * law.spring_stiffness(itf.alpha);
             let i = itf.node as usize;
@@ -134,7 +134,7 @@ impl<'a> StiffnessOperator<'a> {
     /// Sets `cache.start` to the Lanczos start: the previous Ritz vector `warm` (warm start)
     /// plus a deterministic pseudo-random vector so that every mode is represented.
     pub fn start_vector(&mut self, warm: Option<&[f64]>) {
-        let team = self.sim.team.as_ref();
+        let team = self.sim.work.team.as_ref();
         let c = &mut *self.cache;
         let n = c.mask.len();
         c.start.resize(n, 0.0);
@@ -195,19 +195,19 @@ impl<'a> StiffnessOperator<'a> {
     /// one thread, they cost the other a transfer from its cache at every assembly, which
     /// slowed the assembly markedly; docs: performance log).
     pub fn apply(&mut self, q: &[f64], y: &mut [f64]) -> f64 {
-        let team = self.sim.team.as_ref();
+        let team = self.sim.work.team.as_ref();
         let c = &mut *self.cache;
         // s = M^{-½} is 0 on the prescribed components, which removes them: x = sq and
         // y = sKx vanish there.
         let s = &c.sqrt_inv_m[..];
-        let u = self.sim.u.as_slice();
+        let u = self.sim.state.u.as_slice();
         let f0 = if self.forces_current {
-            self.sim.f_int.as_slice()
+            self.sim.state.f_int.as_slice()
         } else {
             c.f0.as_slice()
         };
         // Degree of freedom k = 3i + c (node i, component c) in the planes of F.
-        let nodes = self.sim.u.len();
+        let nodes = self.sim.state.u.len();
         let at = |p: &[f64], k: usize| p[(k % 3) * nodes + k / 3];
         let n = s.len();
         let x = |k: usize| q[k] * s[k];
@@ -257,8 +257,8 @@ impl<'a> StiffnessOperator<'a> {
 
 /// Prescribed degrees of freedom (node·3 + component), true where prescribed.
 fn prescribed_mask(sim: &Simulation) -> Vec<bool> {
-    let mut mask = vec![false; 3 * sim.u.len()];
-    for b in &sim.boundary.nodes {
+    let mut mask = vec![false; 3 * sim.state.u.len()];
+    for b in &sim.state.boundary.nodes {
         for c in 0..3 {
             if b.prescribed[c] != NONE {
                 mask[3 * b.node as usize + c] = true;

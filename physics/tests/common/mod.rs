@@ -28,10 +28,10 @@ pub fn face_nodes(model: &Model, name: &str) -> Vec<usize> {
 
 /// Centre-of-mass value Σmᵢxᵢ[c] / Σmᵢ of a nodal field's component c.
 pub fn centre_of_mass(sim: &Simulation, field: &Planes, c: usize) -> f64 {
-    let m: f64 = sim.mass.iter().sum();
+    let m: f64 = sim.setup.mass.iter().sum();
     field
         .rows()
-        .zip(&sim.mass)
+        .zip(&sim.setup.mass)
         .map(|(x, mi)| mi * x[c])
         .sum::<f64>()
         / m

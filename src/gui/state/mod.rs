@@ -247,10 +247,10 @@ impl App {
                 let sim = Simulation::new(m).map_err(|e| e.to_string())?;
                 Ok(Checked {
                     elements,
-                    interface_nodes: sim.interface_nodes.len(),
-                    h: sim.h,
-                    h_crit: sim.h_crit,
-                    steps: (end / sim.h).ceil(),
+                    interface_nodes: sim.state.interface_nodes.len(),
+                    h: sim.state.h,
+                    h_crit: sim.state.h_crit,
+                    steps: (end / sim.state.h).ceil(),
                     warnings: sim.advisories(),
                 })
             });

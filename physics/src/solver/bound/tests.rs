@@ -28,9 +28,9 @@ fn the_element_pass_builds_agree() {
             ];
             let sc = crate::scene::parse_scene(&text, "pull_off.toml", &set).unwrap();
             let mut sim = Simulation::new(sc.model).unwrap();
-            for k in 0..sim.u.len() {
+            for k in 0..sim.state.u.len() {
                 let x = std::array::from_fn(|i| 0.02 * rand(3 * k as u64 + i as u64));
-                sim.u.set(k, x);
+                sim.state.u.set(k, x);
             }
             let _ = sim.stiffness_bound(); // fills the class constants
             let mat = sim.model.material;
@@ -38,9 +38,9 @@ fn the_element_pass_builds_agree() {
                 mat: &mat,
                 full: rule == "full",
                 elements: &sim.model.mesh.elements,
-                classes: &sim.classes,
-                class_g: &sim.step_control.bound.class_g,
-                u: &sim.u,
+                classes: &sim.work.classes,
+                class_g: &sim.state.step_control.bound.class_g,
+                u: &sim.state.u,
             };
             let chunks = sim.model.mesh.elements.len().div_ceil(ELEMENT_CHUNK);
             let builds = element_pass_chunk_builds();
@@ -84,29 +84,29 @@ fn the_one_point_lanes_are_the_element_bound() {
                 }
             }
             let mut sim = Simulation::new(model_).unwrap();
-            assert_eq!(sim.classes.data.len() > 1, graded);
-            for k in 0..sim.u.len() {
+            assert_eq!(sim.work.classes.data.len() > 1, graded);
+            for k in 0..sim.state.u.len() {
                 let x = std::array::from_fn(|i| 0.004 * rand(3 * k as u64 + i as u64));
-                sim.u.set(k, x);
+                sim.state.u.set(k, x);
             }
             let _ = sim.stiffness_bound(); // fills the class constants
             let mat = sim.model.material;
             let elements = &sim.model.mesh.elements;
-            let class_g = &sim.step_control.bound.class_g;
+            let class_g = &sim.state.step_control.bound.class_g;
             let pass = ElementPass {
                 mat: &mat,
                 full: false,
                 elements,
-                classes: &sim.classes,
+                classes: &sim.work.classes,
                 class_g,
-                u: &sim.u,
+                u: &sim.state.u,
             };
             for c in 0..elements.len().div_ceil(ELEMENT_CHUNK) {
                 let lanes = unsafe { element_pass_chunk(&pass, c) };
                 let range = c * ELEMENT_CHUNK..((c + 1) * ELEMENT_CHUNK).min(elements.len());
                 let each = range.fold(0.0f64, |m, e| {
-                    let ue = elements[e].map(|n| sim.u.get(n as usize));
-                    m.max(centre_bound(&mat, &sim.classes, class_g, e, &ue))
+                    let ue = elements[e].map(|n| sim.state.u.get(n as usize));
+                    m.max(centre_bound(&mat, &sim.work.classes, class_g, e, &ue))
                 });
                 assert!(each > 0.0 && each.is_finite(), "{model} {graded}: {each}");
                 assert_eq!(

@@ -35,37 +35,38 @@ impl Simulation {
     /// were allocated at setup, and each leaves `boundary.forming` by a swap.
     pub(in crate::solver) fn form_glue(&mut self) {
         let mut i = 0;
-        while i < self.boundary.forming.len() {
-            let j = self.boundary.forming[i] as usize;
-            if self.interface_nodes[j].contact == ContactStatus::Open {
+        while i < self.state.boundary.forming.len() {
+            let j = self.state.boundary.forming[i] as usize;
+            if self.state.interface_nodes[j].contact == ContactStatus::Open {
                 i += 1;
             } else {
                 self.form_glue_at(j);
-                self.boundary.forming.swap_remove(i);
+                self.state.boundary.forming.swap_remove(i);
             }
         }
     }
 
     /// Glues interface node `j` where it is at tₙ₊₁ (module docs).
     fn form_glue_at(&mut self, j: usize) {
-        let itf = &self.interface_nodes[j];
+        let itf = &self.state.interface_nodes[j];
         let spec = &self.model.interfaces[itf.interface as usize];
         let k = spec.plane;
         let g0 = spec.law.g_n(0.0);
         let i = itf.node as usize;
-        let x: [f64; 3] = std::array::from_fn(|c| self.model.mesh.nodes[i][c] + self.u.get(i)[c]);
-        let ms = &mut self.scratch.moulds;
+        let x: [f64; 3] =
+            std::array::from_fn(|c| self.model.mesh.nodes[i][c] + self.state.u.get(i)[c]);
+        let ms = &mut self.state.scratch.moulds;
         let bonded = if !ms.any_general() || ms.plane[k] {
-            sub(x, self.scratch.plane_disp[k])
+            sub(x, self.state.scratch.plane_disp[k])
         } else {
             let mould = &self.model.planes[k];
-            let pose = ms.pose_at(k, self.time);
+            let pose = ms.pose_at(k, self.state.time);
             let geo = &mut ms.interface[j];
             geo.normal0 = mat_t_vec(&pose.rotation, geo.normal);
             (geo.glue_normal, geo.anchor) = (geo.normal, x);
             pose.unplace(mould.pivot(), x)
         };
-        let itf = &mut self.interface_nodes[j];
+        let itf = &mut self.state.interface_nodes[j];
         itf.formed = true;
         itf.bonded_point = bonded;
         (itf.alpha, itf.alpha_next, itf.alpha_static) = (0.0, 0.0, 0.0);

@@ -14,12 +14,12 @@ impl Simulation {
     /// every mould is a plain plane): the glue normal N₀ at each anchor y₀ (the closest mould
     /// point to the node at t₀, already in `bonded_point`).
     pub(in crate::solver) fn mould_geometry_at_start(&mut self) {
-        let ms = &mut self.scratch.moulds;
+        let ms = &mut self.state.scratch.moulds;
         if !ms.any_general() {
             return;
         }
         let planes = &self.model.planes;
-        ms.interface = (self.interface_nodes.iter())
+        ms.interface = (self.state.interface_nodes.iter())
             .map(|itf| {
                 let k = self.model.interfaces[itf.interface as usize].plane;
                 let n0 = planes[k].project0(itf.bonded_point).normal;
@@ -31,7 +31,7 @@ impl Simulation {
                 }
             })
             .collect();
-        ms.contact = vec![NodeGeometry::default(); self.contact_nodes.len()];
+        ms.contact = vec![NodeGeometry::default(); self.state.contact_nodes.len()];
         // The lists of nearby triangles, allocated once, when some mould is triangulated.
         if planes.iter().any(|m| matches!(m.shape, Shape::Surface(_))) {
             ms.near_interface = NearLists::new(ms.interface.len());
@@ -46,19 +46,19 @@ impl Simulation {
     /// planes); on a triangulated mould, the faces a node inside the mould is behind at a
     /// concave edge or vertex (model §7.5), its constraints in stage 7.
     pub(in crate::solver) fn mould_gaps(&mut self) {
-        if !self.scratch.moulds.any_general() {
+        if !self.state.scratch.moulds.any_general() {
             return;
         }
-        let (nodes, t) = (&self.model.mesh.nodes, self.time);
-        let (planes, u) = (&self.model.planes, &self.u);
-        let sc = &mut self.scratch;
+        let (nodes, t) = (&self.model.mesh.nodes, self.state.time);
+        let (planes, u) = (&self.model.planes, &self.state.u);
+        let sc = &mut self.state.scratch;
         let (ms, tol) = (&mut sc.moulds, &sc.plane_tol);
         let snap = |g: f64, tol: f64| if g.abs() <= tol { 0.0 } else { g };
         let place = |i: usize| -> [f64; 3] {
             let ui = u.get(i);
             std::array::from_fn(|c| nodes[i][c] + ui[c])
         };
-        for (j, itf) in self.interface_nodes.iter_mut().enumerate() {
+        for (j, itf) in self.state.interface_nodes.iter_mut().enumerate() {
             let k = self.model.interfaces[itf.interface as usize].plane;
             if ms.plane[k] {
                 continue;
@@ -76,7 +76,7 @@ impl Simulation {
             itf.gap = snap(dot(pr.normal, sub(x, pr.point)), tol[k]);
             ms.interface[j] = geo;
         }
-        for (j, cn) in self.contact_nodes.iter_mut().enumerate() {
+        for (j, cn) in self.state.contact_nodes.iter_mut().enumerate() {
             let k = cn.plane as usize;
             if ms.plane[k] {
                 continue;
@@ -95,12 +95,12 @@ impl Simulation {
     /// node's list of nearby triangles: the same results (see
     /// [`crate::mould::SurfaceMesh::project_near`]), slower; for measuring the lists only.
     pub fn set_mould_queries_cold(&mut self, cold: bool) {
-        self.scratch.moulds.cold = cold;
+        self.state.scratch.moulds.cold = cold;
     }
 
     /// What the lists of nearby triangles did since the start (interface nodes, contact nodes).
     pub fn mould_near_stats(&self) -> [crate::mould::surface::NearStats; 2] {
-        let ms = &self.scratch.moulds;
+        let ms = &self.state.scratch.moulds;
         [ms.near_interface.stats, ms.near_contact.stats]
     }
 
@@ -108,11 +108,11 @@ impl Simulation {
     /// the mould's normal at the anchor turned with the mould (R N₀).
     #[inline]
     pub(in crate::solver) fn glue_normal(&self, j: usize) -> [f64; 3] {
-        let k = self.model.interfaces[self.interface_nodes[j].interface as usize].plane;
-        if self.scratch.moulds.plane[k] {
+        let k = self.model.interfaces[self.state.interface_nodes[j].interface as usize].plane;
+        if self.state.scratch.moulds.plane[k] {
             self.model.planes[k].normal
         } else {
-            self.scratch.moulds.interface[j].glue_normal
+            self.state.scratch.moulds.interface[j].glue_normal
         }
     }
 
@@ -124,9 +124,9 @@ impl Simulation {
     /// [`Loading::isotropic`]: crate::interface::damage::Loading::isotropic
     #[inline]
     pub(in crate::solver) fn glue_normal_before(&self, j: usize) -> Option<[f64; 3]> {
-        let itf = &self.interface_nodes[j];
+        let itf = &self.state.interface_nodes[j];
         let spec = &self.model.interfaces[itf.interface as usize];
-        let ms = &self.scratch.moulds;
+        let ms = &self.state.scratch.moulds;
         if ms.plane[spec.plane] || spec.law.loading().isotropic() || !itf.formed {
             return None;
         }
@@ -141,7 +141,7 @@ impl Simulation {
         itf: Option<usize>,
         cn: Option<usize>,
     ) -> ([f64; 3], [f64; 3]) {
-        let ms = &self.scratch.moulds;
+        let ms = &self.state.scratch.moulds;
         if ms.plane[k] {
             return ([0.0; 3], [0.0; 3]);
         }
@@ -154,7 +154,7 @@ impl Simulation {
 
     /// The velocity of mould `k` at the point p over the intervals before and after tₙ₊₁.
     pub(in crate::solver) fn mould_velocities(&self, k: usize, p: [f64; 3]) -> [[f64; 3]; 2] {
-        let sc = &self.scratch;
+        let sc = &self.state.scratch;
         if sc.moulds.plane[k] {
             [sc.plane_v_old[k], sc.plane_v_new[k]]
         } else {
@@ -167,9 +167,9 @@ impl Simulation {
     pub fn mould_works(&self) -> Vec<(String, f64)> {
         let planes = &self.model.planes;
         if planes.len() == 1 {
-            return vec![(planes[0].name.clone(), self.ledger.plane_work.value)];
+            return vec![(planes[0].name.clone(), self.state.ledger.plane_work.value)];
         }
-        let works = &self.scratch.moulds.work;
+        let works = &self.state.scratch.moulds.work;
         (planes.iter().zip(works))
             .map(|(p, w)| (p.name.clone(), w.value))
             .collect()

@@ -11,15 +11,15 @@ fn model(name: &str, set: &[&str]) -> std::sync::Arc<Model> {
 /// The bits of the fields a step writes: U, V, F_int, every interface node's α, α_next, jump
 /// and impulse, every contact node's impulse, the ledger, t, n, h.
 fn bits(sim: &Simulation) -> Vec<u64> {
-    let mut out: Vec<u64> = [sim.time, sim.h, sim.h_crit]
+    let mut out: Vec<u64> = [sim.state.time, sim.state.h, sim.state.h_crit]
         .iter()
         .map(|x| x.to_bits())
         .collect();
-    out.push(sim.step_count);
-    for p in [&sim.u, &sim.v, &sim.f_int] {
+    out.push(sim.state.step_count);
+    for p in [&sim.state.u, &sim.state.v, &sim.state.f_int] {
         out.extend((0..p.len()).flat_map(|i| p.get(i)).map(f64::to_bits));
     }
-    for n in &sim.interface_nodes {
+    for n in &sim.state.interface_nodes {
         let xs = [n.alpha, n.alpha_next, n.alpha_static, n.gap, n.stiffness];
         out.extend(
             xs.iter()
@@ -28,10 +28,10 @@ fn bits(sim: &Simulation) -> Vec<u64> {
                 .map(|x| x.to_bits()),
         );
     }
-    for n in &sim.contact_nodes {
+    for n in &sim.state.contact_nodes {
         out.extend(n.contact_impulse.iter().map(|x| x.to_bits()));
     }
-    let l = &sim.ledger;
+    let l = &sim.state.ledger;
     let xs = [l.kinetic, l.strain, l.interface_stored, l.damage_dissipated];
     out.extend(xs.iter().map(|x| x.to_bits()));
     out.push(l.relative_residual().to_bits());
