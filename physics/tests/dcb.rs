@@ -22,7 +22,7 @@
 //! Δa = (E b h³ δ / (8P))^{1/3} − a_front and reports it against χh (χ ≈ 0.9 for an isotropic
 //! arm with ν = 0.3).
 
-use crate::common::{mean, slope};
+use crate::common::{mean, ruptured_front, slope};
 use crate::validation::{curve, record, Tol};
 use decohesion_physics::scene::load_scene;
 use decohesion_physics::solver::Simulation;
@@ -57,17 +57,10 @@ fn dcb_propagation_follows_beam_theory_and_dissipates_g_c() {
     let ebh3 = young * b * h * h * h;
     let k = b * (young * h.powi(3) * gc / 12.0).sqrt();
     let branch = |delta: f64| (8.0 * k.powi(3) / (ebh3 * delta)).sqrt();
-    let mesh = sim.model.mesh.clone();
     let mut samples: Vec<Sample> = vec![];
     while !sim.finished() {
         sim.step().unwrap();
-        let front = sim
-            .state
-            .interface_nodes
-            .iter()
-            .filter(|itf| itf.alpha >= law.u_r)
-            .map(|itf| mesh.nodes[itf.node as usize][0])
-            .fold(a0, f64::max);
+        let front = ruptured_front(&sim, a0);
         let e = sim.energies();
         samples.push(Sample {
             delta: 2.0 * sim.model.displacements[0].history.value(sim.state.time)[0],

@@ -85,13 +85,7 @@ fn bar_rebounds_after_2l_over_c_without_penetration() {
             min_gap = min_gap.min(z_ref[i] + sim.state.u.get(i)[2]);
         }
         let e = sim.energies();
-        let p: f64 = sim
-            .state
-            .v
-            .rows()
-            .zip(&sim.setup.mass)
-            .map(|(v, m)| m * v[2])
-            .sum();
+        let p = momentum_z(&sim);
         history.push((
             sim.state.step_count,
             e.kinetic + e.strain,
@@ -283,13 +277,7 @@ fn dropped_column_scene() {
             .iter()
             .map(|&i| z_ref[i] + sim.state.u.get(i)[2])
             .fold(f64::INFINITY, f64::min);
-        let p: f64 = sim
-            .state
-            .v
-            .rows()
-            .zip(&sim.setup.mass)
-            .map(|(v, m)| m * v[2])
-            .sum();
+        let p = momentum_z(&sim);
         rows.push((
             sim.state.step_count,
             sim.state.time,
@@ -459,4 +447,12 @@ fn dropped_column_scene() {
         "second landing at {:.6} s, ballistic {t2:.6} s",
         rows[a1].1
     );
+}
+
+/// The body's momentum along z, Σ m V_z [kg·m/s].
+fn momentum_z(sim: &Simulation) -> f64 {
+    (sim.state.v.rows())
+        .zip(&sim.setup.mass)
+        .map(|(v, m)| m * v[2])
+        .sum()
 }

@@ -1,7 +1,7 @@
 //! The peel scene (scenes/peel.toml) at 90° and 45° against Kendall's energy balance, and at a
 //! laboratory speed with mass scaling.
 
-use crate::common::{mean, slope};
+use crate::common::{mean, ruptured_front, slope};
 use crate::teaching_scenes::start;
 use crate::validation::{curve, record, Tol};
 use decohesion_physics::solver::Simulation;
@@ -145,13 +145,7 @@ fn kendall_peel(mut sim: Simulation, case: &str, angle: f64, tol: PeelTolerances
     while !sim.finished() {
         sim.step().unwrap();
         // The front: the largest reference x of a ruptured interface node.
-        let front = sim
-            .state
-            .interface_nodes
-            .iter()
-            .filter(|itf| itf.alpha >= law.u_r)
-            .map(|itf| mesh.nodes[itf.node as usize][0])
-            .fold(0.0, f64::max);
+        let front = ruptured_front(&sim, 0.0);
         if samples.last().is_some_and(|s| front < s[1]) {
             front_went_back.get_or_insert(sim.state.time);
         }

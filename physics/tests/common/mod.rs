@@ -38,6 +38,18 @@ pub fn centre_of_mass(sim: &Simulation, field: &Planes, c: usize) -> f64 {
 }
 
 /// A box with no loads, no planes: the caller adds what the test needs.
+/// The front of a peel or a crack along x: the largest reference x of a ruptured interface node
+/// (α ≥ u_r of its interface), `from` when none is further.
+pub fn ruptured_front(sim: &Simulation, from: f64) -> f64 {
+    let nodes = &sim.model.mesh.nodes;
+    sim.state
+        .interface_nodes
+        .iter()
+        .filter(|itf| itf.alpha >= sim.model.interfaces[itf.interface as usize].law.u_r)
+        .map(|itf| nodes[itf.node as usize][0])
+        .fold(from, f64::max)
+}
+
 pub fn bare_box(size: [f64; 3], cells: [usize; 3], mat: Material, end_time: f64) -> Model {
     Model {
         name: "test".into(),
