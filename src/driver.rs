@@ -10,6 +10,7 @@
 
 use crate::checkpoint::Checkpointer;
 use crate::output::series::SeriesWriter;
+use crate::output::watch::Watch;
 use crate::output::{Cadence, Ending, FrameClock, Output, OutputError, OutputReport, Snapshot};
 use crate::record::{ColourField, Recorder, Sink};
 use crate::report::RunSummary;
@@ -36,6 +37,9 @@ pub struct Plan {
     /// The Rerun recording's id: a checkpointed run's, kept in its folder so that the resumed
     /// run's recording continues it (`None`: a random one).
     pub recording_id: Option<String>,
+    /// Nodes to follow (`--watch`, 0-based mesh indices): their values go into the series'
+    /// rows and the recording's frames ([`Watch`]).
+    pub watch: Vec<u32>,
 }
 
 /// Told of every step, on the solver thread: the command line's progress bar, the explorer's
@@ -71,25 +75,28 @@ pub struct Driver {
     started: Instant,
     /// Writes the run's checkpoints (`run --checkpoint`).
     checkpoints: Option<Checkpointer>,
+    /// The watched nodes, read into every snapshot ([`Snapshot::watched`]).
+    watch: Watch,
 }
 
 impl Driver {
     /// Opens the outputs of `plan` for a simulation that is set up, and takes the frame of the
-    /// current state (step 0). ParaView first, then the series: a directory or a file that
-    /// cannot be written is refused before a viewer starts or a capture file is created.
-    /// `started` is when the run started.
+    /// current state (step 0). The watched nodes first, then ParaView, then the series: a node
+    /// that cannot be watched, a directory or a file that cannot be written is refused before a
+    /// viewer starts or a capture file is created. `started` is when the run started.
     pub fn open(
         plan: &Plan,
         scene: &Scene,
         sim: &Simulation,
         started: Instant,
     ) -> Result<Driver, OutputError> {
+        let watch = Watch::new(sim, &plan.watch)?;
         let paraview = match &plan.paraview {
             Some(dir) => Some(VtkWriter::new(dir, sim)?),
             None => None,
         };
         let series = match &plan.series {
-            Some(path) => Some(SeriesWriter::new(path, plan.cadence, sim)?),
+            Some(path) => Some(SeriesWriter::new(path, plan.cadence, sim, &watch)?),
             None => None,
         };
         let mut outputs: Vec<Box<dyn Output>> = Vec::new();
@@ -100,12 +107,13 @@ impl Driver {
                 sim,
                 *colour,
                 plan.recording_id.clone(),
+                &watch,
             )?));
         }
         // The recording's error comes first when both fail.
         outputs.extend(paraview.map(|w| Box::new(w) as Box<dyn Output>));
         outputs.extend(series.map(|w| Box::new(w) as Box<dyn Output>));
-        Driver::with_outputs(outputs, plan.cadence, sim, started)
+        Driver::watching(outputs, plan.cadence, sim, started, watch)
     }
 
     /// A driver over outputs built by the caller; tells them of the current state and takes
@@ -116,7 +124,19 @@ impl Driver {
         sim: &Simulation,
         started: Instant,
     ) -> Result<Driver, OutputError> {
+        Driver::watching(outputs, cadence, sim, started, Watch::default())
+    }
+
+    /// [`Driver::with_outputs`] whose snapshots carry the readings of `watch`'s nodes.
+    fn watching(
+        outputs: Vec<Box<dyn Output>>,
+        cadence: Cadence,
+        sim: &Simulation,
+        started: Instant,
+        watch: Watch,
+    ) -> Result<Driver, OutputError> {
         let mut driver = Driver {
+            watch,
             velocities: outputs.iter().any(|o| o.velocities()),
             frames: outputs.iter().any(|o| o.frames()),
             outputs,
@@ -155,10 +175,14 @@ impl Driver {
         told
     }
 
-    /// The snapshot of `sim` if its step was not taken yet and some output takes frames.
+    /// The snapshot of `sim` if its step was not taken yet and some output takes frames, with
+    /// the watched nodes' readings.
     fn snapshot(&mut self, sim: &Simulation) -> Option<Arc<Snapshot>> {
-        (self.clock.take(sim.state.step_count, sim.state.time) && self.frames)
-            .then(|| Arc::new(Snapshot::capture(sim, self.spent, self.velocities)))
+        (self.clock.take(sim.state.step_count, sim.state.time) && self.frames).then(|| {
+            let mut s = Snapshot::capture(sim, self.spent, self.velocities);
+            s.watched = self.watch.readings(sim);
+            Arc::new(s)
+        })
     }
 
     /// Hands the state of `sim` to every output as one frame (once per step at most): every

@@ -360,6 +360,25 @@ struct RecordArgs {
     /// Complete up to the last step when the run fails or is cancelled with Ctrl-C.
     #[arg(long, value_name = "FILE.csv")]
     series: Option<PathBuf>,
+    /// Follow these nodes over the run, e.g. --watch 0,17 (0-based mesh indices, as the summary
+    /// and the ParaView files number them; each an interface or a contact node).
+    ///
+    /// Per interface node: its jump [u] (x, y, z, m), the glue's traction −R_d and the contact's
+    /// R_c/h on the solid (x, y, z each, Pa), its damage α (m), its gap g (m), its state (0
+    /// elastic, 1 transition, 2 ruptured, 3 unformed) and its contact status (0 open, 1 stick,
+    /// 2 slip); per contact-only node its contact traction, gap and status. Written as columns
+    /// of --series (`jump_x_node17 [m]`, …, `state_node17 [-]`, `contact_node17 [-]`; a node
+    /// of several interfaces or contact faces once per mould, `…_node17_<mould>`) and to the
+    /// recording under nodes/<N>/ (jump, traction, alpha, gap, status; each change of state
+    /// or status named in nodes/<N>/log). Needs --series or a recording.
+    #[arg(
+        long,
+        value_name = "NODE,...",
+        value_delimiter = ',',
+        value_parser = node_index,
+        allow_negative_numbers = true
+    )]
+    watch: Vec<u32>,
     /// Field that colours the surface: displacement (|U|, m), von_mises (Pa), jacobian (J).
     #[arg(long, value_name = "FIELD", default_value = "displacement")]
     colour: decohesion::record::ColourField,
@@ -370,6 +389,14 @@ fn positive_usize(s: &str) -> Result<usize, String> {
         Ok(v) if v >= 1 => usize::try_from(v).map_err(|_| format!("{v} is too large")),
         Ok(v) => Err(format!("must be an integer ≥ 1 (got {v})")),
         Err(e) => Err(format!("not an integer: {e}")),
+    }
+}
+
+fn node_index(s: &str) -> Result<u32, String> {
+    match s.trim().parse::<i128>() {
+        Ok(v) if v >= 0 => u32::try_from(v).map_err(|_| format!("{v} is not a node index")),
+        Ok(v) => Err(format!("a node index is an integer ≥ 0 (got {v})")),
+        Err(e) => Err(format!("not a node index: {e}")),
     }
 }
 
@@ -414,6 +441,7 @@ impl RecordArgs {
             recording: self.sink().map(|s| (s, self.colour)),
             series: self.series.clone(),
             recording_id: None,
+            watch: self.watch.clone(),
         }
     }
 }

@@ -47,6 +47,7 @@ mod sweep;
 mod tradeoff;
 mod vtk;
 mod vtk_moulds;
+mod watch;
 
 /// Every `tests/*.rs` is a module of this binary or a test binary of its own in `Cargo.toml`.
 #[test]

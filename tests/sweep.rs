@@ -4,7 +4,7 @@
 //! value (read back with the SDK, and checked by `rerun rrd verify` when the CLI is installed);
 //! a failed run is a row; Ctrl-C writes the rows done.
 
-use crate::common::capture::read_capture;
+use crate::common::capture::{read_capture, verify};
 use crate::common::cli::{decohesion, scratch, summary, BIN};
 use serde_json::Value;
 use std::io::{BufRead, BufReader};
@@ -161,42 +161,6 @@ fn each_row_is_the_run_of_its_values() {
         );
     }
     verify(&rrd);
-}
-
-/// `rerun rrd verify` on a capture, with the CLI of the CI's virtual environment
-/// (`DECOHESION_VENV`, default ~/.cache/decohesion-venv; `.ci/run` installs it) or on PATH.
-fn verify(rrd: &Path) {
-    let venv = std::env::var("DECOHESION_VENV").unwrap_or_else(|_| {
-        format!(
-            "{}/.cache/decohesion-venv",
-            std::env::var("HOME").unwrap_or_default()
-        )
-    });
-    let venv_cli = Path::new(&venv).join("bin/rerun");
-    let cli = if venv_cli.exists() {
-        venv_cli
-    } else if let Some(p) = decohesion::record::find_on_path("rerun") {
-        p
-    } else {
-        // CI installs the CLI before the tests (`.ci/run`): there, a missing CLI is a failure.
-        assert!(
-            std::env::var("CI").is_err(),
-            "CI is set and no rerun CLI was found in {venv}/bin or on PATH (rerun-sdk==0.36.3)"
-        );
-        eprintln!("no rerun CLI (install rerun-sdk==0.36.3): `rrd verify` skipped, read back only");
-        return;
-    };
-    let out = Command::new(&cli)
-        .args(["rrd", "verify"])
-        .arg(rrd)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "rerun rrd verify: {}{}",
-        String::from_utf8_lossy(&out.stdout),
-        String::from_utf8_lossy(&out.stderr)
-    );
 }
 
 /// Unknown key, non-number, empty list, empty value, a combination the scene refuses: each

@@ -121,12 +121,14 @@ pub fn output_error(e: &OutputError, opening: bool) -> PyErr {
         (OutputError::Paraview(_), false) => "ParaView output: ",
         (OutputError::Series(_), _) => "series: ",
         (OutputError::Checkpoint(_), _) => "checkpoint: ",
+        (OutputError::Watch(_), _) => "",
     };
     let message = match e {
         OutputError::Recording(e) => with_sources(e),
         OutputError::Paraview(e) => with_sources(e),
         OutputError::Series(e) => with_sources(e),
         OutputError::Checkpoint(e) => with_sources(e),
+        OutputError::Watch(e) => with_sources(e),
     };
     PyOSError::new_err(format!("{prefix}{message}"))
 }

@@ -153,6 +153,7 @@ impl Simulation {
             },
             series,
             recording_id: None,
+            watch: Vec::new(),
         };
         self.resume(py)?;
         let bar = match progress {

@@ -45,6 +45,14 @@ pub fn run(
     if let Some(p) = summary_path {
         check_writable(p)?;
     }
+    if !plan.watch.is_empty() && plan.series.is_none() && plan.recording.is_none() {
+        let nodes: Vec<String> = plan.watch.iter().map(u32::to_string).collect();
+        bail!(
+            "--watch {}: nothing to write the watched nodes to; add --series FILE.csv or a \
+             recording (--save FILE.rrd, --spawn or --connect)",
+            nodes.join(",")
+        );
+    }
     let record = match checkpoints {
         Checkpoints::Resume { dir, .. } => Some(RunRecord::read(dir)?),
         _ => None,
@@ -110,6 +118,7 @@ pub fn run(
         OutputError::Paraview(e) => anyhow::Error::new(e),
         OutputError::Series(e) => anyhow::Error::new(e).context("--series"),
         OutputError::Checkpoint(e) => anyhow::Error::new(e).context("--checkpoint"),
+        OutputError::Watch(e) => anyhow::Error::new(e),
     })?;
     let driver = match checkpointer {
         Some(c) => driver.checkpoints(c),
@@ -145,6 +154,7 @@ pub fn run(
         Some(OutputError::Paraview(e)) => bail!(anyhow::Error::new(e).context("ParaView output")),
         Some(OutputError::Series(e)) => bail!(anyhow::Error::new(e).context("--series")),
         Some(OutputError::Checkpoint(e)) => bail!(anyhow::Error::new(e).context("checkpoint")),
+        Some(OutputError::Watch(e)) => bail!(anyhow::Error::new(e)),
         None => {}
     }
     if let Err(e) = done.outcome {

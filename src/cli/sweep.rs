@@ -219,6 +219,7 @@ impl Runner<'_> {
             recording: None,
             series: None,
             recording_id: None,
+            watch: Vec::new(),
         };
         let driver = match Driver::open(&plan, &scene, &sim, started) {
             Ok(d) => d,

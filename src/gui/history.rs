@@ -301,6 +301,7 @@ pub fn output_error_text(e: &OutputError) -> String {
         OutputError::Paraview(e) => format!("ParaView files: {e}"),
         OutputError::Series(e) => format!("series: {e}"),
         OutputError::Checkpoint(e) => format!("checkpoint: {e}"),
+        OutputError::Watch(e) => e.to_string(),
     }
 }
 

@@ -241,6 +241,7 @@ fn run_job(
         recording: sink.map(|s| (s, ColourField::Displacement)),
         series: None,
         recording_id: None,
+        watch: Vec::new(),
     };
     let driver = match Driver::open(&plan, scene, &sim, started) {
         Ok(d) => d,

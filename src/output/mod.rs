@@ -5,7 +5,8 @@
 //! offers the driver ([`Output`]), and what each output reports at its end or fails with
 //! ([`reports`]). Uses neither the Rerun SDK nor any file format itself (the recorder's error
 //! only holds the SDK's error type), except the time series of the run's scalars ([`series`],
-//! `--series FILE.csv`).
+//! `--series FILE.csv`). The nodes a run watches (`--watch`) and what is read of one are
+//! [`watch`].
 
 pub mod fields;
 #[cfg(not(target_arch = "wasm32"))]
@@ -14,6 +15,7 @@ pub mod reports;
 pub mod series;
 pub mod snapshot;
 pub mod surface;
+pub mod watch;
 pub mod worker;
 
 pub use snapshot::{InterfaceSnapshot, Snapshot};
@@ -27,6 +29,7 @@ use {
     reports::{RecordError, RecordingReport, VtkError, VtkReport},
     series::{SeriesError, SeriesReport},
     std::sync::Arc,
+    watch::WatchError,
 };
 
 /// One output of a run (the Rerun recording, the ParaView files), fed by the run driver
@@ -99,6 +102,9 @@ pub enum OutputError {
     Series(#[from] SeriesError),
     #[error("{0}")]
     Checkpoint(#[from] decohesion_physics::solver::CheckpointError),
+    /// A node `--watch` cannot follow (refused before the run).
+    #[error("{0}")]
+    Watch(#[from] WatchError),
 }
 
 /// Memory that frames waiting for an output's writer thread may take before the solver waits

@@ -1,6 +1,7 @@
 //! The run's scalars as a time series: one row per recorded step of the time, the step, the
 //! imposed displacements and reactions of the prescribed conditions, each mould's force and
-//! moment, every energy of the ledger and the interface's state counts. Two consumers share the
+//! moment, every energy of the ledger and the interface's state counts, then the watched nodes'
+//! values (`--watch`, [`super::watch`]). Two consumers share the
 //! columns ([`Columns`]) and the values of a row ([`Columns::row`]), so they agree to the bit:
 //! - [`SeriesWriter`], the output of `decohesion run --series FILE.csv` fed by the run driver
 //!   ([`crate::driver`]): a CSV file streamed row by row (memory stays flat), whose every line
@@ -12,6 +13,7 @@
 //! correct float parser gives the history's values to the bit.
 
 use super::snapshot::mould_loads;
+use super::watch::Watch;
 use super::{Cadence, Ending, FrameClock, Output, OutputError, OutputReport, Snapshot};
 use crate::energy::EnergySnapshot;
 use crate::interface::contact::ContactStatus;
@@ -64,6 +66,8 @@ pub struct Columns {
     pub integer: Vec<bool>,
     /// Whether the series lists each mould's friction (several moulds).
     mould_friction: bool,
+    /// The watched nodes, whose columns end the row.
+    watch: Watch,
 }
 
 impl Columns {
@@ -80,6 +84,13 @@ impl Columns {
     ///   nodes by state, and `n_open [-]`, `n_stick [-]`, `n_slip [-]` nodes by contact status
     ///   (interface and contact-only nodes).
     pub fn new(sim: &Simulation) -> Columns {
+        Columns::watching(sim, &Watch::default())
+    }
+
+    /// [`Columns::new`] followed by the columns of the watched nodes ([`Watch::columns`]:
+    /// e.g. `jump_x_node17 [m]`, `traction_glue_z_node17 [Pa]`, `alpha_node17 [m]`,
+    /// `state_node17 [-]`).
+    pub fn watching(sim: &Simulation, watch: &Watch) -> Columns {
         let m = &sim.model;
         let mut names: Vec<String> = vec!["t [s]".into(), "step [-]".into(), "h [s]".into()];
         let mut integer = vec![false, true, false];
@@ -117,10 +128,14 @@ impl Columns {
             names.push(format!("n_{c} [-]"));
             integer.push(true);
         }
+        let (watched, whole) = watch.columns();
+        names.extend(watched);
+        integer.extend(whole);
         Columns {
             names,
             integer,
             mould_friction,
+            watch: watch.clone(),
         }
     }
 
@@ -167,6 +182,7 @@ impl Columns {
             }] += 1;
         }
         out.extend(status.map(|n| n as f64));
+        self.watch.row(sim, out);
         debug_assert_eq!(out.len(), self.len());
     }
 
@@ -294,7 +310,8 @@ pub struct SeriesWriter {
 }
 
 impl SeriesWriter {
-    /// Creates (or truncates) the file at `path` and writes the header. Rows are taken at every
+    /// Creates (or truncates) the file at `path` and writes the header, with the columns of the
+    /// `watch`ed nodes. Rows are taken at every
     /// step with [`Cadence::Default`] (no `--every`/`--fps`), else at `cadence`, the frames'
     /// clock (the same steps as the recording). The caller then feeds it steps
     /// ([`Output::step`]). A file that cannot be created is an error naming it.
@@ -302,6 +319,7 @@ impl SeriesWriter {
         path: &Path,
         cadence: Cadence,
         sim: &Simulation,
+        watch: &Watch,
     ) -> Result<SeriesWriter, SeriesError> {
         let started = Instant::now();
         let error = |what| {
@@ -312,7 +330,7 @@ impl SeriesWriter {
             }
         };
         let mut file = File::create(path).map_err(error("cannot create the file"))?;
-        let columns = Columns::new(sim);
+        let columns = Columns::watching(sim, watch);
         let header = columns.header();
         file.write_all(header.as_bytes())
             .map_err(error("cannot write the header"))?;
@@ -452,6 +470,7 @@ mod tests {
             names: vec!["t [s]".into(), "F_a,b [N]".into(), "q\"x".into()],
             integer: vec![false; 3],
             mould_friction: false,
+            watch: Watch::default(),
         };
         assert_eq!(c.header(), "t [s],\"F_a,b [N]\",\"q\"\"x\"\n");
         assert_eq!(name_part("z+"), "z_plus");

@@ -4,6 +4,7 @@
 use crate::energy::EnergySnapshot;
 use crate::interface::contact::ContactStatus;
 use crate::law::InterfaceState;
+use crate::output::watch::Reading;
 use crate::solver::{Simulation, StageTimes, StateCounts};
 use std::time::Duration;
 use web_time::Instant;
@@ -39,6 +40,9 @@ pub struct Snapshot {
     /// Reaction of each prescribed-displacement condition [N].
     pub reactions: Vec<f64>,
     pub counts: StateCounts,
+    /// The watched nodes' entries (`run --watch`), in the order of the run's
+    /// `output::watch::Watch`; set by the run driver, empty otherwise.
+    pub watched: Vec<Reading>,
     pub stages: StageTimes,
     /// Solver-thread time spent on the outputs before this frame [s] (the `logging` stage of
     /// the recording's timing series).
@@ -107,6 +111,7 @@ impl Snapshot {
             energies: sim.energies(),
             reactions: sim.stats.reactions.clone(),
             counts: sim.state_counts(),
+            watched: Vec::new(),
             stages: sim.stats.stage_times.clone(),
             output_seconds: output_time.as_secs_f64(),
             capture_time: Duration::ZERO,

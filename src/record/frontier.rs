@@ -27,7 +27,7 @@ pub fn log_frontier(sink: Sink, scene: &str, rows: &[Row]) -> Result<(), RecordE
                 path.display()
             ))
         })?,
-        other => open_stream(other, format!("tradeoff · {scene}"), None, None)?,
+        other => open_stream(other, format!("tradeoff · {scene}"), None, None, &[])?,
     };
     let floor = 1e-6;
     let point = |r: &Row| {

@@ -11,11 +11,12 @@ use crate::law::InterfaceState;
 use crate::model::{Model, RigidPlane, Shape};
 use crate::output::surface::mould::{body_box, mould_drawing};
 use crate::output::surface::{contact_rgb, state_rgb};
+use crate::output::watch::Source;
 use crate::solver::Simulation;
 use rerun::blueprint::components::{PanelState, PlayState};
 use rerun::blueprint::{
     Blueprint, BlueprintPanel, ContainerLike, Horizontal, SelectionPanel, Spatial2DView,
-    Spatial3DView, Tabs, TextDocumentView, TimePanel, TimeSeriesView, Vertical,
+    Spatial3DView, Tabs, TextDocumentView, TextLogView, TimePanel, TimeSeriesView, Vertical,
 };
 use rerun::{
     AnnotationContext, Arrows3D, EntityPath, LineStrips2D, Mesh3D, Points2D, Points3D,
@@ -101,10 +102,11 @@ pub fn recording_name(sim: &Simulation) -> String {
 }
 
 /// The default layout: 3-D view on the left; energies and state counts on the right, with
-/// reactions, α(t), the law, the time step, timings and the scene text in tabs below. Returns
-/// also the 3-D view's blueprint path (`view/<id>`), where its eye is set
-/// ([`super::eye::send_blueprint`]).
-pub fn default_blueprint() -> (Blueprint, EntityPath) {
+/// reactions, α(t), the law, the time step, timings and the scene text in tabs below, and a
+/// tab per watched node (`watched`: its entity path `nodes/<N>` and its title) with its
+/// lengths ([u], α, g), its tractions, its codes and its log. Returns also the 3-D view's
+/// blueprint path (`view/<id>`), where its eye is set ([`super::eye::send_blueprint`]).
+pub fn default_blueprint(watched: &[(String, String)]) -> (Blueprint, EntityPath) {
     let view: ContainerLike = Spatial3DView::new("body and interface")
         .with_origin("/")
         .with_contents(["/body/**", "/planes/**", "/interface/**", "/contact/**"])
@@ -113,6 +115,62 @@ pub fn default_blueprint() -> (Blueprint, EntityPath) {
         unreachable!("a Spatial3DView is a view");
     };
     let path = v.blueprint_path();
+    let nodes = watched.iter().map(|(p, title)| -> ContainerLike {
+        Vertical::new([
+            TimeSeriesView::new(format!("{title}: jump [u], damage α, gap g [m]"))
+                .with_origin(format!("/{p}"))
+                .with_contents([
+                    format!("/{p}/jump"),
+                    format!("/{p}/alpha"),
+                    format!("/{p}/gap"),
+                ])
+                .into(),
+            TimeSeriesView::new(format!("{title}: traction on the solid [Pa]"))
+                .with_origin(format!("/{p}/traction"))
+                .into(),
+            TimeSeriesView::new(format!(
+                "{title}: state (0 elastic, 1 transition, 2 ruptured, 3 unformed), contact (0 open, 1 stick, 2 slip)"
+            ))
+            .with_origin(format!("/{p}/status"))
+            .into(),
+            TextLogView::new(format!("{title}: changes"))
+                .with_origin(format!("/{p}/log"))
+                .into(),
+        ])
+        .into()
+    });
+    let tabs: Vec<ContainerLike> = vec![
+        TimeSeriesView::new("reaction [N]")
+            .with_origin("/reaction")
+            .into(),
+        TimeSeriesView::new("moment on turning moulds [N·m]")
+            .with_origin("/mould_moment")
+            .into(),
+        TimeSeriesView::new("imposed displacement [m]")
+            .with_origin("/imposed_displacement")
+            .into(),
+        TimeSeriesView::new("balance residual / largest energy")
+            .with_origin("/balance")
+            .into(),
+        Spatial2DView::new("reaction vs displacement (mm, kN)")
+            .with_origin("/plots")
+            .into(),
+        TimeSeriesView::new("damage α [m]")
+            .with_origin("/interface/alpha")
+            .into(),
+        Spatial2DView::new("stiffness law")
+            .with_origin("/law")
+            .into(),
+        TimeSeriesView::new("time step [s]")
+            .with_origin("/time_step")
+            .into(),
+        TimeSeriesView::new("wall time per step [µs]")
+            .with_origin("/timing")
+            .into(),
+        TextDocumentView::new("scene").with_origin("/scene").into(),
+        TextDocumentView::new("run").with_origin("/run").into(),
+    ];
+    let tabs: Vec<ContainerLike> = tabs.into_iter().chain(nodes).collect();
     let bp = Blueprint::new(Horizontal::new([
         view,
         Vertical::new([
@@ -122,38 +180,7 @@ pub fn default_blueprint() -> (Blueprint, EntityPath) {
             TimeSeriesView::new("interface nodes: elastic / transition / ruptured")
                 .with_origin("/interface/count")
                 .into(),
-            Tabs::new([
-                TimeSeriesView::new("reaction [N]")
-                    .with_origin("/reaction")
-                    .into(),
-                TimeSeriesView::new("moment on turning moulds [N·m]")
-                    .with_origin("/mould_moment")
-                    .into(),
-                TimeSeriesView::new("imposed displacement [m]")
-                    .with_origin("/imposed_displacement")
-                    .into(),
-                TimeSeriesView::new("balance residual / largest energy")
-                    .with_origin("/balance")
-                    .into(),
-                Spatial2DView::new("reaction vs displacement (mm, kN)")
-                    .with_origin("/plots")
-                    .into(),
-                TimeSeriesView::new("damage α [m]")
-                    .with_origin("/interface/alpha")
-                    .into(),
-                Spatial2DView::new("stiffness law")
-                    .with_origin("/law")
-                    .into(),
-                TimeSeriesView::new("time step [s]")
-                    .with_origin("/time_step")
-                    .into(),
-                TimeSeriesView::new("wall time per step [µs]")
-                    .with_origin("/timing")
-                    .into(),
-                TextDocumentView::new("scene").with_origin("/scene").into(),
-                TextDocumentView::new("run").with_origin("/run").into(),
-            ])
-            .into(),
+            Tabs::new(tabs).into(),
         ])
         .into(),
     ]))
@@ -476,6 +503,39 @@ fn series_names(
             let names = AXES.map(|a| format!("{} M_{a}", p.name));
             styles.push((mould_moment_path(p), SeriesLines::new().with_names(names)));
         }
+    }
+    for w in &st.watch.entries {
+        let glued = matches!(w.source, Source::Interface(_));
+        let mut traction: Vec<String> = Vec::new();
+        if glued {
+            traction.extend(AXES.map(|a| format!("glue −R_d {a}")));
+            styles.push((
+                format!("{}/jump", w.path),
+                SeriesLines::new().with_names(AXES.map(|a| format!("[u]_{a}"))),
+            ));
+            styles.push((
+                format!("{}/alpha", w.path),
+                SeriesLines::new().with_names(["α"]),
+            ));
+        }
+        traction.extend(AXES.map(|a| format!("contact R_c/h {a}")));
+        styles.push((
+            format!("{}/traction", w.path),
+            SeriesLines::new().with_names(traction),
+        ));
+        styles.push((
+            format!("{}/gap", w.path),
+            SeriesLines::new().with_names(["g"]),
+        ));
+        let codes: &[&str] = if glued {
+            &["state", "contact"]
+        } else {
+            &["contact"]
+        };
+        styles.push((
+            format!("{}/status", w.path),
+            SeriesLines::new().with_names(codes.iter().copied()),
+        ));
     }
     if !st.interface_nodes.is_empty() {
         let names: Vec<String> = if alpha_per_node {

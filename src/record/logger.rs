@@ -10,6 +10,7 @@ use super::layout::{
 };
 use super::stream::Stream;
 use super::{ColourField, Msg, RecordError, Sink, Statics, ALPHA_PER_NODE_MAX};
+use crate::output::watch::{Reading, Source};
 use crate::output::Snapshot;
 use crate::solver::StageTimes;
 use std::sync::mpsc::Receiver;
@@ -32,7 +33,13 @@ pub(super) fn run(
     colour: ColourField,
 ) -> Result<LoggerEnd, RecordError> {
     let started = Instant::now();
-    let stream = Stream::open(&sink, name, id.as_deref(), &scene_eye(&st.model))?;
+    let watched: Vec<(String, String)> = (st.watch.entries.iter())
+        .map(|w| {
+            let entry = w.path.trim_start_matches("nodes/").replacen('/', " on ", 1);
+            (w.path.clone(), format!("node {entry}"))
+        })
+        .collect();
+    let stream = Stream::open(&sink, name, id.as_deref(), &scene_eye(&st.model), &watched)?;
     let mut logger = Logger::new(stream, st, colour)?;
     let mut busy = started.elapsed();
     while let Ok(msg) = rx.recv() {
@@ -69,6 +76,8 @@ struct Logger {
     reaction_curves: Vec<Vec<[f32; 2]>>,
     /// Step, stage times, solver-thread output time and logger busy time at the last frame.
     last: Option<(u64, StageTimes, f64, Duration)>,
+    /// Each watched entry's (state, contact status) names at the last frame, to log changes.
+    watched: Vec<Option<(&'static str, &'static str)>>,
 }
 
 impl Logger {
@@ -83,6 +92,7 @@ impl Logger {
             geometry,
             alpha_per_node,
             last: None,
+            watched: Vec::new(),
         })
     }
 
@@ -100,6 +110,7 @@ impl Logger {
             self.reaction_curves[k].push([(1e3 * u) as f32, (-1e-3 * f) as f32]);
         }
         self.series(s, busy, colour_range);
+        self.watched_nodes(s)?;
         self.stream.flush_if_due(&self.reaction_curves)
     }
 
@@ -189,8 +200,69 @@ impl Logger {
         );
     }
 
+    /// One row of each watched entry's series (`nodes/<N>/…`), and its state and contact
+    /// status by name in `nodes/<N>/log` at the first frame and whenever they change.
+    fn watched_nodes(&mut self, s: &Snapshot) -> Result<(), RecordError> {
+        let cols = &mut self.stream.columns;
+        self.watched.resize(s.watched.len(), None);
+        let mut changes = Vec::new();
+        for ((w, r), last) in (self.st.watch.entries.iter())
+            .zip(&s.watched)
+            .zip(&mut self.watched)
+        {
+            let p = &w.path;
+            let glued = matches!(w.source, Source::Interface(_));
+            if glued {
+                cols.scalars(&format!("{p}/jump"), &r.jump);
+                cols.scalars(&format!("{p}/alpha"), &[r.alpha]);
+                let mut t = r.glue.to_vec();
+                t.extend(r.contact);
+                cols.scalars(&format!("{p}/traction"), &t);
+                cols.scalars(&format!("{p}/status"), &[r.state_code(), r.status_code()]);
+            } else {
+                cols.scalars(&format!("{p}/traction"), &r.contact);
+                cols.scalars(&format!("{p}/status"), &[r.status_code()]);
+            }
+            cols.scalars(&format!("{p}/gap"), &[r.gap]);
+            let now = (r.state_name(), r.status_name());
+            if *last != Some(now) {
+                *last = Some(now);
+                changes.push((format!("{p}/log"), change_text(w.node, r)));
+            }
+        }
+        if changes.is_empty() {
+            return Ok(());
+        }
+        let rec = self.stream.rec();
+        rec.set_time_sequence("step", s.step as i64);
+        rec.set_duration_secs("sim_time", s.time);
+        for (path, text) in changes {
+            rec.log(path, &rerun::TextLog::new(text).with_level("INFO"))
+                .map_err(super::log_err("a watched node's log"))?;
+        }
+        Ok(())
+    }
+
     fn finish(self, status: &str, text: &str, level: &str) -> Result<(), RecordError> {
         self.stream
             .close(&self.reaction_curves, status, text, level)
+    }
+}
+
+/// A watched entry's state and contact status by name, with α and g.
+fn change_text(node: u32, r: &Reading) -> String {
+    match r.state {
+        Some(_) => format!(
+            "node {node}: {}, contact {} (α = {:.4e} m, g = {:.4e} m)",
+            r.state_name(),
+            r.status_name(),
+            r.alpha,
+            r.gap
+        ),
+        None => format!(
+            "node {node}: contact {} (g = {:.4e} m)",
+            r.status_name(),
+            r.gap
+        ),
     }
 }

@@ -34,7 +34,15 @@
 //! | `timing` | Scalars [µs per step] per stage, averaged since the previous frame (`logging` = the solver thread's time on the outputs, `logger_thread` = the recorder's thread) | frame |
 //! | `body/colour_range` | Scalars: min and max of the colour field so far | frame |
 //! | `law/<faces>/...` | LineStrips2D: g_N(α)/g_N(0) and T(δ)/T_max against α/u_r, δ/u_r | static |
+//! | `nodes/<N>/jump` | Scalars [m]: the jump [u] of a watched interface node (`run --watch`), x, y, z | frame |
+//! | `nodes/<N>/traction` | Scalars [Pa]: on the solid, the glue's −R_d (x, y, z; interface nodes) and the contact's R_c/h (x, y, z) | frame |
+//! | `nodes/<N>/alpha`, `nodes/<N>/gap` | Scalars [m]: damage α (interface nodes), gap g | frame |
+//! | `nodes/<N>/status` | Scalars: the state's code (0 elastic, 1 transition, 2 ruptured, 3 unformed; interface nodes) and the contact status's (0 open, 1 stick, 2 slip) | frame |
+//! | `nodes/<N>/log` | TextLog: the state and the contact status by name, at the first frame and at each change | frame |
 //! | `run/status`, `run/log` | TextDocument, TextLog: completed / failed / cancelled and why | end |
+//!
+//! `<N>` is the node's index (0-based), or `<N>/<mould>` for each of the entries of a node
+//! glued or in contact on several moulds ([`crate::output::watch`]).
 //!
 //! # Modules
 //! [`stream`] (the Rerun stream: sink, columnar buffering, flushing), [`geometry`] (the
@@ -70,6 +78,7 @@ pub use stream::find_on_path;
 
 use crate::model::Model;
 use crate::output::reports::{RecordError, RecordingReport};
+use crate::output::watch::Watch;
 use crate::output::worker::Worker;
 use crate::output::{Ending, Output, OutputError, OutputReport};
 use crate::scene::Scene;
@@ -194,6 +203,7 @@ impl Recorder {
         sim: &Simulation,
         colour: ColourField,
         id: Option<String>,
+        watch: &Watch,
     ) -> Result<Recorder, RecordError> {
         let started = Instant::now();
         if let Sink::Save(path) = &sink {
@@ -225,6 +235,7 @@ impl Recorder {
                 .map(|n| (n.node, n.plane))
                 .collect(),
             advisories: sim.advisories(),
+            watch: watch.clone(),
         };
         let name = recording_name(sim);
         let thread_sink = sink.clone();
@@ -320,4 +331,6 @@ struct Statics {
     contact_nodes: Vec<(u32, u32)>,
     /// [`Simulation::advisories`]: warnings about the regime of the model.
     advisories: Vec<String>,
+    /// The watched nodes (`run --watch`): a snapshot's `watched` readings, in this order.
+    watch: Watch,
 }

@@ -37,17 +37,19 @@ fn batcher_config() -> rerun::log::ChunkBatcherConfig {
 }
 
 /// Opens the Rerun stream for a sink (errors are the user's: a file that cannot be written,
-/// no viewer executable, a malformed URL).
+/// no viewer executable, a malformed URL); `watched`: the entity paths of the watched nodes,
+/// which the layout gives a tab each.
 pub(super) fn open_stream(
     sink: &Sink,
     name: String,
     id: Option<&str>,
     eye: Option<&Eye>,
+    watched: &[(String, String)],
 ) -> Result<RecordingStream, RecordError> {
     let rec = open_sink(sink, name, id)?;
     // The layout before anything else, as the builder's `with_blueprint` would send it, with
     // the 3-D view's eye ([`super::eye`]).
-    let (bp, view) = default_blueprint();
+    let (bp, view) = default_blueprint(watched);
     send_blueprint(&rec, &bp, eye.map(|e| (view, e))).map_err(log_err("the blueprint"))?;
     Ok(rec)
 }
@@ -264,9 +266,10 @@ impl Stream {
         name: String,
         id: Option<&str>,
         eye: &Eye,
+        watched: &[(String, String)],
     ) -> Result<Stream, RecordError> {
         Ok(Stream {
-            rec: open_stream(sink, name, id, Some(eye))?,
+            rec: open_stream(sink, name, id, Some(eye), watched)?,
             columns: Columns::default(),
             network: !matches!(sink, Sink::Save(_)),
             last_flush: Instant::now(),

@@ -5,6 +5,7 @@ use rerun::TimelineName;
 use rerun::{ChunkStore, ChunkStoreConfig};
 use std::collections::BTreeMap;
 use std::path::Path;
+use std::process::Command;
 
 /// The recording store of a capture (the file also holds a blueprint store).
 pub fn read_capture(path: &Path) -> ChunkStore {
@@ -87,4 +88,40 @@ pub fn steps_with(
     steps.sort_unstable();
     steps.dedup();
     steps
+}
+
+/// `rerun rrd verify` on a capture, with the CLI of the CI's virtual environment
+/// (`DECOHESION_VENV`, default ~/.cache/decohesion-venv; `.ci/run` installs it) or on PATH.
+pub fn verify(rrd: &Path) {
+    let venv = std::env::var("DECOHESION_VENV").unwrap_or_else(|_| {
+        format!(
+            "{}/.cache/decohesion-venv",
+            std::env::var("HOME").unwrap_or_default()
+        )
+    });
+    let venv_cli = Path::new(&venv).join("bin/rerun");
+    let cli = if venv_cli.exists() {
+        venv_cli
+    } else if let Some(p) = decohesion::record::find_on_path("rerun") {
+        p
+    } else {
+        // CI installs the CLI before the tests (`.ci/run`): there, a missing CLI is a failure.
+        assert!(
+            std::env::var("CI").is_err(),
+            "CI is set and no rerun CLI was found in {venv}/bin or on PATH (rerun-sdk==0.36.3)"
+        );
+        eprintln!("no rerun CLI (install rerun-sdk==0.36.3): `rrd verify` skipped, read back only");
+        return;
+    };
+    let out = Command::new(&cli)
+        .args(["rrd", "verify"])
+        .arg(rrd)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "rerun rrd verify: {}{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
 }
