@@ -3,11 +3,13 @@
 //! [`crate::output::surface`]), the colouring fields at its vertices, the interface nodes with
 //! their state and contact status, the contact-only nodes with their contact status, and the
 //! pose of each mould (its drawing, [`crate::output::surface::mould`], is in the run's
-//! [`Topology`], once: a frame holds 48 bytes a mould).
+//! [`Topology`], once: a frame holds 48 bytes a mould), and what the inspected node's plots
+//! read: every interface and contact node's [`Reading`] (jump, tractions, α, gap, state and
+//! status), so any node can be picked during or after the run.
 //!
 //! Built on the solver's thread from a `&Simulation` ([`FrameSampler::due`]), so the native
 //! run thread ([`super::job`]) and an in-page runner call the same function. A run's frames are
-//! bounded in memory: at most [`MAX_RUN_BYTES`] in all (28³ pull-off: ≈ 125 kB a frame, see
+//! bounded in memory: at most [`MAX_RUN_BYTES`] in all (28³ pull-off: ≈ 206 kB a frame, see
 //! [`FrameBuilder::frame_bytes`]), so the cadence is the recorder's (the run's `frames` over
 //! its end time) or coarser.
 
@@ -18,6 +20,7 @@ use crate::model::Model;
 use crate::output::fields::Scalar;
 use crate::output::surface::mould::{body_box, mould_drawing, place};
 use crate::output::surface::Surface;
+use crate::output::watch::Reading;
 use crate::solver::Simulation;
 use std::sync::Arc;
 
@@ -70,6 +73,11 @@ pub struct Topology {
     pub extent: f32,
     /// Each mould's drawing at t = 0 (a half-space as a square around the body's box).
     pub moulds: Vec<MouldTriangles>,
+    /// The mesh node (0-based) of each boundary entry: the interface nodes, then the
+    /// contact-only nodes (a frame's `points` then `contact_points`, and its `readings`).
+    pub boundary_nodes: Vec<u32>,
+    /// What each boundary entry is: "glued on `z-` to mould", "in contact with wall".
+    pub boundary_labels: Vec<String>,
 }
 
 /// A mould's drawing at t = 0: triangles of vertices [m], in its frame at t = 0.
@@ -114,6 +122,9 @@ pub struct Frame {
     pub contact_states: Vec<ContactStatus>,
     /// Pose of each mould at tₙ (`Simulation::mould_pose`).
     pub mould_poses: Vec<Pose>,
+    /// Each boundary entry's state ([`Reading::all`]: the interface nodes, then the
+    /// contact-only nodes).
+    pub readings: Vec<Reading>,
 }
 
 impl Frame {
@@ -162,12 +173,27 @@ impl FrameBuilder {
                 }
             })
             .collect();
+        let plane = |k: usize| &m.planes[k].name;
+        let boundary_labels = (sim.interface_nodes.iter())
+            .map(|n| {
+                let itf = &m.interfaces[n.interface as usize];
+                format!("glued on `{}` to {}", itf.faces, plane(itf.plane))
+            })
+            .chain(
+                (sim.contact_nodes.iter())
+                    .map(|n| format!("in contact with {}", plane(n.plane as usize))),
+            )
+            .collect();
         let topology = Arc::new(Topology {
             triangles: surface.triangles.clone(),
             vertices: surface.nodes.len(),
             centre: f32x3(centre),
             extent: extent as f32,
             moulds,
+            boundary_nodes: (sim.interface_nodes.iter().map(|n| n.node))
+                .chain(sim.contact_nodes.iter().map(|n| n.node))
+                .collect(),
+            boundary_labels,
         });
         FrameBuilder { surface, topology }
     }
@@ -223,16 +249,19 @@ impl FrameBuilder {
                     (r.map(f32x3), f32x3(t))
                 })
                 .collect(),
+            readings: Reading::all(sim),
         }
     }
 
     /// Memory of one frame of `sim` [bytes]: 24 a surface vertex (position, three fields),
-    /// 14 an interface node, 13 a contact-only node, 48 a mould's pose, and the vectors'
-    /// headers (the moulds' triangles are the topology's, shared by every frame).
+    /// 14 an interface node, 13 a contact-only node, a [`Reading`] of each, 48 a mould's pose,
+    /// and the vectors' headers (the moulds' triangles are the topology's, shared by every
+    /// frame).
     pub fn frame_bytes(&self, sim: &Simulation) -> usize {
+        let reading = std::mem::size_of::<Reading>();
         24 * self.topology.vertices
-            + 14 * sim.state.interface_nodes.len()
-            + 13 * sim.state.contact_nodes.len()
+            + (14 + reading) * sim.state.interface_nodes.len()
+            + (13 + reading) * sim.state.contact_nodes.len()
             + std::mem::size_of::<Pose>() * self.topology.moulds.len()
             + std::mem::size_of::<Frame>()
     }

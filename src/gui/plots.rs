@@ -6,8 +6,10 @@
 use super::export::Export;
 use super::history::CurvePoint;
 use super::lesson::PlotName;
+use super::view3d::Inspected;
 use super::App;
 use crate::figure::{Figure, Style};
+use crate::output::watch::Reading;
 use crate::solver::StateCounts;
 use egui::Color32;
 use egui_plot::{uniform_grid_spacer, GridInput, Legend, Line, LineStyle, Plot, Points, VLine};
@@ -251,6 +253,144 @@ impl App {
                 Panel::new(residual, title, "residual"),
             ],
         );
+    }
+}
+
+/// The x, y, z colours of a vector's components.
+const AXIS_COLOURS: [[u8; 3]; 3] = [[220, 60, 60], [60, 170, 80], [60, 120, 230]];
+
+/// The figures of the inspected node over the run: its jump [u] and gap g [mm]; the glue's
+/// traction −R_d (solid) and the contact's R_c/h (dashed) on the solid [MPa]; its damage α
+/// [mm]; the codes of its state (0 elastic, 1 transition, 2 ruptured, 3 unformed) and of its
+/// contact status (0 open, 1 stick, 2 slip). A contact-only node has no jump, glue or α.
+pub(super) fn node_figures(node: &Inspected) -> [Figure; 4] {
+    let n = node.node;
+    let glued = node.series.first().is_some_and(|s| s.2.state.is_some());
+    let over = |f: &dyn Fn(&Reading) -> f64| -> Vec<[f64; 2]> {
+        let points = node.series.iter().map(|(t, _, r)| [*t, f(r)]);
+        points.filter(|p| p[1].is_finite()).collect()
+    };
+    let mut lengths = figure(
+        &format!("node {n}: jump [u] and gap g [mm]"),
+        "t [s]",
+        "[mm]",
+    );
+    if glued {
+        for (i, a) in ["x", "y", "z"].into_iter().enumerate() {
+            let data = over(&|r| 1e3 * r.jump[i]);
+            lengths.trace(&format!("[u]_{a}"), data, AXIS_COLOURS[i], Style::Solid);
+        }
+    }
+    lengths.trace("g", over(&|r| 1e3 * r.gap), INK, Style::Dashed);
+    let mut traction = figure(
+        &format!("node {n}: traction on the solid [MPa]"),
+        "t [s]",
+        "[MPa]",
+    );
+    for (i, a) in ["x", "y", "z"].into_iter().enumerate() {
+        if glued {
+            let data = over(&|r| 1e-6 * r.glue[i]);
+            traction.trace(
+                &format!("glue −R_d,{a}"),
+                data,
+                AXIS_COLOURS[i],
+                Style::Solid,
+            );
+        }
+        let data = over(&|r| 1e-6 * r.contact[i]);
+        let label = format!("contact R_c/h,{a}");
+        traction.trace(&label, data, AXIS_COLOURS[i], Style::Dashed);
+    }
+    let mut alpha = figure(&format!("node {n}: damage α [mm]"), "t [s]", "α [mm]");
+    if glued {
+        alpha.trace("α", over(&|r| 1e3 * r.alpha), INK, Style::Solid);
+    }
+    let mut codes = figure(
+        &format!(
+            "node {n}: state (0 elastic, 1 transition, 2 ruptured, 3 unformed), contact (0 open, 1 stick, 2 slip)"
+        ),
+        "t [s]",
+        "code",
+    );
+    if glued {
+        codes.trace(
+            "state",
+            over(&Reading::state_code),
+            [208, 2, 27],
+            Style::Solid,
+        );
+    }
+    codes.trace(
+        "contact",
+        over(&Reading::status_code),
+        [30, 120, 220],
+        Style::Dashed,
+    );
+    [lengths, traction, alpha, codes]
+}
+
+/// The inspected node's numbers at the frame shown, as one text.
+pub(super) fn node_text(node: &Inspected) -> String {
+    let Some((t, step, r)) = node.series.get(node.shown) else {
+        return format!("node {}: no frame", node.node);
+    };
+    let v = |x: [f64; 3]| format!("({:.4e}, {:.4e}, {:.4e})", x[0], x[1], x[2]);
+    let mut s = format!(
+        "node {}, {}: at t = {t:.4e} s (step {step}), ",
+        node.node, node.label
+    );
+    if r.state.is_some() {
+        s += &format!(
+            "[u] = {} m, α = {:.4e} m, state {}, glue traction −R_d = {} Pa, ",
+            v(r.jump),
+            r.alpha,
+            r.state_name(),
+            v(r.glue)
+        );
+    }
+    s += &format!(
+        "g = {:.4e} m, contact {}, contact traction R_c/h = {} Pa",
+        r.gap,
+        r.status_name(),
+        v(r.contact)
+    );
+    s
+}
+
+impl App {
+    /// The node picked in the 3-D view: its numbers at the slider's frame, and its plots over
+    /// the run with that frame's time marked.
+    pub(super) fn node_plot_ui(&mut self, ui: &mut egui::Ui) {
+        let Some(node) = self.view.inspected() else {
+            return;
+        };
+        ui.horizontal(|ui| {
+            ui.strong(format!("Inspected node {}", node.node));
+            if ui.button("clear").clicked() {
+                self.view.selected = None;
+            }
+        });
+        ui.label(node_text(&node));
+        let now = node.series.get(node.shown).map(|s| s.0);
+        let mark = move |p: &mut egui_plot::PlotUi| {
+            if let Some(t) = now {
+                p.vline(VLine::new("shown", t).color(Color32::from_rgb(255, 230, 0)));
+            }
+        };
+        let [lengths, traction, alpha, codes] = node_figures(&node);
+        let panel = |fig: Figure, id| {
+            let title = fig.title.clone();
+            Panel::new(fig, title, id).marks(mark)
+        };
+        self.plot_row(
+            ui,
+            vec![
+                panel(lengths, "node_lengths"),
+                panel(traction, "node_traction"),
+                panel(alpha, "node_alpha"),
+            ],
+        );
+        self.plot_row(ui, vec![panel(codes, "node_codes")]);
     }
 }
 

@@ -7,7 +7,10 @@
 //! each frame's pose. Orbit by
 //! dragging, zoom by scrolling, reset by double-click; a time slider over the run's frames
 //! ([`super::frames`]) that follows the newest frame while the run computes, unless the user
-//! picks one, and plays them.
+//! picks one, and plays them. A click selects the interface or contact node drawn nearest to
+//! it on the screen (within [`PICK_RADIUS`] points; elsewhere, none): a ring marks it, and the
+//! explorer plots its jump, tractions, α, gap and status over the run's frames
+//! ([`View3d::inspected`], `plots.rs`).
 //!
 //! Drawn by a paint callback of egui's glow renderer ([`gl`]): GLSL ES 3.00 / GLSL 1.40, so
 //! the same code draws on WebGL2. Under the wgpu renderer the view says so instead.
@@ -16,6 +19,7 @@ mod gl;
 
 use super::frames::{Field, Frame};
 use crate::output::surface::{contact_rgb, state_rgb, viridis};
+use crate::output::watch::Reading;
 use eframe::egui_glow;
 use gl::{GlView, Scene, Uniforms, Vertex};
 use nalgebra::{Matrix4, Point3, Vector3};
@@ -24,6 +28,25 @@ use std::sync::{Arc, Mutex};
 
 /// Frame times kept for the frame-rate label.
 const FRAME_TIMES: usize = 60;
+
+/// A click selects the node drawn nearest to it within this distance [points].
+pub const PICK_RADIUS: f32 = 12.0;
+
+/// Vertical field of view of the camera [rad].
+const FOV_Y: f32 = 0.6;
+
+/// The node inspected: one boundary entry of the run's frames over time.
+#[derive(Debug, Clone)]
+pub struct Inspected {
+    /// The mesh node (0-based).
+    pub node: u32,
+    /// What the entry is ("glued on `z-` to mould").
+    pub label: String,
+    /// (tₙ [s], step n, the entry's state) of every frame.
+    pub series: Vec<(f64, u64, Reading)>,
+    /// The index in `series` of the frame shown (the slider's).
+    pub shown: usize,
+}
 
 /// What the vertex buffer shows; a change rebuilds it.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -66,6 +89,9 @@ pub struct View3d {
     pub png_requested: bool,
     /// "save GIF" was pressed: the application captures the frames as an animation.
     pub gif_requested: bool,
+    /// The boundary entry picked (index into a frame's `readings`, its `points` then
+    /// `contact_points`).
+    pub selected: Option<usize>,
 }
 
 impl Default for View3d {
@@ -90,6 +116,7 @@ impl Default for View3d {
             rect: None,
             png_requested: false,
             gif_requested: false,
+            selected: None,
         }
     }
 }
@@ -102,6 +129,7 @@ impl View3d {
         self.radius = 0.0;
         self.shown = None;
         self.playing = false;
+        self.selected = None;
     }
 
     /// Takes a frame of the current run.
@@ -163,6 +191,11 @@ impl View3d {
         let (rect, response) = ui.allocate_exact_size(size, egui::Sense::click_and_drag());
         self.rect = Some(rect);
         self.camera_input(ui, &response);
+        if response.clicked() && !response.double_clicked() {
+            if let Some(pos) = response.interact_pointer_pos() {
+                self.pick(rect, pos);
+            }
+        }
         ui.painter()
             .rect_filled(rect, 0.0, egui::Color32::from_gray(24));
         if self.playing || self.spinning {
@@ -193,6 +226,7 @@ impl View3d {
         } else if let Some(i) = self.index() {
             self.paint(ui, rect, i);
             self.legend_ui(ui, rect);
+            self.marker_ui(ui, rect, i);
         } else {
             text(ui, "run a scene to see the body here");
         }
@@ -301,11 +335,11 @@ impl View3d {
         s
     }
 
-    fn paint(&mut self, ui: &egui::Ui, rect: egui::Rect, i: usize) {
-        let scene = self.scene(i);
+    /// The camera of frame `i` drawn in `rect`: (projection × view, view), in coordinates
+    /// relative to the reference centre. The sphere of all frames fits the narrower side of
+    /// the picture; the eye orbits at (yaw, pitch), z up.
+    fn camera(&self, rect: egui::Rect, i: usize) -> (Matrix4<f32>, Matrix4<f32>) {
         let aspect = rect.width() / rect.height().max(1.0);
-        // The sphere of all frames fits the narrower side of the picture.
-        const FOV_Y: f32 = 0.6;
         let half = (FOV_Y / 2.0).tan() * aspect.min(1.0);
         let radius = self.radius.max(0.5 * self.frames[i].topology.extent);
         let dist = 1.1 * radius * (1.0 + half * half).sqrt() / half / self.zoom;
@@ -318,9 +352,89 @@ impl View3d {
         let eye = Point3::new(dist * cp * cy, dist * cp * sy, dist * sp);
         let view = Matrix4::look_at_rh(&eye, &Point3::origin(), &Vector3::z());
         let proj = Matrix4::new_perspective(aspect, FOV_Y, 0.02 * dist, 10.0 * dist);
+        (proj * view, view)
+    }
+
+    /// Where the point `x` [m] of frame `i` is drawn in `rect`, and its depth (normalised
+    /// device z, smaller nearer): the clip coordinates c = P V (x − centre, 1), screen
+    /// (left + (1 + c_x/c_w) w/2, top + (1 − c_y/c_w) h/2). `None` behind the eye.
+    pub fn project(&self, rect: egui::Rect, i: usize, x: [f32; 3]) -> Option<(egui::Pos2, f32)> {
+        let (mvp, _) = self.camera(rect, i);
+        let c = self.frames[i].topology.centre;
+        let p = mvp * nalgebra::Vector4::new(x[0] - c[0], x[1] - c[1], x[2] - c[2], 1.0);
+        if p.w <= 0.0 {
+            return None;
+        }
+        let (nx, ny, nz) = (p.x / p.w, p.y / p.w, p.z / p.w);
+        let pos = egui::pos2(
+            rect.left() + 0.5 * (1.0 + nx) * rect.width(),
+            rect.top() + 0.5 * (1.0 - ny) * rect.height(),
+        );
+        Some((pos, nz))
+    }
+
+    /// Selects the interface or contact node of the frame shown drawn nearest to `pos` in
+    /// `rect` (the nearer to the eye of two at the same distance), if it is within
+    /// [`PICK_RADIUS`]; else none.
+    pub fn pick(&mut self, rect: egui::Rect, pos: egui::Pos2) {
+        let Some(i) = self.index() else { return };
+        let f = &self.frames[i];
+        let mut best: Option<(f32, f32, usize)> = None;
+        for (k, &x) in f.points.iter().chain(&f.contact_points).enumerate() {
+            let Some((p, depth)) = self.project(rect, i, x) else {
+                continue;
+            };
+            let d = p.distance(pos);
+            if d <= PICK_RADIUS && best.is_none_or(|(bd, bz, _)| (d, depth) < (bd, bz)) {
+                best = Some((d, depth, k));
+            }
+        }
+        self.selected = best.map(|b| b.2);
+    }
+
+    /// The selected node over the frames so far, with the frame shown.
+    pub fn inspected(&self) -> Option<Inspected> {
+        let k = self.selected?;
+        let first = self.frames.first()?;
+        let t = &first.topology;
+        Some(Inspected {
+            node: *t.boundary_nodes.get(k)?,
+            label: t.boundary_labels.get(k)?.clone(),
+            series: (self.frames.iter())
+                .filter_map(|f| Some((f.time, f.step, *f.readings.get(k)?)))
+                .collect(),
+            shown: self.index()?,
+        })
+    }
+
+    /// A ring around the selected node and its number, over the picture.
+    fn marker_ui(&self, ui: &egui::Ui, rect: egui::Rect, i: usize) {
+        let Some(k) = self.selected else { return };
+        let f = &self.frames[i];
+        let Some(&x) = f.points.iter().chain(&f.contact_points).nth(k) else {
+            return;
+        };
+        let Some((p, _)) = self.project(rect, i, x) else {
+            return;
+        };
+        let painter = ui.painter_at(rect);
+        let ink = egui::Color32::from_rgb(255, 230, 0);
+        painter.circle_stroke(p, 7.0, egui::Stroke::new(2.0, ink));
+        painter.text(
+            p + egui::vec2(10.0, -10.0),
+            egui::Align2::LEFT_BOTTOM,
+            format!("node {}", f.topology.boundary_nodes[k]),
+            egui::FontId::proportional(13.0),
+            ink,
+        );
+    }
+
+    fn paint(&mut self, ui: &egui::Ui, rect: egui::Rect, i: usize) {
+        let scene = self.scene(i);
+        let (mvp, view) = self.camera(rect, i);
         let ppp = ui.ctx().pixels_per_point();
         let uniforms = Uniforms {
-            mvp: to_array(&(proj * view)),
+            mvp: to_array(&mvp),
             view: to_array(&view),
             point_size: (4.0 * ppp).max(2.0),
         };

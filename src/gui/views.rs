@@ -112,6 +112,10 @@ impl App {
                     ui.separator();
                     self.progress_plot_ui(ui);
                 }
+                if self.view.selected.is_some() {
+                    ui.separator();
+                    self.node_plot_ui(ui);
+                }
             });
         });
     }

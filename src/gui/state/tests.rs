@@ -383,3 +383,66 @@ fn the_3d_view_is_saved_as_a_gif() {
     assert_eq!(count, 60);
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// Inspecting a node: after a 3³ pull-off, a click where the 3-D view draws the glued corner
+/// (0, 0, 0) selects it, and its plots and numbers are the run's: each frame's reading is the
+/// state of the same scene stepped alone to that frame's step, to the bit; α rises to u_r, the
+/// node ends ruptured; the numbers at the slider's frame are that frame's. A click far from
+/// every node clears the selection.
+#[test]
+fn a_node_clicked_in_the_3d_view_shows_its_run() {
+    use crate::output::watch::{Reading, Source};
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut app = App::default();
+    app.load_scene(&root.join("scenes/pull_off.toml").display().to_string());
+    app.settings.cells = 3;
+    app.settings.record = RecordChoice::Off;
+    app.start();
+    while app.poll() {
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    assert_eq!(app.status, Status::Ended("finished".into()));
+    let model = app.scene().unwrap().model;
+    let corner = model
+        .mesh
+        .nodes
+        .iter()
+        .position(|x| *x == [0.0; 3])
+        .unwrap() as u32;
+    let rect = egui::Rect::from_min_size(egui::pos2(10.0, 20.0), egui::vec2(400.0, 300.0));
+    let i = app.view.index().unwrap();
+    let f = &app.view.frames()[i];
+    let k = (f.topology.boundary_nodes.iter())
+        .position(|&n| n == corner)
+        .unwrap();
+    let (at, _) = app.view.project(rect, i, f.points[k]).unwrap();
+    assert!(rect.contains(at), "{at:?}");
+    app.view.pick(rect, at);
+    assert_eq!(app.view.selected, Some(k));
+    let node = app.view.inspected().unwrap();
+    assert_eq!(node.node, corner);
+    assert!(node.label.contains("z-"), "{}", node.label);
+    assert_eq!(node.series.len(), app.view.frames().len());
+    let mut sim = Simulation::new(model.clone()).unwrap();
+    for &(t, step, r) in &node.series {
+        while sim.step_count < step {
+            sim.step().unwrap();
+        }
+        assert_eq!((sim.step_count, sim.time), (step, t));
+        assert_eq!(r, Reading::of(&sim, Source::Interface(k)), "step {step}");
+    }
+    let law = &model.interfaces[0].law;
+    let last = node.series.last().unwrap().2;
+    assert_eq!((last.alpha, last.state_name()), (law.u_r, "ruptured"));
+    // The numbers shown are the slider's frame's.
+    app.view.shown = Some(3);
+    let node = app.view.inspected().unwrap();
+    let (t, _, r) = node.series[3];
+    let text = super::super::plots::node_text(&node);
+    assert!(text.contains(&format!("t = {t:.4e} s")), "{text}");
+    assert!(text.contains(&format!("α = {:.4e} m", r.alpha)), "{text}");
+    let figures = super::super::plots::node_figures(&node);
+    assert_eq!(figures[2].traces[0].points.len(), node.series.len());
+    app.view.pick(rect, rect.max + egui::vec2(100.0, 100.0));
+    assert_eq!(app.view.selected, None);
+}
