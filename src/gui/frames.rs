@@ -174,13 +174,13 @@ impl FrameBuilder {
             })
             .collect();
         let plane = |k: usize| &m.planes[k].name;
-        let boundary_labels = (sim.interface_nodes.iter())
+        let boundary_labels = (sim.state.interface_nodes.iter())
             .map(|n| {
                 let itf = &m.interfaces[n.interface as usize];
                 format!("glued on `{}` to {}", itf.faces, plane(itf.plane))
             })
             .chain(
-                (sim.contact_nodes.iter())
+                (sim.state.contact_nodes.iter())
                     .map(|n| format!("in contact with {}", plane(n.plane as usize))),
             )
             .collect();
@@ -190,8 +190,8 @@ impl FrameBuilder {
             centre: f32x3(centre),
             extent: extent as f32,
             moulds,
-            boundary_nodes: (sim.interface_nodes.iter().map(|n| n.node))
-                .chain(sim.contact_nodes.iter().map(|n| n.node))
+            boundary_nodes: (sim.state.interface_nodes.iter().map(|n| n.node))
+                .chain(sim.state.contact_nodes.iter().map(|n| n.node))
                 .collect(),
             boundary_labels,
         });

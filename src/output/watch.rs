@@ -50,10 +50,16 @@ pub struct Reading {
 impl Reading {
     /// The entry `source` of `sim` at its current step.
     pub fn of(sim: &Simulation, source: Source) -> Reading {
-        let per_step = |r: f64| if sim.h > 0.0 { r / sim.h } else { 0.0 };
+        let per_step = |r: f64| {
+            if sim.state.h > 0.0 {
+                r / sim.state.h
+            } else {
+                0.0
+            }
+        };
         match source {
             Source::Interface(j) => {
-                let n = &sim.interface_nodes[j];
+                let n = &sim.state.interface_nodes[j];
                 let law = &sim.model.interfaces[n.interface as usize].law;
                 let state = n.state(law);
                 let formed = state != InterfaceState::Unformed;
@@ -68,7 +74,7 @@ impl Reading {
                 }
             }
             Source::Contact(k) => {
-                let n = &sim.contact_nodes[k];
+                let n = &sim.state.contact_nodes[k];
                 Reading {
                     jump: [f64::NAN; 3],
                     glue: [0.0; 3],
@@ -85,8 +91,8 @@ impl Reading {
     /// Every boundary entry of `sim` in the explorer's order: the interface nodes, then the
     /// contact-only nodes.
     pub fn all(sim: &Simulation) -> Vec<Reading> {
-        let interface = (0..sim.interface_nodes.len()).map(Source::Interface);
-        let contact = (0..sim.contact_nodes.len()).map(Source::Contact);
+        let interface = (0..sim.state.interface_nodes.len()).map(Source::Interface);
+        let contact = (0..sim.state.contact_nodes.len()).map(Source::Contact);
         interface
             .chain(contact)
             .map(|s| Reading::of(sim, s))
@@ -232,13 +238,13 @@ mod native {
                     )));
                 }
                 let mut own: Vec<(Source, &str)> = Vec::new();
-                for (j, n) in sim.interface_nodes.iter().enumerate() {
+                for (j, n) in sim.state.interface_nodes.iter().enumerate() {
                     if n.node == node {
                         let plane = m.interfaces[n.interface as usize].plane;
                         own.push((Source::Interface(j), m.planes[plane].name.as_str()));
                     }
                 }
-                for (k, n) in sim.contact_nodes.iter().enumerate() {
+                for (k, n) in sim.state.contact_nodes.iter().enumerate() {
                     if n.node == node {
                         own.push((Source::Contact(k), m.planes[n.plane as usize].name.as_str()));
                     }
@@ -357,11 +363,11 @@ mod native {
         };
         let interface = list(
             "interface",
-            sim.interface_nodes.iter().map(|n| n.node).collect(),
+            sim.state.interface_nodes.iter().map(|n| n.node).collect(),
         );
         let contact = list(
             "contact",
-            sim.contact_nodes.iter().map(|n| n.node).collect(),
+            sim.state.contact_nodes.iter().map(|n| n.node).collect(),
         );
         match [interface, contact] {
             [None, None] => {
@@ -390,7 +396,7 @@ mod native {
         #[test]
         fn an_interface_node_has_its_columns_and_row() {
             let s = sim("scenes/pull_off.toml", &["mesh.cells=[2,2,2]"]);
-            let corner = s.interface_nodes[0].node;
+            let corner = s.state.interface_nodes[0].node;
             let w = Watch::new(&s, &[corner, corner]).unwrap();
             assert_eq!(w.entries.len(), 1, "a node given twice is watched once");
             assert_eq!(w.entries[0].source, Source::Interface(0));
@@ -432,16 +438,16 @@ mod native {
         #[test]
         fn a_node_with_several_entries_is_watched_on_each() {
             let s = sim("scenes/demould.toml", &["mesh.cells=[2,2,2]"]);
-            let both = (s.interface_nodes.iter().map(|n| n.node))
-                .find(|n| s.contact_nodes.iter().any(|c| c.node == *n))
+            let both = (s.state.interface_nodes.iter().map(|n| n.node))
+                .find(|n| s.state.contact_nodes.iter().any(|c| c.node == *n))
                 .expect("an edge node glued and in contact");
             let w = Watch::new(&s, &[both]).unwrap();
             assert!(w.entries.len() >= 2, "{w:?}");
             assert!(matches!(w.entries[0].source, Source::Interface(_)));
             assert_eq!(w.entries[0].name, format!("node{both}_floor"));
             assert!(w.entries[1..].iter().all(|e| e.name.contains("_wall_")));
-            let only = (s.contact_nodes.iter().map(|c| c.node))
-                .find(|n| !s.interface_nodes.iter().any(|i| i.node == *n))
+            let only = (s.state.contact_nodes.iter().map(|c| c.node))
+                .find(|n| !s.state.interface_nodes.iter().any(|i| i.node == *n))
                 .unwrap();
             let w = Watch::new(&s, &[only]).unwrap();
             let (names, _) = w.columns();

@@ -425,10 +425,10 @@ fn a_node_clicked_in_the_3d_view_shows_its_run() {
     assert_eq!(node.series.len(), app.view.frames().len());
     let mut sim = Simulation::new(model.clone()).unwrap();
     for &(t, step, r) in &node.series {
-        while sim.step_count < step {
+        while sim.state.step_count < step {
             sim.step().unwrap();
         }
-        assert_eq!((sim.step_count, sim.time), (step, t));
+        assert_eq!((sim.state.step_count, sim.state.time), (step, t));
         assert_eq!(r, Reading::of(&sim, Source::Interface(k)), "step {step}");
     }
     let law = &model.interfaces[0].law;
