@@ -6,16 +6,18 @@ HTTP API (WebDriver) with the standard library only.
 
 Serves the site (`scripts/build_site.sh`) on 127.0.0.1, loads `?scene=pull_off&run=1`, waits for
 the page's `#status` to read `finished`, reads its `#result` (the run's summary JSON) and checks
-it against the native build's `decohesion run scenes/pull_off.toml --summary … --threads 1`:
+it against the native build's `decohesion run scenes/pull_off.toml --summary … --threads 1`,
+twice:
 
-- the same scene, mesh and interface, and every glued node ruptured in both;
-- the state counts equal, and the steps, the time of full rupture, the peak reaction and the
-  dissipated energy equal within round-off (relative 1e-9; see `TOLERANCE`).
-
-Round-off may differ: the native build's element kernels use AVX2/AVX-512 with fused
-multiply-adds when the CPU has them (physics/src/kernels/simd.rs), the page's wasm32 build runs
-the portable kernel without FMA (and without SIMD), so F_int differs in the last bits at each
-step and the difference grows with the run. The differences measured are printed.
+- against the native portable kernels (`DECOHESION_ISA=portable`: no fused multiply-add), bit
+  for bit: the page's wasm32 build runs the same kernels, vectorised with WebAssembly SIMD
+  (simd128, f64x2), which has no FMA either (.cargo/config.toml), so the same IEEE operations
+  in the same order: the same scene, mesh and interface, every glued node ruptured, the state
+  counts, steps, time of full rupture, peak reaction and energies equal;
+- against the native default build, within round-off (relative 1e-9; see `TOLERANCE`): its
+  element kernels use AVX2/AVX-512 with fused multiply-adds when the CPU has them
+  (physics/src/kernels/simd.rs), so F_int differs in the last bits at each step and the
+  difference grows with the run. The differences measured are printed.
 
 Then the links (`--links`, on by default): `?scene=pull_off&set=…&set=…&run=1` against
 `decohesion run scenes/pull_off.toml --set … --set …`, and a lesson step opened by its link,
@@ -151,18 +153,24 @@ def wait_for(what, condition, timeout):
     raise TimeoutError(f"{what} did not happen within {timeout} s")
 
 
-def native_summary(binary, scene, sets=()):
+def native_summary(binary, scene, sets=(), isa=None):
+    """`decohesion run scene --summary … --threads 1` with the overrides `sets`; `isa` sets
+    `DECOHESION_ISA` (the kernels' build), else the environment's choice."""
+    env = dict(os.environ)
+    if isa is not None:
+        env["DECOHESION_ISA"] = isa
     with tempfile.TemporaryDirectory() as d:
         out = os.path.join(d, "summary.json")
         overrides = [a for s in sets for a in ("--set", s)]
         subprocess.run([binary, "run", scene, "--summary", out, "--threads", "1", "--quiet",
-                        *overrides], check=True, stdout=subprocess.DEVNULL)
+                        *overrides], check=True, stdout=subprocess.DEVNULL, env=env)
         with open(out) as f:
             return json.load(f)
 
 
-def compare(page, native):
-    """The checks; returns the failures (empty when the page agrees with the native run)."""
+def compare(page, native, tolerance=TOLERANCE):
+    """The checks, the quantities within relative `tolerance` (0: equal); returns the failures
+    (empty when the page agrees with the native run)."""
     failures = []
     for key in ["scene", "nodes", "elements", "interface_nodes", "status"]:
         if page[key] != native[key]:
@@ -183,8 +191,10 @@ def compare(page, native):
         a, b = get(page), get(native)
         rel = abs(a - b) / max(abs(b), 1e-300)
         print(f"  {name:28} page {a!r:>24}  native {b!r:>24}  relative difference {rel:.2e}")
-        if name != "friction dissipated [J]" and not rel <= TOLERANCE:
-            failures.append(f"{name}: page {a}, native {b} (relative {rel:.2e} > {TOLERANCE})")
+        if tolerance == 0 and a != b:
+            failures.append(f"{name}: page {a!r}, native {b!r}: not bit for bit")
+        elif name != "friction dissipated [J]" and not rel <= tolerance:
+            failures.append(f"{name}: page {a}, native {b} (relative {rel:.2e} > {tolerance})")
     return failures
 
 
@@ -245,7 +255,12 @@ def main():
     def scene_file(name):
         return os.path.join(root, f"scenes/{name}.toml")
 
-    native = native_summary(args.native, scene_file(args.scene))
+    def natives(scene, sets=()):
+        """The native summaries: (default build, portable build)."""
+        return (native_summary(args.native, scene_file(scene), sets),
+                native_summary(args.native, scene_file(scene), sets, isa="portable"))
+
+    native, portable = natives(args.scene)
     site_port = serve(args.site)
     driver_port = free_port()
     chromedriver = subprocess.Popen([args.chromedriver, f"--port={driver_port}"],
@@ -265,13 +280,13 @@ def main():
                     [("scene", "pull_off")] + [("set", s) for s in sets] + [("run", "1")])
                 url = f"http://127.0.0.1:{site_port}/?{query}"
                 linked.append((url, run_page(wd, url, args.timeout, f"{shot}_set.png"),
-                               native_summary(args.native, scene_file("pull_off"), sets)))
+                               natives("pull_off", sets)))
                 sets = lesson_sets(os.path.join(root, "lessons/cohesive_law.md"), 4)
                 # As a class would open it: the history and the 3-D view hidden, projector mode.
                 url = (f"http://127.0.0.1:{site_port}/?lesson=cohesive_law&step=4&run=1"
                        "&hide=history,view&projector=1")
                 linked.append((url, run_page(wd, url, args.timeout, f"{shot}_lesson.png"),
-                               native_summary(args.native, scene_file("pull_off"), sets)))
+                               natives("pull_off", sets)))
             wd.quit()
     finally:
         chromedriver.terminate()
@@ -284,14 +299,18 @@ def main():
           f"native {native['step_wall_seconds']:.3f} s "
           f"({page['ns_per_element_step']:.0f} vs {native['ns_per_element_step']:.0f} "
           f"ns per element-step)")
-    failures = compare(page, native)
-    for url, p, n in linked:
-        print(f"test_page: {url} against the native run with its overrides:")
+    print(f"  native portable build: {portable['ns_per_element_step']:.0f} ns per element-step")
+    failures = []
+    for url, p, (n, n_portable) in [("the page", page, (native, portable))] + linked:
+        print(f"test_page: {url} against the native portable build (bit for bit):")
+        failures += [f"{url}, portable: {f}" for f in compare(p, n_portable, tolerance=0)]
+        print(f"test_page: {url} against the native default build (round-off):")
         failures += [f"{url}: {f}" for f in compare(p, n)]
     if failures:
         print("test_page: FAILED\n  " + "\n  ".join(failures))
         sys.exit(1)
-    print("test_page: the page's results equal the native summaries within round-off")
+    print("test_page: the page's results equal the native portable build's bit for bit and the "
+          "default build's within round-off")
 
 
 def _ready(wd):
