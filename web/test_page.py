@@ -13,7 +13,10 @@ twice:
   for bit: the page's wasm32 build runs the same kernels, vectorised with WebAssembly SIMD
   (simd128, f64x2), which has no FMA either (.cargo/config.toml), so the same IEEE operations
   in the same order: the same scene, mesh and interface, every glued node ruptured, the state
-  counts, steps, time of full rupture, peak reaction and energies equal;
+  counts, steps, time of full rupture, peak reaction and energies equal (for a scene whose
+  material takes no logarithm, as the pull-off's SVK: a neo-Hookean's `ln` is glibc's natively
+  and Rust's libm in wasm32, which may differ in the last bit; the tread's results differ so by
+  1e-12 at most, with or without SIMD in the page);
 - against the native default build, within round-off (relative 1e-9; see `TOLERANCE`): its
   element kernels use AVX2/AVX-512 with fused multiply-adds when the CPU has them
   (physics/src/kernels/simd.rs), so F_int differs in the last bits at each step and the
@@ -256,9 +259,12 @@ def main():
         return os.path.join(root, f"scenes/{name}.toml")
 
     def natives(scene, sets=()):
-        """The native summaries: (default build, portable build)."""
-        return (native_summary(args.native, scene_file(scene), sets),
-                native_summary(args.native, scene_file(scene), sets, isa="portable"))
+        """The native summaries: (default build, portable build or None if the scene's
+        material takes a logarithm: no bit-for-bit check then)."""
+        with open(scene_file(scene), "rb") as f:
+            svk = tomllib.load(f).get("material", {}).get("model") == "svk"
+        portable = native_summary(args.native, scene_file(scene), sets, isa="portable")
+        return native_summary(args.native, scene_file(scene), sets), portable if svk else None
 
     native, portable = natives(args.scene)
     site_port = serve(args.site)
@@ -299,18 +305,18 @@ def main():
           f"native {native['step_wall_seconds']:.3f} s "
           f"({page['ns_per_element_step']:.0f} vs {native['ns_per_element_step']:.0f} "
           f"ns per element-step)")
-    print(f"  native portable build: {portable['ns_per_element_step']:.0f} ns per element-step")
     failures = []
     for url, p, (n, n_portable) in [("the page", page, (native, portable))] + linked:
-        print(f"test_page: {url} against the native portable build (bit for bit):")
-        failures += [f"{url}, portable: {f}" for f in compare(p, n_portable, tolerance=0)]
+        if n_portable is not None:
+            print(f"test_page: {url} against the native portable build (bit for bit):")
+            failures += [f"{url}, portable: {f}" for f in compare(p, n_portable, tolerance=0)]
         print(f"test_page: {url} against the native default build (round-off):")
         failures += [f"{url}: {f}" for f in compare(p, n)]
     if failures:
         print("test_page: FAILED\n  " + "\n  ".join(failures))
         sys.exit(1)
-    print("test_page: the page's results equal the native portable build's bit for bit and the "
-          "default build's within round-off")
+    print("test_page: the page's results equal the native portable build's bit for bit (SVK "
+          "scenes) and the default build's within round-off")
 
 
 def _ready(wd):
