@@ -2,6 +2,13 @@
 //! AVX2 (both with fused multiply–adds) and portably, and picks one at run time; plus the
 //! AVX-512 and AVX2 twins of the corner bound and of the row scatter's line adds, kept apart
 //! here.
+//!
+//! The web page (wasm32) runs the portable build, compiled with WebAssembly SIMD for the whole
+//! module (`-C target-feature=+simd128`, `.cargo/config.toml`): its 8-lane arithmetic is
+//! vectorised as f64x2, and simd128 has no fused multiply–add, so it gives the portable build's
+//! bits (`web/test_page.py` checks the page against `DECOHESION_ISA=portable` bit for bit).
+//! WebAssembly has no run-time feature detection (a module with SIMD instructions does not load
+//! on an engine without them), so there is no second wasm32 build to choose from.
 
 /// The instruction set a kernel build is for (`ISA` of [`simd_dispatch!`]).
 pub(crate) const ISA_PORTABLE: u8 = 0;
@@ -13,7 +20,8 @@ pub(crate) const ISA_AVX512: u8 = 2;
 /// An instruction set the kernels are built for.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Isa {
-    /// No vector extension assumed, no fused multiply–add (the compiler's baseline).
+    /// No vector extension assumed, no fused multiply–add (the compiler's baseline: SSE2 on
+    /// x86-64, simd128 in the web page).
     Portable,
     /// AVX2 with FMA: 256-bit vectors, 4 f64.
     Avx2,
