@@ -19,6 +19,14 @@ use std::sync::mpsc::TryRecvError;
 use std::time::Duration;
 use web_time::Instant;
 
+/// The solver's time per unit of the page's drawing time, when drawing is slow
+/// ([`PageRun::advance`]).
+pub const DRAWING_RATIO: u32 = 4;
+
+/// The longest slice of steps between two pictures when drawing is slow: Stop still acts
+/// within about this much.
+pub const MAX_SLICE: Duration = Duration::from_millis(500);
+
 /// A run of the page in progress.
 pub struct PageRun {
     id: u32,
@@ -64,20 +72,24 @@ impl PageRun {
         run
     }
 
-    /// Steps for about `budget` of wall time, or for as long as the page took since the last
-    /// slice if that is longer (at least one step), then returns; ends the run when it reaches
-    /// its end time, fails, or was stopped. True while it goes on.
+    /// Steps for about `budget` of wall time, or for [`DRAWING_RATIO`] times as long as the
+    /// page took since the last slice (its drawing) if that is longer, at most [`MAX_SLICE`]
+    /// (at least one step), then returns; ends the run when it reaches its end time, fails, or
+    /// was stopped. True while it goes on.
     ///
-    /// The stretch keeps the solver at half of the page's time or more when drawing is slow
-    /// (software WebGL under headless Chromium; docs: performance log), at the price of a
-    /// frame rate at least half of what the drawing alone allows; with fast drawing a frame
-    /// steps for `budget`, so the page draws at its own rate and Stop acts within a frame.
+    /// The stretch draws a new picture only when the solver has had its share since the last
+    /// one: drawing takes at most 1/(1 + [`DRAWING_RATIO`]) of the page's time when it is slow
+    /// (software WebGL under headless Chromium; docs: performance log), at the price of fewer
+    /// pictures per second; with fast drawing a frame steps for `budget`, so the page draws at
+    /// its own rate and Stop acts within a frame.
     pub fn advance(&mut self, budget: Duration) -> bool {
         let Some((sim, sampler)) = &mut self.state else {
             return false;
         };
         let slice = Instant::now();
-        let budget = self.slice_end.map_or(budget, |end| budget.max(slice - end));
+        let budget = self.slice_end.map_or(budget, |end| {
+            budget.max((slice - end).saturating_mul(DRAWING_RATIO).min(MAX_SLICE))
+        });
         self.slices += 1;
         let outbox = &mut self.outbox;
         let outcome = loop {
