@@ -47,7 +47,10 @@ fn watched_edge_nodes_follow_the_glue_to_rupture() {
     let edge = (nodes.iter())
         .position(|x| x[1] == 0.0 && x[2] == 0.0 && x[0] > 0.0 && x[0] < 1.0)
         .unwrap();
-    let order: Vec<u32> = (Simulation::new(model.clone()).unwrap().interface_nodes)
+    let order: Vec<u32> = (Simulation::new(model.clone())
+        .unwrap()
+        .state
+        .interface_nodes)
         .iter()
         .map(|n| n.node)
         .collect();

@@ -18,7 +18,7 @@ use crate::law::InterfaceState;
 use crate::solver::Simulation;
 
 /// Where an entry's values are read: its index among the simulation's interface nodes
-/// (`Simulation::interface_nodes`) or contact-only nodes (`Simulation::contact_nodes`).
+/// (`State::interface_nodes`) or contact-only nodes (`State::contact_nodes`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Source {
     Interface(usize),
