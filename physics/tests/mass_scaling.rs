@@ -171,3 +171,35 @@ fn the_ledger_closes_with_the_added_mass_and_its_kinetic_energy_is_reported() {
         "residuals {residuals:?}: halving h divided it by {order:.2}"
     );
 }
+
+/// The warnings printed before a run judge no kinetic share: at t₀ the added mass's kinetic
+/// energy (gravity's V_{−½}) would be set against a stored energy of round-off size (the tread
+/// block of `tread_demould` in a rubber, mass-scaled, under gravity), a ratio that says nothing
+/// about the run. Once it has run, the same check is made on the run's peaks.
+#[test]
+fn no_kinetic_share_is_judged_before_the_first_step() {
+    let sim = setup(
+        "tread_demould.toml",
+        &[
+            "material={model=\"mooney_rivlin\",c10=0.7e6,c01=0.13e6,poisson=0.495,density=1100.0}",
+            "scheme.integration=\"reduced_physical\"",
+            "mass_scaling.target_step=1e-5",
+        ],
+    )
+    .unwrap();
+    let r = sim.setup.mass_scaling.unwrap();
+    assert_eq!(sim.state.step_count, 0);
+    assert!(
+        r.kinetic_share() > 0.05,
+        "the start's peaks: {:.3e} J kinetic against {:.3e} J stored",
+        r.added_kinetic_peak,
+        r.stored_peak
+    );
+    let warnings = sim.advisories();
+    assert!(
+        !warnings
+            .iter()
+            .any(|w| w.contains("mass_scaling.kinetic_share")),
+        "{warnings:?}"
+    );
+}
