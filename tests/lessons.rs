@@ -47,6 +47,22 @@ fn check_lesson(name: &str) -> Vec<(usize, &'static str, f64, f64)> {
             assert!(app.job.is_some(), "{name} step {}: no run started", k + 1);
         }
         finish(&mut app);
+        // A step's `time`: the 3-D view shows the frame nearest it; its `node`: inspected.
+        if let Some((t, _)) = step.time {
+            let frames = app.view.frames();
+            let i = app.view.index().unwrap();
+            let d = |j: usize| (frames[j].time - t).abs();
+            assert!(
+                (0..frames.len()).all(|j| d(i) <= d(j)),
+                "{name} step {}: the view shows t = {} s, not the frame nearest {t} s",
+                k + 1,
+                frames[i].time
+            );
+        }
+        if let Some((n, _)) = step.node {
+            let shown = app.view.inspected().map(|i| i.node);
+            assert_eq!(shown, Some(n), "{name} step {}: the node inspected", k + 1);
+        }
         let Some(q) = &step.question else {
             continue;
         };

@@ -92,6 +92,20 @@ pub struct View3d {
     /// The boundary entry picked (index into a frame's `readings`, its `points` then
     /// `contact_points`).
     pub selected: Option<usize>,
+    /// What a lesson step asks the view to show ([`View3d::set_hold`]).
+    hold: Hold,
+    /// The part of `hold` not shown yet: taken as the frames arrive, once each per run.
+    pending: Hold,
+}
+
+/// What a lesson step asks the 3-D view to show: the frame at a time (the view stops following
+/// the newest frame there, the run goes on) and a node inspected.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Hold {
+    /// Simulated time [s].
+    pub time: Option<f64>,
+    /// A mesh node (0-based) of an interface or contact face.
+    pub node: Option<u32>,
 }
 
 impl Default for View3d {
@@ -117,6 +131,8 @@ impl Default for View3d {
             png_requested: false,
             gif_requested: false,
             selected: None,
+            hold: Hold::default(),
+            pending: Hold::default(),
         }
     }
 }
@@ -130,6 +146,37 @@ impl View3d {
         self.shown = None;
         self.playing = false;
         self.selected = None;
+        self.pending = self.hold;
+    }
+
+    /// Shows what `hold` asks, now for the frames there are and then for each run's as its
+    /// frames arrive: the frame nearest `hold.time` once a frame has reached it, the entry of
+    /// `hold.node` once the run's first frame is in. A default `Hold` asks nothing.
+    pub fn set_hold(&mut self, hold: Hold) {
+        self.hold = hold;
+        self.pending = hold;
+        self.take_hold();
+    }
+
+    /// Applies the pending part of the hold that the frames so far allow.
+    fn take_hold(&mut self) {
+        if let (Some(t), Some(last)) = (self.pending.time, self.frames.last()) {
+            if last.time >= t {
+                let after = self.frames.partition_point(|f| f.time < t);
+                let nearest = match after.checked_sub(1) {
+                    Some(b) if t - self.frames[b].time < self.frames[after].time - t => b,
+                    _ => after,
+                };
+                self.shown = Some(nearest);
+                self.playing = false;
+                self.pending.time = None;
+            }
+        }
+        if let (Some(node), Some(first)) = (self.pending.node, self.frames.first()) {
+            let k = first.topology.boundary_nodes.iter().position(|&b| b == node);
+            self.selected = k.or(self.selected);
+            self.pending.node = None;
+        }
     }
 
     /// Takes a frame of the current run.
@@ -145,6 +192,7 @@ impl View3d {
             self.radius = self.radius.max(d2.sqrt());
         }
         self.frames.push(f);
+        self.take_hold();
     }
 
     pub fn frames(&self) -> &[Frame] {

@@ -47,9 +47,10 @@ impl crate::gui::App {
         self.go_to_step(k);
     }
 
-    /// Closes the lesson; the settings stay.
+    /// Closes the lesson; the settings stay, the 3-D view no longer holds a step's time or node.
     pub fn close_lesson(&mut self) {
         self.lesson = None;
+        self.view.set_hold(Default::default());
     }
 
     /// Opens step `k` of the lesson: the scene with the overrides of the steps up to it; its run
@@ -66,11 +67,17 @@ impl crate::gui::App {
             state.lesson.scene.clone(),
             state.lesson.sets_through(state.step),
         );
-        let auto = state.current().run && state.current().question.is_none();
+        let step = state.current();
+        let auto = step.run && step.question.is_none();
+        let hold = crate::gui::view3d::Hold {
+            time: step.time.map(|t| t.0),
+            node: step.node.map(|n| n.0),
+        };
         if let Err(e) = self.apply_set(&scene, &set) {
             self.notes.push(e);
             return;
         }
+        self.view.set_hold(hold);
         if auto {
             self.run_step();
         }

@@ -78,6 +78,12 @@ pub struct Step {
     /// Start a run when the step opens (a step with a question runs when the prediction is in).
     pub run: bool,
     pub plot: Option<PlotName>,
+    /// The time [s] at which the 3-D view stops following the run (the run goes on), and its
+    /// line in the file.
+    pub time: Option<(f64, usize)>,
+    /// The node the inspector opens on (an interface or contact node of the scene), and its
+    /// line in the file.
+    pub node: Option<(u32, usize)>,
     pub question: Option<Question>,
 }
 
@@ -165,12 +171,19 @@ pub fn check(lesson: &Lesson) -> Result<(), LessonError> {
         )
     })?;
     for (k, step) in lesson.steps.iter().enumerate() {
-        if step.set.is_empty() && k > 0 {
+        if step.set.is_empty() && k > 0 && step.time.is_none() && step.node.is_none() {
             continue;
         }
-        if let Err(e) =
-            crate::gui::settings::open_scene_with(&lesson.scene, &lesson.sets_through(k))
-        {
+        let opened = crate::gui::settings::open_scene_with(&lesson.scene, &lesson.sets_through(k));
+        if let Ok(scene) = &opened {
+            check_hold(step, &scene.model).map_err(|(line, m)| {
+                err(
+                    Some(line),
+                    format!("step {} (“{}”), {m}", k + 1, step.title),
+                )
+            })?;
+        }
+        if let Err(e) = opened {
             // The line of the first override of the step that the scene refuses.
             let before = if k == 0 {
                 vec![]
@@ -187,6 +200,48 @@ pub fn check(lesson: &Lesson) -> Result<(), LessonError> {
             return Err(err(
                 Some(line),
                 format!("step {} (“{}”), its `set`: {e}", k + 1, step.title),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// A step's `time` within the run of its scene (0 to the end time) and its `node` on one of
+/// the scene's interface or contact faces; the error is (the file's line, the reason).
+fn check_hold(step: &Step, model: &crate::model::Model) -> Result<(), (usize, String)> {
+    if let Some((t, line)) = step.time {
+        if t > model.end_time {
+            return Err((
+                line,
+                format!(
+                    "its `time` = {t} s: after the run's end, {} s; admissible is 0 to {} s",
+                    model.end_time, model.end_time
+                ),
+            ));
+        }
+    }
+    if let Some((node, line)) = step.node {
+        let faces = (model.interfaces.iter().map(|i| &i.faces))
+            .chain(model.contacts.iter().map(|c| &c.faces));
+        let mut nodes: Vec<u32> = faces
+            .filter_map(|f| model.mesh.face_sets.get(f))
+            .flatten()
+            .flatten()
+            .copied()
+            .collect();
+        nodes.sort_unstable();
+        nodes.dedup();
+        if nodes.binary_search(&node).is_err() {
+            let range = match (nodes.first(), nodes.last()) {
+                (Some(a), Some(b)) => format!(
+                    "admissible are the {} nodes of the interface and contact faces ({a} to {b})",
+                    nodes.len()
+                ),
+                _ => "the scene has no interface or contact face to inspect".to_string(),
+            };
+            return Err((
+                line,
+                format!("its `node` = {node}: not a node of an interface or contact face; {range}"),
             ));
         }
     }

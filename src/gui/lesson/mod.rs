@@ -3,7 +3,7 @@
 //! `scene`, optional `summary`), an introduction, then one `## ` heading per step. A step's
 //! text is Markdown; one fenced block with the info string `step` holds its actions in TOML:
 //! `set` (scene overrides, `key.path=value` as `run --set` takes them), `run`, `plot` (the plot to
-//! look at) and a question (`question`, `result`, `answer`, `tolerance`, `explain`): the student's
+//! look at), `time` (where the 3-D view stops), `node` (the node inspected) and a question (`question`, `result`, `answer`, `tolerance`, `explain`): the student's
 //! prediction is compared with the named result of the step's run. The format is documented in
 //! `docs/src/guide/lessons.md`.
 //!

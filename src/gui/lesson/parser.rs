@@ -21,6 +21,8 @@ struct RawStep {
     #[serde(default)]
     run: bool,
     plot: Option<toml::Spanned<String>>,
+    time: Option<toml::Spanned<f64>>,
+    node: Option<toml::Spanned<i64>>,
     question: Option<String>,
     result: Option<toml::Spanned<String>>,
     answer: Option<toml::Spanned<f64>>,
@@ -106,6 +108,8 @@ pub fn parse(text: &str, file: &str) -> Result<Lesson, LessonError> {
             set_lines: vec![],
             run: false,
             plot: None,
+            time: None,
+            node: None,
             question: None,
         };
         if let Some((start, block)) = block {
@@ -182,6 +186,26 @@ fn read_block(step: &mut Step, block: &str, first: usize) -> Result<(), (usize, 
     step.run = raw.run;
     if let Some(p) = &raw.plot {
         step.plot = Some(PlotName::from_key(p.get_ref()).map_err(|m| (at(p.span()), m))?);
+    }
+    if let Some(t) = &raw.time {
+        let v = *t.get_ref();
+        if !(v.is_finite() && v >= 0.0) {
+            return Err((
+                at(t.span()),
+                format!("time = {v}: must be a time of the run, ≥ 0 (seconds)"),
+            ));
+        }
+        step.time = Some((v, at(t.span())));
+    }
+    if let Some(n) = &raw.node {
+        let v = *n.get_ref();
+        let node = u32::try_from(v).map_err(|_| {
+            (
+                at(n.span()),
+                format!("node = {v}: must be a mesh node's number, 0 or more"),
+            )
+        })?;
+        step.node = Some((node, at(n.span())));
     }
     let keys = [
         raw.result.as_ref().map(|r| r.span()),

@@ -446,3 +446,50 @@ fn a_node_clicked_in_the_3d_view_shows_its_run() {
     app.view.pick(rect, rect.max + egui::vec2(100.0, 100.0));
     assert_eq!(app.view.selected, None);
 }
+
+/// A lesson step's `time` and `node`: its run shows the frame nearest that time (the view stops
+/// following the newest there) with that node inspected.
+#[test]
+fn a_lesson_step_holds_a_time_and_a_node() {
+    let text = r#"+++
+title = "Hold"
+scene = "pull_off"
++++
+## The corner at 0.08 s
+
+```step
+set = ["mesh.cells=[3,3,3]"]
+run = true
+time = 0.08
+node = 3
+```
+"#;
+    let lesson = crate::gui::lesson::load(text, "lessons/hold.md").unwrap();
+    let mut app = App::default();
+    app.settings.record = RecordChoice::Off;
+    app.open_lesson(lesson, 0);
+    while app.poll() {
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    assert_eq!(app.status, Status::Ended("finished".into()));
+    let frames = app.view.frames();
+    let i = app.view.index().unwrap();
+    assert!(i + 1 < frames.len(), "the view follows the newest frame");
+    let nearest = (0..frames.len())
+        .min_by(|&a, &b| {
+            let d = |k: usize| (frames[k].time - 0.08).abs();
+            d(a).total_cmp(&d(b))
+        })
+        .unwrap();
+    assert_eq!(i, nearest, "t = {} s", frames[i].time);
+    let node = app.view.inspected().unwrap();
+    assert_eq!(node.node, 3);
+    assert_eq!(node.shown, i);
+    // Leaving the lesson lets the view follow the next run again.
+    app.close_lesson();
+    app.start();
+    while app.poll() {
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    assert_eq!(app.view.index(), Some(app.view.frames().len() - 1));
+}
