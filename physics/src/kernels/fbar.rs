@@ -20,7 +20,7 @@
 
 // The AVX builds exist on x86_64 only (wasm32 runs the portable one).
 #[cfg_attr(not(target_arch = "x86_64"), allow(unused_imports))]
-use super::simd::{simd_dispatch, ISA_AVX2, ISA_AVX512, ISA_PORTABLE};
+use super::simd::{simd_dispatch, ISA_AVX2, ISA_AVX512};
 use super::{
     full::{GaussLanes, LaneGauss},
     gather_padded, keep_min_j, scatter_padded, PlanesPtr,

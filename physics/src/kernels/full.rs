@@ -97,14 +97,10 @@ impl GaussLanes for LaneGauss {
     }
 }
 
-/// Lane-wise `f64::min` (a NaN lane of one operand gives the other's).
+/// Lane-wise `f64::min` (a NaN lane of one operand gives the other's; [`F64x8::lane_min`]).
 #[inline(always)]
 fn min8(x: F64x8, y: F64x8) -> F64x8 {
-    let mut r = x.0;
-    for l in 0..8 {
-        r[l] = r[l].min(y.0[l]);
-    }
-    F64x8(r)
+    x.lane_min(y)
 }
 
 /// The per-point work arrays of [`full_lanes`] (the parent derivatives, then Q, at the 8

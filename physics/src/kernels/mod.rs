@@ -396,9 +396,10 @@ simd_dispatch! {
     /// One chunk of a colour with full integration: groups of 8 elements go through the lane
     /// kernel ([`full::full_lanes`], one element per lane; the class data broadcast when the 8
     /// share a class, else staged per lane), the remainder — and every element in the
-    /// portable build, and the groups that mix axis-aligned boxes with other shapes — through
-    /// the scalar one ([`element_forces`], the Gauss points in lanes). Both give each element
-    /// the same bits; the forces are scattered element after element in chunk order.
+    /// portable build (not in its WebAssembly SIMD build, `ISA_SIMD128`), and the groups that
+    /// mix axis-aligned boxes with other shapes — through the scalar one ([`element_forces`],
+    /// the Gauss points in lanes). Both give each element the same bits; the forces are
+    /// scattered element after element in chunk order.
     fn chunk_forces / chunk_forces_avx2 / chunk_forces_avx512 / chunk_forces_builds
         => chunk_forces_impl(
             mesh: &Mesh,
@@ -432,7 +433,7 @@ unsafe fn chunk_forces_impl<const FMA: bool, const ISA: u8, const PREFETCH: bool
     let mut min_e = 0usize;
     // The portable build (no vector unit assumed) runs every element through the scalar
     // kernel, whose lanes are the Gauss points: faster there than 8 elements in lanes (docs:
-    // performance log).
+    // performance log). Its WebAssembly SIMD build (the page) takes the lanes, as AVX does.
     let lanes_end = if ISA == ISA_PORTABLE {
         0
     } else {
@@ -554,8 +555,13 @@ fn reduced_group<const FMA: bool, const HALVES: bool, const BOXES: bool>(
 }
 
 /// [`full::full_lanes`] for the material's law, with or without the energy; `DIAG` when every
-/// lane's J₀ is diagonal ([`GaussData::axis_aligned`]).
-#[inline(always)]
+/// lane's J₀ is diagonal ([`GaussData::axis_aligned`]). Inlined into the AVX builds (their
+/// target features), a function of its own in the web page: the engine compiles a WebAssembly
+/// function when it is first called and optimises it once it is hot, so the 4 variants inlined
+/// twice (with and without prefetching) into one function made the page compile 8 kernels to
+/// run one.
+#[cfg_attr(not(target_arch = "wasm32"), inline(always))]
+#[cfg_attr(target_arch = "wasm32", inline(never))]
 fn full_group<const FMA: bool, const DIAG: bool, G: full::GaussLanes>(
     mat: &Material,
     g: &G,

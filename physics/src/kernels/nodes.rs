@@ -2,7 +2,7 @@
 
 // The AVX builds exist on x86_64 only (wasm32 runs the portable one).
 #[cfg_attr(not(target_arch = "x86_64"), allow(unused_imports))]
-use super::simd::{simd_dispatch, ISA_AVX2, ISA_AVX512, ISA_PORTABLE};
+use super::simd::{simd_dispatch, ISA_AVX2, ISA_AVX512};
 use crate::material::{row_dot, F64x8, Real};
 
 /// Partial sums of the node loop (stage 5), reduced in a fixed order.

@@ -4,9 +4,11 @@
 //! here.
 //!
 //! The web page (wasm32) runs the portable build, compiled with WebAssembly SIMD for the whole
-//! module (`-C target-feature=+simd128`, `.cargo/config.toml`): its 8-lane arithmetic is
-//! vectorised as f64x2, and simd128 has no fused multiply–add, so it gives the portable build's
-//! bits (`web/test_page.py` checks the page against `DECOHESION_ISA=portable` bit for bit).
+//! module (`-C target-feature=+simd128`, `.cargo/config.toml`) as the ISA [`ISA_SIMD128`]: its
+//! 8-lane arithmetic is f64x2 pairs (`material::real`), the full kernel puts 8 elements in
+//! lanes as the AVX builds do, and simd128 has no fused multiply–add, so it gives the portable
+//! build's bits (`web/test_page.py` checks the page against `DECOHESION_ISA=portable` bit for
+//! bit).
 //! WebAssembly has no run-time feature detection (a module with SIMD instructions does not load
 //! on an engine without them), so there is no second wasm32 build to choose from.
 
@@ -16,6 +18,23 @@ pub(crate) const ISA_PORTABLE: u8 = 0;
 pub(crate) const ISA_AVX2: u8 = 1;
 #[cfg_attr(not(target_arch = "x86_64"), allow(dead_code))]
 pub(crate) const ISA_AVX512: u8 = 2;
+/// The portable build compiled for WebAssembly SIMD (the web page): the portable build's
+/// arithmetic (no fused multiply–add, the same bits), [`crate::material::F64x8`]'s as f64x2
+/// pairs, and, where a kernel has a choice, the 8-elements-in-lanes form that the AVX builds
+/// take (the full kernel's; natively the portable build runs it one element at a time).
+#[cfg_attr(
+    not(all(target_arch = "wasm32", target_feature = "simd128")),
+    allow(dead_code)
+)]
+pub(crate) const ISA_SIMD128: u8 = 3;
+/// The `ISA` of the portable build on this target: [`ISA_SIMD128`] on wasm32 with simd128,
+/// else [`ISA_PORTABLE`].
+pub(crate) const ISA_OF_PORTABLE: u8 =
+    if cfg!(all(target_arch = "wasm32", target_feature = "simd128")) {
+        ISA_SIMD128
+    } else {
+        ISA_PORTABLE
+    };
 
 /// An instruction set the kernels are built for.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -166,7 +185,10 @@ macro_rules! simd_dispatch {
             use super::*;
             #[allow(clippy::too_many_arguments)]
             pub(super) unsafe fn run($($arg: $ty),*) -> $ret {
-                simd_dispatch!(@call $imp, false, ISA_PORTABLE, [$($flag)?], ($($arg),*))
+                simd_dispatch!(
+                    @call $imp, false, { $crate::kernels::simd::ISA_OF_PORTABLE }, [$($flag)?],
+                    ($($arg),*)
+                )
             }
         }
 

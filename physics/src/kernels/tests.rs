@@ -244,7 +244,8 @@ fn fields(mesh: &Mesh) -> [(&'static str, Vec<[f64; 3]>); 2] {
 /// Full integration: on every block of the box, and on a chunk that holds the inverted element,
 /// every build gives the portable forces, energies, min J and element; each build is its
 /// element kernel ([`element_forces`], fused like the build) summed in chunk order, bit for
-/// bit — the lane kernel of groups of 8 elements as much as the scalar remainder; min J is
+/// bit — the lane kernel of groups of 8 elements as much as the scalar remainder, and the web
+/// page's lanes without fused multiply–adds (`ISA_SIMD128`) the portable build's bits; min J is
 /// that of nalgebra at the Gauss points. Run on the distorted box (groups of several classes,
 /// staged lane by lane) and on a regular one (groups of one class, broadcast).
 #[test]
@@ -280,7 +281,24 @@ fn full_chunk_builds(
     field: &str,
 ) {
     let n = mesh.nodes.len();
-    let builds: Vec<_> = chunk_forces_builds()
+    // Besides the builds this CPU runs, the web page's (`ISA_SIMD128`: 8 elements in lanes
+    // without fused multiply–adds), compiled here for the host.
+    type FullBuild = unsafe fn(
+        &Mesh,
+        &ElementClasses,
+        &Material,
+        [&[f64]; 3],
+        PlanesPtr,
+        &[u32],
+        bool,
+        bool,
+    ) -> (f64, f64, usize);
+    let mut all: Vec<(&str, FullBuild)> = chunk_forces_builds();
+    all.push((
+        "simd128",
+        chunk_forces_impl::<false, { simd::ISA_SIMD128 }, true>,
+    ));
+    let builds: Vec<_> = all
         .into_iter()
         .map(|(name, build)| {
             let out = run_chunk(n, |p| {
@@ -315,7 +333,7 @@ fn full_chunk_builds(
     for (name, (f, sums)) in &builds {
         let gauss = |e: u32| &classes.data[classes.class_of[e as usize] as usize];
         let (reference, strain) =
-            scalar_full_chunk(mesh, mat, gauss, *name != "portable", u, chunk);
+            scalar_full_chunk(mesh, mat, gauss, name.starts_with("avx"), u, chunk);
         let same = |a: f64, b: f64| a.to_bits() == b.to_bits();
         assert!(
             f.iter()

@@ -59,6 +59,30 @@ impl Real for f64 {
 pub struct F64x8(pub [f64; 8]);
 
 impl F64x8 {
+    /// Lane-wise `f64::min`: the smaller of the two lanes, a NaN lane passed over for the
+    /// other's (of two zeros, either; in the web page `self`'s). In the page (wasm32 with
+    /// simd128) as f64x2 comparisons and selects: `f64::min` is a call to `fmin` there.
+    #[inline(always)]
+    pub fn lane_min(self, o: F64x8) -> F64x8 {
+        #[cfg(all(target_arch = "wasm32", target_feature = "simd128"))]
+        {
+            use core::arch::wasm32::{f64x2_lt, f64x2_ne, v128_bitselect};
+            wasm_pairs(self, o, |x, y| {
+                // y < x ? y : x, then y where x is NaN.
+                let r = v128_bitselect(y, x, f64x2_lt(y, x));
+                v128_bitselect(y, r, f64x2_ne(x, x))
+            })
+        }
+        #[cfg(not(all(target_arch = "wasm32", target_feature = "simd128")))]
+        {
+            let mut r = self.0;
+            for l in 0..8 {
+                r[l] = r[l].min(o.0[l]);
+            }
+            F64x8(r)
+        }
+    }
+
     /// The smallest lane, by `f64::min` (a NaN lane is passed over unless all are NaN; the
     /// result does not depend on the order), taken pairwise so that it vectorises.
     #[inline(always)]
@@ -74,18 +98,26 @@ impl F64x8 {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Lanes<const W: usize>(pub [f64; W]);
 
-/// `impl $op for F64x8` and for [`Lanes`], lane by lane.
+/// `impl $op for F64x8` and for [`Lanes`], lane by lane; on F64x8 in the web page (wasm32 with
+/// simd128) as four f64x2 operations (`$wasm`, [`wasm_pairs`]).
 macro_rules! lanewise {
-    ($($trait:ident :: $method:ident),*) => {$(
+    ($($trait:ident :: $method:ident / $wasm:ident),*) => {$(
         impl $trait for F64x8 {
             type Output = F64x8;
             #[inline(always)]
             fn $method(self, o: F64x8) -> F64x8 {
-                let mut r = self.0;
-                for l in 0..8 {
-                    r[l] = $trait::$method(r[l], o.0[l]);
+                #[cfg(all(target_arch = "wasm32", target_feature = "simd128"))]
+                {
+                    wasm_pairs(self, o, |x, y| core::arch::wasm32::$wasm(x, y))
                 }
-                F64x8(r)
+                #[cfg(not(all(target_arch = "wasm32", target_feature = "simd128")))]
+                {
+                    let mut r = self.0;
+                    for l in 0..8 {
+                        r[l] = $trait::$method(r[l], o.0[l]);
+                    }
+                    F64x8(r)
+                }
             }
         }
         impl<const W: usize> $trait for Lanes<W> {
@@ -101,7 +133,43 @@ macro_rules! lanewise {
         }
     )*};
 }
-lanewise!(Add::add, Sub::sub, Mul::mul, Div::div);
+lanewise!(
+    Add::add / f64x2_add,
+    Sub::sub / f64x2_sub,
+    Mul::mul / f64x2_mul,
+    Div::div / f64x2_div
+);
+
+/// `op` on the lane pairs (0, 1), (2, 3), (4, 5), (6, 7) of `a` and `b` as WebAssembly f64x2
+/// vectors. The f64x2 sum, difference, product and quotient are the IEEE operations of each
+/// lane, rounded as the scalar ones (no fused multiply–add in simd128), so the bits are those
+/// of the lane loop; written with the intrinsics because LLVM's cost model for wasm32 left a
+/// good part of the lane loops scalar.
+#[cfg(all(target_arch = "wasm32", target_feature = "simd128"))]
+#[inline(always)]
+fn wasm_pairs(
+    a: F64x8,
+    b: F64x8,
+    op: impl Fn(core::arch::wasm32::v128, core::arch::wasm32::v128) -> core::arch::wasm32::v128,
+) -> F64x8 {
+    use core::arch::wasm32::v128;
+    // SAFETY: [f64; 8] and [v128; 4] are both 64 bytes of plain data, every bit pattern
+    // valid for each.
+    let (x, y) = unsafe {
+        (
+            core::mem::transmute::<[f64; 8], [v128; 4]>(a.0),
+            core::mem::transmute::<[f64; 8], [v128; 4]>(b.0),
+        )
+    };
+    let r = [
+        op(x[0], y[0]),
+        op(x[1], y[1]),
+        op(x[2], y[2]),
+        op(x[3], y[3]),
+    ];
+    // SAFETY: as above.
+    F64x8(unsafe { core::mem::transmute::<[v128; 4], [f64; 8]>(r) })
+}
 
 impl Real for F64x8 {
     #[inline(always)]
@@ -118,6 +186,10 @@ impl Real for F64x8 {
     }
     #[inline(always)]
     fn fmadd<const FMA: bool>(self, b: F64x8, c: F64x8) -> F64x8 {
+        #[cfg(all(target_arch = "wasm32", target_feature = "simd128"))]
+        if !FMA {
+            return self * b + c;
+        }
         let mut r = c.0;
         for l in 0..8 {
             r[l] = self.0[l].fmadd::<FMA>(b.0[l], r[l]);

@@ -23,7 +23,7 @@ use super::Simulation;
 use crate::kernels::Planes;
 // The AVX builds exist on x86_64 only (wasm32 runs the portable one).
 #[cfg_attr(not(target_arch = "x86_64"), allow(unused_imports))]
-use crate::kernels::simd::{simd_dispatch, ISA_AVX2, ISA_AVX512, ISA_PORTABLE};
+use crate::kernels::simd::{simd_dispatch, ISA_AVX2, ISA_AVX512};
 use crate::material::{Material, MaterialModel};
 use crate::mesh::ElementClasses;
 use crate::model::Integration;
