@@ -592,6 +592,7 @@ fn main() {
                 data: data.map(|p| p.display().to_string()),
                 hide,
                 projector,
+                embed: false,
             };
             let record = record.map(|r| match r.as_str() {
                 "file" => RecordChoice::File,

@@ -5,7 +5,12 @@
 //!
 //! URL parameters: `scene=NAME` opens `scenes/NAME.toml` with the file's values, each
 //! `set=key.path=value` overrides one of them (as `run --set`); `run=1` starts a run at once;
-//! `lesson=NAME&step=N` opens a lesson at its step N (1-based). The page reports in the DOM, for scripts (the browser test, `web/test_page.py`):
+//! `lesson=NAME&step=N` opens a lesson at its step N (1-based); `hide=…` and `projector=1` set
+//! the display; `embed=1` (with `lesson=` or `scene=`) is the embeddable view for a course
+//! page's `<iframe>`: the lesson or scene, its run bar, plots and 3-D view sized to the frame,
+//! without the menus, the history and the link to the book. A value the page cannot take
+//! (`step=`, `embed=`) stops it with `failed: …` naming the parameter, the value and what is
+//! admissible. The page reports in the DOM, for scripts (the browser test, `web/test_page.py`):
 //! `#status` holds the explorer's status (`ready`, `running`, `finished`, `stopped`, `failed: …`),
 //! `#result` the summary JSON of the last run (what `decohesion run --summary` writes), also
 //! logged to the console; the title follows the status.
@@ -55,7 +60,8 @@ async fn run() -> Result<(), String> {
 
 /// `scene=NAME` as `scenes/NAME.toml` (a path is taken as it is), `run=1`, and the lesson
 /// (`lesson=NAME`, `step=N`) or the overrides (`set=key.path=value`, repeated), the panels hidden
-/// (`hide=history,law`) and the projector mode (`projector=1`) of the page's URL.
+/// (`hide=history,law`), the projector mode (`projector=1`) and the embeddable view (`embed=1`)
+/// of the page's URL.
 fn url_parameters() -> Result<(Option<String>, bool, Opening), String> {
     let window = web_sys::window().ok_or("no window")?;
     let search = window.location().search().map_err(js_text)?;
@@ -68,6 +74,16 @@ fn url_parameters() -> Result<(Option<String>, bool, Opening), String> {
         }
     });
     let run = params.get("run").is_some_and(|v| v == "1" || v == "true");
+    let embed = crate::gui::state::parse_embed(
+        params.get("embed").as_deref(),
+        scene.is_some() || params.get("lesson").is_some(),
+    )?;
+    if embed {
+        // The link to the book is the full page's.
+        if let Some(book) = window.document().and_then(|d| d.get_element_by_id("book")) {
+            book.remove();
+        }
+    }
     let opening = Opening {
         lesson: params.get("lesson"),
         step: params.get("step").map_or(Ok(1), |s| {
@@ -89,6 +105,7 @@ fn url_parameters() -> Result<(Option<String>, bool, Opening), String> {
         projector: params
             .get("projector")
             .is_some_and(|v| v == "1" || v == "true"),
+        embed,
     };
     Ok((scene, run, opening))
 }

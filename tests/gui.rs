@@ -426,7 +426,7 @@ fn two_runs_overlaid_in_the_comparison_plots() {
 #[test]
 fn hidden_panels_are_not_drawn() {
     let mut app = small_pull_off(3);
-    app.set_display(&["history,view".to_string()], true)
+    app.set_display(&["history,view".to_string()], true, false)
         .unwrap();
     let mut h = harness(app);
     h.run();

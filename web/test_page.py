@@ -26,7 +26,9 @@ Then the links (`--links`, on by default): `?scene=pull_off&set=…&set=…&run=
 `decohesion run scenes/pull_off.toml --set … --set …`, and a lesson step opened by its link,
 `?lesson=cohesive_law&step=4&run=1&hide=history,view&projector=1` (as a class would open it),
 against the native run of its scene with the overrides of the lesson's steps 1 to 4 (read from
-`lessons/cohesive_law.md`), with the same checks.
+`lessons/cohesive_law.md`), with the same checks; the same step embedded as a course page would
+(`&embed=1`, in an 800×500 window: the embeddable view), with the same checks, and the page's
+link to the book gone; and `embed=yes`, which the page must refuse with a message naming it.
 
 Saves a screenshot of the page at the end of each run. Exit status 0 when every check passes.
 """
@@ -125,6 +127,9 @@ class WebDriver:
 
     def script(self, js):
         return self.call("POST", self.s("/execute/sync"), {"script": js, "args": []})
+
+    def window(self, width, height):
+        self.call("POST", self.s("/window/rect"), {"width": width, "height": height})
 
     def screenshot(self, path):
         png = base64.b64decode(self.call("GET", self.s("/screenshot")))
@@ -293,6 +298,21 @@ def main():
                        "&hide=history,view&projector=1")
                 linked.append((url, run_page(wd, url, args.timeout, f"{shot}_lesson.png"),
                                natives("pull_off", sets)))
+                # Embedded in a course page's <iframe> of 800×500: the embeddable view.
+                wd.window(800, 500)
+                url = (f"http://127.0.0.1:{site_port}/?lesson=cohesive_law&step=4&run=1"
+                       "&embed=1")
+                linked.append((url, run_page(wd, url, args.timeout, f"{shot}_embed.png"),
+                               natives("pull_off", sets)))
+                if wd.script("return document.getElementById('book') !== null"):
+                    sys.exit(f"test_page: {url}: the embedded page still links to the book")
+                url = f"http://127.0.0.1:{site_port}/?scene=pull_off&embed=yes"
+                wd.get(url)
+                status = wait_for("the refusal", lambda: (lambda s: s if s != "loading" else None)(
+                    wd.script("return document.getElementById('status').textContent")), 60)
+                print(f"test_page: {url}: {status}")
+                if not (status.startswith("failed:") and "embed=yes" in status):
+                    sys.exit(f"test_page: {url}: not refused with a message naming embed=yes")
             wd.quit()
     finally:
         chromedriver.terminate()

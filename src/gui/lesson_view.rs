@@ -299,6 +299,23 @@ impl App {
         }
     }
 
+    /// *full page*, in the embeddable view: the full page of what the frame shows (the link of
+    /// *copy link*), opened in a new tab.
+    pub(super) fn full_page_ui(&mut self, ui: &mut egui::Ui) {
+        if ui
+            .button("full page ↗")
+            .on_hover_text("open this lesson step or scene in the full explorer, in a new tab")
+            .clicked()
+        {
+            match self.link_query() {
+                Ok(q) => ui
+                    .ctx()
+                    .open_url(egui::OpenUrl::new_tab(format!("{}{q}", site_base()))),
+                Err(e) => self.notes.push(format!("no link: {e}")),
+            }
+        }
+    }
+
     /// The title of plot `p`, marked when the open step points at it.
     pub(super) fn plot_title(&self, p: PlotName, title: &str) -> egui::WidgetText {
         let marked = (self.lesson.as_ref()).is_some_and(|s| s.current().plot == Some(p));

@@ -125,9 +125,13 @@ impl App {
     /// figure as PNG, SVG or CSV, carried out here.
     fn plot_row(&mut self, ui: &mut egui::Ui, mut panels: Vec<Panel<'_>>) {
         let projector = self.display.projector;
-        let w = (ui.available_width() / 3.0 - 8.0).max(150.0);
+        // Three plots a row, or as many as fit at 150 points (the embedded page's narrow
+        // frame), the others on the next rows.
+        let avail = ui.available_width();
+        let per_row = ((avail / 158.0).floor() as usize).clamp(1, 3);
+        let w = (avail / per_row as f32 - 8.0).max(150.0);
         let mut asked = None;
-        ui.horizontal(|ui| {
+        ui.horizontal_wrapped(|ui| {
             for (k, panel) in panels.iter_mut().enumerate() {
                 let marks = std::mem::replace(&mut panel.marks, Box::new(|_| {}));
                 let title = std::mem::replace(&mut panel.title, "".into());

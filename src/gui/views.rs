@@ -55,10 +55,23 @@ impl App {
         // In the order of PANELS.
         let [settings, history, view, law, progress, measured] =
             super::state::PANELS.map(|(p, _)| self.display.shows(p));
+        // The embeddable view shares the frame's width, whatever its size.
+        let width = ui.available_width();
+        let (lesson_width, view_width) = if self.display.embed {
+            (
+                width * super::state::EMBED_LESSON_WIDTH,
+                width * super::state::EMBED_VIEW_WIDTH,
+            )
+        } else {
+            (380.0, 470.0)
+        };
+        // Embedded, a panel does not grow past its share with its widest line.
+        let embed = self.display.embed;
+        let at_most = move |p: egui::Panel, w: f32| if embed { p.max_size(w) } else { p };
         if self.lesson.is_some() {
-            egui::Panel::left("lesson")
+            at_most(egui::Panel::left("lesson"), lesson_width)
                 .resizable(true)
-                .default_size(380.0)
+                .default_size(lesson_width)
                 .show(ui, |ui| {
                     egui::ScrollArea::vertical().show(ui, |ui| self.lesson_ui(ui));
                 });
@@ -78,9 +91,9 @@ impl App {
                 .show(ui, |ui| self.history_ui(ui));
         }
         if view {
-            egui::Panel::right("view3d")
+            at_most(egui::Panel::right("view3d"), view_width)
                 .resizable(true)
-                .default_size(470.0)
+                .default_size(view_width)
                 .show(ui, |ui| self.view.ui(ui));
             if std::mem::take(&mut self.view.png_requested) {
                 if let Some(rect) = self.view.rect {
@@ -292,6 +305,11 @@ impl App {
                 Status::Ended(s) => s.clone(),
             };
             ui.label(format!("status: {status}"));
+            if self.display.embed {
+                // Embedded, the scene section (and its link button) is left out.
+                self.link_ui(ui);
+                self.full_page_ui(ui);
+            }
         });
         self.variants_ui(ui);
         if let Some(b) = &blocker {

@@ -24,7 +24,7 @@ impl crate::gui::App {
         if let Some(path) = &o.data {
             self.load_measured(path);
         }
-        if let Err(e) = self.set_display(&o.hide, o.projector) {
+        if let Err(e) = self.set_display(&o.hide, o.projector, o.embed) {
             self.notes.push(e.clone());
             return Err(e);
         }

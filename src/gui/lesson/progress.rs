@@ -82,6 +82,8 @@ pub struct Opening {
     pub hide: Vec<String>,
     /// Larger type and thicker lines.
     pub projector: bool,
+    /// The embeddable view (the page's `embed=1`): the lesson or scene without the menus.
+    pub embed: bool,
 }
 
 /// Checks an opening before the window opens (`gui --lesson`, `--step`, `--set`): the lesson

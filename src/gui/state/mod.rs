@@ -12,7 +12,10 @@ mod save;
 mod tests;
 
 pub use compare::{check_compare, variant_key, VARIANT_KEYS};
-pub use display::{parse_hidden, Display, PANELS, PROJECTOR_LINE, PROJECTOR_ZOOM};
+pub use display::{
+    parse_embed, parse_hidden, Display, EMBED_HIDDEN, EMBED_LESSON_WIDTH, EMBED_VIEW_WIDTH, PANELS,
+    PROJECTOR_LINE, PROJECTOR_ZOOM,
+};
 pub use measured::Measured;
 #[cfg(not(target_arch = "wasm32"))]
 pub use measured::{FitOutcome, FitPanel, FreeKey};
@@ -84,7 +87,7 @@ pub struct App {
     pub in_page: bool,
     /// The open lesson, if any ([`super::lesson`]).
     pub lesson: Option<super::lesson::LessonState>,
-    /// Panels hidden and the projector mode ([`display`]).
+    /// Panels hidden, the projector mode and the embeddable view ([`display`]).
     pub display: Display,
     /// A plot or the 3-D view to save as PNG once the window's screenshot comes.
     pub pending_png: Option<super::export::PendingPng>,

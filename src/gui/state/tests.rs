@@ -280,6 +280,58 @@ fn panels_hidden_and_the_projector_mode_go_into_links() {
     assert!(app.open(&bad).is_err());
 }
 
+/// The embeddable view (`embed=1`, for a course page's `<iframe>`): the menus, the history and
+/// the measured-curve section are left out whatever `hide=` says, the plots stay; the copied
+/// link is the full page's (no `embed=`, the lesson's step or the scene's keys and the `hide=`
+/// given). A value of `embed=` other than 1/true/0/false is refused naming it, and so is
+/// `embed=1` without a lesson or scene to show.
+#[test]
+fn the_embeddable_view_leaves_out_the_menus_and_links_to_the_full_page() {
+    use super::parse_embed;
+    assert_eq!(parse_embed(None, false), Ok(false));
+    assert_eq!(parse_embed(Some("1"), true), Ok(true));
+    assert_eq!(parse_embed(Some("true"), true), Ok(true));
+    assert_eq!(parse_embed(Some("0"), false), Ok(false));
+    let e = parse_embed(Some("yes"), true).unwrap_err();
+    assert!(e.starts_with("embed=yes: admissible 1 or true"), "{e}");
+    let e = parse_embed(Some("1"), false).unwrap_err();
+    assert!(e.contains("give lesson=NAME or scene=NAME"), "{e}");
+
+    let mut app = App::default();
+    let opening = crate::gui::Opening {
+        lesson: Some("cohesive_law".into()),
+        step: 4,
+        hide: vec!["view".into()],
+        embed: true,
+        ..Default::default()
+    };
+    app.open(&opening).unwrap();
+    assert!(app.display.embed);
+    for panel in ["settings", "history", "measured", "view"] {
+        assert!(!app.display.shows(panel), "{panel} shown");
+    }
+    assert!(app.display.shows("law") && app.display.shows("progress"));
+    assert_eq!(
+        app.link_query().unwrap(),
+        "?lesson=cohesive_law&step=4&hide=view"
+    );
+
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut app = App::default();
+    app.load_scene(&root.join("scenes/pull_off.toml").display().to_string());
+    let opening = crate::gui::Opening {
+        set: vec!["interface.law.u_r=0.005".into()],
+        embed: true,
+        ..Default::default()
+    };
+    app.open(&opening).unwrap();
+    let link = app.link_query().unwrap();
+    assert!(
+        link.contains("set=interface.law.u_r%3D0.005") && !link.contains("embed"),
+        "{link}"
+    );
+}
+
 /// Figures for slides, as a right-click on a plot asks: SVG and CSV written at once into the
 /// output folder; PNG when the window's screenshot comes (put here as the window would), cropped
 /// to the plot's rectangle and readable as a PNG of its size.
