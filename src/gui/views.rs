@@ -65,9 +65,11 @@ impl App {
         } else {
             (380.0, 470.0)
         };
-        // Embedded, a panel does not grow past its share with its widest line.
+        // Embedded, a panel keeps its share of the frame's width, set again every frame (the
+        // first frames of the page may come before the canvas has its size), whatever its
+        // widest line.
         let embed = self.display.embed;
-        let at_most = move |p: egui::Panel, w: f32| if embed { p.max_size(w) } else { p };
+        let at_most = move |p: egui::Panel, w: f32| if embed { p.exact_size(w) } else { p };
         if self.lesson.is_some() {
             at_most(egui::Panel::left("lesson"), lesson_width)
                 .resizable(true)
@@ -107,7 +109,14 @@ impl App {
             self.gif_step(ui.ctx());
         }
         egui::CentralPanel::default().show(ui, |ui| {
-            egui::ScrollArea::vertical().show(ui, |ui| {
+            // Embedded in a narrow frame, what is wider than the plots' share scrolls rather
+            // than covering the 3-D view.
+            let scroll = if self.display.embed {
+                egui::ScrollArea::both()
+            } else {
+                egui::ScrollArea::vertical()
+            };
+            scroll.show(ui, |ui| {
                 self.run_ui(ui);
                 if measured {
                     ui.separator();
@@ -284,7 +293,8 @@ impl App {
     fn run_ui(&mut self, ui: &mut egui::Ui) {
         let blocker = self.blocker();
         let running = self.job.is_some();
-        ui.horizontal(|ui| {
+        // Wrapped in a narrow frame (the embeddable page).
+        ui.horizontal_wrapped(|ui| {
             let run = ui.add_enabled(!running && blocker.is_none(), egui::Button::new("Run"));
             if run.clicked() {
                 self.start();
