@@ -135,7 +135,7 @@ impl RunSummary {
             status: status.into(),
             error: error.map(|e| e.to_string()),
             nodes: sim.model.mesh.nodes.len(),
-            elements: sim.model.mesh.elements.len(),
+            elements: sim.model.mesh.element_count(),
             interface_nodes: sim.state.interface_nodes.len(),
             threads: sim.threads(),
             steps: sim.state.step_count,

@@ -69,6 +69,8 @@ pub const NOT_INTERFACE: i8 = -1;
 
 /// VTK cell type of the 8-node hexahedron (`VTK_HEXAHEDRON`).
 pub const VTK_HEXAHEDRON: u8 = 12;
+/// VTK cell type of the 4-node tetrahedron (`VTK_TETRA`).
+pub const VTK_TETRA: u8 = 10;
 
 /// Opening and closing of the `.pvd` collection.
 const PVD_HEAD: &str = "<?xml version=\"1.0\"?>\n\
@@ -290,8 +292,18 @@ impl Series {
         mesh_xml.push_str("      </Points>\n      <Cells>\n");
         // The mesh's node order (0–3 on ζ = −1 counter-clockwise seen from +ζ, 4–7 above)
         // is VTK's for a hexahedron.
-        let connectivity: Vec<i64> = mesh.elements.iter().flatten().map(|&n| n as i64).collect();
-        let offsets: Vec<i64> = (1..=mesh.elements.len() as i64).map(|k| 8 * k).collect();
+        // Then the tetrahedra (VTK_TETRA), whose node order (positive volume) is VTK's too.
+        let connectivity: Vec<i64> = (mesh.elements.iter().flatten())
+            .chain(mesh.tets.iter().flatten())
+            .map(|&n| n as i64)
+            .collect();
+        let n_hex = mesh.elements.len() as i64;
+        let offsets: Vec<i64> = (1..=n_hex)
+            .map(|k| 8 * k)
+            .chain((1..=mesh.tets.len() as i64).map(|k| 8 * n_hex + 4 * k))
+            .collect();
+        let mut types = vec![VTK_HEXAHEDRON; mesh.elements.len()];
+        types.resize(mesh.element_count(), VTK_TETRA);
         data_array(
             &mut mesh_xml,
             &mut bytes,
@@ -310,7 +322,7 @@ impl Series {
             &mut mesh_xml,
             &mut bytes,
             "type=\"UInt8\" Name=\"types\"",
-            &vec![VTK_HEXAHEDRON; mesh.elements.len()],
+            &types,
             u8::to_le_bytes,
         );
         mesh_xml.push_str("      </Cells>\n");
@@ -338,7 +350,7 @@ impl Series {
     fn grid(&mut self, f: &Snapshot) {
         let m = &self.model;
         let nodes = m.mesh.nodes.len();
-        let cells = m.mesh.elements.len();
+        let cells = m.mesh.element_count();
         let mut alpha = vec![NOT_INTERFACE as f64; nodes];
         let mut state = vec![NOT_INTERFACE; nodes];
         for (&(n, _), node) in self.interface_nodes.iter().zip(&f.interface) {

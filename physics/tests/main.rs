@@ -56,6 +56,7 @@ mod rubber_runs;
 mod stability;
 mod step;
 mod teaching_scenes;
+mod tets;
 mod tread_demould;
 mod wave_speed;
 

@@ -17,9 +17,10 @@ pub fn check(path: &Path, set: &[String]) -> Result<()> {
         Simulation::new(m.clone()).with_context(|| format!("setting up {}", path.display()))?;
     println!("{} is valid: {}", scene.file, m.description);
     println!(
-        "  mesh                         {} nodes, {} hex8 elements, smallest edge {:.4e} m",
+        "  mesh                         {} nodes, {} hex8{} elements, smallest edge {:.4e} m",
         m.mesh.nodes.len(),
         m.mesh.elements.len(),
+        crate::output::surface::tet_count(&m.mesh),
         le
     );
     println!(

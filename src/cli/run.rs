@@ -221,7 +221,7 @@ impl Terminal {
             eprintln!(
                 "{}: {} elements, h = {:.4e} s (h_crit {:.4e} s), ~{} steps to t = {} s",
                 sim.model.name,
-                sim.model.mesh.elements.len(),
+                sim.model.mesh.element_count(),
                 sim.state.h,
                 sim.state.h_crit,
                 expected,

@@ -64,12 +64,15 @@ impl Surface {
                 index_of[n as usize]
             });
             triangles.push([v[0], v[1], v[2]]);
-            triangles.push([v[0], v[2], v[3]]);
+            // A tetrahedron's face is the degenerate quad [a, b, c, c]: one triangle.
+            if q[2] != q[3] {
+                triangles.push([v[0], v[2], v[3]]);
+            }
         }
         // Elements around each surface vertex (only surface elements touch the surface).
         let mut offsets = vec![0u32; nodes.len() + 1];
         for &e in &elements {
-            for &n in &m.mesh.elements[e as usize] {
+            for &n in m.mesh.element_nodes(e as usize) {
                 let v = index_of[n as usize];
                 if v != u32::MAX {
                     offsets[v as usize + 1] += 1;
@@ -82,7 +85,7 @@ impl Surface {
         let mut fill = offsets.clone();
         let mut adjacent = vec![0u32; *offsets.last().unwrap_or(&0) as usize];
         for (k, &e) in elements.iter().enumerate() {
-            for &n in &m.mesh.elements[e as usize] {
+            for &n in m.mesh.element_nodes(e as usize) {
                 let v = index_of[n as usize];
                 if v != u32::MAX {
                     adjacent[fill[v as usize] as usize] = k as u32;
@@ -126,6 +129,16 @@ impl Surface {
                     / k
             })
             .collect()
+    }
+}
+
+/// " + N tet4" for a mesh with tetrahedra (model §1.13), nothing for hexahedra alone (the
+/// labels of the recording and of `check`).
+pub fn tet_count(mesh: &crate::mesh::Mesh) -> String {
+    if mesh.tets.is_empty() {
+        String::new()
+    } else {
+        format!(" + {} tet4", mesh.tets.len())
     }
 }
 

@@ -87,9 +87,10 @@ pub(super) const STAGES: [&str; 8] = [
 pub fn recording_name(sim: &Simulation) -> String {
     let m = &sim.model;
     let mut name = format!(
-        "{} · {} hex8 · {:?} E={:.3e} Pa ν={}",
+        "{} · {} hex8{} · {:?} E={:.3e} Pa ν={}",
         m.name,
         m.mesh.elements.len(),
+        crate::output::surface::tet_count(&m.mesh),
         m.material.model,
         m.material.young,
         m.material.poisson

@@ -1,12 +1,16 @@
 //! Gmsh meshes: reads `.msh` files of format 4.1 (ASCII or binary, parsed by the `mshio` crate)
-//! holding 8-node hexahedra into a [`Mesh`], and writes a [`Mesh`] as a `.msh` 4.1 ASCII file.
+//! holding 8-node hexahedra and 4-node tetrahedra into a [`Mesh`], and writes a [`Mesh`] as a
+//! `.msh` 4.1 ASCII file.
 //!
 //! What is read:
-//! - every element of a volume entity must be an 8-node hexahedron (Gmsh type 5); any other
-//!   volume element is refused with its tag and type;
+//! - every element of a volume entity must be an 8-node hexahedron (Gmsh type 5) or a 4-node
+//!   tetrahedron (type 4; both may mix, model §1.13); any other volume element is refused with
+//!   its tag and type; a tetrahedron of zero or negative volume is refused with its tag and
+//!   volume;
 //! - the physical groups of dimension 2 become the face sets, named by `$PhysicalNames` or
 //!   `physical_<tag>` when the group has no name; their elements must be 4-node quadrangles
-//!   (type 3) that are boundary faces of the hexahedra. Each quad is re-ordered as the face of
+//!   (type 3) that are boundary faces of the hexahedra, or 3-node triangles (type 2) that are
+//!   boundary faces of the tetrahedra (stored as [a, b, c, c], see [`Mesh::face_sets`]). Each quad is re-ordered as the face of
 //!   its hexahedron, counter-clockwise seen from outside (outward normal, as [`Mesh`] requires),
 //!   whatever orientation the file gives it;
 //! - nodes that no hexahedron uses (geometry points, construction nodes) are dropped; the others
@@ -40,7 +44,9 @@ pub const GMSH_HEX8_ORDER: [usize; 8] = [0, 1, 2, 3, 4, 5, 6, 7];
 
 /// Gmsh element type numbers used here.
 const HEX8: i32 = 5;
+const TET4: i32 = 4;
 const QUAD4: i32 = 3;
+const TRI3: i32 = 2;
 
 /// Why a `.msh` file could not be read. Every message starts with the file name.
 #[derive(Debug, thiserror::Error)]
@@ -117,9 +123,9 @@ pub fn parse_msh(bytes: &[u8], file: &str) -> Result<Mesh, MshError> {
             .cloned()
             .unwrap_or_else(|| format!("physical_{tag}"))
     };
-    let (hexes, group_quads) = read_elements(&msh, &nodes, &group_name, &err)?;
-    let (mesh, new_index) = hexahedra(&nodes.coords, &hexes, &err)?;
-    let mesh = with_face_sets(mesh, &new_index, group_quads, &group_name, &err)?;
+    let el = read_elements(&msh, &nodes, &group_name, &err)?;
+    let (mesh, new_index) = volume_mesh(&nodes.coords, &el.hexes, &el.tets, &err)?;
+    let mesh = with_face_sets(mesh, &new_index, el.faces, &group_name, &err)?;
     // A Gmsh file numbers its nodes by geometric entity, not by position: renumber them slab by
     // slab for the element loop's caches (a no-op for a file written along its longest axis).
     Ok(mesh.with_nodes_in_slabs())
@@ -201,11 +207,13 @@ impl FileNodes {
     }
 }
 
-/// Hexahedra (file node indices, element tag) and quads per physical surface group.
-type Elements = (
-    Vec<([usize; 8], u64)>,
-    BTreeMap<i32, Vec<([usize; 4], u64)>>,
-);
+/// Hexahedra and tetrahedra (file node indices, element tag), and the faces of each physical
+/// surface group (quads; a triangle [a, b, c] as [a, b, c, c]).
+struct Elements {
+    hexes: Vec<([usize; 8], u64)>,
+    tets: Vec<([usize; 4], u64)>,
+    faces: BTreeMap<i32, Vec<([usize; 4], u64)>>,
+}
 
 /// The hexahedra of the volume entities and the quads of each physical surface group; any
 /// other volume element, or any other element in a face set, is refused.
@@ -221,20 +229,31 @@ fn read_elements(
             surface_groups.insert(s.tag, s.physical_tags.iter().map(|t| t.abs()).collect());
         }
     }
-    let mut hexes: Vec<([usize; 8], u64)> = Vec::new();
-    let mut group_quads: BTreeMap<i32, Vec<([usize; 4], u64)>> = BTreeMap::new();
+    let mut out = Elements {
+        hexes: Vec::new(),
+        tets: Vec::new(),
+        faces: BTreeMap::new(),
+    };
     let Some(elements) = &msh.data.elements else {
-        return Ok((hexes, group_quads));
+        return Ok(out);
     };
     for block in &elements.element_blocks {
         let ty = block.element_type as i32;
         match block.entity_dim {
             3 => {
                 for el in &block.elements {
+                    if ty == TET4 {
+                        let mut conn = [0usize; 4];
+                        for (a, slot) in conn.iter_mut().enumerate() {
+                            *slot = nodes.get(el.nodes[a], el.element_tag, err)?;
+                        }
+                        out.tets.push((conn, el.element_tag));
+                        continue;
+                    }
                     if ty != HEX8 {
                         return Err(err.at(format!(
                             "element {} ({}, in volume {}): only 8-node hexahedra (type 5) \
-                             are supported",
+                             and 4-node tetrahedra (type 4) are supported",
                             el.element_tag,
                             type_name(ty),
                             block.entity_tag
@@ -244,7 +263,7 @@ fn read_elements(
                     for (a, slot) in conn.iter_mut().enumerate() {
                         *slot = nodes.get(el.nodes[GMSH_HEX8_ORDER[a]], el.element_tag, err)?;
                     }
-                    hexes.push((conn, el.element_tag));
+                    out.hexes.push((conn, el.element_tag));
                 }
             }
             2 => {
@@ -253,10 +272,20 @@ fn read_elements(
                 };
                 for &g in groups {
                     for el in &block.elements {
+                        if ty == TRI3 {
+                            let mut t = [0usize; 3];
+                            for (a, slot) in t.iter_mut().enumerate() {
+                                *slot = nodes.get(el.nodes[a], el.element_tag, err)?;
+                            }
+                            let q = [t[0], t[1], t[2], t[2]];
+                            out.faces.entry(g).or_default().push((q, el.element_tag));
+                            continue;
+                        }
                         if ty != QUAD4 {
                             return Err(err.at(format!(
                                 "element {} ({}, in surface {} of physical group \"{}\"): \
-                                 only 4-node quadrangles (type 3) are supported in face sets",
+                                 only 4-node quadrangles (type 3) and 3-node triangles (type \
+                                 2) are supported in face sets",
                                 el.element_tag,
                                 type_name(ty),
                                 block.entity_tag,
@@ -267,34 +296,36 @@ fn read_elements(
                         for (a, slot) in q.iter_mut().enumerate() {
                             *slot = nodes.get(el.nodes[a], el.element_tag, err)?;
                         }
-                        group_quads.entry(g).or_default().push((q, el.element_tag));
+                        out.faces.entry(g).or_default().push((q, el.element_tag));
                     }
                 }
             }
             _ => {}
         }
     }
-    Ok((hexes, group_quads))
+    Ok(out)
 }
 
-/// The mesh of the hexahedra, with only the nodes they use (in file order), each element
-/// checked for inversion (det J₀ > 0 at every Gauss point); and the file-to-mesh node index.
-fn hexahedra(
+/// The mesh of the hexahedra and tetrahedra, with only the nodes they use (in file order),
+/// each element checked for inversion (det J₀ > 0 at every Gauss point of a hexahedron, a
+/// positive volume for a tetrahedron); and the file-to-mesh node index.
+fn volume_mesh(
     coords: &[[f64; 3]],
     hexes: &[([usize; 8], u64)],
+    tets: &[([usize; 4], u64)],
     err: &MeshErr,
 ) -> Result<(Mesh, Vec<u32>), MshError> {
-    if hexes.is_empty() {
+    if hexes.is_empty() && tets.is_empty() {
         return Err(err.at(
-            "no 8-node hexahedron (type 5) in the file: the body must be meshed with hexahedra"
+            "no 8-node hexahedron (type 5) or 4-node tetrahedron (type 4) in the file: the \
+             body must be meshed with hexahedra or tetrahedra"
                 .into(),
         ));
     }
     let mut new_index = vec![u32::MAX; coords.len()];
-    for (conn, _) in hexes {
-        for &n in conn {
-            new_index[n] = 0;
-        }
+    let used = (hexes.iter().flat_map(|h| h.0.iter())).chain(tets.iter().flat_map(|t| t.0.iter()));
+    for &n in used {
+        new_index[n] = 0;
     }
     let mut nodes = Vec::new();
     for (i, slot) in new_index.iter_mut().enumerate() {
@@ -317,9 +348,26 @@ fn hexahedra(
             )));
         }
     }
+    let tets: Vec<[u32; 4]> = (tets.iter())
+        .map(|(conn, tag)| {
+            let t = conn.map(|n| new_index[n]);
+            let (det, _) = crate::mesh::tet::tet_gradients(&t.map(|n| nodes[n as usize]));
+            if det > 0.0 {
+                Ok(t)
+            } else {
+                Err(err.at(format!(
+                    "element {tag} (tetrahedron) has volume {:e} m³: a tetrahedron must have \
+                     a positive volume det[X₁ − X₀, X₂ − X₀, X₃ − X₀]/6 (Gmsh's node order); \
+                     a zero volume is a degenerate element, a negative one is inverted",
+                    det / 6.0
+                )))
+            }
+        })
+        .collect::<Result<_, _>>()?;
     let mesh = Mesh {
         nodes,
         elements,
+        tets,
         face_sets: BTreeMap::new(),
     };
     Ok((mesh, new_index))
@@ -336,9 +384,7 @@ fn with_face_sets(
 ) -> Result<Mesh, MshError> {
     let mut boundary: HashMap<[u32; 4], [u32; 4]> = HashMap::new();
     for (quad, _) in mesh.boundary_faces() {
-        let mut key = quad;
-        key.sort_unstable();
-        boundary.insert(key, quad);
+        boundary.insert(face_key(quad), quad);
     }
     let mut seen_names: BTreeMap<String, i32> = BTreeMap::new();
     for (g, quads) in group_quads {
@@ -352,12 +398,17 @@ fn with_face_sets(
         let mut set = Vec::with_capacity(quads.len());
         let mut in_set = std::collections::HashSet::new();
         for (q, tag) in quads {
-            let mut key = q.map(|n| new_index[n]);
-            key.sort_unstable();
+            let key = face_key(q.map(|n| new_index[n]));
             let outward = boundary.get(&key).ok_or_else(|| {
                 err.at(format!(
-                    "element {tag} (a quadrangle of physical group \"{name}\") is not a face on \
-                     the boundary of the hexahedra: face sets must lie on the body's surface"
+                    "element {tag} (a {} of physical group \"{name}\") is not a face on the \
+                     boundary of the body: face sets must lie on its surface, a quadrangle on a \
+                     hexahedron, a triangle on a tetrahedron",
+                    if q[2] == q[3] {
+                        "triangle"
+                    } else {
+                        "quadrangle"
+                    }
                 ))
             })?;
             if in_set.insert(key) {
@@ -367,6 +418,19 @@ fn with_face_sets(
         mesh.face_sets.insert(name, set);
     }
     Ok(mesh)
+}
+
+/// The nodes of a face, sorted, whatever its orientation; a triangle [a, b, c, c] as its 3
+/// nodes sorted and the last repeated.
+fn face_key(q: [u32; 4]) -> [u32; 4] {
+    let mut key = q;
+    key.sort_unstable();
+    if q[2] == q[3] {
+        let mut t = [q[0], q[1], q[2]];
+        t.sort_unstable();
+        key = [t[0], t[1], t[2], t[2]];
+    }
+    key
 }
 
 /// A surface group read from a `.msh` file: the nodes, the triangles, each triangle's element tag.

@@ -12,6 +12,7 @@ mod gather;
 mod nodes;
 mod physical;
 pub mod simd;
+pub mod tet;
 
 use gather::*;
 pub use gather::{last_level_cache_bytes, prefetch_pays};
@@ -115,7 +116,8 @@ impl ElementSums {
     }
 }
 
-/// Internal forces of a whole mesh: F_int(U) = Σ_e fₑ(U) (model §1.5 and §4.3).
+/// Internal forces of a whole mesh: F_int(U) = Σ_e fₑ(U) (model §1.5 and §4.3), the
+/// hexahedra by `rule`, then the tetrahedra ([`tet`], model §1.13).
 /// `f` must be zeroed. Energies are computed only if `energy`. `blocks` come from
 /// [`Mesh::element_blocks`]; `parts` is a buffer for the per-block results (reused, so the
 /// step allocates nothing).
@@ -211,6 +213,27 @@ pub fn assemble_internal_forces(
                 out.min_stress_j = p.min_stress_j;
                 out.min_stress_element = p.min_stress_element;
             }
+        }
+    }
+    if !mesh.tets.is_empty() {
+        let split = tet::nodal_pressure(mat);
+        let p = tet::tet_forces(
+            mesh,
+            &classes.tets,
+            mat,
+            split,
+            u,
+            &mut f.planes_mut(),
+            team,
+        );
+        out.strain += p.strain;
+        if !(p.min_j >= out.min_j) {
+            out.min_j = p.min_j;
+            out.min_element = p.min_element;
+        }
+        if !(p.min_stress_j >= out.min_stress_j) {
+            out.min_stress_j = p.min_stress_j;
+            out.min_stress_element = p.min_stress_element;
         }
     }
     out

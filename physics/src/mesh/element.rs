@@ -367,6 +367,8 @@ pub struct ElementClasses {
     /// numbering ([`crate::kernels::row_starts`]), whose lane group the element loops gather
     /// and scatter line by line.
     pub row_start: Vec<bool>,
+    /// The tetrahedra's reference data (model §1.13; empty without tetrahedra).
+    pub tets: super::TetData,
 }
 
 impl Mesh {
@@ -410,6 +412,7 @@ impl Mesh {
             centre,
             class_of,
             row_start: super::rows::row_starts(&self.elements),
+            tets: self.tet_data()?,
         })
     }
 }

@@ -1,4 +1,5 @@
-//! Hexahedral meshes: nodes, 8-node trilinear elements, named boundary face sets, and the
+//! Meshes of hexahedra and tetrahedra: nodes, 8-node trilinear elements, 4-node linear
+//! tetrahedra ([`tet`], model §1.13), named boundary face sets, and the
 //! reference-configuration quantities that the total Lagrangian formulation computes once (model
 //! §1.5, §1.7, §2.1): shape-function gradients ∇ₓNₐ and weights w·det J₀ at the Gauss points,
 //! lumped masses, tributary areas of boundary faces.
@@ -11,6 +12,7 @@ mod element;
 mod order;
 pub mod planes;
 pub mod rows;
+pub mod tet;
 
 pub use element::{
     corner_bound_constant, gauss_points, hourglass_vectors, shape, shape_derivatives, CentreData,
@@ -18,6 +20,7 @@ pub use element::{
 };
 pub use order::Slabs;
 pub use planes::{NodalField, Planes};
+pub use tet::{TetData, TET_FACES};
 
 /// Local faces of a hexahedron, each outward (counter-clockwise seen from outside; the node
 /// order of [`HEX_CORNERS`]).
@@ -30,14 +33,20 @@ const HEX_FACES: [[usize; 4]; 6] = [
     [3, 0, 4, 7],
 ];
 
-/// A hexahedral mesh in its reference configuration. Lengths in metres.
+/// A mesh of hexahedra and tetrahedra in its reference configuration. Lengths in metres.
 #[derive(Debug, Clone)]
 pub struct Mesh {
     /// Reference positions X of the nodes [m].
     pub nodes: Vec<[f64; 3]>,
-    /// Element connectivity (8 node indices, see module docs for the order).
+    /// Hexahedron connectivity (8 node indices, see module docs for the order).
     pub elements: Vec<[u32; 8]>,
-    /// Named boundary face sets: quadrilaterals whose node order gives an outward normal.
+    /// Tetrahedron connectivity (4 node indices, positive volume, [`tet`]). Element indices in
+    /// messages number the hexahedra first, then these ([`Mesh::element_count`]).
+    pub tets: Vec<[u32; 4]>,
+    /// Named boundary face sets: quadrilaterals whose node order gives an outward normal. A
+    /// triangle [a, b, c] is stored as the degenerate quadrilateral [a, b, c, c]: its bilinear
+    /// map integrates ∫Nₐ dA = A/3 exactly at every corner ([`Mesh::nodal_areas`]) and its
+    /// diagonals give the triangle's normal ([`Mesh::quad_normal`]).
     pub face_sets: BTreeMap<String, Vec<[u32; 4]>>,
 }
 
@@ -160,6 +169,7 @@ impl Mesh {
         Mesh {
             nodes,
             elements,
+            tets: Vec::new(),
             face_sets,
         }
     }
@@ -261,16 +271,40 @@ impl Mesh {
             }
         }
         out.sort_unstable_by_key(|v| (v.1, v.0));
+        // The tetrahedra's faces, as degenerate quads [a, b, c, c], numbered after the
+        // hexahedra ([`Mesh::element_count`]).
+        let first = self.elements.len() as u32;
+        out.extend(
+            self.boundary_triangles()
+                .into_iter()
+                .map(|(t, e)| ([t[0], t[1], t[2], t[2]], first + e)),
+        );
         out
+    }
+
+    /// The nodes of element `e` in the numbering of [`Mesh::element_count`]: a hexahedron's 8,
+    /// or a tetrahedron's 4.
+    pub fn element_nodes(&self, e: usize) -> &[u32] {
+        match self.elements.get(e) {
+            Some(conn) => conn,
+            None => &self.tets[e - self.elements.len()],
+        }
     }
 
     /// Deformation gradient F = I + Σₐ uₐ ⊗ ∇ₓNₐ at the centre (ξ = 0) of element `e`
     /// (model §1.2), for post-processing (von Mises stress, J) of a displacement field `u`.
+    /// A tetrahedron (e ≥ `elements.len()`): its constant F = I + Σₐ uₐ ⊗ ∇ₓNₐ (model §1.13).
     pub fn centre_deformation_gradient<U: NodalField + ?Sized>(
         &self,
         e: usize,
         u: &U,
     ) -> [[f64; 3]; 3] {
+        if e >= self.elements.len() {
+            let t = e - self.elements.len();
+            let (_, g) = tet::tet_gradients(&self.tet_coords(t));
+            let ue = self.tets[t].map(|n| u.at(n as usize));
+            return tet::tet_deformation_gradient(&g, &ue);
+        }
         let x = self.element_coords(e);
         let d = shape_derivatives([0.0; 3]);
         // J₀ = ∂X/∂ξ, then ∇ₓNₐ = J₀⁻ᵀ ∂Nₐ/∂ξ.
@@ -318,6 +352,17 @@ impl Mesh {
                 volume += lv[a];
             }
         }
+        // A tetrahedron's lumped volumes are V/4 (model §1.13).
+        let tets = self.tet_data()?;
+        for (conn, v) in self.tets.iter().zip(&tets.volume) {
+            for &a in conn {
+                let x = self.nodes[a as usize];
+                for c in 0..3 {
+                    moment[c] += 0.25 * v * x[c];
+                }
+                volume += 0.25 * v;
+            }
+        }
         Ok(moment.map(|m| m / volume))
     }
 
@@ -338,6 +383,19 @@ impl Mesh {
                         });
                 hi / lo
             })
+            .chain(self.tets.iter().map(|conn| {
+                let (lo, hi) =
+                    tet::TET_EDGES
+                        .iter()
+                        .fold((f64::INFINITY, 0.0f64), |(lo, hi), &(a, b)| {
+                            let l = norm(sub(
+                                self.nodes[conn[a] as usize],
+                                self.nodes[conn[b] as usize],
+                            ));
+                            (lo.min(l), hi.max(l))
+                        });
+                hi / lo
+            }))
             .fold(0.0, f64::max)
     }
 
@@ -345,6 +403,14 @@ impl Mesh {
         let mut m = f64::INFINITY;
         for conn in &self.elements {
             for &(a, b) in &HEX_EDGES {
+                m = m.min(norm(sub(
+                    self.nodes[conn[a] as usize],
+                    self.nodes[conn[b] as usize],
+                )));
+            }
+        }
+        for conn in &self.tets {
+            for &(a, b) in &tet::TET_EDGES {
                 m = m.min(norm(sub(
                     self.nodes[conn[a] as usize],
                     self.nodes[conn[b] as usize],

@@ -82,6 +82,7 @@ impl Mesh {
                 .iter()
                 .map(|e| e.each_ref().map(map))
                 .collect(),
+            tets: self.tets.iter().map(|e| e.each_ref().map(map)).collect(),
             face_sets: self
                 .face_sets
                 .iter()

@@ -384,6 +384,29 @@ pub(super) fn class_bounds(
         .collect()
 }
 
+/// max_e a(F_e) g_e over the tetrahedra (model §1.13), the element part of (B) for them: F
+/// is constant over a tetrahedron, L_e = V_e ∇ₓNₐ·∇ₓN_b and M_e = ρV_e/4 I, so
+/// g_e = (4/ρ) λ_max(Σₐ ∇ₓNₐ ⊗ ∇ₓNₐ) (the 4×4 Gram matrix and the 3×3 one share their nonzero
+/// eigenvalues). 0 without tetrahedra. (The nodal pressure is not bounded: a rubber has no
+/// bound at all, [`modulus_bound`].)
+fn tet_bound(
+    mat: &Material,
+    mesh: &crate::mesh::Mesh,
+    data: &crate::mesh::TetData,
+    u: &Planes,
+) -> f64 {
+    let mut worst = 0.0f64;
+    for (t, conn) in mesh.tets.iter().enumerate() {
+        let g = &data.grad[t];
+        let f = crate::mesh::tet::tet_deformation_gradient(g, &conn.map(|n| u.get(n as usize)));
+        let gram =
+            nalgebra::Matrix3::from_fn(|i, j| (0..4).map(|a| g[a][i] * g[a][j]).sum::<f64>());
+        let g_e = 4.0 / mat.density * SymmetricEigen::new(gram).eigenvalues.max();
+        worst = worst.max(modulus_bound(mat, &f) * g_e);
+    }
+    worst
+}
+
 impl Simulation {
     /// The element bound (B) of ω_max² at the current state [1/s²] (module doc): a proven
     /// upper bound of λ_max(M⁻¹K), K the tangent with the glue springs W g_N(α) (the operator
@@ -431,7 +454,16 @@ impl Simulation {
                 cache.maxima.extend((0..n_chunks).map(chunk));
             }
         }
-        let bulk = cache.maxima.iter().fold(0.0f64, |m, &x| m.max(x));
+        let bulk = cache
+            .maxima
+            .iter()
+            .fold(0.0f64, |m, &x| m.max(x))
+            .max(tet_bound(
+                &mat,
+                &self.model.mesh,
+                &classes.tets,
+                &self.state.u,
+            ));
         // The glue springs W g_N(α) per node (a node of several interfaces sums them).
         cache.node_springs.resize(self.state.u.len(), 0.0);
         cache.spring_nodes.clear();

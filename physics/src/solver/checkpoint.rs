@@ -130,7 +130,7 @@ impl Simulation {
             writer: env!("CARGO_PKG_VERSION").into(),
             model: model.name.clone(),
             nodes: model.mesh.nodes.len(),
-            elements: model.mesh.elements.len(),
+            elements: model.mesh.element_count(),
             fingerprint: self.fingerprint(),
             step: state.step_count,
             time: state.time,
@@ -167,7 +167,7 @@ impl Simulation {
         let header = read_header(bytes, what)?;
         if header.fingerprint != self.fingerprint()
             || header.nodes != self.model.mesh.nodes.len()
-            || header.elements != self.model.mesh.elements.len()
+            || header.elements != self.model.mesh.element_count()
         {
             return Err(CheckpointError::Foreign {
                 what: what.into(),
@@ -177,7 +177,7 @@ impl Simulation {
                 found_fp: header.fingerprint,
                 expected: self.model.name.clone(),
                 nodes: self.model.mesh.nodes.len(),
-                elements: self.model.mesh.elements.len(),
+                elements: self.model.mesh.element_count(),
                 fp: self.fingerprint(),
             });
         }

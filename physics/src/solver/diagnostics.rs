@@ -41,7 +41,13 @@ impl Simulation {
     /// integration, which corner (the kernel took the corners' J too,
     /// [`crate::kernels::corners`]) and the J at the centre, the rule's own point.
     pub(super) fn inverted(&self, element: usize, j: f64) -> SolverError {
+        let n_hex = self.model.mesh.elements.len();
         let at = match self.model.scheme.integration {
+            _ if element >= n_hex => format!(
+                "in tetrahedron {} (nodes {:?}; F is constant over it)",
+                element - n_hex,
+                self.model.mesh.tets[element - n_hex]
+            ),
             Integration::Full | Integration::Fbar => "at a Gauss point".to_string(),
             Integration::Reduced | Integration::ReducedPhysical => {
                 let conn = self.model.mesh.elements[element];

@@ -218,7 +218,7 @@ impl Simulation {
 
     /// Number of elements times steps done.
     pub fn element_steps(&self) -> u64 {
-        self.model.mesh.elements.len() as u64 * self.state.step_count
+        self.model.mesh.element_count() as u64 * self.state.step_count
     }
 
     /// Number of distinct element shapes (each has its own precomputed Gauss data).

@@ -47,6 +47,12 @@ fn lumped_masses(
             mass[conn[a] as usize] += rho_e * lv[a];
         }
     }
+    // A tetrahedron's share is ρ₀V/4 at each node (model §1.13).
+    for (conn, v) in model.mesh.tets.iter().zip(&classes.tets.volume) {
+        for &a in conn {
+            mass[a as usize] += 0.25 * rho * v;
+        }
+    }
     if let Some(i) = mass.iter().position(|&m| !(m > 0.0)) {
         return Err(SolverError::Setup(format!(
             "node {i} belongs to no element (zero mass)"
@@ -201,6 +207,23 @@ impl Simulation {
         let classes = mesh
             .element_classes()
             .map_err(|e| SolverError::Setup(e.to_string()))?;
+        if !mesh.tets.is_empty() {
+            let scheme = &model.scheme;
+            let key = if scheme.mass_scaling.is_some() {
+                Some("[mass_scaling]")
+            } else if scheme.bulk_viscosity.is_some() {
+                Some("[bulk_viscosity]")
+            } else {
+                None
+            };
+            if let Some(key) = key {
+                return Err(SolverError::Setup(format!(
+                    "{key} is implemented for hexahedra only, and the mesh has {} tetrahedra: \
+                     remove {key}, or mesh the body with hexahedra",
+                    mesh.tets.len()
+                )));
+            }
+        }
         let (class_density, mut mass_scaling) = match class_factors(&model, &classes) {
             Some((f, r)) => (f, Some(r)),
             None => (vec![], None),
@@ -234,13 +257,14 @@ impl Simulation {
             .class_of
             .iter()
             .map(|&c| classes.data[c as usize].volume())
-            .sum();
+            .sum::<f64>()
+            + classes.tets.volume.iter().sum::<f64>();
         #[cfg(not(target_arch = "wasm32"))]
         let threads = rayon::current_num_threads();
         // wasm32-unknown-unknown has one thread: the page steps on a team of one.
         #[cfg(target_arch = "wasm32")]
         let threads = 1;
-        let team = (mesh.elements.len() >= PARALLEL_MIN_ELEMENTS && threads > 1)
+        let team = (mesh.element_count() >= PARALLEL_MIN_ELEMENTS && threads > 1)
             .then(|| Team::new(threads));
         let coordinate_scale = mesh
             .nodes

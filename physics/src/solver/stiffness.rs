@@ -168,9 +168,11 @@ impl<'a> StiffnessOperator<'a> {
     /// layer of elements per iteration), and could stop on a lower, local mode with a small
     /// residual.
     pub fn add_local_start(&mut self, element: usize) {
-        let Some(conn) = self.sim.model.mesh.elements.get(element) else {
+        let mesh = &self.sim.model.mesh;
+        if element >= mesh.element_count() {
             return;
-        };
+        }
+        let conn = mesh.element_nodes(element);
         let (mask, start) = (&self.cache.mask, &mut self.cache.start);
         let dofs = || {
             (conn.iter())

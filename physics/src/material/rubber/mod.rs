@@ -268,17 +268,7 @@ pub fn piola_energy<const ENERGY: bool>(
     f: &[[f64; 3]; 3],
     j: f64,
 ) -> ([[f64; 3]; 3], f64) {
-    let cof = super::kinematics::cofactor(f);
-    let j13 = j.cbrt();
-    let j23 = 1.0 / (j13 * j13);
-    let (mut p, psi_iso) = match &r.iso {
-        Isochoric::Ogden(o) => o.stress::<ENERGY>(f, j23),
-        Isochoric::NeoHookean(m) => invariant_stress::<ENERGY>(f, &cof, j, j23, |i1, _| m.psi(i1)),
-        Isochoric::MooneyRivlin(m) => {
-            invariant_stress::<ENERGY>(f, &cof, j, j23, |i1, i2| m.psi(i1, i2))
-        }
-        Isochoric::Yeoh(m) => invariant_stress::<ENERGY>(f, &cof, j, j23, |i1, _| m.psi(i1)),
-    };
+    let (mut p, psi_iso, cof) = isochoric_piola_energy::<ENERGY>(r, f, j);
     let (u, du) = r.volumetric.energy_slope(r.bulk, j);
     for i in 0..3 {
         for k in 0..3 {
@@ -286,6 +276,29 @@ pub fn piola_energy<const ENERGY: bool>(
         }
     }
     (p, if ENERGY { psi_iso + u } else { 0.0 })
+}
+
+/// The isochoric part of [`piola_energy`]: P_iso = ∂ψ_iso(C̄)/∂F and ψ_iso (ψ_iso only if
+/// `ENERGY`, else 0), with cof F, J = det F given. The average-nodal-pressure tetrahedron
+/// (model §1.13) adds its own volumetric part to it.
+#[inline(always)]
+pub fn isochoric_piola_energy<const ENERGY: bool>(
+    r: &Rubber,
+    f: &[[f64; 3]; 3],
+    j: f64,
+) -> ([[f64; 3]; 3], f64, [[f64; 3]; 3]) {
+    let cof = super::kinematics::cofactor(f);
+    let j13 = j.cbrt();
+    let j23 = 1.0 / (j13 * j13);
+    let (p, psi_iso) = match &r.iso {
+        Isochoric::Ogden(o) => o.stress::<ENERGY>(f, j23),
+        Isochoric::NeoHookean(m) => invariant_stress::<ENERGY>(f, &cof, j, j23, |i1, _| m.psi(i1)),
+        Isochoric::MooneyRivlin(m) => {
+            invariant_stress::<ENERGY>(f, &cof, j, j23, |i1, i2| m.psi(i1, i2))
+        }
+        Isochoric::Yeoh(m) => invariant_stress::<ENERGY>(f, &cof, j, j23, |i1, _| m.psi(i1)),
+    };
+    (p, psi_iso, cof)
 }
 
 /// The isochoric P of an invariant family, `psi(Ī₁, Ī₂)` = (ψ_iso, ψ₁, ψ₂) (formula of

@@ -1,0 +1,148 @@
+//! The linear tetrahedron's internal forces (model §1.13): F constant over the element,
+//! fₐ = V_e P(F_e) ∇ₓNₐ, one stress per element; for the rubbers (ψ = ψ_iso(C̄) + U(J),
+//! model §1.10) the average nodal pressure of Bonet & Burton (1998), so that the element does
+//! not lock near incompressibility.
+//!
+//! Average nodal pressure, written as an energy (model §1.13): the nodal volume ratio
+//! Jₐ = vₐ/Vₐ, vₐ = Σ_{e∋a} v_e/4, v_e = J_e V_e, the element's J̄_e = ¼Σ_{a∈e} Jₐ, and
+//!
+//!   W = Σ_e V_e [ψ_iso(F_e) + U(J̄_e)],
+//!
+//! whose gradient is, with p̄ₐ = (1/Vₐ) Σ_{e∋a} V_e U′(J̄_e)/4 and p̃_e = ¼Σ_{a∈e} p̄ₐ,
+//!
+//!   fₐ = Σ_e V_e [P_iso(F_e) + p̃_e cof F_e] ∇ₓNₐ      (∂v_e/∂x_b = V_e cof F_e ∇ₓN_b).
+//!
+//! Three passes: the elements' F, J and isochoric stress (parallel on the team), the nodal
+//! volumes and pressures (two scatters), the forces (a scatter). Plain scalar code: the
+//! tetrahedra are not tuned yet.
+
+use super::ElementSums;
+use crate::material::{first_piola, rubber, with_law, Deformation, Material};
+use crate::mesh::tet::tet_deformation_gradient;
+use crate::mesh::{Mesh, TetData};
+use crate::team::Team;
+
+/// One tetrahedron's state at U: J, cof F (under the nodal pressure), the stress without the nodal pressure's part and the
+/// energy density without U(J̄).
+#[derive(Clone, Copy)]
+struct TetPoint {
+    j: f64,
+    p: [[f64; 3]; 3],
+    cof: [[f64; 3]; 3],
+    psi: f64,
+}
+
+/// Whether the tetrahedra of `mat` take the average nodal pressure: the materials with the
+/// isochoric/volumetric split (model §1.10, §1.13).
+pub fn nodal_pressure(mat: &Material) -> bool {
+    mat.rubber.is_some()
+}
+
+fn point(mat: &Material, g: &[[f64; 3]; 4], ue: &[[f64; 3]; 4], split: bool) -> TetPoint {
+    let f = tet_deformation_gradient(g, ue);
+    let h = std::array::from_fn(|i| std::array::from_fn(|j| f[i][j] - (i == j) as u8 as f64));
+    let d = Deformation::<f64>::of::<false>(h);
+    let (p, psi, cof) = match (&mat.rubber, split) {
+        (Some(r), true) => rubber::isochoric_piola_energy::<true>(r, &d.f, d.j),
+        _ => {
+            let (p, psi) = with_law!(mat.model, L => first_piola::<L, f64, true, false>(mat, &d));
+            (p, psi, [[0.0; 3]; 3])
+        }
+    };
+    TetPoint {
+        j: d.j,
+        p,
+        cof,
+        psi,
+    }
+}
+
+/// Adds the tetrahedra's internal forces at `u` into `f` (model §1.13) and returns their
+/// strain energy Σ_e V_e ψ_e (with U(J̄_e) under the nodal pressure) and smallest J = det F_e,
+/// numbered after the hexahedra ([`Mesh::element_count`]). `split`: the average nodal
+/// pressure ([`nodal_pressure`]; only for a rubber). A NaN J is reported as the smallest.
+pub fn tet_forces(
+    mesh: &Mesh,
+    data: &TetData,
+    mat: &Material,
+    split: bool,
+    u: [&[f64]; 3],
+    f: &mut [&mut [f64]; 3],
+    team: Option<&Team>,
+) -> ElementSums {
+    let at = |n: u32| [u[0][n as usize], u[1][n as usize], u[2][n as usize]];
+    let run = |t: usize| point(mat, &data.grad[t], &mesh.tets[t].map(at), split);
+    let mut points: Vec<TetPoint> = match team {
+        Some(team) => team.map(mesh.tets.len(), run),
+        None => (0..mesh.tets.len()).map(run).collect(),
+    };
+    let mut out = ElementSums {
+        strain: 0.0,
+        hourglass: 0.0,
+        min_j: f64::INFINITY,
+        min_element: 0,
+        skipped: 0,
+        min_stress_j: f64::INFINITY,
+        min_stress_element: 0,
+    };
+    for (t, pt) in points.iter().enumerate() {
+        if !(pt.j >= out.min_j) {
+            out.min_j = pt.j;
+            out.min_element = mesh.elements.len() + t;
+        }
+    }
+    out.min_stress_j = out.min_j;
+    out.min_stress_element = out.min_element;
+    if let (Some(r), true) = (&mat.rubber, split) {
+        // vₐ = Σ_{e∋a} J_e V_e/4, Jₐ = vₐ/Vₐ.
+        let mut nodal = vec![0.0; mesh.nodes.len()];
+        for (t, conn) in mesh.tets.iter().enumerate() {
+            let q = 0.25 * points[t].j * data.volume[t];
+            for &a in conn {
+                nodal[a as usize] += q;
+            }
+        }
+        for (ja, va) in nodal.iter_mut().zip(&data.node_volume) {
+            if *va > 0.0 {
+                *ja /= va;
+            }
+        }
+        // U(J̄_e), then p̄ₐ = (1/Vₐ) Σ_{e∋a} V_e U′(J̄_e)/4.
+        let mut pressure = vec![0.0; mesh.nodes.len()];
+        for (t, conn) in mesh.tets.iter().enumerate() {
+            let j_bar = 0.25 * conn.iter().map(|&a| nodal[a as usize]).sum::<f64>();
+            let (energy, slope) = r.volumetric.energy_slope(r.bulk, j_bar);
+            points[t].psi += energy;
+            let q = 0.25 * data.volume[t] * slope;
+            for &a in conn {
+                pressure[a as usize] += q;
+            }
+        }
+        for (p, va) in pressure.iter_mut().zip(&data.node_volume) {
+            if *va > 0.0 {
+                *p /= va;
+            }
+        }
+        // P_e += p̃_e cof F_e.
+        for (t, conn) in mesh.tets.iter().enumerate() {
+            let p_e = 0.25 * conn.iter().map(|&a| pressure[a as usize]).sum::<f64>();
+            let pt = &mut points[t];
+            for i in 0..3 {
+                for k in 0..3 {
+                    pt.p[i][k] += p_e * pt.cof[i][k];
+                }
+            }
+        }
+    }
+    for (t, conn) in mesh.tets.iter().enumerate() {
+        let (pt, g, v) = (&points[t], &data.grad[t], data.volume[t]);
+        out.strain += v * pt.psi;
+        for (a, &n) in conn.iter().enumerate() {
+            for i in 0..3 {
+                f[i][n as usize] +=
+                    v * (pt.p[i][0] * g[a][0] + pt.p[i][1] * g[a][1] + pt.p[i][2] * g[a][2]);
+            }
+        }
+    }
+    out
+}
