@@ -120,6 +120,7 @@ pub fn mesh() -> Mesh {
     let mut mesh = Mesh {
         nodes,
         elements: elements.iter().map(|conn| conn.map(|g| index[g])).collect(),
+        tets: Vec::new(),
         face_sets: BTreeMap::new(),
     };
     // Classify the boundary faces by where they lie.
