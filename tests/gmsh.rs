@@ -321,10 +321,10 @@ fn assert_has(message: &str, parts: &[&str]) {
 
 #[test]
 fn non_hexahedral_volume_element_is_named() {
-    // A tetrahedron (type 4) in the volume's element block.
+    // A tetrahedron (type 4) of negative volume beside the hexahedron.
     let text = one_hex(HEX, "", 0).replace(
         "3 1 5 1\n1 11 13 15 17 19 21 23 25\n",
-        "3 1 5 1\n1 11 13 15 17 19 21 23 25\n3 1 4 1\n4 11 13 15 19\n",
+        "3 1 5 1\n1 11 13 15 17 19 21 23 25\n3 1 4 1\n4 11 15 13 19\n",
     );
     let text = text.replace("$Elements\n3 3 1 3", "$Elements\n4 4 1 4");
     let e = msh_error(&text);
@@ -332,11 +332,21 @@ fn non_hexahedral_volume_element_is_named() {
         &e,
         &[
             "dir/bad.msh",
-            "element 4",
-            "type 4, 4-node tetrahedron",
-            "only 8-node hexahedra (type 5) are supported",
+            "element 4 (tetrahedron) has volume -1.66666",
+            "a negative one is inverted",
         ],
     );
+    // The same tetrahedron the right way round: a mixed mesh of one hexahedron and one
+    // tetrahedron (model §1.13), volume 1/6.
+    let text = one_hex(HEX, "", 0)
+        .replace(
+            "3 1 5 1\n1 11 13 15 17 19 21 23 25\n",
+            "3 1 5 1\n1 11 13 15 17 19 21 23 25\n3 1 4 1\n4 11 13 15 19\n",
+        )
+        .replace("$Elements\n3 3 1 3", "$Elements\n4 4 1 4");
+    let m = parse_msh(text.as_bytes(), "dir/mixed.msh").unwrap();
+    assert_eq!((m.elements.len(), m.tets.len()), (1, 1));
+    assert!((m.tet_data().unwrap().volume[0] - 1.0 / 6.0).abs() < 1e-15);
 }
 
 #[test]
@@ -347,10 +357,8 @@ fn triangle_in_a_face_set_is_named() {
         &e,
         &[
             "dir/bad.msh",
-            "element 3",
-            "type 2, 3-node triangle",
-            "physical group \"physical_8\"",
-            "only 4-node quadrangles (type 3)",
+            "element 3 (a triangle of physical group \"physical_8\")",
+            "not a face on the boundary of the body",
         ],
     );
 }
@@ -411,7 +419,7 @@ fn scene_names_the_scene_key_and_mesh_file() {
     let dir = scratch("scene_errors");
     let text = one_hex(HEX, "", 0).replace(
         "3 1 5 1\n1 11 13 15 17 19 21 23 25\n",
-        "3 1 5 1\n1 11 13 15 17 19 21 23 25\n3 1 4 1\n4 11 13 15 19\n",
+        "3 1 5 1\n1 11 13 15 17 19 21 23 25\n3 1 4 1\n4 11 15 13 19\n",
     );
     let text = text.replace("$Elements\n3 3 1 3", "$Elements\n4 4 1 4");
     std::fs::create_dir_all(dir.join("meshes")).unwrap();
@@ -425,7 +433,7 @@ fn scene_names_the_scene_key_and_mesh_file() {
         &e,
         &[
             &format!("{file}: key `mesh.file` = \"meshes/tet.msh\": {msh}: element 4"),
-            "only 8-node hexahedra (type 5) are supported",
+            "(tetrahedron) has volume -1.66666",
         ],
     );
     std::fs::remove_dir_all(dir).ok();
