@@ -113,9 +113,10 @@ pub const SECTIONS: &[SectionDoc] = &[
                 box, are refused. A box is a structured block [origin, origin + size] of \
                 hexahedra whose face sets are `x-`, `x+`, `y-`, `y+`, `z-`, `z+` (the faces at \
                 the low / high end of each axis). A Gmsh file is a `.msh` 4.1 mesh (ASCII or \
-                binary) of 8-node hexahedra with det J₀ > 0; its face sets are its physical \
-                groups of dimension 2 (`physical_<tag>` for a group without a name), of 4-node \
-                quadrangles on the boundary of the hexahedra.",
+                binary) of 8-node hexahedra with det J₀ > 0 and 4-node tetrahedra of positive \
+                volume, either or both (model §1.13); its face sets are its physical groups of \
+                dimension 2 (`physical_<tag>` for a group without a name), of 4-node \
+                quadrangles and 3-node triangles on the boundary of the elements.",
         keys: &[
             KeyDoc::new("origin", XYZ, "m", "lowest corner of a box")
                 .default_text(ZERO3)
@@ -129,7 +130,7 @@ pub const SECTIONS: &[SectionDoc] = &[
                 "path of a Gmsh `.msh` 4.1 file, relative to the scene file's directory",
             )
             .default_text("required for a Gmsh mesh")
-            .admissible("a `.msh` 4.1 file of 8-node hexahedra"),
+            .admissible("a `.msh` 4.1 file of 8-node hexahedra and/or 4-node tetrahedra"),
             MESH_SCALE,
             KeyDoc::new(
                 "face_set",
