@@ -224,15 +224,20 @@ fn kendall_peel(
         // The pull: every prescribed component's reaction on the end face, or the force on the
         // grip (its glue's W R_d and its contact's −W R_c/h at each glued node).
         let pull = match end {
-            End::Face => sim.stats.reactions.iter().map(|r| r * r).sum::<f64>().sqrt(),
+            End::Face => sim
+                .stats
+                .reactions
+                .iter()
+                .map(|r| r * r)
+                .sum::<f64>()
+                .sqrt(),
             End::Grip { interface, .. } => {
                 let mut f = [0.0; 3];
                 for itf in sim.state.interface_nodes.iter() {
                     if itf.interface == interface {
-                        for c in 0..3 {
-                            f[c] += itf.area
-                                * (itf.cohesive_traction[c]
-                                    - itf.contact_impulse[c] / sim.state.h);
+                        for (c, fc) in f.iter_mut().enumerate() {
+                            *fc += itf.area
+                                * (itf.cohesive_traction[c] - itf.contact_impulse[c] / sim.state.h);
                         }
                     }
                 }

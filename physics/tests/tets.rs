@@ -2,7 +2,7 @@
 //! with the average nodal pressure), the patch test on a distorted mesh, the masses, the
 //! nearly incompressible cantilever against Euler–Bernoulli, and the pull-off's dissipation.
 
-use crate::common::{face_nodes, pull_off, scene_file};
+use crate::common::pull_off;
 use crate::validation::{record, Tol};
 use decohesion_physics::kernels::{assemble_internal_forces, ElementRule, Planes};
 use decohesion_physics::material::rubber::{
@@ -10,7 +10,6 @@ use decohesion_physics::material::rubber::{
 };
 use decohesion_physics::material::{Material, MaterialModel};
 use decohesion_physics::mesh::Mesh;
-use decohesion_physics::scene::load_scene;
 use decohesion_physics::solver::Simulation;
 use decohesion_physics::team::Team;
 

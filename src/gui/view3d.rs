@@ -173,7 +173,11 @@ impl View3d {
             }
         }
         if let (Some(node), Some(first)) = (self.pending.node, self.frames.first()) {
-            let k = first.topology.boundary_nodes.iter().position(|&b| b == node);
+            let k = first
+                .topology
+                .boundary_nodes
+                .iter()
+                .position(|&b| b == node);
             self.selected = k.or(self.selected);
             self.pending.node = None;
         }

@@ -16,8 +16,8 @@ pub mod simd;
 pub mod tet;
 
 use gather::*;
-use groups::{full_group, reduced_group};
 pub use gather::{last_level_cache_bytes, prefetch_pays};
+use groups::{full_group, reduced_group};
 
 pub(crate) use crate::mesh::planes::PlanesPtr;
 pub use crate::mesh::planes::{NodalField, Planes};

@@ -105,8 +105,7 @@ fn errors_name_the_file_the_line_and_what_is_admissible() {
     let e = err(&GOOD.replace("run = true", "run = true\ntime = 0.5"));
     assert_eq!(e.line, Some(15), "{e}");
     assert!(
-        e.message.contains("`time` = 0.5 s")
-            && e.message.contains("admissible is 0 to 0.2 s"),
+        e.message.contains("`time` = 0.5 s") && e.message.contains("admissible is 0 to 0.2 s"),
         "{e}"
     );
     let e = err(&GOOD.replace("run = true", "run = true\ntime = -1.0"));
@@ -116,8 +115,10 @@ fn errors_name_the_file_the_line_and_what_is_admissible() {
     let e = err(&GOOD.replace("run = true", "run = true\nnode = 26"));
     assert_eq!(e.line, Some(15), "{e}");
     assert!(
-        e.message.contains("`node` = 26: not a node of an interface or contact face")
-            && e.message.contains("the 9 nodes of the interface and contact faces (0 to 8)"),
+        e.message
+            .contains("`node` = 26: not a node of an interface or contact face")
+            && e.message
+                .contains("the 9 nodes of the interface and contact faces (0 to 8)"),
         "{e}"
     );
     let e = err(&GOOD.replace("run = true", "run = true\nnode = -3"));
@@ -127,7 +128,10 @@ fn errors_name_the_file_the_line_and_what_is_admissible() {
         "lessons/good.md",
     )
     .unwrap();
-    assert_eq!((l.steps[0].time, l.steps[0].node), (Some((0.1, 15)), Some((4, 16))));
+    assert_eq!(
+        (l.steps[0].time, l.steps[0].node),
+        (Some((0.1, 15)), Some((4, 16)))
+    );
 
     let e = err(&GOOD.replace("dissipated_energy", "dissipation"));
     assert_eq!(e.line, Some(22), "{e}");
