@@ -327,7 +327,7 @@ fn the_embeddable_view_leaves_out_the_menus_and_links_to_the_full_page() {
     app.open(&opening).unwrap();
     let link = app.link_query().unwrap();
     assert!(
-        link.contains("set=interface.law.u_r%3D0.005") && !link.contains("embed"),
+        link.contains("set=interface.0.law.u_r%3D0.005") && !link.contains("embed"),
         "{link}"
     );
 }
