@@ -38,6 +38,22 @@ pub struct Interface {
     pub forms_on_contact: Option<f64>,
 }
 
+/// Two face sets of the body joined node to node by a cohesive law (model §7.8): each node of
+/// `faces` is paired with the node of `to` at the same reference position; the pair's jump is
+/// [u] = x_faces − x_to and its normal n the outward normal of `to` in the reference
+/// configuration (it does not turn with the body).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Bond {
+    pub faces: String,
+    pub to: String,
+    pub law: StiffnessLaw,
+    /// Friction coefficient of the fully ruptured bond, μ_inf ≥ 0 (paper eq. 21).
+    pub mu_inf: f64,
+    /// Damage α₀ [m] at t = 0, as [`Interface::initial_damage`]: ≥ u_r is a crack from the
+    /// start (contact with friction μ_inf only).
+    pub initial_damage: f64,
+}
+
 /// A face set in unilateral contact with Coulomb friction (constant μ) against a rigid plane,
 /// without cohesion.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -199,6 +215,8 @@ pub struct Model {
     pub planes: Vec<RigidPlane>,
     pub interfaces: Vec<Interface>,
     pub contacts: Vec<ContactFaces>,
+    /// Face sets of the body joined to each other (model §7.8).
+    pub bonds: Vec<Bond>,
     pub displacements: Vec<PrescribedDisplacement>,
     pub tractions: Vec<Traction>,
     pub scheme: SchemeParams,

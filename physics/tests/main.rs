@@ -27,6 +27,7 @@ mod contact_start;
 mod corner_jacobian;
 mod dcb;
 mod delay;
+mod enf;
 mod extreme;
 mod fbar;
 mod form_turning;

@@ -12,6 +12,7 @@ mod element;
 mod order;
 pub mod planes;
 pub mod rows;
+pub mod split;
 pub mod tet;
 
 pub use element::{

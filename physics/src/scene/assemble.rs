@@ -73,6 +73,7 @@ impl Check<'_> {
                 ContactEntry::Adhesive(itf) => interfaces.push(itf),
             }
         }
+        let bonds = each(raw.bond, "bond", |key, b| self.bond(&mesh, key, b))?;
         let displacements = each(raw.displacement, "displacement", |key, d| {
             self.displacement(&mesh, key, d, raw.end_time)
         })?;
@@ -90,6 +91,7 @@ impl Check<'_> {
             planes,
             interfaces,
             contacts,
+            bonds,
             displacements,
             tractions,
             scheme,

@@ -27,6 +27,9 @@ impl Check<'_> {
             Some(file) => self.gmsh_mesh(m, file),
             None => self.box_mesh(m),
         }?;
+        if let Some(s) = &m.split {
+            self.split(&mut mesh, s)?;
+        }
         for (i, fs) in m.face_set.iter().enumerate() {
             let quads = self.face_subset(&mesh, &format!("mesh.face_set[{i}]"), fs)?;
             mesh.face_sets.insert(fs.name.clone(), quads);

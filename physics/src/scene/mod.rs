@@ -13,6 +13,7 @@
 
 mod adhesion;
 mod assemble;
+mod bond;
 mod check;
 mod error;
 pub mod keys;

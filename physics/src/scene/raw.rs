@@ -88,6 +88,8 @@ pub struct RawScene {
     #[serde(default)]
     pub contact: Vec<RawContact>,
     #[serde(default)]
+    pub bond: Vec<RawBond>,
+    #[serde(default)]
     pub displacement: Vec<RawDisplacement>,
     #[serde(default)]
     pub traction: Vec<RawTraction>,
@@ -109,6 +111,17 @@ pub struct RawMesh {
     /// `[[mesh.face_set]]`: named parts of face sets, selected by a box.
     #[serde(default)]
     pub face_set: Vec<RawFaceSet>,
+    /// `[mesh.split]`: the mesh cut in two along a plane of its faces.
+    pub split: Option<RawSplit>,
+}
+
+/// `[mesh.split]`: the plane X_axis = `at` along which the mesh is cut
+/// ([`crate::mesh::Mesh::split`]).
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawSplit {
+    pub axis: Axis,
+    pub at: f64,
 }
 
 /// `[[mesh.face_set]]`: the faces of the face set `of` whose centre lies in the box
@@ -220,6 +233,20 @@ pub struct RawInterface {
     pub initial_damage: f64,
     pub law: RawLaw,
     pub delay: Option<RawDelay>,
+}
+
+/// `[[bond]]`: the nodes of face set `faces` joined to the nodes of `to` at the same place by
+/// a cohesive law (model §7.8).
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawBond {
+    pub faces: String,
+    pub to: String,
+    #[serde(default)]
+    pub mu_inf: f64,
+    #[serde(default)]
+    pub initial_damage: f64,
+    pub law: RawLaw,
 }
 
 /// `[interface.delay]`: delayed damage on the interface's law (absent: rate-independent).

@@ -514,6 +514,7 @@ impl Simulation {
             *r = (0..chunks).fold(0.0, |acc, c| acc + self.work.parts_reactions[c * n_bc + k]);
         }
         self.form_glue();
+        self.bond_pass(h_bar, h_next);
     }
 }
 

@@ -9,24 +9,24 @@ use crate::mesh::dot;
 /// What the interface nodes hold after a step: Σ Ψ_d, Σ ΔD, the most negative ΔD, the state
 /// counts, the glue's total spring stiffness Σ W g_N(αₙ), and the cohesive force's step-change
 /// work and the glue's torque work over the interval just taken.
-struct InterfaceSums {
-    stored: f64,
-    dissipated: f64,
-    worst: f64,
-    counts: StateCounts,
-    springs: f64,
-    step_change: f64,
+pub(super) struct InterfaceSums {
+    pub stored: f64,
+    pub dissipated: f64,
+    pub worst: f64,
+    pub counts: StateCounts,
+    pub springs: f64,
+    pub step_change: f64,
     /// Σ W_τ, the glue's torque work on turning moulds (model §5.5,
     /// [`Loading::torque_work`]): the moulds' work.
     ///
     /// [`Loading::torque_work`]: crate::interface::damage::Loading::torque_work
     torque: f64,
     /// Glued nodes whose damage is evolving ([`damage_evolving`]).
-    evolving: usize,
+    pub evolving: usize,
     /// Σ of what taking a delayed law's ΔD as ≥ 0 added to it ([`Loading::booked_dissipation`]).
     ///
     /// [`Loading::booked_dissipation`]: crate::interface::damage::Loading::booked_dissipation
-    clamped: f64,
+    pub clamped: f64,
 }
 
 /// The weights of a change of step in the interval [tₙ₋₁, tₙ] just taken (model §5.8):
@@ -34,9 +34,9 @@ struct InterfaceSums {
 /// `prev` = (h − h₋)/(2h) = 1 − h̄ₙ₋₁/h and `now` = (h₊ − h)/(2h) = h̄ₙ/h − 1; both 0 at a
 /// constant step.
 #[derive(Clone, Copy)]
-struct StepChange {
-    prev: f64,
-    now: f64,
+pub(super) struct StepChange {
+    pub prev: f64,
+    pub now: f64,
 }
 
 impl Simulation {
@@ -402,6 +402,7 @@ impl Simulation {
             out.counts.add(itf.state(law));
             out.evolving += usize::from(damage_evolving(law, itf.alpha, itf.alpha_static));
         }
+        self.bond_sums(change, &mut out);
         out
     }
 
@@ -470,7 +471,11 @@ fn tearing(counts: StateCounts) -> bool {
 /// transition, the same classification for every family: for `rccm` α_e = u₀ and u_r =
 /// u₀/√β_min), or, with a delayed law, α still behind its rate-independent target α_s (the
 /// damage keeps growing while α ≤ α_e or after the jump has turned back).
-fn damage_evolving(law: &crate::interface::law::StiffnessLaw, alpha: f64, alpha_s: f64) -> bool {
+pub(super) fn damage_evolving(
+    law: &crate::interface::law::StiffnessLaw,
+    alpha: f64,
+    alpha_s: f64,
+) -> bool {
     law.state(alpha) == crate::interface::law::InterfaceState::Transition
         || (law.delay().is_some() && alpha < alpha_s)
 }

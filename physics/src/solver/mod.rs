@@ -21,6 +21,7 @@
 //! are one fused pass over the boundary nodes (a node's stages need only that node), which calls
 //! the stage functions in order.
 
+mod bond;
 mod bound;
 mod boundary;
 mod bulk_viscosity;
@@ -35,6 +36,7 @@ mod stages;
 mod state;
 mod stiffness;
 
+pub use bond::BondNode;
 pub use state::{
     ContactNode, CornerChecks, DamageClamped, InterfaceNode, PeakReaction, RunStats, SolverError,
     StableStep, StageTimes, State, StateCounts,

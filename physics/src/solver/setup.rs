@@ -250,6 +250,9 @@ impl Simulation {
             &prescribed_components(&model)?,
         );
         super::boundary::check_constraint_count(&boundary.nodes)?;
+        let mut taken: Vec<u32> = boundary.nodes.iter().map(|b| b.node).collect();
+        taken.sort_unstable();
+        let bond_nodes = super::bond::bond_nodes(&model, &taken)?;
         boundary.forming = (0..interface_nodes.len() as u32)
             .filter(|&j| !interface_nodes[j as usize].formed)
             .collect();
@@ -304,6 +307,7 @@ impl Simulation {
                 f_int: Planes::zeros(n_nodes),
                 interface_nodes,
                 contact_nodes,
+                bond_nodes,
                 boundary,
                 scratch: StepScratch::default(),
                 time: 0.0,
@@ -365,6 +369,7 @@ impl Simulation {
         }
         self.surfaces_and_gaps();
         self.initial_damage();
+        self.bond_initial_damage();
         self.first_time_step()?;
         self.check_mass_scaling_target()?;
         self.internal_forces(true, false)?;

@@ -30,6 +30,9 @@ pub(super) struct StepScratch {
     pub amplitudes: Vec<f64>,
     /// V_{n+½} of the boundary nodes (by boundary index), before stage 5, for the ledger.
     pub v_old: Vec<[f64; 3]>,
+    /// V_{n+½} of both nodes of each bond pair, before stage 5, for the ledger.
+    #[serde(default)]
+    pub bond_v_old: Vec<[[f64; 3]; 2]>,
     /// Sums of the all-node loop (stage 5) and of the boundary pass (4–8), for stage 9.
     pub node_sums: NodeSums,
     pub boundary_sums: BoundarySums,
@@ -67,6 +70,7 @@ impl Simulation {
         for itf in self.state.interface_nodes.iter_mut() {
             itf.alpha = itf.alpha_next;
         }
+        self.advance_bond_damage();
         self.state.time += h;
         self.state.step_count += 1;
     }
@@ -124,6 +128,7 @@ impl Simulation {
             );
         }
         self.mould_gaps();
+        self.bond_gaps();
     }
 
     /// Stage 3: F_int(Uₙ₊₁) = Σ_e fₑ(Uₙ₊₁) (model §4.3) and Ψₙ₊₁; an inverted element
@@ -239,7 +244,8 @@ impl Simulation {
     /// b = ½V_old·P and a = ½V_free·P of the internal and gravity impulses P; keeps V_{n+½} of
     /// the boundary nodes first (their stages 4–8 follow in [`Simulation::boundary_pass`]).
     pub(super) fn free_velocity(&mut self, h_bar: f64) {
-        // Keep V_{n+½} of boundary nodes for the ledger's backward halves.
+        // Keep V_{n+½} of boundary nodes and bond pairs for the ledger's backward halves.
+        self.keep_bond_velocities();
         let sc = &mut self.state.scratch;
         sc.v_old.clear();
         sc.v_old.extend(

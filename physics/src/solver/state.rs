@@ -34,6 +34,9 @@ pub struct State {
     pub f_int: Planes,
     pub interface_nodes: Vec<InterfaceNode>,
     pub contact_nodes: Vec<ContactNode>,
+    /// The node pairs of the bonds (model §7.8).
+    #[serde(default)]
+    pub bond_nodes: Vec<super::BondNode>,
     /// What acts on each boundary node (glue, contact, tractions, prescribed components), with
     /// the glue still to form.
     pub(super) boundary: Boundary,

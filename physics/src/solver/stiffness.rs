@@ -114,6 +114,9 @@ impl<'a> StiffnessOperator<'a> {
             let free = (3 * i..3 * i + 3).filter(|&k| !cache.mask[k]);
             cache.springs.extend(free.map(|k| (k, ks)));
         }
+        if springs {
+            sim.bond_springs(&cache.mask, &mut cache.springs);
+        }
         // By degree of freedom (a stable sort: a node's interfaces stay in order), merged.
         cache.springs.sort_by_key(|&(k, _)| k);
         cache.springs.dedup_by(|next, kept| {

@@ -62,6 +62,7 @@ pub fn bare_box(size: [f64; 3], cells: [usize; 3], mat: Material, end_time: f64)
         planes: vec![],
         interfaces: vec![],
         contacts: vec![],
+        bonds: vec![],
         displacements: vec![],
         tractions: vec![],
         scheme: SchemeParams::default(),

@@ -89,6 +89,13 @@ pub const SECTIONS: &[SectionDoc] = &[
             )
             .default_text(NONE),
             KeyDoc::new(
+                "bond",
+                "array of tables",
+                "",
+                "face sets of the body joined to each other by a cohesive law: `[[bond]]`",
+            )
+            .default_text(NONE),
+            KeyDoc::new(
                 "displacement",
                 "array of tables",
                 "",
@@ -139,6 +146,33 @@ pub const SECTIONS: &[SectionDoc] = &[
                 "face sets selected by a box: `[[mesh.face_set]]`",
             )
             .default_text(NONE),
+            KeyDoc::new(
+                "split",
+                "table",
+                "",
+                "the mesh cut in two along a plane of its faces: `[mesh.split]`",
+            )
+            .default_text("none (one piece)"),
+        ],
+    },
+    SectionDoc {
+        path: "mesh.split",
+        array: false,
+        presence: "optional",
+        about: "The mesh cut in two along the plane X_axis = `at` (model §7.8): the nodes on \
+                the plane get a copy for the elements above it (centroid beyond `at`), so the \
+                two sides share no node, and the faces on the plane become the face sets \
+                `split-` (the lower side's, outward normal along +axis) and `split+` (the upper \
+                side's). A `[[bond]]` joins them again; without one the two sides are separate \
+                bodies. Face sets of the mesh keep their faces (those above the plane take the \
+                copies); `[[mesh.face_set]]` may select from `split-` and `split+`.",
+        keys: &[
+            KeyDoc::new("axis", "string", "", "the axis the cut plane is normal to")
+                .choices(&["x", "y", "z"]),
+            KeyDoc::new("at", "number", "m", "the plane's coordinate along `axis`").admissible(
+                "strictly inside the mesh, on a layer of element faces (a box: origin + \
+                 size·k/cells, 0 < k < cells)",
+            ),
         ],
     },
     SectionDoc {
@@ -426,6 +460,35 @@ pub const SECTIONS: &[SectionDoc] = &[
                  `[contact.law]`",
             )
             .default_text("none (rate-independent)"),
+        ],
+    },
+    SectionDoc {
+        path: "bond",
+        array: true,
+        presence: "zero or more",
+        about: "Two face sets of the body joined node to node by a cohesive law (model §7.8): \
+                each node of `faces` is paired with the node of `to` at the same reference \
+                position, and the pair's jump [u] = x_faces − x_to obeys the law as a glued \
+                node's jump to its mould does: adhesion, unilateral contact between the two \
+                sides, friction growing with damage up to `mu_inf`. The normal n is `to`'s \
+                outward normal in the reference configuration (it does not turn: for interfaces \
+                that rotate little, as in beam tests). The two sides usually come from \
+                `[mesh.split]`. The bond's nodes may carry no other condition (interface, \
+                contact, traction, prescribed displacement, another bond).",
+        keys: &[
+            FACES,
+            KeyDoc::new("to", "string", "", "the face set `faces` is joined to").admissible(
+                "a face set of the mesh with a node at the place of each node of `faces`, \
+                 sharing none of them",
+            ),
+            INTERFACE_MU_INF,
+            INITIAL_DAMAGE,
+            KeyDoc::new(
+                "law",
+                "table",
+                "",
+                "the stiffness law g_N(α): the keys of `[interface.law]`, any family",
+            ),
         ],
     },
     SectionDoc {

@@ -2,9 +2,9 @@
 //! against the enums, the defaults against what a scene that leaves the keys out gets.
 
 use super::super::raw::{
-    Axis, RawBulkViscosity, RawContact, RawDelay, RawDisplacement, RawFaceSet, RawInterface,
-    RawLaw, RawMassScaling, RawMaterial, RawMesh, RawMould, RawPlane, RawScene, RawScheme,
-    RawTraction,
+    Axis, RawBond, RawBulkViscosity, RawContact, RawDelay, RawDisplacement, RawFaceSet,
+    RawInterface, RawLaw, RawMassScaling, RawMaterial, RawMesh, RawMould, RawPlane, RawScene,
+    RawScheme, RawSplit, RawTraction,
 };
 use super::*;
 use crate::law::Delay;
@@ -100,6 +100,7 @@ fn every_section_documents_exactly_the_keys_the_loader_accepts() {
         ("", names::<RawScene>()),
         ("mesh", names::<RawMesh>()),
         ("mesh.face_set", names::<RawFaceSet>()),
+        ("mesh.split", names::<RawSplit>()),
         ("material", names::<RawMaterial>()),
         ("scheme", names::<RawScheme>()),
         ("mass_scaling", names::<RawMassScaling>()),
@@ -109,6 +110,7 @@ fn every_section_documents_exactly_the_keys_the_loader_accepts() {
         ("interface", names::<RawInterface>()),
         ("interface.delay", names::<RawDelay>()),
         ("contact", names::<RawContact>()),
+        ("bond", names::<RawBond>()),
         ("displacement", names::<RawDisplacement>()),
         ("traction", names::<RawTraction>()),
     ];
@@ -145,7 +147,7 @@ fn every_section_documents_exactly_the_keys_the_loader_accepts() {
             } else {
                 format!("{}.{}", s.path, k.key)
             };
-            let shared = matches!(path.as_str(), "contact.law" | "contact.delay");
+            let shared = matches!(path.as_str(), "contact.law" | "contact.delay" | "bond.law");
             assert!(
                 shared || section(&path).is_some(),
                 "`{path}` is a table without a section"
@@ -169,6 +171,7 @@ fn choices_are_the_variants_of_the_enums() {
     );
     assert_eq!(sorted(key("scheme", "integration")), names::<Integration>());
     assert_eq!(sorted(key("displacement", "component")), names::<Axis>());
+    assert_eq!(sorted(key("mesh.split", "axis")), names::<Axis>());
     let shapes: Vec<&str> = MOULD_SHAPES.iter().map(|s| s.shape).collect();
     assert_eq!(key("mould", "shape"), shapes);
 }
