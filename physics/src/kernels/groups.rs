@@ -1,7 +1,6 @@
 //! The lane groups' calls of the element kernels for a material's law and with or without the
 //! energy: one monomorphised body per choice, picked per group.
 
-use super::simd::ISA_SIMD128;
 use super::*;
 
 /// [`element_forces_reduced_lanes_in`] with or without the energy (`HALVES`, `BOXES` as there).
@@ -26,27 +25,17 @@ pub(super) fn reduced_group<const FMA: bool, const HALVES: bool, const BOXES: bo
 /// target features), a function of its own in the web page: the engine compiles a WebAssembly
 /// function when it is first called and optimises it once it is hot, so the 4 variants inlined
 /// twice (with and without prefetching) into one function made the page compile 8 kernels to
-/// run one. The web page's build ([`ISA_SIMD128`]) runs the group as 4 pairs of elements
-/// ([`full_pairs::full_pairs`], `pairs` its work arrays), each pair one f64x2 register.
+/// run one.
 #[cfg_attr(not(target_arch = "wasm32"), inline(always))]
 #[cfg_attr(target_arch = "wasm32", inline(never))]
-#[allow(clippy::too_many_arguments)]
-pub(super) fn full_group<const FMA: bool, const ISA: u8, const DIAG: bool, G: full::GaussLanes>(
+pub(super) fn full_group<const FMA: bool, const DIAG: bool, G: full::GaussLanes>(
     mat: &Material,
     g: &G,
     ul: &[[[f64; 8]; 3]; 8],
     fl: &mut [[F64x8; 3]; 8],
     work: &mut full::FullScratch,
-    pairs: &mut full_pairs::PairScratch,
     energy: bool,
 ) -> (F64x8, F64x8) {
-    if ISA == ISA_SIMD128 {
-        return with_law!(mat.model, L => if energy {
-            full_pairs::full_pairs::<L, true, FMA, DIAG, G>(mat, g, ul, fl, pairs)
-        } else {
-            full_pairs::full_pairs::<L, false, FMA, DIAG, G>(mat, g, ul, fl, pairs)
-        });
-    }
     with_law!(mat.model, L => if energy {
         full::full_lanes::<L, true, FMA, DIAG, G>(mat, g, ul, fl, work)
     } else {

@@ -8,7 +8,6 @@ pub mod corners;
 mod fbar;
 pub mod flops;
 mod full;
-mod full_pairs;
 mod gather;
 mod groups;
 mod nodes;
@@ -472,7 +471,6 @@ unsafe fn chunk_forces_impl<const FMA: bool, const ISA: u8, const PREFETCH: bool
     let mut lanes = full::LaneGauss::default();
     let mut staged = [u32::MAX; 8];
     let mut work = full::FullScratch::default();
-    let mut pairs = full_pairs::PairScratch::default();
     for (k, group) in grouped.chunks_exact(8).enumerate() {
         if let (true, Some(next)) = (PREFETCH, grouped.get(8 * k + 8..8 * k + 16)) {
             prefetch_group(mesh, u, f, next);
@@ -487,13 +485,9 @@ unsafe fn chunk_forces_impl<const FMA: bool, const ISA: u8, const PREFETCH: bool
             let gd = classes.data.get_unchecked(class as usize);
             let g = full::OneClass(gd);
             if gd.axis_aligned {
-                full_group::<FMA, ISA, true, _>(
-                    mat, &g, &ul, &mut fl, &mut work, &mut pairs, energy,
-                )
+                full_group::<FMA, true, _>(mat, &g, &ul, &mut fl, &mut work, energy)
             } else {
-                full_group::<FMA, ISA, false, _>(
-                    mat, &g, &ul, &mut fl, &mut work, &mut pairs, energy,
-                )
+                full_group::<FMA, false, _>(mat, &g, &ul, &mut fl, &mut work, energy)
             }
         } else {
             let mut boxes = 0;
@@ -506,12 +500,8 @@ unsafe fn chunk_forces_impl<const FMA: bool, const ISA: u8, const PREFETCH: bool
                 boxes += classes.data.get_unchecked(c as usize).axis_aligned as usize;
             }
             match boxes {
-                0 => full_group::<FMA, ISA, false, _>(
-                    mat, &lanes, &ul, &mut fl, &mut work, &mut pairs, energy,
-                ),
-                8 => full_group::<FMA, ISA, true, _>(
-                    mat, &lanes, &ul, &mut fl, &mut work, &mut pairs, energy,
-                ),
+                0 => full_group::<FMA, false, _>(mat, &lanes, &ul, &mut fl, &mut work, energy),
+                8 => full_group::<FMA, true, _>(mat, &lanes, &ul, &mut fl, &mut work, energy),
                 _ => {
                     // Boxes and other shapes in one group: the lane kernel takes the box path
                     // (through the modes) or the general one for all 8 lanes, the scalar kernel

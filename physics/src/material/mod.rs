@@ -17,7 +17,6 @@
 
 pub mod element;
 mod kinematics;
-pub mod pair;
 pub mod real;
 pub mod rubber;
 mod tensor;
@@ -31,7 +30,6 @@ pub(crate) use kinematics::{
     cofactor, deformation_gradient, determinant, displacement_gradient, hourglass_energy,
     hourglass_modes, row_dot,
 };
-pub use pair::F64x2;
 pub use real::{F64x8, Lanes, Mat3, Real};
 pub(crate) use tensor::{
     box_factors, box_forces, box_gradient, modes_to_nodes, node_modes, parent_forces,
