@@ -51,6 +51,7 @@ async fn run() -> Result<(), String> {
                 Ok(Box::new(PageExplorer {
                     explorer,
                     reported: None,
+                    layout: String::new(),
                 }))
             }),
         )
@@ -110,17 +111,38 @@ fn url_parameters() -> Result<(Option<String>, bool, Opening), String> {
     Ok((scene, run, opening))
 }
 
-/// The explorer, with its status and last result written into the DOM.
+/// The explorer, with its status, last result and layout written into the DOM.
 struct PageExplorer {
     explorer: Explorer,
     /// (status, runs in the history) last written.
     reported: Option<(String, usize)>,
+    /// The layout last written to `#layout`.
+    layout: String,
 }
 
 impl eframe::App for PageExplorer {
     fn ui(&mut self, ui: &mut egui::Ui, frame: &mut eframe::Frame) {
+        let frame_rect = ui.max_rect();
         eframe::App::ui(&mut self.explorer, ui, frame);
         let app = &self.explorer.app;
+        // For scripts (`web/test_page.py` checks the embeddable view's share of a small
+        // frame): the rectangles [x, y, width, height] in points of the page, the 3-D view's
+        // panel and its picture (null when not drawn).
+        let rect = |r: Option<egui::Rect>| {
+            r.map_or("null".to_string(), |r| {
+                format!("{:?}", [r.min.x, r.min.y, r.width(), r.height()])
+            })
+        };
+        let layout = format!(
+            "{{\"page\": {}, \"view3d_panel\": {}, \"view3d\": {}}}",
+            rect(Some(frame_rect)),
+            rect(app.view.panel),
+            rect(app.view.rect)
+        );
+        if layout != self.layout {
+            set_text("layout", &layout);
+            self.layout = layout;
+        }
         let status = match &app.status {
             Status::Idle => "ready".to_string(),
             Status::Running => "running".to_string(),

@@ -271,3 +271,54 @@ fn every_lesson_step_draws() {
         }
     }
 }
+
+/// The embeddable view in a course page's 800 × 500 frame (`embed=1`, the size `web/test_page.py`
+/// opens it at): after the lesson's run the 3-D view's panel lies within the frame and the
+/// picture within its panel, at least 40 % of the frame's width and half its height. (Before,
+/// the view's rows of controls, wider than its panel, made egui move the panel right by the
+/// excess, past the frame's edge and under the plots: a 50-point strip of it showed, while the
+/// picture's own rectangle still had the panel's width — hence the panel's rectangle here.)
+#[test]
+fn the_embedded_view_keeps_a_usable_share_of_a_small_frame() {
+    let (width, height) = (800.0, 500.0);
+    let lesson = find("cohesive_law").unwrap();
+    let mut app = App::default();
+    app.in_page = true;
+    app.settings.record = RecordChoice::Off;
+    app.set_display(&[], false, true).unwrap();
+    app.open_lesson(lesson.clone(), lesson.steps.len() - 1);
+    // The harness's fonts lack the run bar's "↗" (*full page ↗*, embedded only), which the
+    // window's and the page's fonts have: drawn as a box here, the same width as a glyph.
+    let mut h = Harness::builder()
+        .with_size([width, height])
+        .with_max_steps(32)
+        .allow_missing_glyphs()
+        .build_ui_state(|ui, app: &mut App| app.ui(ui), app);
+    h.run();
+    h.state_mut().start();
+    let start = Instant::now();
+    while h.state().job.is_some() {
+        assert!(start.elapsed() < Duration::from_secs(120), "no end");
+        h.step();
+    }
+    h.run();
+    let view = &h.state().view;
+    let (panel, rect) = (
+        view.panel.expect("the panel"),
+        view.rect.expect("the picture"),
+    );
+    eprintln!(
+        "in a {width} × {height} frame: the 3-D view's panel {panel:?}, its picture {rect:?}"
+    );
+    let frame = egui::Rect::from_min_size(egui::Pos2::ZERO, egui::vec2(width, height));
+    let within = |inner: egui::Rect, outer: egui::Rect| outer.expand(0.5).contains_rect(inner);
+    assert!(within(panel, frame), "the panel {panel:?} leaves the frame");
+    assert!(
+        within(rect, panel),
+        "the picture {rect:?} leaves its panel {panel:?}"
+    );
+    assert!(
+        rect.width() >= 0.4 * width && rect.height() >= 0.5 * height,
+        "the picture is {rect:?} in a {width} × {height} frame"
+    );
+}

@@ -27,8 +27,9 @@ Then the links (`--links`, on by default): `?scene=pull_off&set=…&set=…&run=
 `?lesson=cohesive_law&step=4&run=1&hide=history,view&projector=1` (as a class would open it),
 against the native run of its scene with the overrides of the lesson's steps 1 to 4 (read from
 `lessons/cohesive_law.md`), with the same checks; the same step embedded as a course page would
-(`&embed=1`, in an 800×500 window: the embeddable view), with the same checks, and the page's
-link to the book gone; and `embed=yes`, which the page must refuse with a message naming it.
+(`&embed=1`, in an 800×500 window: the embeddable view), with the same checks, the page's
+link to the book gone, and the 3-D view at least 40 % of the frame's width and half its height
+(the page's `#layout`); and `embed=yes`, which the page must refuse with a message naming it.
 
 Saves a screenshot of the page at the end of each run. Exit status 0 when every check passes.
 """
@@ -306,6 +307,7 @@ def main():
                                natives("pull_off", sets)))
                 if wd.script("return document.getElementById('book') !== null"):
                     sys.exit(f"test_page: {url}: the embedded page still links to the book")
+                check_embedded_layout(wd, url)
                 url = f"http://127.0.0.1:{site_port}/?scene=pull_off&embed=yes"
                 wd.get(url)
                 status = wait_for("the refusal", lambda: (lambda s: s if s != "loading" else None)(
@@ -337,6 +339,34 @@ def main():
         sys.exit(1)
     print("test_page: the page's results equal the native portable build's bit for bit (SVK "
           "scenes) and the default build's within round-off")
+
+
+def check_embedded_layout(wd, url):
+    """The embeddable view keeps a usable 3-D view in the small frame: its panel within the
+    frame, the picture within its panel and at least 40 % of the frame's width and half its
+    height (`#layout`, written by the page: rectangles [x, y, width, height] in points). A first
+    version moved the panel past the frame's right edge, a 50-point strip of it showing, while
+    the picture kept the panel's width: hence the panel's rectangle."""
+    layout = json.loads(wd.script("return document.getElementById('layout').textContent"))
+    page, panel, view = layout["page"], layout["view3d_panel"], layout["view3d"]
+    print(f"test_page: {url}: the page {page}, the 3-D view's panel {panel}, its picture {view} "
+          "([x, y, width, height] in points)")
+    if panel is None or view is None:
+        sys.exit(f"test_page: {url}: the embedded page draws no 3-D view")
+
+    def within(inner, outer):
+        return (inner[0] >= outer[0] - 0.5 and inner[1] >= outer[1] - 0.5
+                and inner[0] + inner[2] <= outer[0] + outer[2] + 0.5
+                and inner[1] + inner[3] <= outer[1] + outer[3] + 0.5)
+
+    if not within(panel, page):
+        sys.exit(f"test_page: {url}: the 3-D view's panel {panel} leaves the frame {page}")
+    if not within(view, panel):
+        sys.exit(f"test_page: {url}: the 3-D view {view} leaves its panel {panel}")
+    if view[2] < 0.4 * page[2] or view[3] < 0.5 * page[3]:
+        sys.exit(f"test_page: {url}: the 3-D view is {view[2]:.0f} × {view[3]:.0f} points in a "
+                 f"{page[2]:.0f} × {page[3]:.0f} frame (at least 40 % of its width and half "
+                 "its height asked)")
 
 
 def _ready(wd):

@@ -85,6 +85,8 @@ pub struct View3d {
     frame_times: VecDeque<f32>,
     /// Where the picture was drawn last, in points.
     pub rect: Option<egui::Rect>,
+    /// The 3-D view's panel as the window laid it out last, in points (set by the application).
+    pub panel: Option<egui::Rect>,
     /// "save PNG" was pressed: the application saves the picture.
     pub png_requested: bool,
     /// "save GIF" was pressed: the application captures the frames as an animation.
@@ -128,6 +130,7 @@ impl Default for View3d {
             version: 0,
             frame_times: VecDeque::new(),
             rect: None,
+            panel: None,
             png_requested: false,
             gif_requested: false,
             selected: None,
@@ -284,14 +287,17 @@ impl View3d {
         }
     }
 
+    /// The rows wrap at the panel's width: unwrapped, they are wider than the embeddable
+    /// view's panel, which egui then moves right by the excess, under the plots (the 3-D view a
+    /// strip at the frame's right edge).
     fn controls_ui(&mut self, ui: &mut egui::Ui) {
-        ui.horizontal(|ui| {
+        ui.horizontal_wrapped(|ui| {
             ui.label("colour");
             for f in Field::ALL {
                 ui.radio_value(&mut self.field, f, f.label().0);
             }
         });
-        ui.horizontal(|ui| {
+        ui.horizontal_wrapped(|ui| {
             ui.label("interface nodes");
             ui.radio_value(&mut self.contact, false, "state");
             ui.radio_value(&mut self.contact, true, "contact");
@@ -321,7 +327,7 @@ impl View3d {
 
     fn slider_ui(&mut self, ui: &mut egui::Ui) {
         let n = self.frames.len();
-        ui.horizontal(|ui| {
+        ui.horizontal_wrapped(|ui| {
             let play = if self.playing { "pause" } else { "play" };
             if ui.add_enabled(n > 1, egui::Button::new(play)).clicked() {
                 self.playing = !self.playing;

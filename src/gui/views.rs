@@ -93,10 +93,11 @@ impl App {
                 .show(ui, |ui| self.history_ui(ui));
         }
         if view {
-            at_most(egui::Panel::right("view3d"), view_width)
+            let panel = at_most(egui::Panel::right("view3d"), view_width)
                 .resizable(true)
                 .default_size(view_width)
                 .show(ui, |ui| self.view.ui(ui));
+            self.view.panel = Some(panel.response.rect);
             if std::mem::take(&mut self.view.png_requested) {
                 if let Some(rect) = self.view.rect {
                     let name = format!("{}_3d_view", self.settings.scene_stem());

@@ -32,9 +32,10 @@ pub const PROJECTOR_LINE: f32 = 3.5;
 pub const EMBED_HIDDEN: [&str; 3] = ["settings", "history", "measured"];
 
 /// The share of the frame's width the lesson's text takes in the embeddable view, and the 3-D
-/// view's (the plots have the rest).
-pub const EMBED_LESSON_WIDTH: f32 = 0.36;
-pub const EMBED_VIEW_WIDTH: f32 = 0.32;
+/// view's (the plots have the rest, a plot a row in an 800-point frame): the picture keeps
+/// at least 40 % of the frame's width with the panel's margins.
+pub const EMBED_LESSON_WIDTH: f32 = 0.30;
+pub const EMBED_VIEW_WIDTH: f32 = 0.44;
 
 /// Panels hidden, the projector mode and the embeddable view.
 #[derive(Debug, Clone, Default, PartialEq)]
