@@ -8,7 +8,7 @@
 
 use crate::by_hand::{piola_energy, stress_scale};
 use crate::validation::{record, Tol};
-use decohesion::kernels::{assemble_internal_forces, ElementRule, Planes};
+use decohesion::kernels::{assemble_internal_forces, AssemblyScratch, ElementRule, Planes};
 use decohesion::material::{Material, MaterialModel};
 use decohesion::mesh::Mesh;
 use decohesion::team::Team;
@@ -62,7 +62,7 @@ fn forces(
         &mut f,
         true,
         Some(&team),
-        &mut Vec::new(),
+        &mut AssemblyScratch::default(),
         f64::INFINITY,
         // The prefetching loop (hints only; the patch test holds for it as without).
         true,

@@ -5,7 +5,9 @@
 //! a one-core machine tests it too. Then the same over 200 steps of a sheet on a sliding
 //! triangulated mould (model §7.1): the closest points come from the nodes' lists of nearby
 //! triangles, used and rebuilt without allocating (only a tie, which takes parry's full
-//! query, would allocate: the scene has none, which the test checks too).
+//! query, would allocate: the scene has none, which the test checks too). And the same over
+//! 200 steps of the pull-off cut into tetrahedra (model §1.13) in a nearly incompressible
+//! rubber, whose average nodal pressure keeps its points and nodal fields between steps.
 
 mod common;
 use common::scene_file;
@@ -14,6 +16,10 @@ use common::scene_file;
 #[path = "../../examples/shared/sine_ribs.rs"]
 mod sine_ribs;
 
+use decohesion_physics::material::rubber::{
+    neo_hookean::NeoHookean, Isochoric, Rubber, Volumetric,
+};
+use decohesion_physics::material::Material;
 use decohesion_physics::scene::load_scene;
 use decohesion_physics::solver::Simulation;
 use std::alloc::{GlobalAlloc, Layout, System};
@@ -66,6 +72,44 @@ fn steps_allocate_nothing() {
         );
     }
     triangulated_mould_steps_allocate_nothing();
+    tet_steps_allocate_nothing();
+}
+
+/// The pull-off at 8³ cells cut into 3072 tetrahedra (Kuhn) and its glued face into triangles,
+/// in an isochoric neo-Hookean rubber of the scene's E at ν = 0.499 (so the average nodal
+/// pressure runs), on an explicit two-thread team.
+fn tet_steps_allocate_nothing() {
+    let set = vec![
+        "mesh.cells=[8,8,8]".to_string(),
+        "scheme.h_crit_update_interval=0".to_string(),
+    ];
+    let scene = load_scene(&scene_file("pull_off.toml"), &set).unwrap();
+    let mut m = (*scene.model).clone();
+    m.mesh = m.mesh.kuhn_tets();
+    let (e, nu) = (m.material.young, 0.499);
+    m.material = Material::rubber(
+        Rubber {
+            iso: Isochoric::NeoHookean(NeoHookean {
+                c10: e / (4.0 * (1.0 + nu)),
+            }),
+            bulk: e / (3.0 * (1.0 - 2.0 * nu)),
+            volumetric: Volumetric::Quadratic,
+        },
+        m.material.density,
+    );
+    let mut sim = Simulation::new(m).unwrap();
+    sim.use_threads(2);
+    assert_eq!(sim.threads(), 2);
+    assert!(sim.model.mesh.elements.is_empty() && !sim.model.mesh.tets.is_empty());
+    for _ in 0..3 {
+        sim.step().unwrap();
+    }
+    let before = ALLOCATIONS.load(Ordering::SeqCst);
+    for _ in 0..200 {
+        sim.step().unwrap();
+    }
+    let during = ALLOCATIONS.load(Ordering::SeqCst) - before;
+    assert_eq!(during, 0, "tetrahedra: {during} allocations in 200 steps");
 }
 
 /// A 10 × 10 × 1 mm sheet (10 × 10 × 1 hex8) on a flat triangulated mould (2 × 20² triangles,

@@ -4,7 +4,7 @@
 
 use crate::common::pull_off;
 use crate::validation::{record, Tol};
-use decohesion_physics::kernels::{assemble_internal_forces, ElementRule, Planes};
+use decohesion_physics::kernels::{assemble_internal_forces, AssemblyScratch, ElementRule, Planes};
 use decohesion_physics::material::rubber::{
     neo_hookean::NeoHookean, Isochoric, Rubber, Volumetric,
 };
@@ -60,7 +60,7 @@ fn assemble(mesh: &Mesh, mat: &Material, u: &[[f64; 3]]) -> (Vec<[f64; 3]>, f64,
         &mut f,
         true,
         Some(&team),
-        &mut Vec::new(),
+        &mut AssemblyScratch::default(),
         f64::INFINITY,
         false,
     );

@@ -118,11 +118,20 @@ impl ElementSums {
     }
 }
 
+/// The buffers of [`assemble_internal_forces`], kept from call to call so that an assembly
+/// allocates nothing once the first has sized them: the per-block results of the hexahedra's
+/// loop and the tetrahedra's buffers ([`tet::TetScratch`]).
+#[derive(Debug, Default, Clone)]
+pub struct AssemblyScratch {
+    pub parts: Vec<ElementSums>,
+    pub tets: tet::TetScratch,
+}
+
 /// Internal forces of a whole mesh: F_int(U) = Σ_e fₑ(U) (model §1.5 and §4.3), the
 /// hexahedra by `rule`, then the tetrahedra ([`tet`], model §1.13).
 /// `f` must be zeroed. Energies are computed only if `energy`. `blocks` come from
-/// [`Mesh::element_blocks`]; `parts` is a buffer for the per-block results (reused, so the
-/// step allocates nothing).
+/// [`Mesh::element_blocks`]; `scratch` holds the per-block results and the tetrahedra's
+/// buffers ([`AssemblyScratch`]; reused, so the step allocates nothing).
 ///
 /// The smallest J ([`Assembly::min_j`]): with one point, a group of 8 elements skips the exact
 /// corner check when the bound J_a ≥ J (1 − C|q|/s)³ ([`corner_bound`]) of each of its
@@ -144,10 +153,11 @@ pub fn assemble_internal_forces(
     f: &mut Planes,
     energy: bool,
     team: Option<&Team>,
-    parts: &mut Vec<ElementSums>,
+    scratch: &mut AssemblyScratch,
     exact_below: f64,
     prefetch: bool,
 ) -> Assembly {
+    let AssemblyScratch { parts, tets } = scratch;
     assert_eq!(u.len(), f.len());
     let ptr = f.ptr();
     let u = u.planes();
@@ -227,6 +237,7 @@ pub fn assemble_internal_forces(
             u,
             &mut f.planes_mut(),
             team,
+            tets,
         );
         out.strain += p.strain;
         if !(p.min_j >= out.min_j) {

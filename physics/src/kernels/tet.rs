@@ -13,7 +13,8 @@
 //!   fₐ = Σ_e V_e [P_iso(F_e) + p̃_e cof F_e] ∇ₓNₐ      (∂v_e/∂x_b = V_e cof F_e ∇ₓN_b).
 //!
 //! Three passes: the elements' F, J and isochoric stress (parallel on the team), the nodal
-//! volumes and pressures (two scatters), the forces (a scatter). Plain scalar code: the
+//! volumes and pressures (two scatters), the forces (a scatter), in buffers kept from call to
+//! call ([`TetScratch`]), so that a step allocates nothing. Plain scalar code: the
 //! tetrahedra are not tuned yet.
 
 use super::ElementSums;
@@ -24,12 +25,21 @@ use crate::team::Team;
 
 /// One tetrahedron's state at U: J, cof F (under the nodal pressure), the stress without the nodal pressure's part and the
 /// energy density without U(J̄).
-#[derive(Clone, Copy)]
+#[derive(Debug, Clone, Copy)]
 struct TetPoint {
     j: f64,
     p: [[f64; 3]; 3],
     cof: [[f64; 3]; 3],
     psi: f64,
+}
+
+/// The buffers of [`tet_forces`], reused from call to call (sized by the first): the
+/// elements' points and the nodal volume ratios and pressures of the average nodal pressure.
+#[derive(Debug, Default, Clone)]
+pub struct TetScratch {
+    points: Vec<TetPoint>,
+    nodal: Vec<f64>,
+    pressure: Vec<f64>,
 }
 
 /// Whether the tetrahedra of `mat` take the average nodal pressure: the materials with the
@@ -61,6 +71,8 @@ fn point(mat: &Material, g: &[[f64; 3]; 4], ue: &[[f64; 3]; 4], split: bool) -> 
 /// strain energy Σ_e V_e ψ_e (with U(J̄_e) under the nodal pressure) and smallest J = det F_e,
 /// numbered after the hexahedra ([`Mesh::element_count`]). `split`: the average nodal
 /// pressure ([`nodal_pressure`]; only for a rubber). A NaN J is reported as the smallest.
+/// `scratch` holds the buffers ([`TetScratch`]).
+#[allow(clippy::too_many_arguments)]
 pub fn tet_forces(
     mesh: &Mesh,
     data: &TetData,
@@ -69,13 +81,22 @@ pub fn tet_forces(
     u: [&[f64]; 3],
     f: &mut [&mut [f64]; 3],
     team: Option<&Team>,
+    scratch: &mut TetScratch,
 ) -> ElementSums {
     let at = |n: u32| [u[0][n as usize], u[1][n as usize], u[2][n as usize]];
     let run = |t: usize| point(mat, &data.grad[t], &mesh.tets[t].map(at), split);
-    let mut points: Vec<TetPoint> = match team {
-        Some(team) => team.map(mesh.tets.len(), run),
-        None => (0..mesh.tets.len()).map(run).collect(),
-    };
+    let TetScratch {
+        points,
+        nodal,
+        pressure,
+    } = scratch;
+    match team {
+        Some(team) => team.map_into(mesh.tets.len(), points, run),
+        None => {
+            points.clear();
+            points.extend((0..mesh.tets.len()).map(run));
+        }
+    }
     let mut out = ElementSums {
         strain: 0.0,
         hourglass: 0.0,
@@ -95,7 +116,8 @@ pub fn tet_forces(
     out.min_stress_element = out.min_element;
     if let (Some(r), true) = (&mat.rubber, split) {
         // vₐ = Σ_{e∋a} J_e V_e/4, Jₐ = vₐ/Vₐ.
-        let mut nodal = vec![0.0; mesh.nodes.len()];
+        nodal.clear();
+        nodal.resize(mesh.nodes.len(), 0.0);
         for (t, conn) in mesh.tets.iter().enumerate() {
             let q = 0.25 * points[t].j * data.volume[t];
             for &a in conn {
@@ -108,7 +130,8 @@ pub fn tet_forces(
             }
         }
         // U(J̄_e), then p̄ₐ = (1/Vₐ) Σ_{e∋a} V_e U′(J̄_e)/4.
-        let mut pressure = vec![0.0; mesh.nodes.len()];
+        pressure.clear();
+        pressure.resize(mesh.nodes.len(), 0.0);
         for (t, conn) in mesh.tets.iter().enumerate() {
             let j_bar = 0.25 * conn.iter().map(|&a| nodal[a as usize]).sum::<f64>();
             let (energy, slope) = r.volumetric.energy_slope(r.bulk, j_bar);

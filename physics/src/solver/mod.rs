@@ -44,7 +44,7 @@ pub use state::{
 
 use crate::energy::EnergySnapshot;
 use crate::kernels::{
-    assemble_internal_forces, Assembly, ElementRule, ElementSums, NodeSums, Planes,
+    assemble_internal_forces, Assembly, AssemblyScratch, ElementRule, NodeSums, Planes,
 };
 use crate::law::InterfaceState;
 use crate::mesh::ElementClasses;
@@ -122,7 +122,9 @@ struct Workspace {
     /// last-level cache ([`crate::kernels::prefetch_pays`]).
     prefetch: bool,
     /// Per-block / per-chunk results of the parallel loops.
-    parts_elements: Vec<ElementSums>,
+    /// The element loop's buffers (its per-block results, the tetrahedra's points and nodal
+    /// fields).
+    elements: AssemblyScratch,
     parts_nodes: Vec<NodeSums>,
     parts_boundary: Vec<BoundarySums>,
     /// Reaction impulse of each prescribed condition from each boundary chunk.
@@ -295,7 +297,7 @@ impl ElementLoop<'_> {
         u: &Planes,
         f: &mut Planes,
         energy: bool,
-        parts: &mut Vec<ElementSums>,
+        scratch: &mut AssemblyScratch,
         exact_below: f64,
     ) -> Assembly {
         assemble_internal_forces(
@@ -308,7 +310,7 @@ impl ElementLoop<'_> {
             f,
             energy,
             self.team,
-            parts,
+            scratch,
             exact_below,
             self.prefetch,
         )

@@ -10,6 +10,7 @@ use super::state::{ContactNode, InterfaceNode, PeakReaction, RunStats, SolverErr
 use super::{Setup, Simulation, Workspace, ELEMENT_GRAIN, PARALLEL_MIN_ELEMENTS};
 use crate::energy::Ledger;
 use crate::interface::contact::ContactStatus;
+use crate::kernels::AssemblyScratch;
 use crate::kernels::Planes;
 use crate::mesh::{dot, sub, ElementClasses, Mesh};
 use crate::model::{Model, StartOffset};
@@ -295,7 +296,7 @@ impl Simulation {
                 prefetch: crate::kernels::prefetch_pays(mesh.nodes.len()),
                 classes,
                 team,
-                parts_elements: Vec::new(),
+                elements: AssemblyScratch::default(),
                 parts_nodes: Vec::new(),
                 parts_boundary: Vec::new(),
                 parts_reactions: Vec::new(),

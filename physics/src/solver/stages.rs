@@ -166,7 +166,7 @@ impl Simulation {
             &self.state.u,
             &mut self.state.f_int,
             energy,
-            &mut self.work.parts_elements,
+            &mut self.work.elements,
             exact_below,
         );
         self.stats.corner_checks.groups += asm.corner_groups;

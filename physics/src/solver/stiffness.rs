@@ -4,7 +4,7 @@
 use super::boundary::NONE;
 use super::lanczos::{dof_chunks, dof_sum, LanczosWork};
 use super::{ElementLoop, Simulation};
-use crate::kernels::ElementSums;
+use crate::kernels::AssemblyScratch;
 use crate::kernels::Planes;
 use crate::team::SharedSlice;
 
@@ -32,7 +32,7 @@ pub(super) struct EstimateCache {
     /// by degree of freedom, the springs of a node on several interfaces summed.
     springs: Vec<(usize, f64)>,
     /// Per-chunk results of the parallel passes.
-    parts: Vec<ElementSums>,
+    parts: AssemblyScratch,
     maxima: Vec<f64>,
     sums: Vec<f64>,
     units: Vec<()>,
