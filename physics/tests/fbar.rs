@@ -20,7 +20,7 @@ use decohesion_physics::solver::Simulation;
 /// velocity to zero each time the kinetic energy has passed a peak. Each reset removes the
 /// energy of the motion about the static state, so the state converges to it; returns
 /// `probe` at the end and the kinetic energy at the last peak over the strain energy.
-fn relaxed(sim: &mut Simulation, probe: impl Fn(&Simulation) -> f64) -> (f64, f64) {
+pub(crate) fn relaxed(sim: &mut Simulation, probe: impl Fn(&Simulation) -> f64) -> (f64, f64) {
     let mut last = 0.0;
     let mut peak_share = f64::INFINITY;
     while !sim.finished() {
