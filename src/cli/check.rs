@@ -29,7 +29,12 @@ pub fn check(path: &Path, set: &[String]) -> Result<()> {
     );
     if let Some(r) = &mat.rubber {
         println!("  rubber (model §1.10)         {r}");
-        println!("                               (E, ν, λ, μ above: its small-strain limit; hourglass modulus 11μ₀; no element bound of the stable step, every estimate converged)");
+        let hourglass = if m.mesh.elements.is_empty() {
+            ""
+        } else {
+            "hourglass modulus 11μ₀; "
+        };
+        println!("                               (E, ν, λ, μ above: its small-strain limit; {hourglass}no element bound of the stable step, every estimate converged)");
     }
     println!("  wave speed c_d               {:.4} m/s", mat.wave_speed());
     println!(
@@ -107,7 +112,7 @@ pub fn check(path: &Path, set: &[String]) -> Result<()> {
     }
     println!(
         "  state memory                 {:.0} bytes per element",
-        state_bytes(&sim) as f64 / m.mesh.elements.len() as f64
+        state_bytes(&sim) as f64 / m.mesh.element_count() as f64
     );
     let surfaces = decohesion_physics::mould::open_surface_warnings(&m.planes);
     for w in sim.advisories().into_iter().chain(surfaces) {

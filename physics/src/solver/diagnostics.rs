@@ -11,6 +11,9 @@ use crate::model::StartOffset;
 const FBAR_DOES_NOT_LOCK: &str =
     "the F-bar hexahedron does not lock volumetrically (one volume ratio per element, model §1.11)";
 
+/// What the near-incompressibility warnings say of a rubber on tetrahedra only.
+const TETS_DO_NOT_LOCK: &str = "its 4-node tetrahedra take the average nodal pressure and a nodal share of the isochoric energy (model §1.13, §1.14), and do not lock volumetrically";
+
 /// What the near-incompressibility warnings say of the physically stabilised one point.
 const PHYSICAL_DOES_NOT_LOCK: &str =
     "one-point integration does not lock volumetrically, and the physical hourglass stiffness follows E and μ, not K (model §1.12)";
@@ -185,10 +188,13 @@ impl Simulation {
             }
         }
         let nu = mat.poisson;
+        // A mesh of tetrahedra only: the hexahedron's quadrature does not apply.
+        let tets_only = m.mesh.elements.is_empty() && !m.mesh.tets.is_empty();
         if nu >= 0.49 && mat.rubber.is_some() {
             let k_over_g = 2.0 * (1.0 + nu) / (3.0 * (1.0 - 2.0 * nu));
             let cp_over_cs = (2.0 * (1.0 - nu) / (1.0 - 2.0 * nu)).sqrt();
             let quadrature = match m.scheme.integration {
+                _ if tets_only => TETS_DO_NOT_LOCK,
                 Integration::Full => "with full 2×2×2 integration the hex8 locks volumetrically: it is far too stiff in bending and in any deformation that keeps the volume; use scheme.integration = \"fbar\" (model §1.11), \"reduced_physical\" (model §1.12) or \"reduced\" (a rubber's hourglass stiffness follows its shear modulus, model §1.10)",
                 Integration::Reduced => "one-point integration does not lock volumetrically, and a rubber's hourglass stiffness κ·11μ₀ follows its shear modulus (model §1.10)",
                 Integration::Fbar => FBAR_DOES_NOT_LOCK,
@@ -205,6 +211,7 @@ impl Simulation {
             let kappa_shear = 0.05 * 2.0 * mat.mu / (mat.lambda + 2.0 * mat.mu);
             let kappa = m.scheme.hourglass_coefficient;
             let quadrature = match m.scheme.integration {
+                _ if tets_only => "the 4-node tetrahedra of a material other than a rubber lock volumetrically (the average nodal pressure is the rubbers', model §1.13): use a rubber material (material.model = \"isochoric_neo_hookean\", \"mooney_rivlin\", \"yeoh\" or \"ogden\"), or hexahedra".to_string(),
                 Integration::Full => format!(
                     "with full 2×2×2 integration the hex8 locks volumetrically: it is far too stiff in bending and in any deformation that keeps the volume; use scheme.integration = \"fbar\" (model §1.11), \"reduced_physical\" (model §1.12), or \"reduced\" with scheme.hourglass_coefficient = {kappa_shear:.1e} (the hourglass stiffness κ(λ+2μ) grows with λ and locks as well at the default κ = 0.05)"
                 ),
