@@ -50,7 +50,7 @@ fn drive(law: &StiffnessLaw, jumps: &[[f64; 3]], h: f64) -> Drive {
     let (mut k_prev, mut u_prev) = (law.g_n(0.0), jumps[0]);
     let mut r_prev = law.cohesive_traction(k_prev, u_prev, N);
     for &u in &jumps[1..] {
-        // Stage 8 predicts α at this configuration, stage 4 loads with it.
+        // Stage 8 predicts α at this configuration, stage 5 loads with it.
         let next = law.next_damage(alpha, &mut alpha_s, u, N, h);
         assert!(next >= alpha, "{law}: α decreased (β increased) at {u:?}");
         alpha = next;

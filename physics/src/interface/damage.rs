@@ -1,4 +1,4 @@
-//! The cohesive part of the interface at one node (model §2.2–§2.4, §4.4, §4.8, §5.5):
+//! The cohesive part of the interface at one node (model §2.2–§2.4, §4.5, §4.8, §5.5):
 //! traction R_d = g_N(α)[u], stored energy Ψ_d = ½ W g_N(α)|[u]|², the damage update of eq. 12
 //! and its dissipation increment.
 //!

@@ -188,7 +188,7 @@ impl Simulation {
         }));
     }
 
-    /// Stages 4, 7, 9 (the nodes' shares) and 8 on every node pair, after stage 5's free
+    /// Stages 5, 7, 9 (the nodes' shares) and 8 on every node pair, after stage 5's free
     /// velocity (see the module docs); adds the pairs' ledger halves to the boundary's sums. A
     /// pair in several bonds takes each bond's cohesion, then one contact with their total
     /// area W = Σ Wᵢ and the area-weighted μ = Σ Wᵢ μᵢ(αᵢ)/W, shared as one impulse per area.
@@ -220,7 +220,7 @@ impl Simulation {
         let (mut area, mut mu_area, mut held) = (0.0, 0.0, false);
         for p in entries.iter_mut() {
             let bond = &self.model.bonds[p.bond as usize];
-            // 4. Cohesion: −h̄ W R_d on a, +h̄ W R_d on b.
+            // 5. Cohesion: −h̄ W R_d on a, +h̄ W R_d on b.
             p.stiffness = bond.law.g_n(p.alpha);
             p.cohesive_traction = bond.law.cohesive_traction(p.stiffness, p.jump, p.normal);
             let pc = p.cohesive_traction.map(|c| h_bar * p.area * c);

@@ -1,6 +1,6 @@
-//! Stages 4–8 (model §4.4–§4.8) at the boundary nodes: what acts on each node (glue, contact,
+//! Stages 5–8 (model §4.5–§4.8) at the boundary nodes: what acts on each node (glue, contact,
 //! tractions, prescribed components) and the fused pass that applies, node by node, the stage
-//! functions in their order: external tractions, cohesion (4), the free velocity (5) completed,
+//! functions in their order: external tractions and cohesion, the free velocity (5) completed,
 //! prescribed components (6), contact (7), the node's ledger halves (summed here, closed in
 //! stage 9), and the damage prediction (8). A node's stages read and write only that node, so
 //! the pass runs in fixed chunks on the thread team.
@@ -39,7 +39,7 @@ struct BoundaryStep<'a> {
     model: &'a Model,
     boundary: &'a Boundary,
     /// The step's surface and prescribed velocities, traction amplitudes, and V_{n+½} of the
-    /// boundary nodes (stage 2 and 5).
+    /// boundary nodes (stages 4 and 5).
     scratch: &'a StepScratch,
     mass: &'a [f64],
     inv_mass: &'a [f64],
@@ -230,7 +230,7 @@ impl BoundaryStep<'_> {
         }
     }
 
-    /// Stage 4 (and its share of 5) on node `b`: g_N(αₙ₊₁), R_d = g_N(αₙ₊₁)[u]ₙ₊₁ and the
+    /// Stage 5's cohesion on node `b`: g_N(αₙ₊₁), R_d = g_N(αₙ₊₁)[u]ₙ₊₁ and the
     /// cohesive impulse P_coh = −h̄ W R_d added to the velocity.
     ///
     /// # Safety
@@ -428,7 +428,7 @@ impl BoundaryStep<'_> {
     }
 }
 
-/// Stages 4–8 on boundary nodes `range` (indices into `cx.boundary.nodes`), node by node in the
+/// Stages 5–8 on boundary nodes `range` (indices into `cx.boundary.nodes`), node by node in the
 /// order of model §4.10. `v_all` holds the free velocities of stage 5's node loop on entry
 /// and V_{n+3/2} on exit; `reactions` (one entry per prescribed condition, zeroed) receives
 /// this chunk's reaction forces.
@@ -454,7 +454,7 @@ unsafe fn boundary_chunk(
         impulses.clear();
         // 5 (F_ext): surface tractions.
         cx.tractions(b, vo, &mut v, &mut out);
-        // 4–5. Cohesion: P_coh = −h̄ W g_N(αₙ₊₁)[u]ₙ₊₁.
+        // 5. Cohesion: P_coh = −h̄ W g_N(αₙ₊₁)[u]ₙ₊₁.
         cx.cohesion(b, itfs, &mut v, &mut impulses);
         let v_free = v;
         // 6. Prescribed components.
@@ -473,7 +473,7 @@ unsafe fn boundary_chunk(
 }
 
 impl Simulation {
-    /// Stages 4–8 at every boundary node (model §4.4–§4.8), in fixed chunks on the thread team.
+    /// Stages 5–8 at every boundary node (model §4.5–§4.8), in fixed chunks on the thread team.
     /// `h_bar` = (h_{n+½} + h_{n+3/2})/2 scales forces into impulses, `h_next` = h_{n+3/2} is
     /// the interval the new velocities act over. Needs [`Simulation::prescribed_motion`] and
     /// [`Simulation::free_velocity`] of this step; leaves the chunks' sums and the reactions in
@@ -513,13 +513,11 @@ impl Simulation {
         for (k, r) in sc.reactions.iter_mut().enumerate() {
             *r = (0..chunks).fold(0.0, |acc, c| acc + self.work.parts_reactions[c * n_bc + k]);
         }
-        self.form_glue();
-        self.bond_pass(h_bar, h_next);
     }
 }
 
 impl Simulation {
-    /// The smooth impulses of stages 4–5 alone at every boundary node (tractions and cohesion,
+    /// The smooth impulses of stage 5 alone at every boundary node (tractions and cohesion,
     /// no constraint), over h̄ = `h_bar`: how [`Simulation::start`] takes V₀ back to V_{−½}
     /// with the same formulas as a step.
     pub(super) fn smooth_impulses(&mut self, h_bar: f64) {

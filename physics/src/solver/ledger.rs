@@ -44,8 +44,9 @@ impl Simulation {
     /// reactions and their peaks, the interface energies, damage dissipation and the glue's
     /// torque work on turning moulds (model §5.5, booked as the moulds' work), the ledger's
     /// closing, the run statistics and the blow-up checks (non-finite values, negative damage
-    /// dissipation, contact creating energy, energy growing without a source). `first`: the
-    /// start of the run, where only the forward halves exist.
+    /// dissipation, contact creating energy, energy growing without a source). `h_next`:
+    /// h_{n+3/2}, fixed by stage 4. `first`: the start of the run, where only the forward
+    /// halves exist.
     ///
     /// *Variable step* (model §5.8). The impulse form of every work, ½V_{n−½}·(Pₙ₋₁ + Pₙ)
     /// with Pₙ = h̄ₙFₙ, sums exactly to Kₙ − Kₙ₋₁ at any sequence of steps. The stored-energy
@@ -58,13 +59,13 @@ impl Simulation {
     /// up to the bulk's O(h²) term whatever the steps. In halves: the impulse halves b, a of
     /// F_int (at tₙ, h̄ = ½(h_{n−½} + h_{n+½})) give b(1 − h_{n−½}/h̄) and a(1 − h_{n+½}/h̄);
     /// the cohesive part uses [u]ₙ − [u]ₙ₋₁ directly ([`StepChange`]).
-    pub(super) fn ledger(&mut self, first: bool) -> Result<(), SolverError> {
+    pub(super) fn ledger(&mut self, h_next: f64, first: bool) -> Result<(), SolverError> {
         self.reactions_and_peaks();
         let c = &mut self.state.step_control;
         if first {
             c.h_before = self.state.h;
         }
-        let (h_before, h, h_next) = (c.h_before, self.state.h, c.h_next);
+        let (h_before, h) = (c.h_before, self.state.h);
         let change = (!first && (h_before != h || h_next != h)).then(|| StepChange {
             prev: (h - h_before) / (2.0 * h),
             now: (h_next - h) / (2.0 * h),

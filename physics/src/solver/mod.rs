@@ -8,18 +8,19 @@
 //! | stage | function | file |
 //! |---|---|---|
 //! | 1 positions and state | [`Simulation::advance_positions`] | `stages.rs` |
-//! | 2 surfaces, gaps, prescribed values | [`Simulation::surfaces_and_gaps`], [`Simulation::prescribed_motion`] | `stages.rs` |
+//! | 2 moulds, jumps, gaps | [`Simulation::surfaces_and_gaps`] | `stages.rs` |
 //! | 3 internal forces | [`Simulation::internal_forces`] | `stages.rs` |
-//! | model §6: next step | [`Simulation::next_time_step`] | `stable_step.rs`, `lanczos.rs`, `stiffness.rs` |
+//! | 4 the next step, the velocities over it | [`Simulation::next_step`] (model §6), [`Simulation::prescribed_motion`] | `stable_step.rs`, `lanczos.rs`, `stiffness.rs`, `stages.rs` |
 //! | 5 free velocity, all nodes | [`Simulation::free_velocity`] | `stages.rs` |
-//! | 4–8 at boundary nodes | [`Simulation::boundary_pass`]: per node, tractions, cohesion (4), free velocity (5), prescribed components (6), contact (7), the ledger's halves, damage (8) | `boundary.rs` |
-//! | 9 ledger | [`Simulation::ledger`] | `ledger.rs` |
+//! | 5–8 at boundary nodes | [`Simulation::boundary_pass`]: per node, tractions and cohesion (5), prescribed components (6), contact (7), the ledger's halves (9), damage (8) | `boundary.rs` |
+//! | 5–8 at bonded pairs | [`Simulation::bond_pass`] (model §7.8) | `bond.rs` |
+//! | 9 glue that forms, ledger | [`Simulation::form_glue`] (model §8), [`Simulation::ledger`] | `boundary/adhesion.rs`, `ledger.rs` |
 //!
 //! Nothing is solved globally: every stage is a loop of local computations, the element loop in
 //! parallel ([`Team`]: persistent threads, static shares) and deterministic whatever the thread
-//! count (node-disjoint element blocks, fixed-size chunks, fixed-order reductions). Stages 4–8
-//! are one fused pass over the boundary nodes (a node's stages need only that node), which calls
-//! the stage functions in order.
+//! count (node-disjoint element blocks, fixed-size chunks, fixed-order reductions). Stages 5–8
+//! are one fused pass over the boundary nodes (a node's stages need only that node, model
+//! §4.10), which calls the stage functions in order.
 
 mod bond;
 mod bound;
@@ -64,7 +65,7 @@ use web_time::Instant;
 /// loops. Fixed, so the reduction order never depends on the thread count.
 const ELEMENT_GRAIN: usize = 256;
 const NODE_GRAIN: usize = 4096;
-/// Boundary nodes per chunk of the boundary loop (stages 4–8).
+/// Boundary nodes per chunk of the boundary loop (stages 5–8).
 const BOUNDARY_GRAIN: usize = 256;
 /// Below this many elements the loops run on the calling thread (a parallel section would
 /// cost more than it saves).
@@ -137,30 +138,32 @@ impl Simulation {
     pub fn step(&mut self) -> Result<(), SolverError> {
         let t0 = Instant::now();
         let h = self.state.h;
-        // 1. Uₙ₊₁ = Uₙ + h V_{n+½}; αₙ₊₁ = αₙ + h α̇_{n+½}.
+        // 1. Uₙ₊₁ = Uₙ + h V_{n+½}; αₙ₊₁ = αₙ + h α̇_{n+½} (model §4.1).
         self.advance_positions(h);
-        // 2. Rigid surfaces to tₙ₊₁: jumps [u]ₙ₊₁ and gaps gₙ₊₁.
+        // 2. Moulds at tₙ₊₁: jumps [u]ₙ₊₁ and gaps gₙ₊₁ (§4.2).
         self.surfaces_and_gaps();
         let t1 = Instant::now();
-        // 3. F_int,ₙ₊₁ from Uₙ₊₁ (parallel element loop); an inverted element stops the run.
+        // 3. F_int,ₙ₊₁ from Uₙ₊₁ (parallel element loop); an inverted element stops the run (§4.3).
         self.internal_forces(true, true)?;
         let t2 = Instant::now();
-        // §6 (model §6.5, §6.6). Re-estimate h_crit as the stiffness changes; fixes h_{n+3/2}.
-        let h_next = self.next_time_step();
-        let h_next = self.damped_step(h_next);
+        // 4. The next step h_{n+3/2} (§6.5, §6.6), then the mould and prescribed velocities
+        //    over it (§4.4).
+        let h_next = self.next_step();
         let t3 = Instant::now();
-        // 2. Surface and prescribed velocities over the interval about to be taken.
         self.prescribed_motion(h_next, false);
         let h_bar = 0.5 * (h + h_next);
-        // 5. Free velocity on every node (internal forces and gravity).
+        // 5. Free velocity on every node: internal forces and gravity (§4.5).
         self.free_velocity(h_bar);
         let t4 = Instant::now();
-        // 4–8. Boundary nodes: tractions, cohesion, prescribed components, contact, damage.
+        // 5–8 at the boundary nodes, one fused pass: tractions and cohesion (5), prescribed
+        //    components (6), contact and friction (7), damage for the next step (8) (§4.10).
         self.boundary_pass(h_bar, h_next);
+        // 5–8 at the bonded node pairs (§7.8).
+        self.bond_pass(h_bar, h_next);
         let t5 = Instant::now();
-        // 9. Energy ledger and blow-up checks.
-        self.state.step_control.h_next = h_next;
-        self.ledger(false)?;
+        // 9. Glue that forms on contact (§8), then the ledger and checks (§4.9, §5).
+        self.form_glue();
+        self.ledger(h_next, false)?;
         self.count_step_change(h, h_next);
         self.state.h = h_next;
         let t6 = Instant::now();

@@ -354,7 +354,7 @@ impl Simulation {
     }
 
     /// t = 0: U₀ (prescribed values), [u]₀, g₀, α₀, the first h_crit and h, F₀; then
-    /// V_{−½} = V₀ − ½h M⁻¹F₀ and the first step's stages 2 (velocities), 5, 4–8 and 9 give V_{½}
+    /// V_{−½} = V₀ − ½h M⁻¹F₀ and the first step's stages 4 (velocities), 5–8 and 9 give V_{½}
     /// (so K₀ = ½V_{−½}ᵀMV_{½}).
     fn start(&mut self) -> Result<(), SolverError> {
         for b in &self.state.boundary.nodes {
@@ -378,7 +378,9 @@ impl Simulation {
         self.half_step_back(h);
         self.free_velocity(h);
         self.boundary_pass(h, h);
-        self.ledger(true)
+        self.bond_pass(h, h);
+        self.form_glue();
+        self.ledger(h, true)
     }
 
     /// α₀ = min(u_r, max(initial damage, f₀)): eq. 12's "largest jump ever reached", with the
@@ -439,7 +441,7 @@ impl Simulation {
     }
 
     /// V_{−½} = V₀ − ½h M⁻¹F₀ with the smooth forces (internal, gravity, tractions, glue):
-    /// stage 5 and the smooth impulses of stage 4 taken for half a step backwards, h̄ = −½h.
+    /// stage 5's smooth impulses taken for half a step backwards, h̄ = −½h.
     fn half_step_back(&mut self, h: f64) {
         self.prescribed_motion(h, true);
         self.free_velocity(-0.5 * h);

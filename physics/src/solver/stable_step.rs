@@ -56,8 +56,6 @@ pub(super) fn capped_step(factor: f64, h_crit: f64) -> f64 {
 pub(super) struct StepControl {
     /// h_{n−½}, the interval before the one just taken (set at t₀ to the first h) [s].
     pub h_before: f64,
-    /// h_{n+3/2}, the interval about to be taken, for stage 9 of this step [s].
-    pub h_next: f64,
     /// The step h ramps up to (by at most [`GROWTH_RATIO`] per step) after an estimate found
     /// the body softer [s].
     pub goal: Option<f64>,
@@ -89,6 +87,14 @@ pub(super) struct StepControl {
 }
 
 impl Simulation {
+    /// Stage 4 (model §4.4): the step h_{n+3/2} about to be taken, the controller's
+    /// [`Simulation::next_time_step`] limited by the bulk viscosity's damping
+    /// ([`Simulation::damped_step`]).
+    pub(super) fn next_step(&mut self) -> f64 {
+        let h_next = self.next_time_step();
+        self.damped_step(h_next)
+    }
+
     /// Re-estimates h_crit when the stiffness may have changed and returns h_{n+3/2}.
     ///
     /// *When*: the glue's total spring stiffness Σ W g_N(α) moved by [`SPRING_RETRIGGER`] of its

@@ -1,5 +1,5 @@
-//! Stages 1, 2, 3 and 5 of model §4 (the boundary's stages 4–8 are in `boundary.rs`, the
-//! ledger's stage 9 in `ledger.rs`), and the per-step buffers they fill.
+//! Stages 1, 2, 3, 4's velocities and 5 of model §4 (the boundary's stages 5–8 are in
+//! `boundary.rs`, the step's choice in `stable_step.rs`, the ledger's stage 9 in `ledger.rs`), and the per-step buffers they fill.
 
 use super::boundary::BoundarySums;
 use super::state::SolverError;
@@ -33,7 +33,7 @@ pub(super) struct StepScratch {
     /// V_{n+½} of both nodes of each bond pair, before stage 5, for the ledger.
     #[serde(default)]
     pub bond_v_old: Vec<[[f64; 3]; 2]>,
-    /// Sums of the all-node loop (stage 5) and of the boundary pass (4–8), for stage 9.
+    /// Sums of the all-node loop (stage 5) and of the boundary pass (5–8), for stage 9.
     pub node_sums: NodeSums,
     pub boundary_sums: BoundarySums,
     /// The moulds' poses, per-node geometry against curved moulds, and works (model §7).
@@ -191,7 +191,7 @@ impl Simulation {
         Ok(())
     }
 
-    /// Stage 2, second half, once h_{n+3/2} is fixed: the velocity of each plane over the
+    /// Stage 4, once h_{n+3/2} is fixed: the velocity of each plane over the
     /// interval just taken and the next one, the prescribed velocity of each condition over the
     /// next interval (Ū(tₙ₊₂) − Ū(tₙ₊₁))/h and whether it jumps at tₙ₊₁ (then the reaction is
     /// that jump's impulse, not a force to report), and the traction amplitudes at tₙ₊₁.
@@ -242,7 +242,7 @@ impl Simulation {
 
     /// Stage 5 on every node: V_free = V + h̄ M⁻¹(m g − F_int), with the ledger's halves
     /// b = ½V_old·P and a = ½V_free·P of the internal and gravity impulses P; keeps V_{n+½} of
-    /// the boundary nodes first (their stages 4–8 follow in [`Simulation::boundary_pass`]).
+    /// the boundary nodes first (their stages 5–8 follow in [`Simulation::boundary_pass`]).
     pub(super) fn free_velocity(&mut self, h_bar: f64) {
         // Keep V_{n+½} of boundary nodes and bond pairs for the ledger's backward halves.
         self.keep_bond_velocities();

@@ -183,13 +183,15 @@ pub struct StageTimes {
     pub positions: f64,
     /// Stage 3: element loop [s].
     pub internal_forces: f64,
-    /// Stages 4–8 on the boundary: cohesion, prescribed displacements, contact, damage [s].
+    /// Stages 5–8 on the boundary nodes and the bonded pairs: tractions, cohesion,
+    /// prescribed displacements, contact, damage [s].
     pub interface_contact: f64,
-    /// Stage 5 on all nodes: free velocity and the ledger dot products [s].
+    /// Stage 4's velocities and stage 5 on all nodes: free velocity and the ledger dot
+    /// products [s].
     pub free_velocity: f64,
-    /// Stage 9: ledger closing and checks [s].
+    /// Stage 9: glue that forms, ledger closing and checks [s].
     pub bookkeeping: f64,
-    /// Stable-step estimates [s].
+    /// Stage 4's step: stable-step estimates [s].
     pub h_crit: f64,
 }
 

@@ -16,7 +16,7 @@
 //! - the glue is intact: α = α_s = 0, g_N = g_N(0), [u]ₙ₊₁ = 0, so its stored energy starts at
 //!   exactly 0 and the step's damage dissipation increment is 0 (the ledger closes with no
 //!   term for the formation; the glue's energy afterwards is the work of its own force);
-//! - from the next step on it is a glued node like any other (stage 4 cohesion, stage 7
+//! - from the next step on it is a glued node like any other (stage 5 cohesion, stage 7
 //!   contact with μ(α), stage 8 damage, μ_inf once ruptured).
 //!
 //! A ruptured node is never glued again (`formed` stays true, g_N(u_r) = 0: contact with μ_inf
