@@ -219,7 +219,7 @@ impl App {
         egui::ComboBox::from_label("material")
             .selected_text(s.material.as_str())
             .show_ui(ui, |ui| {
-                for model in MaterialModel::ALL {
+                for model in MaterialModel::all() {
                     let label = match (model, model.rubber_spec()) {
                         (MaterialModel::Svk, _) => "svk (Saint-Venant–Kirchhoff)".to_string(),
                         (_, Some(spec)) => format!("{} ({})", spec.key, spec.label),

@@ -46,55 +46,96 @@ use serde::{Deserialize, Serialize};
 pub const RUBBER_HOURGLASS_SHEAR: f64 = 11.0;
 
 /// Constitutive model.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum MaterialModel {
     /// Saint-Venant–Kirchhoff ([`saint_venant_kirchhoff`]).
     Svk,
     /// Compressible neo-Hookean ([`neo_hookean`]).
     NeoHookean,
-    /// Neo-Hookean with the isochoric/volumetric split ([`rubber::neo_hookean`]).
-    IsochoricNeoHookean,
-    /// Mooney–Rivlin ([`rubber::mooney_rivlin`]).
-    MooneyRivlin,
-    /// Ogden ([`rubber::ogden`]).
-    Ogden,
-    /// Yeoh ([`rubber::yeoh`]).
-    Yeoh,
+    /// A rubber with the isochoric/volumetric split, of one of the families of [`rubber`].
+    Rubber(rubber::RubberModel),
 }
 
 impl MaterialModel {
-    /// Every model, in the order of their keys' declaration.
-    pub const ALL: [MaterialModel; 6] = [
-        MaterialModel::Svk,
-        MaterialModel::NeoHookean,
-        MaterialModel::IsochoricNeoHookean,
-        MaterialModel::MooneyRivlin,
-        MaterialModel::Ogden,
-        MaterialModel::Yeoh,
-    ];
+    /// Every model: SVK, the compressible neo-Hookean, then the rubber families in the order
+    /// of [`rubber::RUBBERS`].
+    pub fn all() -> impl Iterator<Item = MaterialModel> {
+        [MaterialModel::Svk, MaterialModel::NeoHookean]
+            .into_iter()
+            .chain(
+                rubber::RubberModel::ALL
+                    .iter()
+                    .map(|&r| MaterialModel::Rubber(r)),
+            )
+    }
+
+    /// The keys of every model, in the order of [`MaterialModel::all`].
+    pub fn keys() -> &'static [&'static str] {
+        static KEYS: std::sync::OnceLock<Vec<&'static str>> = std::sync::OnceLock::new();
+        KEYS.get_or_init(|| MaterialModel::all().map(MaterialModel::key).collect())
+    }
 
     /// The key of the model in scene files (`svk`, `mooney_rivlin`).
     pub fn key(self) -> &'static str {
         match self {
             MaterialModel::Svk => "svk",
             MaterialModel::NeoHookean => "neo_hookean",
-            MaterialModel::IsochoricNeoHookean => rubber::neo_hookean::SPEC.key,
-            MaterialModel::MooneyRivlin => rubber::mooney_rivlin::SPEC.key,
-            MaterialModel::Ogden => rubber::ogden::SPEC.key,
-            MaterialModel::Yeoh => rubber::yeoh::SPEC.key,
+            MaterialModel::Rubber(r) => r.spec().key,
         }
     }
 
     /// The model of that key.
     pub fn from_key(key: &str) -> Option<MaterialModel> {
-        MaterialModel::ALL.into_iter().find(|m| m.key() == key)
+        MaterialModel::all().find(|m| m.key() == key)
     }
 
     /// A rubber family's row ([`rubber::RUBBERS`]), None for SVK and the compressible
     /// neo-Hookean (which take E and ν).
     pub fn rubber_spec(self) -> Option<&'static rubber::RubberSpec> {
-        rubber::rubber_spec(self.key())
+        match self {
+            MaterialModel::Rubber(r) => Some(r.spec()),
+            MaterialModel::Svk | MaterialModel::NeoHookean => None,
+        }
+    }
+}
+
+/// As its key (`"mooney_rivlin"`).
+impl Serialize for MaterialModel {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_str(self.key())
+    }
+}
+
+/// From its key, as a unit variant of an enum whose variants are [`MaterialModel::keys`] (an
+/// unknown key is refused with the list of the admissible ones).
+impl<'de> Deserialize<'de> for MaterialModel {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct Keys;
+        impl Keys {
+            fn model<E: serde::de::Error>(key: &str) -> Result<MaterialModel, E> {
+                MaterialModel::from_key(key)
+                    .ok_or_else(|| E::unknown_variant(key, MaterialModel::keys()))
+            }
+        }
+        impl<'de> serde::de::Visitor<'de> for Keys {
+            type Value = MaterialModel;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                write!(f, "one of {}", MaterialModel::keys().join(", "))
+            }
+            fn visit_str<E: serde::de::Error>(self, v: &str) -> Result<MaterialModel, E> {
+                Keys::model(v)
+            }
+            fn visit_enum<A: serde::de::EnumAccess<'de>>(
+                self,
+                data: A,
+            ) -> Result<MaterialModel, A::Error> {
+                use serde::de::VariantAccess;
+                let (key, variant): (String, _) = data.variant()?;
+                variant.unit_variant()?;
+                Keys::model(&key)
+            }
+        }
+        d.deserialize_enum("MaterialModel", MaterialModel::keys(), Keys)
     }
 }
 
@@ -136,12 +177,7 @@ impl Material {
     /// λ = K − ⅔μ₀, E = 9Kμ₀/(3K + μ₀), ν = (3K − 2μ₀)/(2(3K + μ₀)). Validity (μ₀ > 0,
     /// K > 0, ρ > 0) is checked by the scene loader.
     pub fn rubber(r: rubber::Rubber, density: f64) -> Self {
-        let model = match r.iso {
-            rubber::Isochoric::NeoHookean(_) => MaterialModel::IsochoricNeoHookean,
-            rubber::Isochoric::MooneyRivlin(_) => MaterialModel::MooneyRivlin,
-            rubber::Isochoric::Ogden(_) => MaterialModel::Ogden,
-            rubber::Isochoric::Yeoh(_) => MaterialModel::Yeoh,
-        };
+        let model = MaterialModel::Rubber(r.iso.model());
         let (mu, k) = (r.mu0(), r.bulk);
         Material {
             model,
@@ -285,10 +321,7 @@ macro_rules! with_law {
                 type $law = $crate::material::NeoHookeanLaw;
                 $body
             }
-            $crate::material::MaterialModel::IsochoricNeoHookean
-            | $crate::material::MaterialModel::MooneyRivlin
-            | $crate::material::MaterialModel::Ogden
-            | $crate::material::MaterialModel::Yeoh => {
+            $crate::material::MaterialModel::Rubber(_) => {
                 type $law = $crate::material::RubberLaw;
                 $body
             }
@@ -419,7 +452,11 @@ mod tests {
         let mut materials: Vec<Material> = [MaterialModel::Svk, MaterialModel::NeoHookean]
             .map(|model| Material::new(model, 5e6, 0.45, 1100.0))
             .to_vec();
-        materials.extend(rubber::examples().map(|r| Material::rubber(r, 1100.0)));
+        materials.extend(
+            rubber::examples()
+                .into_iter()
+                .map(|r| Material::rubber(r, 1100.0)),
+        );
         for mat in materials {
             with_law!(mat.model, L => {
                 check::<L, false>(&mat);

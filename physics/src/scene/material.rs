@@ -6,10 +6,7 @@ use super::check::Check;
 use super::error::{num, SceneError};
 use super::keys;
 use super::raw::RawMaterial;
-use crate::material::rubber::{
-    bulk_from_poisson, mooney_rivlin, neo_hookean, ogden, yeoh, Isochoric, ParamError, Rubber,
-    RubberValues,
-};
+use crate::material::rubber::{bulk_from_poisson, ParamError, Rubber, RubberValues, RUBBERS};
 use crate::material::{Material, MaterialModel};
 
 /// The keys of `[material]` that only the rubber models take, and what each scene gave.
@@ -70,7 +67,10 @@ impl Check<'_> {
                 return Err(self.invalid(
                     format!("material.{key}"),
                     value,
-                    format!("{takes}; `{key}` is a parameter of the rubber models (`model` = isochoric_neo_hookean, mooney_rivlin, ogden or yeoh)"),
+                    format!(
+                        "{takes}; `{key}` is a parameter of the rubber models (`model` = {})",
+                        RUBBERS.iter().map(|r| r.key).collect::<Vec<_>>().join(", ")
+                    ),
                 ));
             }
             let young = mat
@@ -124,21 +124,10 @@ impl Check<'_> {
         }
         let param_error =
             |e: ParamError| self.invalid(format!("material.{}", e.key), e.value, e.reason);
-        let iso = match model {
-            MaterialModel::IsochoricNeoHookean => Isochoric::NeoHookean(
-                neo_hookean::NeoHookean::from_values(mat).map_err(param_error)?,
-            ),
-            MaterialModel::MooneyRivlin => Isochoric::MooneyRivlin(
-                mooney_rivlin::MooneyRivlin::from_values(mat).map_err(param_error)?,
-            ),
-            MaterialModel::Ogden => {
-                Isochoric::Ogden(ogden::Ogden::from_values(mat).map_err(param_error)?)
-            }
-            MaterialModel::Yeoh => {
-                Isochoric::Yeoh(yeoh::Yeoh::from_values(mat).map_err(param_error)?)
-            }
-            MaterialModel::Svk | MaterialModel::NeoHookean => unreachable!("not a rubber"),
+        let MaterialModel::Rubber(family) = model else {
+            unreachable!("a model with a rubber row is a rubber")
         };
+        let iso = family.from_values(mat).map_err(param_error)?;
         let mu0 = iso.initial_shear_modulus();
         let bulk = match (mat.bulk, mat.poisson) {
             (Some(_), Some(nu)) => {

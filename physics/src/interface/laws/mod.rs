@@ -97,7 +97,7 @@ macro_rules! families {
 include!(concat!(env!("OUT_DIR"), "/law_families.rs"));
 
 /// Byte-wise equality of two strings, at compile time.
-const fn same_str(a: &str, b: &str) -> bool {
+pub(crate) const fn same_str(a: &str, b: &str) -> bool {
     let (a, b) = (a.as_bytes(), b.as_bytes());
     if a.len() != b.len() {
         return false;

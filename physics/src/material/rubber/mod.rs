@@ -1,11 +1,15 @@
 //! Nearly incompressible rubber materials (model §1.10): the isochoric/volumetric split
-//! ψ(F) = ψ_iso(C̄) + U(J), C̄ = J^{-2/3} C, with one file per isochoric family —
-//! [`neo_hookean`], [`mooney_rivlin`], [`yeoh`] (functions of the invariants Ī₁, Ī₂) and
+//! ψ(F) = ψ_iso(C̄) + U(J), C̄ = J^{-2/3} C, with one file per isochoric family in `families/`
+//! — [`neo_hookean`], [`mooney_rivlin`], [`yeoh`] (functions of the invariants Ī₁, Ī₂) and
 //! [`ogden`] (of the principal stretches) — and the volumetric energy [`Volumetric`].
 //!
-//! A family declares its row of [`RUBBERS`] (key, label, parameters with symbol, unit and
-//! admissible range), how it is built from a scene's values, its initial shear modulus μ₀ and
-//! its stress. The kernels see one law type for all of them (`material::RubberLaw`): all lanes
+//! A family is a type implementing [`Family`]: its row of [`RUBBERS`] (key, label, parameters
+//! with symbol, unit and admissible range), how it is built from a scene's values, its initial
+//! shear modulus μ₀, its stress and an example. `physics/build.rs` lists the files of
+//! `families/` and the macro below turns the list into [`Isochoric`] (one variant per family,
+//! holding its constants), [`RubberModel`] (the family without them) and [`RUBBERS`]: to add a
+//! family, add `families/<key>.rs` with a type `<Key>` (CamelCase) implementing [`Family`], and
+//! its test. The kernels see one law type for all of them (`material::RubberLaw`): all lanes
 //! of a kernel share one material, so the `match` on the family is uniform, and the kernels are
 //! not compiled once more per family. The stress is written on `f64` ([`piola_energy`]) and
 //! applied lane by lane ([`Real::per_lane`]): no fused operation is written, so every build
@@ -16,10 +20,6 @@
 
 pub mod drucker;
 mod eigen;
-pub mod mooney_rivlin;
-pub mod neo_hookean;
-pub mod ogden;
-pub mod yeoh;
 
 use super::real::{Mat3, Real};
 use crate::interface::family::Range;
@@ -55,36 +55,153 @@ impl Volumetric {
     }
 }
 
-/// The isochoric family and its constants.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum Isochoric {
-    NeoHookean(neo_hookean::NeoHookean),
-    MooneyRivlin(mooney_rivlin::MooneyRivlin),
-    Yeoh(yeoh::Yeoh),
-    Ogden(ogden::Ogden),
+/// What an isochoric rubber family declares (model §1.10), one file of `families/` each.
+pub trait Family: Sized + Copy {
+    /// Its key (`material.model`), label, energy and parameters.
+    const SPEC: RubberSpec;
+
+    /// The family's constants from a scene's values, each checked against its range and the
+    /// family's conditions (μ₀ > 0): the key, the value and what is admissible otherwise.
+    fn from_values(v: &dyn RubberValues) -> Result<Self, ParamError>;
+
+    /// The initial shear modulus μ₀ (the small-strain limit of ψ_iso) [Pa].
+    fn initial_shear_modulus(&self) -> f64;
+
+    /// Its constants as `check` prints them (`C₁₀ = 3.0000e5 Pa`).
+    fn describe(&self) -> Vec<String>;
+
+    /// (P_iso, ψ_iso) = (∂ψ_iso(C̄)/∂F, ψ_iso) at F, with cof F, J = det F and J^{-2/3} given
+    /// (ψ_iso only if `ENERGY`, else 0). An invariant family calls [`invariant_stress`].
+    fn piola_iso<const ENERGY: bool>(
+        &self,
+        f: &[[f64; 3]; 3],
+        cof: &[[f64; 3]; 3],
+        j: f64,
+        j23: f64,
+    ) -> ([[f64; 3]; 3], f64);
+
+    /// A material of the family for tests and examples, and its volumetric form (the examples
+    /// take K = 50 μ₀, a filled rubber's).
+    fn example() -> (Self, Volumetric);
+
+    /// The same family with every modulus times `s` > 0: ψ_iso and P_iso times s at every F
+    /// (the same stretch response, s times stiffer).
+    fn scaled(&self, s: f64) -> Self;
 }
 
-impl Isochoric {
-    /// The initial shear modulus μ₀ (the small-strain limit of the family) [Pa].
-    pub fn initial_shear_modulus(&self) -> f64 {
-        match self {
-            Isochoric::NeoHookean(m) => m.initial_shear_modulus(),
-            Isochoric::MooneyRivlin(m) => m.initial_shear_modulus(),
-            Isochoric::Yeoh(m) => m.initial_shear_modulus(),
-            Isochoric::Ogden(m) => m.initial_shear_modulus(),
+/// Builds [`Isochoric`], [`RubberModel`], their dispatch and [`RUBBERS`] from the
+/// `index Type => module` lines `physics/build.rs` writes, one per file of `families/`.
+macro_rules! rubber_families {
+    ($($index:literal $family:ident => $module:ident,)*) => {
+        /// The isochoric family and its constants.
+        #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+        #[serde(rename_all = "snake_case")]
+        pub enum Isochoric {
+            $($family($module::$family),)*
         }
-    }
 
+        /// Which rubber family, without its constants (a scene's `material.model`).
+        #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+        pub enum RubberModel {
+            $($family,)*
+        }
+
+        /// The rubber families' rows, in the order of their files.
+        pub const RUBBERS: &[RubberSpec] = &[$(<$module::$family as Family>::SPEC,)*];
+
+        impl RubberModel {
+            /// Every family, in the order of [`RUBBERS`].
+            pub const ALL: &'static [RubberModel] = &[$(RubberModel::$family,)*];
+
+            /// Its row of [`RUBBERS`].
+            pub fn spec(self) -> &'static RubberSpec {
+                match self {
+                    $(RubberModel::$family => &RUBBERS[$index],)*
+                }
+            }
+
+            /// The family's constants from a scene's values ([`Family::from_values`]).
+            pub fn from_values(self, v: &dyn RubberValues) -> Result<Isochoric, ParamError> {
+                match self {
+                    $(RubberModel::$family => {
+                        <$module::$family as Family>::from_values(v).map(Isochoric::$family)
+                    })*
+                }
+            }
+
+            /// The family's example material ([`Family::example`]) with K = 50 μ₀.
+            pub fn example(self) -> Rubber {
+                match self {
+                    $(RubberModel::$family => {
+                        let (m, volumetric) = <$module::$family as Family>::example();
+                        Rubber {
+                            bulk: 50.0 * Family::initial_shear_modulus(&m),
+                            iso: Isochoric::$family(m),
+                            volumetric,
+                        }
+                    })*
+                }
+            }
+        }
+
+        impl Isochoric {
+            /// Its family.
+            pub fn model(&self) -> RubberModel {
+                match self {
+                    $(Isochoric::$family(_) => RubberModel::$family,)*
+                }
+            }
+
+            /// The initial shear modulus μ₀ (the small-strain limit of the family) [Pa].
+            pub fn initial_shear_modulus(&self) -> f64 {
+                match self {
+                    $(Isochoric::$family(m) => Family::initial_shear_modulus(m),)*
+                }
+            }
+
+            /// [`Family::scaled`].
+            pub fn scaled(&self, s: f64) -> Isochoric {
+                match self {
+                    $(Isochoric::$family(m) => Isochoric::$family(Family::scaled(m, s)),)*
+                }
+            }
+
+            /// Its constants as `check` prints them.
+            fn describe(&self) -> Vec<String> {
+                match self {
+                    $(Isochoric::$family(m) => Family::describe(m),)*
+                }
+            }
+
+            /// (P_iso, ψ_iso) of the family ([`Family::piola_iso`]).
+            #[inline(always)]
+            fn piola_iso<const ENERGY: bool>(
+                &self,
+                f: &[[f64; 3]; 3],
+                cof: &[[f64; 3]; 3],
+                j: f64,
+                j23: f64,
+            ) -> ([[f64; 3]; 3], f64) {
+                match self {
+                    $(Isochoric::$family(m) => m.piola_iso::<ENERGY>(f, cof, j, j23),)*
+                }
+            }
+        }
+    };
+}
+
+include!(concat!(env!("OUT_DIR"), "/rubber_families.rs"));
+
+const _: () = assert!(
+    crate::interface::laws::same_str(GENERATED_IN, env!("CARGO_MANIFEST_DIR")),
+    "rubber_families.rs was generated for another clone sharing this target directory: \
+     `touch physics/build.rs` reruns the build script"
+);
+
+impl Isochoric {
     /// The family's row of [`RUBBERS`].
     pub fn spec(&self) -> &'static RubberSpec {
-        let key = match self {
-            Isochoric::NeoHookean(_) => neo_hookean::SPEC.key,
-            Isochoric::MooneyRivlin(_) => mooney_rivlin::SPEC.key,
-            Isochoric::Yeoh(_) => yeoh::SPEC.key,
-            Isochoric::Ogden(_) => ogden::SPEC.key,
-        };
-        rubber_spec(key).expect("every family has its row")
+        self.model().spec()
     }
 }
 
@@ -102,6 +219,15 @@ impl Rubber {
     pub fn mu0(&self) -> f64 {
         self.iso.initial_shear_modulus()
     }
+
+    /// Every modulus, K included, times `s` > 0 (the same stretch response, s times stiffer).
+    pub fn scaled(&self, s: f64) -> Rubber {
+        Rubber {
+            iso: self.iso.scaled(s),
+            bulk: s * self.bulk,
+            volumetric: self.volumetric,
+        }
+    }
 }
 
 /// As `check` prints it: `Mooney–Rivlin: C₁₀ = 3.0000e5 Pa, C₀₁ = 5.0000e4 Pa; μ₀ = …, K = …
@@ -109,26 +235,7 @@ impl Rubber {
 impl std::fmt::Display for Rubber {
     fn fmt(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
         let spec = self.iso.spec();
-        let list = |x: &[f64]| {
-            let v: Vec<String> = x.iter().map(|x| format!("{x:.4e}")).collect();
-            format!("[{}]", v.join(", "))
-        };
-        let values: Vec<String> = match &self.iso {
-            Isochoric::NeoHookean(m) => vec![format!("C₁₀ = {:.4e} Pa", m.c10)],
-            Isochoric::MooneyRivlin(m) => vec![
-                format!("C₁₀ = {:.4e} Pa", m.c10),
-                format!("C₀₁ = {:.4e} Pa", m.c01),
-            ],
-            Isochoric::Yeoh(m) => vec![
-                format!("C₁₀ = {:.4e} Pa", m.c10),
-                format!("C₂₀ = {:.4e} Pa", m.c20),
-                format!("C₃₀ = {:.4e} Pa", m.c30),
-            ],
-            Isochoric::Ogden(m) => vec![
-                format!("μᵢ = {} Pa", list(&m.mu[..m.n])),
-                format!("αᵢ = {}", list(&m.alpha[..m.n])),
-            ],
-        };
+        let values = self.iso.describe();
         let u = match self.volumetric {
             Volumetric::Quadratic => "½K(J − 1)²",
             Volumetric::Log => "½K(ln J)²",
@@ -177,14 +284,6 @@ pub struct RubberSpec {
     pub energy: &'static str,
     pub params: &'static [RubberParam],
 }
-
-/// The rubber families, in the order of their keys.
-pub const RUBBERS: &[RubberSpec] = &[
-    neo_hookean::SPEC,
-    mooney_rivlin::SPEC,
-    ogden::SPEC,
-    yeoh::SPEC,
-];
 
 /// The row of [`RUBBERS`] of that key.
 pub fn rubber_spec(key: &str) -> Option<&'static RubberSpec> {
@@ -290,21 +389,14 @@ pub fn isochoric_piola_energy<const ENERGY: bool>(
     let cof = super::kinematics::cofactor(f);
     let j13 = j.cbrt();
     let j23 = 1.0 / (j13 * j13);
-    let (p, psi_iso) = match &r.iso {
-        Isochoric::Ogden(o) => o.stress::<ENERGY>(f, j23),
-        Isochoric::NeoHookean(m) => invariant_stress::<ENERGY>(f, &cof, j, j23, |i1, _| m.psi(i1)),
-        Isochoric::MooneyRivlin(m) => {
-            invariant_stress::<ENERGY>(f, &cof, j, j23, |i1, i2| m.psi(i1, i2))
-        }
-        Isochoric::Yeoh(m) => invariant_stress::<ENERGY>(f, &cof, j, j23, |i1, _| m.psi(i1)),
-    };
+    let (p, psi_iso) = r.iso.piola_iso::<ENERGY>(f, &cof, j, j23);
     (p, psi_iso, cof)
 }
 
 /// The isochoric P of an invariant family, `psi(Ī₁, Ī₂)` = (ψ_iso, ψ₁, ψ₂) (formula of
 /// [`piola_energy`]); returns (P_iso, ψ_iso).
 #[inline(always)]
-fn invariant_stress<const ENERGY: bool>(
+pub fn invariant_stress<const ENERGY: bool>(
     f: &[[f64; 3]; 3],
     cof: &[[f64; 3]; 3],
     j: f64,
@@ -343,41 +435,8 @@ pub(crate) fn right_cauchy_green(f: &[[f64; 3]; 3]) -> [[f64; 3]; 3] {
     })
 }
 
-/// One material of each family, with both volumetric forms among them (tests and examples):
-/// K/μ₀ = 50, a filled rubber's.
-pub fn examples() -> [Rubber; 4] {
-    let rubber = |iso: Isochoric, volumetric| Rubber {
-        bulk: 50.0 * iso.initial_shear_modulus(),
-        iso,
-        volumetric,
-    };
-    [
-        rubber(
-            Isochoric::NeoHookean(neo_hookean::NeoHookean { c10: 0.4e6 }),
-            Volumetric::Quadratic,
-        ),
-        rubber(
-            Isochoric::MooneyRivlin(mooney_rivlin::MooneyRivlin {
-                c10: 0.3e6,
-                c01: 0.05e6,
-            }),
-            Volumetric::Log,
-        ),
-        rubber(
-            Isochoric::Yeoh(yeoh::Yeoh {
-                c10: 0.5e6,
-                c20: -0.02e6,
-                c30: 0.001e6,
-            }),
-            Volumetric::Quadratic,
-        ),
-        rubber(
-            Isochoric::Ogden(ogden::Ogden {
-                n: 3,
-                mu: [0.63e6, 0.0012e6, -0.01e6],
-                alpha: [1.3, 5.0, -2.0],
-            }),
-            Volumetric::Log,
-        ),
-    ]
+/// One material of each family ([`RubberModel::example`]), with both volumetric forms among
+/// them (tests and examples): K/μ₀ = 50, a filled rubber's.
+pub fn examples() -> Vec<Rubber> {
+    RubberModel::ALL.iter().map(|m| m.example()).collect()
 }

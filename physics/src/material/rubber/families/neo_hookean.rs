@@ -1,6 +1,7 @@
 //! Isochoric neo-Hookean rubber (model §1.10): ψ_iso = C₁₀(Ī₁ − 3), μ₀ = 2C₁₀.
 
-use super::{admit, ParamError, RubberParam, RubberSpec, RubberValues};
+use super::{admit, invariant_stress, Family, ParamError, RubberParam, RubberSpec, RubberValues};
+use super::Volumetric;
 use crate::interface::family::Range;
 use serde::Serialize;
 
@@ -44,5 +45,40 @@ impl NeoHookean {
     #[inline(always)]
     pub fn psi(&self, i1: f64) -> (f64, f64, f64) {
         (self.c10 * (i1 - 3.0), self.c10, 0.0)
+    }
+}
+
+impl Family for NeoHookean {
+    const SPEC: RubberSpec = SPEC;
+
+    fn from_values(v: &dyn RubberValues) -> Result<Self, ParamError> {
+        NeoHookean::from_values(v)
+    }
+
+    fn initial_shear_modulus(&self) -> f64 {
+        NeoHookean::initial_shear_modulus(self)
+    }
+
+    fn describe(&self) -> Vec<String> {
+        vec![format!("C₁₀ = {:.4e} Pa", self.c10)]
+    }
+
+    #[inline(always)]
+    fn piola_iso<const ENERGY: bool>(
+        &self,
+        f: &[[f64; 3]; 3],
+        cof: &[[f64; 3]; 3],
+        j: f64,
+        j23: f64,
+    ) -> ([[f64; 3]; 3], f64) {
+        invariant_stress::<ENERGY>(f, cof, j, j23, |i1, _| self.psi(i1))
+    }
+
+    fn example() -> (Self, Volumetric) {
+        (NeoHookean { c10: 0.4e6 }, Volumetric::Quadratic)
+    }
+
+    fn scaled(&self, s: f64) -> Self {
+        NeoHookean { c10: s * self.c10 }
     }
 }

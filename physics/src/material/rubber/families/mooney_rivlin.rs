@@ -1,6 +1,7 @@
 //! Mooney–Rivlin rubber (model §1.10): ψ_iso = C₁₀(Ī₁ − 3) + C₀₁(Ī₂ − 3), μ₀ = 2(C₁₀ + C₀₁).
 
-use super::{admit, ParamError, RubberParam, RubberSpec, RubberValues, FINITE};
+use super::{admit, invariant_stress, Family, ParamError, RubberParam, RubberSpec};
+use super::{RubberValues, Volumetric, FINITE};
 use serde::Serialize;
 
 const C10: RubberParam = RubberParam {
@@ -67,5 +68,50 @@ impl MooneyRivlin {
             self.c10,
             self.c01,
         )
+    }
+}
+
+impl Family for MooneyRivlin {
+    const SPEC: RubberSpec = SPEC;
+
+    fn from_values(v: &dyn RubberValues) -> Result<Self, ParamError> {
+        MooneyRivlin::from_values(v)
+    }
+
+    fn initial_shear_modulus(&self) -> f64 {
+        MooneyRivlin::initial_shear_modulus(self)
+    }
+
+    fn describe(&self) -> Vec<String> {
+        vec![
+            format!("C₁₀ = {:.4e} Pa", self.c10),
+            format!("C₀₁ = {:.4e} Pa", self.c01),
+        ]
+    }
+
+    #[inline(always)]
+    fn piola_iso<const ENERGY: bool>(
+        &self,
+        f: &[[f64; 3]; 3],
+        cof: &[[f64; 3]; 3],
+        j: f64,
+        j23: f64,
+    ) -> ([[f64; 3]; 3], f64) {
+        invariant_stress::<ENERGY>(f, cof, j, j23, |i1, i2| self.psi(i1, i2))
+    }
+
+    fn example() -> (Self, Volumetric) {
+        let m = MooneyRivlin {
+            c10: 0.3e6,
+            c01: 0.05e6,
+        };
+        (m, Volumetric::Log)
+    }
+
+    fn scaled(&self, s: f64) -> Self {
+        MooneyRivlin {
+            c10: s * self.c10,
+            c01: s * self.c01,
+        }
     }
 }

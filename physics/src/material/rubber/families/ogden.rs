@@ -2,7 +2,7 @@
 //! λ̄ₐ = J^{-1/3} λₐ the isochoric principal stretches, μ₀ = ½ Σᵢ μᵢαᵢ.
 
 use super::{admit, right_cauchy_green, symmetric_eigen, ParamError, RubberParam, RubberSpec};
-use super::{RubberValues, FINITE};
+use super::{Family, RubberValues, Volumetric, FINITE};
 use serde::Serialize;
 
 const MU: RubberParam = RubberParam {
@@ -144,5 +144,55 @@ impl Ogden {
             std::array::from_fn(|k| f[i][0] * s[0][k] + f[i][1] * s[1][k] + f[i][2] * s[2][k])
         });
         (p, if ENERGY { psi } else { 0.0 })
+    }
+}
+
+impl Family for Ogden {
+    const SPEC: RubberSpec = SPEC;
+
+    fn from_values(v: &dyn RubberValues) -> Result<Self, ParamError> {
+        Ogden::from_values(v)
+    }
+
+    fn initial_shear_modulus(&self) -> f64 {
+        Ogden::initial_shear_modulus(self)
+    }
+
+    fn describe(&self) -> Vec<String> {
+        let list = |x: &[f64]| {
+            let v: Vec<String> = x.iter().map(|x| format!("{x:.4e}")).collect();
+            format!("[{}]", v.join(", "))
+        };
+        vec![
+            format!("μᵢ = {} Pa", list(&self.mu[..self.n])),
+            format!("αᵢ = {}", list(&self.alpha[..self.n])),
+        ]
+    }
+
+    #[inline(always)]
+    fn piola_iso<const ENERGY: bool>(
+        &self,
+        f: &[[f64; 3]; 3],
+        _cof: &[[f64; 3]; 3],
+        _j: f64,
+        j23: f64,
+    ) -> ([[f64; 3]; 3], f64) {
+        self.stress::<ENERGY>(f, j23)
+    }
+
+    fn example() -> (Self, Volumetric) {
+        let m = Ogden {
+            n: 3,
+            mu: [0.63e6, 0.0012e6, -0.01e6],
+            alpha: [1.3, 5.0, -2.0],
+        };
+        (m, Volumetric::Log)
+    }
+
+    fn scaled(&self, s: f64) -> Self {
+        Ogden {
+            mu: self.mu.map(|x| s * x),
+            ..*self
+        }
     }
 }

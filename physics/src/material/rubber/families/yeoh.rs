@@ -1,6 +1,7 @@
 //! Yeoh rubber (model §1.10): ψ_iso = C₁₀(Ī₁ − 3) + C₂₀(Ī₁ − 3)² + C₃₀(Ī₁ − 3)³, μ₀ = 2C₁₀.
 
-use super::{admit, ParamError, RubberParam, RubberSpec, RubberValues, FINITE};
+use super::{admit, invariant_stress, Family, ParamError, RubberParam, RubberSpec};
+use super::{RubberValues, Volumetric, FINITE};
 use serde::Serialize;
 
 const C20: RubberParam = RubberParam {
@@ -61,5 +62,53 @@ impl Yeoh {
         let w = x * (self.c10 + x * (self.c20 + x * self.c30));
         let w1 = self.c10 + x * (2.0 * self.c20 + x * 3.0 * self.c30);
         (w, w1, 0.0)
+    }
+}
+
+impl Family for Yeoh {
+    const SPEC: RubberSpec = SPEC;
+
+    fn from_values(v: &dyn RubberValues) -> Result<Self, ParamError> {
+        Yeoh::from_values(v)
+    }
+
+    fn initial_shear_modulus(&self) -> f64 {
+        Yeoh::initial_shear_modulus(self)
+    }
+
+    fn describe(&self) -> Vec<String> {
+        vec![
+            format!("C₁₀ = {:.4e} Pa", self.c10),
+            format!("C₂₀ = {:.4e} Pa", self.c20),
+            format!("C₃₀ = {:.4e} Pa", self.c30),
+        ]
+    }
+
+    #[inline(always)]
+    fn piola_iso<const ENERGY: bool>(
+        &self,
+        f: &[[f64; 3]; 3],
+        cof: &[[f64; 3]; 3],
+        j: f64,
+        j23: f64,
+    ) -> ([[f64; 3]; 3], f64) {
+        invariant_stress::<ENERGY>(f, cof, j, j23, |i1, _| self.psi(i1))
+    }
+
+    fn example() -> (Self, Volumetric) {
+        let m = Yeoh {
+            c10: 0.5e6,
+            c20: -0.02e6,
+            c30: 0.001e6,
+        };
+        (m, Volumetric::Quadratic)
+    }
+
+    fn scaled(&self, s: f64) -> Self {
+        Yeoh {
+            c10: s * self.c10,
+            c20: s * self.c20,
+            c30: s * self.c30,
+        }
     }
 }
