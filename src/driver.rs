@@ -9,38 +9,17 @@
 //! writes one when due after a step and one at the last step of a cancelled run.
 
 use crate::checkpoint::Checkpointer;
-use crate::output::series::SeriesWriter;
 use crate::output::watch::Watch;
-use crate::output::{Cadence, Ending, FrameClock, Output, OutputError, OutputReport, Snapshot};
-use crate::record::{ColourField, Recorder, Sink};
+use crate::output::{Cadence, Ending, FrameClock, Output, OutputError, Snapshot};
 use crate::report::RunSummary;
 use crate::scene::Scene;
 use crate::solver::{Simulation, SolverError};
-use crate::vtk::VtkWriter;
-use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-/// The outputs a run writes.
-#[derive(Debug, Clone)]
-pub struct Plan {
-    /// When frames are taken (one clock for every output).
-    pub cadence: Cadence,
-    /// ParaView files in this directory (`.vtu` per frame and a `.pvd` index).
-    pub paraview: Option<PathBuf>,
-    /// A Rerun recording to this sink, the surface coloured by this field.
-    pub recording: Option<(Sink, ColourField)>,
-    /// The time series of the run's scalars to this CSV file (`--series`): a row every step,
-    /// or at `cadence` when it is not the default ([`SeriesWriter`]).
-    pub series: Option<PathBuf>,
-    /// The Rerun recording's id: a checkpointed run's, kept in its folder so that the resumed
-    /// run's recording continues it (`None`: a random one).
-    pub recording_id: Option<String>,
-    /// Nodes to follow (`--watch`, 0-based mesh indices): their values go into the series'
-    /// rows and the recording's frames ([`Watch`]).
-    pub watch: Vec<u32>,
-}
+/// The outputs a run writes, from the registry ([`crate::output::registry`]).
+pub use crate::output::registry::Plan;
 
 /// Told of every step, on the solver thread: the command line's progress bar, the explorer's
 /// channel.
@@ -80,10 +59,11 @@ pub struct Driver {
 }
 
 impl Driver {
-    /// Opens the outputs of `plan` for a simulation that is set up, and takes the frame of the
-    /// current state (step 0). The watched nodes first, then ParaView, then the series: a node
-    /// that cannot be watched, a directory or a file that cannot be written is refused before a
-    /// viewer starts or a capture file is created. `started` is when the run started.
+    /// Opens the outputs `plan` asks for ([`Plan::open`]) for a simulation that is set up,
+    /// and takes the frame of the current state (step 0). The watched nodes first, then the
+    /// outputs: a node that cannot be watched, a directory or a file that cannot be written is
+    /// refused before a viewer starts or a capture file is created. `started` is when the run
+    /// started.
     pub fn open(
         plan: &Plan,
         scene: &Scene,
@@ -91,28 +71,7 @@ impl Driver {
         started: Instant,
     ) -> Result<Driver, OutputError> {
         let watch = Watch::new(sim, &plan.watch)?;
-        let paraview = match &plan.paraview {
-            Some(dir) => Some(VtkWriter::new(dir, sim)?),
-            None => None,
-        };
-        let series = match &plan.series {
-            Some(path) => Some(SeriesWriter::new(path, plan.cadence, sim, &watch)?),
-            None => None,
-        };
-        let mut outputs: Vec<Box<dyn Output>> = Vec::new();
-        if let Some((sink, colour)) = &plan.recording {
-            outputs.push(Box::new(Recorder::new(
-                sink.clone(),
-                scene,
-                sim,
-                *colour,
-                plan.recording_id.clone(),
-                &watch,
-            )?));
-        }
-        // The recording's error comes first when both fail.
-        outputs.extend(paraview.map(|w| Box::new(w) as Box<dyn Output>));
-        outputs.extend(series.map(|w| Box::new(w) as Box<dyn Output>));
+        let outputs = plan.open(scene, sim, &watch)?;
         Driver::watching(outputs, plan.cadence, sim, started, watch)
     }
 
@@ -247,7 +206,7 @@ impl Driver {
             }
             if let Some(c) = &mut self.checkpoints {
                 if let Err(e) = c.after_step(s) {
-                    output_error = Some(e.into());
+                    output_error = Some(checkpoint_error(e));
                     break Err(cancelled(s));
                 }
             }
@@ -259,7 +218,7 @@ impl Driver {
         progress.stopped();
         if let (Err(SolverError::Cancelled { .. }), Some(c)) = (&outcome, &mut self.checkpoints) {
             if let Err(e) = c.write(sim) {
-                output_error.get_or_insert(e.into());
+                output_error.get_or_insert(checkpoint_error(e));
             }
         }
         if let Err(e) = self.step(sim, true) {
@@ -270,6 +229,7 @@ impl Driver {
             step: sim.state.step_count,
             time: sim.state.time,
             error: outcome.as_ref().err(),
+            step_seconds: sim.stats.steps_wall.as_secs_f64(),
         };
         let mut reports = Vec::new();
         for output in self.outputs {
@@ -284,11 +244,7 @@ impl Driver {
         let mut summary = RunSummary::new(sim, wall, outcome.as_ref().err());
         summary.checkpoint = self.checkpoints.as_ref().map(Checkpointer::report);
         for r in reports {
-            match r {
-                OutputReport::Recording(r) => summary.recording = Some(r),
-                OutputReport::Paraview(p) => summary.paraview = Some(p),
-                OutputReport::Series(s) => summary.series = Some(s),
-            }
+            summary.add_output(r);
         }
         Finished {
             outcome,
@@ -296,6 +252,11 @@ impl Driver {
             output_error,
         }
     }
+}
+
+/// A checkpoint that cannot be written, as an output's error ("checkpoint: …").
+fn checkpoint_error(e: decohesion_physics::solver::CheckpointError) -> OutputError {
+    OutputError::new("checkpoint", Some("checkpoint"), e)
 }
 
 /// The error of a run stopped at the current step of `sim` (Ctrl-C, Stop, an output's error).
@@ -321,6 +282,7 @@ pub fn cancel_on_ctrl_c(flag: Arc<AtomicBool>) {
 mod tests {
     use super::*;
     use crate::output::reports::{VtkError, VtkReport};
+    use crate::output::OutputReport;
     use std::sync::Mutex;
 
     /// What a probe output saw: the steps of its frames (the last one included) and, once
@@ -365,7 +327,7 @@ mod tests {
             let last = last.map(|s| s.step);
             seen.frames.extend(last);
             seen.finished.push((last, end.step, end.error.is_some()));
-            Ok(OutputReport::Paraview(VtkReport::default()))
+            Ok(OutputReport::new("paraview", &VtkReport::default(), None))
         }
     }
 
@@ -471,7 +433,7 @@ mod tests {
             assert_eq!(s.finished, vec![(off_grid.then_some(n), n, false)]);
         }
         assert!(
-            done.summary.paraview.is_some(),
+            done.summary.outputs["paraview"].is_object(),
             "the reports reach the summary"
         );
     }

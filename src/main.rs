@@ -10,9 +10,7 @@ use clap::{CommandFactory, Parser, Subcommand};
 use decohesion::cli::{
     bench, check, compare, fit, reference, run, sweep, tradeoff, Checkpoints, FitCli, SweepArgs,
 };
-use decohesion::driver::Plan;
 use decohesion::fit::FitArgs;
-use decohesion::record::{Cadence, Sink};
 use decohesion::scene::load_scene;
 use std::path::{Path, PathBuf};
 
@@ -71,8 +69,10 @@ enum Command {
         /// --summary) are this part's.
         #[arg(long, value_name = "DIR", group = "checkpoints")]
         resume: Option<PathBuf>,
+        // Where and how often to record: Rerun (one sink), ParaView files and/or the CSV time
+        // series (no flag: none), the outputs of the registry (decohesion::output::registry).
         #[command(flatten)]
-        record: RecordArgs,
+        record: decohesion::output::registry::OutputFlags,
     },
     /// Validate a scene without running it and print derived quantities.
     Check {
@@ -326,77 +326,11 @@ enum Command {
     },
 }
 
-/// Where and how often to record: Rerun (one sink), ParaView files and/or the CSV time series
-/// (no flag: none).
-#[derive(clap::Args)]
-struct RecordArgs {
-    /// Record to this .rrd file (open it with `rerun FILE.rrd`). Complete even when the run
-    /// fails or is cancelled with Ctrl-C.
-    #[arg(long, value_name = "FILE.rrd", group = "sink")]
-    save: Option<PathBuf>,
-    /// Start the Rerun viewer (`rerun` from PATH, listening on 127.0.0.1) and stream to it.
-    #[arg(long, group = "sink")]
-    spawn: bool,
-    /// Stream to a running Rerun viewer [default: rerun+http://127.0.0.1:9876/proxy].
-    #[arg(long, value_name = "URL", num_args = 0..=1, default_missing_value = "", group = "sink")]
-    connect: Option<String>,
-    /// Also write ParaView files to this directory (created if needed): a .vtu per frame
-    /// and NAME.pvd indexing them by simulated time, complete even when the run fails or is
-    /// cancelled. Can be combined with --save, --spawn or --connect.
-    #[arg(long, value_name = "DIR")]
-    vtk: Option<PathBuf>,
-    /// Record a frame (Rerun, --vtk and --series rows) every N steps (1 = every step). Default:
-    /// 200 frames over the scene's end time, plus step 0 and the last step (--series: every
-    /// step).
-    #[arg(long, value_name = "N", value_parser = positive_u64, conflicts_with = "fps", allow_negative_numbers = true)]
-    every: Option<u64>,
-    /// Record F frames per second of simulated time (Rerun, --vtk and --series rows).
-    #[arg(long, value_name = "F", value_parser = positive_f64, allow_negative_numbers = true)]
-    fps: Option<f64>,
-    /// Write the run's scalars to this CSV file, one row per step (with --every or --fps, at
-    /// the frames' steps instead), streamed as the run goes: time, step, h, each prescribed
-    /// condition's imposed displacement and reaction, each mould's force and moment, every
-    /// energy of the ledger, the interface's state and contact counts; units in the header.
-    /// Complete up to the last step when the run fails or is cancelled with Ctrl-C.
-    #[arg(long, value_name = "FILE.csv")]
-    series: Option<PathBuf>,
-    /// Follow these nodes over the run, e.g. --watch 0,17 (0-based mesh indices, as the summary
-    /// and the ParaView files number them; each an interface or a contact node).
-    ///
-    /// Per interface node: its jump [u] (x, y, z, m), the glue's traction −R_d and the contact's
-    /// R_c/h on the solid (x, y, z each, Pa), its damage α (m), its gap g (m), its state (0
-    /// elastic, 1 transition, 2 ruptured, 3 unformed) and its contact status (0 open, 1 stick,
-    /// 2 slip); per contact-only node its contact traction, gap and status. Written as columns
-    /// of --series (`jump_x_node17 [m]`, …, `state_node17 [-]`, `contact_node17 [-]`; a node
-    /// of several interfaces or contact faces once per mould, `…_node17_<mould>`) and to the
-    /// recording under nodes/<N>/ (jump, traction, alpha, gap, status; each change of state
-    /// or status named in nodes/<N>/log). Needs --series or a recording.
-    #[arg(
-        long,
-        value_name = "NODE,...",
-        value_delimiter = ',',
-        value_parser = node_index,
-        allow_negative_numbers = true
-    )]
-    watch: Vec<u32>,
-    /// Field that colours the surface: displacement (|U|, m), von_mises (Pa), jacobian (J).
-    #[arg(long, value_name = "FIELD", default_value = "displacement")]
-    colour: decohesion::record::ColourField,
-}
-
 fn positive_usize(s: &str) -> Result<usize, String> {
     match s.trim().parse::<i128>() {
         Ok(v) if v >= 1 => usize::try_from(v).map_err(|_| format!("{v} is too large")),
         Ok(v) => Err(format!("must be an integer ≥ 1 (got {v})")),
         Err(e) => Err(format!("not an integer: {e}")),
-    }
-}
-
-fn node_index(s: &str) -> Result<u32, String> {
-    match s.trim().parse::<i128>() {
-        Ok(v) if v >= 0 => u32::try_from(v).map_err(|_| format!("{v} is not a node index")),
-        Ok(v) => Err(format!("a node index is an integer ≥ 0 (got {v})")),
-        Err(e) => Err(format!("not a node index: {e}")),
     }
 }
 
@@ -409,40 +343,6 @@ fn positive_f64(s: &str) -> Result<f64, String> {
         Ok(v) if v.is_finite() && v > 0.0 => Ok(v),
         Ok(v) => Err(format!("must be a finite number > 0 (got {v})")),
         Err(e) => Err(format!("not a number: {e}")),
-    }
-}
-
-impl RecordArgs {
-    fn sink(&self) -> Option<Sink> {
-        if let Some(p) = &self.save {
-            Some(Sink::Save(p.clone()))
-        } else if self.spawn {
-            Some(Sink::Spawn)
-        } else {
-            self.connect
-                .as_ref()
-                .map(|u| Sink::Connect((!u.is_empty()).then(|| u.clone())))
-        }
-    }
-
-    fn cadence(&self) -> Cadence {
-        match (self.every, self.fps) {
-            (Some(n), _) => Cadence::EverySteps(n),
-            (None, Some(f)) => Cadence::PerSimSecond(f),
-            (None, None) => Cadence::Default,
-        }
-    }
-
-    /// The outputs of the run driver.
-    fn plan(&self) -> Plan {
-        Plan {
-            cadence: self.cadence(),
-            paraview: self.vtk.clone(),
-            recording: self.sink().map(|s| (s, self.colour)),
-            series: self.series.clone(),
-            recording_id: None,
-            watch: self.watch.clone(),
-        }
     }
 }
 

@@ -68,18 +68,18 @@ pub struct RunSummary {
     pub energies: EnergySnapshot,
     pub max_relative_residual: f64,
     pub stage_seconds: StageTimes,
-    /// What went to Rerun, when the run was recorded.
+    /// What each output of the run wrote, under its name ([`crate::output::OutputReport`]):
+    /// `recording` (Rerun) and `paraview` (`--vtk`), null without them, `series` (`--series`),
+    /// absent without it; an output of the registry ([`crate::output::registry`]) adds its own.
     #[cfg(not(target_arch = "wasm32"))]
-    pub recording: Option<crate::output::reports::RecordingReport>,
+    #[serde(flatten)]
+    pub outputs: std::collections::BTreeMap<String, serde_json::Value>,
+    /// The outputs' rows of the console's table, as (name, text), in the outputs' order.
+    #[cfg(not(target_arch = "wasm32"))]
+    #[serde(skip)]
+    pub output_lines: Vec<(String, String)>,
     /// [`Simulation::advisories`]: warnings about the regime of the model.
     pub warnings: Vec<String>,
-    /// What went to ParaView files (`--vtk`).
-    #[cfg(not(target_arch = "wasm32"))]
-    pub paraview: Option<crate::output::reports::VtkReport>,
-    /// What went to the time series (`--series`); absent without it.
-    #[cfg(not(target_arch = "wasm32"))]
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub series: Option<crate::output::series::SeriesReport>,
     /// The checkpoints written (`run --checkpoint`, `--resume`); absent without them.
     #[cfg(not(target_arch = "wasm32"))]
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -116,6 +116,15 @@ pub struct RunSummary {
 }
 
 impl RunSummary {
+    /// Adds what an output wrote: its value under its name, its row of the table.
+    #[cfg(not(target_arch = "wasm32"))]
+    pub fn add_output(&mut self, report: crate::output::OutputReport) {
+        if let Some(line) = report.line {
+            self.output_lines.push((report.name.to_string(), line));
+        }
+        self.outputs.insert(report.name.to_string(), report.value);
+    }
+
     /// Collects the summary of `sim` after a run that took `wall_seconds` in all.
     pub fn new(
         sim: &Simulation,
@@ -173,12 +182,10 @@ impl RunSummary {
             max_relative_residual: sim.state.ledger.max_relative_residual,
             stage_seconds: sim.stats.stage_times.clone(),
             #[cfg(not(target_arch = "wasm32"))]
-            recording: None,
+            outputs: crate::output::registry::absent(),
+            #[cfg(not(target_arch = "wasm32"))]
+            output_lines: Vec::new(),
             warnings: sim.advisories(),
-            #[cfg(not(target_arch = "wasm32"))]
-            paraview: None,
-            #[cfg(not(target_arch = "wasm32"))]
-            series: None,
             #[cfg(not(target_arch = "wasm32"))]
             checkpoint: None,
             glued_start_offsets: sim.setup.start_offsets.clone(),
@@ -328,37 +335,8 @@ impl RunSummary {
             ),
         );
         #[cfg(not(target_arch = "wasm32"))]
-        if let Some(r) = &self.recording {
-            let size = r
-                .bytes
-                .map_or(String::new(), |b| format!(", {:.1} kB", b as f64 / 1e3));
-            let target = r.path.clone().unwrap_or_else(|| match r.sink.as_str() {
-                "spawn" => "the spawned Rerun viewer".to_string(),
-                _ => "the Rerun viewer".to_string(),
-            });
-            row(
-                "recording",
-                format!(
-                    "{} frames to {target}{size}; logging {:.1} ms = {:.1} % of the solve",
-                    r.frames,
-                    1e3 * r.logging_seconds,
-                    100.0 * r.logging_seconds / self.step_wall_seconds.max(1e-12)
-                ),
-            );
-        }
-        #[cfg(not(target_arch = "wasm32"))]
-        if let Some(p) = &self.paraview {
-            row(
-                "paraview",
-                format!(
-                    "{} frames indexed by {}, {:.1} MB; solver thread {:.1} ms = {:.1} % of the solve",
-                    p.frames,
-                    p.pvd,
-                    p.bytes as f64 / 1e6,
-                    1e3 * p.solver_seconds,
-                    100.0 * p.solver_seconds / self.step_wall_seconds.max(1e-12)
-                ),
-            );
+        for (name, line) in &self.output_lines {
+            row(name, line.clone());
         }
         for w in &self.warnings {
             row("warning", w.clone());

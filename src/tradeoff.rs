@@ -7,10 +7,13 @@
 //! integration); its own errors are 0 by construction, so errors of the next-finest rows are
 //! lower bounds (Richardson's caveat).
 
+use crate::driver::{Driver, Plan, Progress};
+use crate::output::Cadence;
 use crate::scene::{load_scene, Scene, SceneError};
 use crate::solver::Simulation;
 use serde::Serialize;
 use std::path::Path;
+use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
 /// One configuration of the grid.
@@ -160,7 +163,17 @@ pub fn overrides(scene: &Path, c: &Config, extra: &[String]) -> Result<Vec<Strin
     Ok(set)
 }
 
-/// Runs one configuration (no recording), calling `on_step` after every step (progress).
+/// `on_step` as the run driver's progress.
+struct OnStep<'a>(&'a mut dyn FnMut(&Simulation));
+
+impl Progress for OnStep<'_> {
+    fn step(&mut self, sim: &Simulation) {
+        (self.0)(sim)
+    }
+}
+
+/// Runs one configuration through the run driver without outputs ([`Plan::none`]), calling
+/// `on_step` after every step (progress).
 pub fn run(
     scene: &Path,
     c: &Config,
@@ -171,7 +184,7 @@ pub fn run(
     let s = load_scene(scene, &set)?;
     let elements = s.model.mesh.elements.len();
     let mut row = Row::new(c.clone(), elements);
-    let mut sim = match Simulation::new(s.model) {
+    let mut sim = match Simulation::new(s.model.clone()) {
         Ok(sim) => sim,
         Err(e) => {
             row.failure = Some(e.to_string());
@@ -179,10 +192,18 @@ pub fn run(
         }
     };
     let t = Instant::now();
-    let outcome = sim.run(|sim| {
-        on_step(sim);
-        true
-    });
+    let plan = Plan::none(Cadence::Default);
+    let outcome = match Driver::open(&plan, &s, &sim, t) {
+        Ok(driver) => {
+            let never = AtomicBool::new(false);
+            driver.run(&mut sim, &never, &mut OnStep(on_step)).outcome
+        }
+        // No output to open and no node watched: nothing can fail here.
+        Err(e) => {
+            row.failure = Some(e.to_string());
+            return Ok(row);
+        }
+    };
     row.wall_seconds = t.elapsed().as_secs_f64();
     row.steps = sim.state.step_count;
     row.ns_per_element_step =

@@ -147,17 +147,19 @@ impl Output for VtkWriter {
     fn finish(
         self: Box<Self>,
         last: Option<Arc<Snapshot>>,
-        _end: &Ending<'_>,
+        ending: &Ending<'_>,
     ) -> Result<OutputReport, OutputError> {
         let capture = last.as_ref().map_or(Duration::ZERO, |s| s.capture_time);
         let (end, solver_time) = self.worker.finish(last, capture)?;
-        Ok(OutputReport::Paraview(VtkReport {
+        let report = VtkReport {
             pvd: self.pvd.display().to_string(),
             frames: end.frames,
             bytes: end.bytes,
             solver_seconds: solver_time.as_secs_f64(),
             writer_thread_seconds: end.busy.as_secs_f64(),
-        }))
+        };
+        let line = report.line(ending.step_seconds);
+        Ok(OutputReport::new("paraview", &report, Some(line)))
     }
 }
 

@@ -109,26 +109,11 @@ pub fn solver_error(py: Python<'_>, e: &RustSolverError, file: &str) -> PyErr {
     }
 }
 
-/// An output's error as `OSError` with the command line's words: when the outputs are opened
-/// (`opening`) "starting the recording: …", the ParaView error itself or "series: …", else
-/// "recording: …", "ParaView output: …" or "series: …" (the run stopped, or the output could
-/// not be finished).
-pub fn output_error(e: &OutputError, opening: bool) -> PyErr {
-    let prefix = match (e, opening) {
-        (OutputError::Recording(_), true) => "starting the recording: ",
-        (OutputError::Paraview(_), true) => "",
-        (OutputError::Recording(_), false) => "recording: ",
-        (OutputError::Paraview(_), false) => "ParaView output: ",
-        (OutputError::Series(_), _) => "series: ",
-        (OutputError::Checkpoint(_), _) => "checkpoint: ",
-        (OutputError::Watch(_), _) => "",
-    };
-    let message = match e {
-        OutputError::Recording(e) => with_sources(e),
-        OutputError::Paraview(e) => with_sources(e),
-        OutputError::Series(e) => with_sources(e),
-        OutputError::Checkpoint(e) => with_sources(e),
-        OutputError::Watch(e) => with_sources(e),
-    };
+/// An output's error as `OSError` with the command line's words: what the run was doing
+/// ("starting the recording: …", "recording: …", "ParaView output: …", "--series: …",
+/// "checkpoint: …"; nothing when the error says it all), then the error with its sources.
+pub fn output_error(e: &OutputError) -> PyErr {
+    let prefix = e.context.map_or(String::new(), |c| format!("{c}: "));
+    let message = with_sources(e.error());
     PyOSError::new_err(format!("{prefix}{message}"))
 }

@@ -13,10 +13,9 @@ use crate::to_python;
 use decohesion::driver::{Driver, Plan, Progress};
 use decohesion::interface::contact::ContactStatus;
 use decohesion::law::InterfaceState;
-use decohesion::output::reports::{RecordingReport, VtkReport};
-use decohesion::output::series::{History, SeriesReport};
+use decohesion::output::series::History;
 use decohesion::output::{Cadence, OutputError};
-use decohesion::record::{ColourField, Sink};
+use decohesion::record::ColourField;
 use decohesion::report::RunSummary;
 use decohesion::scene::Scene as RustScene;
 use decohesion::solver::{Simulation as Solver, SolverError};
@@ -33,6 +32,12 @@ const SIGNAL_INTERVAL: Duration = Duration::from_millis(100);
 /// The axes' names in `<faces>_<axis>` (the recording's entity names).
 const AXES: [&str; 3] = ["x", "y", "z"];
 
+/// What the outputs of a run wrote: the summary's values under their names, its table's rows.
+type Outputs = (
+    std::collections::BTreeMap<String, serde_json::Value>,
+    Vec<(String, String)>,
+);
+
 /// A simulation of a scene (see the stub `_native.pyi` for the Python documentation).
 #[pyclass(module = "decohesion")]
 pub struct Simulation {
@@ -44,10 +49,9 @@ pub struct Simulation {
     cancelled: Option<SolverError>,
     /// Wall time of the set-up and of every step()/run() [s], for the summary.
     wall: Duration,
-    /// What the last run() recorded.
-    recording: Option<RecordingReport>,
-    paraview: Option<VtkReport>,
-    series: Option<SeriesReport>,
+    /// What the outputs of the last run() wrote: the summary's values under their names and
+    /// its rows of the table (`None` before a run).
+    outputs: Option<Outputs>,
     /// A row of scalars per step taken, step 0 included (the `--series` rows).
     history: History,
 }
@@ -79,9 +83,7 @@ impl Simulation {
             failure: None,
             cancelled: None,
             wall: started.elapsed(),
-            recording: None,
-            paraview: None,
-            series: None,
+            outputs: None,
             history,
         })
     }
@@ -144,17 +146,20 @@ impl Simulation {
                 "until must be a finite time in seconds (got {until})"
             )));
         }
-        let plan = Plan {
-            cadence: cadence(every, fps)?,
-            paraview: vtk,
-            recording: match save {
-                Some(p) => Some((Sink::Save(p), colour_field(colour)?)),
-                None => None,
-            },
-            series,
-            recording_id: None,
-            watch: Vec::new(),
-        };
+        // The outputs in the command line's words (the registry's flags).
+        let mut flags: Vec<std::ffi::OsString> = Vec::new();
+        if let Some(p) = save {
+            colour_field(colour)?;
+            flags.extend(["--save".into(), p.into(), "--colour".into(), colour.into()]);
+        }
+        if let Some(d) = vtk {
+            flags.extend(["--vtk".into(), d.into()]);
+        }
+        if let Some(f) = series {
+            flags.extend(["--series".into(), f.into()]);
+        }
+        let mut plan = Plan::parse(flags).map_err(|e| PyValueError::new_err(e.to_string()))?;
+        plan.cadence = cadence(every, fps)?;
         self.resume(py)?;
         let bar = match progress {
             true => Some(progress_bar(py, &self.sim, until)?),
@@ -176,23 +181,21 @@ impl Simulation {
                 }
                 Ok::<_, OutputError>((finished, watch.signal))
             })
-            .map_err(|e| output_error(&e, true))?;
+            .map_err(|e| output_error(&e))?;
         self.wall += started.elapsed();
-        self.recording = finished.summary.recording;
-        self.paraview = finished.summary.paraview;
-        self.series = finished.summary.series;
+        self.outputs = Some((finished.summary.outputs, finished.summary.output_lines));
         // The solver's failure first, then the signal (KeyboardInterrupt), then an output's.
         let result = match (finished.outcome, signal, finished.output_error) {
             (Err(SolverError::Cancelled { step, time }), signal, output) => {
                 self.cancelled = Some(SolverError::Cancelled { step, time });
                 match (signal, output) {
                     (Some(signal), _) => Err(signal),
-                    (None, Some(e)) => Err(output_error(&e, false)),
+                    (None, Some(e)) => Err(output_error(&e)),
                     (None, None) => Ok(()),
                 }
             }
             (Err(e), _, _) => Err(self.failed(py, e)),
-            (Ok(()), _, Some(e)) => Err(output_error(&e, false)),
+            (Ok(()), _, Some(e)) => Err(output_error(&e)),
             (Ok(()), _, None) => Ok(()),
         };
         // The bar's last word; its own error only when the run went well.
@@ -210,9 +213,10 @@ impl Simulation {
         if error.is_none() && !self.sim.finished() {
             s.status = "in_progress".into();
         }
-        s.recording = self.recording.clone();
-        s.paraview = self.paraview.clone();
-        s.series = self.series.clone();
+        if let Some((outputs, lines)) = &self.outputs {
+            s.outputs = outputs.clone();
+            s.output_lines = lines.clone();
+        }
         to_python(py, &s)
     }
 

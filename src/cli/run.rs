@@ -45,13 +45,8 @@ pub fn run(
     if let Some(p) = summary_path {
         check_writable(p)?;
     }
-    if !plan.watch.is_empty() && plan.series.is_none() && plan.recording.is_none() {
-        let nodes: Vec<String> = plan.watch.iter().map(u32::to_string).collect();
-        bail!(
-            "--watch {}: nothing to write the watched nodes to; add --series FILE.csv or a \
-             recording (--save FILE.rrd, --spawn or --connect)",
-            nodes.join(",")
-        );
+    if let Err(why) = plan.check_watch() {
+        bail!(why);
     }
     let record = match checkpoints {
         Checkpoints::Resume { dir, .. } => Some(RunRecord::read(dir)?),
@@ -80,9 +75,8 @@ pub fn run(
         Checkpoints::Write { dir, every } => {
             let every = every.unwrap_or(Every::Seconds(sim.model.end_time / 10.0));
             let id = plan
-                .recording
-                .as_ref()
-                .map(|_| new_recording_id(&sim.model.name));
+                .wants("recording")
+                .then(|| new_recording_id(&sim.model.name));
             plan.recording_id = id.clone();
             Some(Checkpointer::create(dir, every, path, set, id, &sim)?)
         }
@@ -106,20 +100,14 @@ pub fn run(
                 (None, Some(Ok(e))) => e,
                 _ => Every::Seconds(sim.model.end_time / 10.0),
             };
-            if plan.recording.is_some() {
+            if plan.wants("recording") {
                 let kept = record.as_ref().and_then(|r| r.recording_id.clone());
                 plan.recording_id = Some(kept.unwrap_or_else(|| new_recording_id(&sim.model.name)));
             }
             Some(Checkpointer::continuing(dir, every, &sim))
         }
     };
-    let driver = Driver::open(&plan, &scene, &sim, wall).map_err(|e| match e {
-        OutputError::Recording(e) => anyhow::Error::new(e).context("starting the recording"),
-        OutputError::Paraview(e) => anyhow::Error::new(e),
-        OutputError::Series(e) => anyhow::Error::new(e).context("--series"),
-        OutputError::Checkpoint(e) => anyhow::Error::new(e).context("--checkpoint"),
-        OutputError::Watch(e) => anyhow::Error::new(e),
-    })?;
+    let driver = Driver::open(&plan, &scene, &sim, wall).map_err(OutputError::into_anyhow)?;
     let driver = match checkpointer {
         Some(c) => driver.checkpoints(c),
         None => driver,
@@ -149,13 +137,8 @@ pub fn run(
         std::fs::write(p, json)
             .with_context(|| format!("writing the summary to {}", p.display()))?;
     }
-    match done.output_error {
-        Some(OutputError::Recording(e)) => bail!(anyhow::Error::new(e).context("recording")),
-        Some(OutputError::Paraview(e)) => bail!(anyhow::Error::new(e).context("ParaView output")),
-        Some(OutputError::Series(e)) => bail!(anyhow::Error::new(e).context("--series")),
-        Some(OutputError::Checkpoint(e)) => bail!(anyhow::Error::new(e).context("checkpoint")),
-        Some(OutputError::Watch(e)) => bail!(anyhow::Error::new(e)),
-        None => {}
+    if let Some(e) = done.output_error {
+        return Err(e.into_anyhow());
     }
     if let Err(e) = done.outcome {
         bail!(e);

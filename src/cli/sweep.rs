@@ -213,14 +213,7 @@ impl Runner<'_> {
         if sim.threads() > self.threads {
             sim.use_threads(self.threads);
         }
-        let plan = Plan {
-            cadence: Cadence::Default,
-            paraview: None,
-            recording: None,
-            series: None,
-            recording_id: None,
-            watch: Vec::new(),
-        };
+        let plan = Plan::none(Cadence::Default);
         let driver = match Driver::open(&plan, &scene, &sim, started) {
             Ok(d) => d,
             Err(e) => return failed(e.to_string()),

@@ -284,7 +284,8 @@ impl HistoryRow {
             wall_seconds: summary.wall_seconds,
             recording,
             #[cfg(not(target_arch = "wasm32"))]
-            paraview: summary.paraview.as_ref().map(|p| p.pvd.clone()),
+            paraview: (summary.outputs.get("paraview"))
+                .and_then(|p| p.get("pvd")?.as_str().map(str::to_string)),
             #[cfg(target_arch = "wasm32")]
             paraview: None,
             curve: RunCurve::default(),
@@ -293,16 +294,11 @@ impl HistoryRow {
     }
 }
 
-/// An output's error as the history shows it, naming the output.
+/// An output's error as the history shows it: what the run was doing, in the command line's
+/// words ("starting the recording", "ParaView output", …), then the error.
 #[cfg(not(target_arch = "wasm32"))]
 pub fn output_error_text(e: &OutputError) -> String {
-    match e {
-        OutputError::Recording(e) => format!("recording: {e}"),
-        OutputError::Paraview(e) => format!("ParaView files: {e}"),
-        OutputError::Series(e) => format!("series: {e}"),
-        OutputError::Checkpoint(e) => format!("checkpoint: {e}"),
-        OutputError::Watch(e) => e.to_string(),
-    }
+    e.with_context()
 }
 
 /// The history as CSV: a header, then one line per run.

@@ -19,7 +19,7 @@ use web_time::Instant;
 use {
     super::history::output_error_text,
     crate::driver::{Driver, Plan, Progress},
-    crate::record::{Cadence, ColourField, Sink},
+    crate::record::{Cadence, Sink},
     std::path::Path,
     std::sync::atomic::{AtomicBool, Ordering},
     std::sync::mpsc::{channel, Receiver, Sender},
@@ -232,17 +232,26 @@ fn run_job(
         Sink::Spawn => "Rerun viewer".to_string(),
         Sink::Connect(u) => u.clone().unwrap_or_else(|| "Rerun viewer".into()),
     });
-    let plan = Plan {
-        cadence: Cadence::PerSimSecond(settings.frames.max(1) as f64 / sim.model.end_time),
-        paraview: settings.paraview.then(|| {
-            let stem = settings.scene_stem();
-            Path::new(&settings.output_dir).join(format!("run{id:03}_{stem}_vtk"))
-        }),
-        recording: sink.map(|s| (s, ColourField::Displacement)),
-        series: None,
-        recording_id: None,
-        watch: Vec::new(),
+    // The outputs in the command line's words (the registry's flags).
+    let mut flags: Vec<std::ffi::OsString> = Vec::new();
+    if settings.paraview {
+        let stem = settings.scene_stem();
+        let dir = Path::new(&settings.output_dir).join(format!("run{id:03}_{stem}_vtk"));
+        flags.extend(["--vtk".into(), dir.into()]);
+    }
+    match sink {
+        Some(Sink::Save(p)) => flags.extend(["--save".into(), p.into()]),
+        Some(Sink::Spawn) => flags.push("--spawn".into()),
+        Some(Sink::Connect(url)) => {
+            flags.extend(["--connect".into(), url.unwrap_or_default().into()])
+        }
+        None => {}
+    }
+    let mut plan = match Plan::parse(flags) {
+        Ok(p) => p,
+        Err(e) => return HistoryRow::failed(id, settings, e.to_string(), started),
     };
+    plan.cadence = Cadence::PerSimSecond(settings.frames.max(1) as f64 / sim.model.end_time);
     let driver = match Driver::open(&plan, scene, &sim, started) {
         Ok(d) => d,
         Err(e) => return HistoryRow::failed(id, settings, output_error_text(&e), started),

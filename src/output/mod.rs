@@ -10,6 +10,8 @@
 
 pub mod fields;
 #[cfg(not(target_arch = "wasm32"))]
+pub mod registry;
+#[cfg(not(target_arch = "wasm32"))]
 pub mod reports;
 #[cfg(not(target_arch = "wasm32"))]
 pub mod series;
@@ -24,13 +26,7 @@ use crate::solver::SolverError;
 // The outputs themselves are native (the web page has none); the cadence, the snapshot and the
 // per-element fields are shared.
 #[cfg(not(target_arch = "wasm32"))]
-use {
-    crate::solver::Simulation,
-    reports::{RecordError, RecordingReport, VtkError, VtkReport},
-    series::{SeriesError, SeriesReport},
-    std::sync::Arc,
-    watch::WatchError,
-};
+use {crate::solver::Simulation, std::sync::Arc};
 
 /// One output of a run (the Rerun recording, the ParaView files), fed by the run driver
 /// ([`crate::driver::Driver`]) with one shared [`Snapshot`] per frame, at the cadence of the
@@ -79,32 +75,107 @@ pub struct Ending<'a> {
     pub time: f64,
     /// Why the run stopped early (a failure or a cancellation), `None` when it completed.
     pub error: Option<&'a SolverError>,
+    /// Wall time inside the solver's steps so far [s] (for an output's share of it).
+    pub step_seconds: f64,
 }
 
-/// What an output reports at the end, for the run summary.
+/// What an output reports at the end, for the run summary: a value under the output's name
+/// (the summary's JSON key: `recording`, `paraview`, `series`) and a line for the console's
+/// table. The driver and the summary hold it without naming the output.
 #[cfg(not(target_arch = "wasm32"))]
 #[derive(Debug, Clone)]
-pub enum OutputReport {
-    Recording(RecordingReport),
-    Paraview(VtkReport),
-    Series(SeriesReport),
+pub struct OutputReport {
+    /// The output's name ([`registry::Entry::name`]), the summary's key.
+    pub name: &'static str,
+    /// What it wrote, as the summary's JSON holds it.
+    pub value: serde_json::Value,
+    /// The row of the console's table (`None`: no row).
+    pub line: Option<String>,
 }
 
-/// The error of one output, naming which.
 #[cfg(not(target_arch = "wasm32"))]
-#[derive(Debug, thiserror::Error)]
-pub enum OutputError {
-    #[error("{0}")]
-    Recording(#[from] RecordError),
-    #[error("{0}")]
-    Paraview(#[from] VtkError),
-    #[error("{0}")]
-    Series(#[from] SeriesError),
-    #[error("{0}")]
-    Checkpoint(#[from] decohesion_physics::solver::CheckpointError),
-    /// A node `--watch` cannot follow (refused before the run).
-    #[error("{0}")]
-    Watch(#[from] WatchError),
+impl OutputReport {
+    /// The report of output `name`: `report` serialised, and `line` for the console.
+    pub fn new(name: &'static str, report: &impl serde::Serialize, line: Option<String>) -> Self {
+        OutputReport {
+            name,
+            // A report is a plain struct of numbers and strings: serialising it cannot fail.
+            value: serde_json::to_value(report).unwrap_or(serde_json::Value::Null),
+            line,
+        }
+    }
+}
+
+/// The error of one output, naming which: the output's name (`recording`, `paraview`,
+/// `series`, `checkpoint`, `watch`, …), what the run was doing in the command line's words
+/// (`starting the recording`, `--series`, `ParaView output`, …; `None`: the error says it all)
+/// and the error itself. Shows as the error itself; [`OutputError::into_anyhow`] puts the
+/// context above it.
+#[cfg(not(target_arch = "wasm32"))]
+#[derive(Debug)]
+pub struct OutputError {
+    /// The output's name.
+    pub output: &'static str,
+    /// What the run was doing, in the command line's words.
+    pub context: Option<&'static str>,
+    error: anyhow::Error,
+}
+
+#[cfg(not(target_arch = "wasm32"))]
+impl OutputError {
+    /// `error` of output `output`, while doing `context`.
+    pub fn new(
+        output: &'static str,
+        context: Option<&'static str>,
+        error: impl Into<anyhow::Error>,
+    ) -> OutputError {
+        OutputError {
+            output,
+            context,
+            error: error.into(),
+        }
+    }
+
+    /// The same error while doing `context` instead (opening an output rather than running it).
+    pub fn while_doing(mut self, context: Option<&'static str>) -> OutputError {
+        self.context = context;
+        self
+    }
+
+    /// The error itself (its sources are its own).
+    pub fn error(&self) -> &(dyn std::error::Error + Send + Sync + 'static) {
+        self.error.as_ref()
+    }
+
+    /// The error with its context above it, as the command line reports it.
+    pub fn into_anyhow(self) -> anyhow::Error {
+        match self.context {
+            Some(c) => self.error.context(c),
+            None => self.error,
+        }
+    }
+
+    /// "context: error", or the error alone without context (the explorer's history).
+    pub fn with_context(&self) -> String {
+        match self.context {
+            Some(c) => format!("{c}: {}", self.error),
+            None => self.error.to_string(),
+        }
+    }
+}
+
+#[cfg(not(target_arch = "wasm32"))]
+impl std::fmt::Display for OutputError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        std::fmt::Display::fmt(&self.error, f)
+    }
+}
+
+#[cfg(not(target_arch = "wasm32"))]
+impl std::error::Error for OutputError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        self.error.source()
+    }
 }
 
 /// Memory that frames waiting for an output's writer thread may take before the solver waits

@@ -1,7 +1,8 @@
-//! What each output reports when it ends and what can go wrong in it: the types of the
-//! [`super::Output`] trait's results ([`super::OutputReport`], [`super::OutputError`]), kept
-//! below the outputs that fill them ([`crate::record`], [`crate::vtk`]) so that `output` names
-//! none of them.
+//! What the Rerun recording ([`crate::record`]) and the ParaView files ([`crate::vtk`]) report
+//! when they end and what can go wrong in them, as the values and errors of the
+//! [`super::Output`] trait ([`super::OutputReport`], [`super::OutputError`]); kept below the
+//! outputs that fill them so that the run summary ([`crate::report`]) and the Python package
+//! read them without the Rerun SDK's types.
 
 use std::path::PathBuf;
 
@@ -20,6 +21,45 @@ pub struct RecordingReport {
     pub logger_thread_seconds: f64,
     /// Size of the file [bytes] (file sink only).
     pub bytes: Option<u64>,
+}
+
+impl RecordingReport {
+    /// The console's row: frames, target, size and the solver's time spent logging, as a share
+    /// of `step_seconds`, the solver's time [s].
+    pub fn line(&self, step_seconds: f64) -> String {
+        let size = self
+            .bytes
+            .map_or(String::new(), |b| format!(", {:.1} kB", b as f64 / 1e3));
+        let target = self
+            .path
+            .clone()
+            .unwrap_or_else(|| match self.sink.as_str() {
+                "spawn" => "the spawned Rerun viewer".to_string(),
+                _ => "the Rerun viewer".to_string(),
+            });
+        format!(
+            "{} frames to {target}{size}; logging {:.1} ms = {:.1} % of the solve",
+            self.frames,
+            1e3 * self.logging_seconds,
+            100.0 * self.logging_seconds / step_seconds.max(1e-12)
+        )
+    }
+}
+
+/// While the run goes, the recorder's error says `recording` above it (the command line's
+/// context; opening it, `starting the recording`).
+impl From<RecordError> for super::OutputError {
+    fn from(e: RecordError) -> super::OutputError {
+        super::OutputError::new("recording", Some("recording"), e)
+    }
+}
+
+/// While the run goes, the ParaView writer's error says `ParaView output` above it (opening it,
+/// the error says it all).
+impl From<VtkError> for super::OutputError {
+    fn from(e: VtkError) -> super::OutputError {
+        super::OutputError::new("paraview", Some("ParaView output"), e)
+    }
 }
 
 /// Errors of the recorder (the SDK's, with what we were doing).
@@ -67,4 +107,19 @@ pub struct VtkReport {
     pub solver_seconds: f64,
     /// Busy time of the writer thread, beside the solver [s].
     pub writer_thread_seconds: f64,
+}
+
+impl VtkReport {
+    /// The console's row: frames, index, size and the solver's time spent, as a share of
+    /// `step_seconds`, the solver's time [s].
+    pub fn line(&self, step_seconds: f64) -> String {
+        format!(
+            "{} frames indexed by {}, {:.1} MB; solver thread {:.1} ms = {:.1} % of the solve",
+            self.frames,
+            self.pvd,
+            self.bytes as f64 / 1e6,
+            1e3 * self.solver_seconds,
+            100.0 * self.solver_seconds / step_seconds.max(1e-12)
+        )
+    }
 }

@@ -290,6 +290,13 @@ pub struct SeriesError {
     pub source: std::io::Error,
 }
 
+/// While the run goes, the series' error says `--series` above it (the command line's context).
+impl From<SeriesError> for OutputError {
+    fn from(e: SeriesError) -> OutputError {
+        OutputError::new("series", Some("--series"), e)
+    }
+}
+
 /// `--series FILE.csv`: an [`Output`] of the run driver that writes one CSV row per recorded
 /// step on the solver thread (a row is a few hundred bytes: no writer thread is needed). Rows
 /// are kept as whole lines and written by [`FLUSH_BYTES`] or every [`FLUSH_WALL`], and all at
@@ -417,13 +424,14 @@ impl Output for SeriesWriter {
             source,
         })?;
         self.spent += started.elapsed();
-        Ok(OutputReport::Series(SeriesReport {
+        let report = SeriesReport {
             path: self.path.display().to_string(),
             rows: self.rows,
             columns: self.columns.len(),
             bytes: self.bytes,
             seconds: self.spent.as_secs_f64(),
-        }))
+        };
+        Ok(OutputReport::new("series", &report, None))
     }
 }
 

@@ -208,6 +208,13 @@ mod native {
         pub why: String,
     }
 
+    /// A node that cannot be watched is the `watch` output's error, which says it all.
+    impl From<WatchError> for crate::output::OutputError {
+        fn from(e: WatchError) -> crate::output::OutputError {
+            crate::output::OutputError::new("watch", None, e)
+        }
+    }
+
     impl Watch {
         /// The entries of `nodes` (a node given twice is watched once). A node out of the
         /// mesh's range, or one that is neither an interface nor a contact node, is refused

@@ -305,14 +305,16 @@ impl Output for Recorder {
             Sink::Spawn => ("spawn", None, None),
             Sink::Connect(_) => ("connect", None, None),
         };
-        Ok(OutputReport::Recording(RecordingReport {
+        let report = RecordingReport {
             sink: sink.into(),
             path,
             frames,
             logging_seconds: solver_time.as_secs_f64(),
             logger_thread_seconds: logged.busy.as_secs_f64(),
             bytes,
-        }))
+        };
+        let line = report.line(end.step_seconds);
+        Ok(OutputReport::new("recording", &report, Some(line)))
     }
 }
 
