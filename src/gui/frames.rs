@@ -8,7 +8,8 @@
 //! status), so any node can be picked during or after the run.
 //!
 //! Built on the solver's thread from a `&Simulation` ([`FrameSampler::due`]), so the native
-//! run thread ([`super::job`]) and an in-page runner call the same function. A run's frames are
+//! run thread ([`super::job`]) and an in-page runner call the same function, at the steps of
+//! the run driver's [`FrameClock`] (one implementation of when a frame is due). A run's frames are
 //! bounded in memory: at most [`MAX_RUN_BYTES`] in all (28³ pull-off: ≈ 206 kB a frame, see
 //! [`FrameBuilder::frame_bytes`]), so the cadence is the recorder's (the run's `frames` over
 //! its end time) or coarser.
@@ -21,6 +22,7 @@ use crate::output::fields::Scalar;
 use crate::output::surface::mould::{body_box, mould_drawing, place};
 use crate::output::surface::Surface;
 use crate::output::watch::Reading;
+use crate::output::{Cadence, FrameClock};
 use crate::solver::Simulation;
 use std::sync::Arc;
 
@@ -267,16 +269,16 @@ impl FrameBuilder {
     }
 }
 
-/// When a frame is due: every `end_time / frames` of simulated time (the recorder's cadence),
-/// or less often if that many frames would take more than [`MAX_RUN_BYTES`]; the first at
-/// t = 0 and the last at the end of the run ([`FrameSampler::last`]).
+/// When a frame is due: the run driver's [`FrameClock`] at `frames` frames over the end time
+/// (the recorder's cadence, [`Cadence::PerSimSecond`], so that the 3-D view and a recording of
+/// the run hold the same steps), or fewer if that many frames would take more than
+/// [`MAX_RUN_BYTES`]; the first at t = 0 and the last at the end of the run
+/// ([`FrameSampler::last`]).
 pub struct FrameSampler {
     builder: FrameBuilder,
     /// Simulated time between two frames [s].
     pub interval: f64,
-    next: f64,
-    /// Step of the last frame given.
-    last_step: Option<u64>,
+    clock: FrameClock,
 }
 
 impl FrameSampler {
@@ -286,31 +288,25 @@ impl FrameSampler {
         // t = 0, `most` intervals and possibly the final state.
         let most = (MAX_RUN_BYTES / builder.frame_bytes(sim)).max(3) - 2;
         let frames = (frames.max(1) as usize).min(most);
+        let end_time = sim.model.end_time;
+        let cadence = Cadence::PerSimSecond(frames as f64 / end_time);
         FrameSampler {
             builder,
-            interval: sim.model.end_time / frames as f64,
-            next: sim.state.time,
-            last_step: None,
+            interval: end_time / frames as f64,
+            clock: FrameClock::new(cadence, end_time),
         }
     }
 
-    /// The frame of `sim` if one is due at its time.
+    /// The frame of `sim` if one is due at its step.
     pub fn due(&mut self, sim: &Simulation) -> Option<Frame> {
-        if sim.state.time < self.next {
-            return None;
-        }
-        // Next multiple of the interval after t (a long step may pass several).
-        self.next = ((sim.state.time / self.interval).floor() + 1.0) * self.interval;
-        self.last_step = Some(sim.state.step_count);
-        Some(self.builder.frame(sim))
+        let (n, t) = (sim.state.step_count, sim.state.time);
+        (self.clock.due(n, t) && self.clock.take(n, t)).then(|| self.builder.frame(sim))
     }
 
     /// The frame of the final state, unless it was given already.
     pub fn last(&mut self, sim: &Simulation) -> Option<Frame> {
-        (self.last_step != Some(sim.state.step_count)).then(|| {
-            self.last_step = Some(sim.state.step_count);
-            self.builder.frame(sim)
-        })
+        let (n, t) = (sim.state.step_count, sim.state.time);
+        self.clock.take(n, t).then(|| self.builder.frame(sim))
     }
 }
 
@@ -386,6 +382,56 @@ mod tests {
         assert!(f.field(Field::Jacobian).iter().all(|&j| j == 1.0));
         assert!(f.field(Field::VonMises).iter().all(|&s| s == 0.0));
         assert!(f.field(Field::Displacement).iter().all(|&u| u == 0.0));
+    }
+
+    /// The 3-D view's frames are at the steps of the run driver's frames at the recorder's
+    /// cadence (as the explorer's job sets it): a recording of the run and the view hold the
+    /// same steps, step 0 and the last included.
+    #[cfg(not(target_arch = "wasm32"))]
+    #[test]
+    fn frames_at_the_steps_of_the_drivers_frames() {
+        use crate::driver::{Driver, Progress};
+        use crate::output::{Ending, Output, OutputError, OutputReport, Snapshot};
+        use std::sync::{atomic::AtomicBool, Mutex};
+        /// Notes the steps of the driver's frames.
+        struct Steps(Arc<Mutex<Vec<u64>>>);
+        impl Output for Steps {
+            fn frame(&mut self, s: &Arc<Snapshot>) -> Result<(), OutputError> {
+                self.0.lock().unwrap().push(s.step);
+                Ok(())
+            }
+            fn finish(
+                self: Box<Self>,
+                last: Option<Arc<Snapshot>>,
+                _end: &Ending<'_>,
+            ) -> Result<OutputReport, OutputError> {
+                self.0.lock().unwrap().extend(last.map(|s| s.step));
+                Ok(OutputReport::new("steps", &(), None))
+            }
+        }
+        /// The view's sampler, fed after every step.
+        struct View(FrameSampler, Vec<u64>);
+        impl Progress for View {
+            fn step(&mut self, sim: &Simulation) {
+                self.1.extend(self.0.due(sim).map(|f| f.step));
+            }
+        }
+        let frames = 10;
+        let mut sim = pull_off(2, &["end_time=0.02"]);
+        let cadence = Cadence::PerSimSecond(frames as f64 / sim.model.end_time);
+        let steps = Arc::new(Mutex::new(vec![]));
+        let out: Vec<Box<dyn Output>> = vec![Box::new(Steps(steps.clone()))];
+        let started = std::time::Instant::now();
+        let driver = Driver::with_outputs(out, cadence, &sim, started).unwrap();
+        let mut sampler = FrameSampler::new(&sim, frames);
+        let first = sampler.due(&sim).map(|f| f.step);
+        let mut view = View(sampler, first.into_iter().collect());
+        let done = driver.run(&mut sim, &AtomicBool::new(false), &mut view);
+        assert!(done.outcome.is_ok());
+        view.1.extend(view.0.last(&sim).map(|f| f.step));
+        let steps = steps.lock().unwrap().clone();
+        assert!(steps.len() >= 11, "{steps:?}");
+        assert_eq!(view.1, steps);
     }
 
     /// The recorder's cadence over a whole run: t = 0, then every end_time/frames, then the
