@@ -12,14 +12,10 @@ use crate::checkpoint::Checkpointer;
 use crate::output::watch::Watch;
 use crate::output::{Cadence, Ending, FrameClock, Output, OutputError, Snapshot};
 use crate::report::RunSummary;
-use crate::scene::Scene;
 use crate::solver::{Simulation, SolverError};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
-
-/// The outputs a run writes, from the registry ([`crate::output::registry`]).
-pub use crate::output::registry::Plan;
 
 /// Told of every step, on the solver thread: the command line's progress bar, the explorer's
 /// channel.
@@ -56,25 +52,11 @@ pub struct Driver {
     checkpoints: Option<Checkpointer>,
     /// The watched nodes, read into every snapshot ([`Snapshot::watched`]).
     watch: Watch,
+    /// The summary's keys of the outputs not asked for, null (set by the registry).
+    pub(crate) absent: std::collections::BTreeMap<String, serde_json::Value>,
 }
 
 impl Driver {
-    /// Opens the outputs `plan` asks for ([`Plan::open`]) for a simulation that is set up,
-    /// and takes the frame of the current state (step 0). The watched nodes first, then the
-    /// outputs: a node that cannot be watched, a directory or a file that cannot be written is
-    /// refused before a viewer starts or a capture file is created. `started` is when the run
-    /// started.
-    pub fn open(
-        plan: &Plan,
-        scene: &Scene,
-        sim: &Simulation,
-        started: Instant,
-    ) -> Result<Driver, OutputError> {
-        let watch = Watch::new(sim, &plan.watch)?;
-        let outputs = plan.open(scene, sim, &watch)?;
-        Driver::watching(outputs, plan.cadence, sim, started, watch)
-    }
-
     /// A driver over outputs built by the caller; tells them of the current state and takes
     /// its frame.
     pub fn with_outputs(
@@ -86,8 +68,9 @@ impl Driver {
         Driver::watching(outputs, cadence, sim, started, Watch::default())
     }
 
-    /// [`Driver::with_outputs`] whose snapshots carry the readings of `watch`'s nodes.
-    fn watching(
+    /// [`Driver::with_outputs`] whose snapshots carry the readings of `watch`'s nodes (the
+    /// registry's `Driver::open`, [`crate::outputs`]).
+    pub(crate) fn watching(
         outputs: Vec<Box<dyn Output>>,
         cadence: Cadence,
         sim: &Simulation,
@@ -103,6 +86,7 @@ impl Driver {
             spent: Duration::ZERO,
             started,
             checkpoints: None,
+            absent: Default::default(),
         };
         driver.step(sim, false)?;
         driver.frame(sim)?;
@@ -243,6 +227,7 @@ impl Driver {
         let wall = self.started.elapsed().as_secs_f64();
         let mut summary = RunSummary::new(sim, wall, outcome.as_ref().err());
         summary.checkpoint = self.checkpoints.as_ref().map(Checkpointer::report);
+        summary.outputs = std::mem::take(&mut self.absent);
         for r in reports {
             summary.add_output(r);
         }

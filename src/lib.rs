@@ -48,6 +48,8 @@ pub mod measured;
 pub mod output;
 /// Rerun recording (live or `.rrd`): reads a simulation, is not read by the physics.
 #[cfg(not(target_arch = "wasm32"))]
+pub mod outputs;
+#[cfg(not(target_arch = "wasm32"))]
 pub mod record;
 pub mod report;
 /// Speed against accuracy: a grid of configurations of one scene compared with the finest.

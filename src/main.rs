@@ -70,9 +70,9 @@ enum Command {
         #[arg(long, value_name = "DIR", group = "checkpoints")]
         resume: Option<PathBuf>,
         // Where and how often to record: Rerun (one sink), ParaView files and/or the CSV time
-        // series (no flag: none), the outputs of the registry (decohesion::output::registry).
+        // series (no flag: none), the outputs of the registry (decohesion::outputs).
         #[command(flatten)]
-        record: decohesion::output::registry::OutputFlags,
+        record: decohesion::outputs::OutputFlags,
     },
     /// Validate a scene without running it and print derived quantities.
     Check {

@@ -70,7 +70,8 @@ pub struct RunSummary {
     pub stage_seconds: StageTimes,
     /// What each output of the run wrote, under its name ([`crate::output::OutputReport`]):
     /// `recording` (Rerun) and `paraview` (`--vtk`), null without them, `series` (`--series`),
-    /// absent without it; an output of the registry ([`crate::output::registry`]) adds its own.
+    /// absent without it (the run driver's summary; empty here); an output of the registry
+    /// ([`crate::outputs`]) adds its own.
     #[cfg(not(target_arch = "wasm32"))]
     #[serde(flatten)]
     pub outputs: std::collections::BTreeMap<String, serde_json::Value>,
@@ -182,7 +183,7 @@ impl RunSummary {
             max_relative_residual: sim.state.ledger.max_relative_residual,
             stage_seconds: sim.stats.stage_times.clone(),
             #[cfg(not(target_arch = "wasm32"))]
-            outputs: crate::output::registry::absent(),
+            outputs: Default::default(),
             #[cfg(not(target_arch = "wasm32"))]
             output_lines: Vec::new(),
             warnings: sim.advisories(),

@@ -7,7 +7,7 @@
 //! integration); its own errors are 0 by construction, so errors of the next-finest rows are
 //! lower bounds (Richardson's caveat).
 
-use crate::driver::{Driver, Plan, Progress};
+use crate::driver::{Driver, Progress};
 use crate::output::Cadence;
 use crate::scene::{load_scene, Scene, SceneError};
 use crate::solver::Simulation;
@@ -172,7 +172,7 @@ impl Progress for OnStep<'_> {
     }
 }
 
-/// Runs one configuration through the run driver without outputs ([`Plan::none`]), calling
+/// Runs one configuration through the run driver without outputs, calling
 /// `on_step` after every step (progress).
 pub fn run(
     scene: &Path,
@@ -184,7 +184,7 @@ pub fn run(
     let s = load_scene(scene, &set)?;
     let elements = s.model.mesh.elements.len();
     let mut row = Row::new(c.clone(), elements);
-    let mut sim = match Simulation::new(s.model.clone()) {
+    let mut sim = match Simulation::new(s.model) {
         Ok(sim) => sim,
         Err(e) => {
             row.failure = Some(e.to_string());
@@ -192,13 +192,12 @@ pub fn run(
         }
     };
     let t = Instant::now();
-    let plan = Plan::none(Cadence::Default);
-    let outcome = match Driver::open(&plan, &s, &sim, t) {
+    let outcome = match Driver::with_outputs(vec![], Cadence::Default, &sim, t) {
         Ok(driver) => {
             let never = AtomicBool::new(false);
             driver.run(&mut sim, &never, &mut OnStep(on_step)).outcome
         }
-        // No output to open and no node watched: nothing can fail here.
+        // No output: nothing can fail here.
         Err(e) => {
             row.failure = Some(e.to_string());
             return Ok(row);

@@ -10,11 +10,12 @@ use crate::arrays::{array, column, vectors};
 use crate::errors::{checkpoint_error, output_error, solver_error};
 use crate::scene::Scene;
 use crate::to_python;
-use decohesion::driver::{Driver, Plan, Progress};
+use decohesion::driver::{Driver, Progress};
 use decohesion::interface::contact::ContactStatus;
 use decohesion::law::InterfaceState;
 use decohesion::output::series::History;
 use decohesion::output::{Cadence, OutputError};
+use decohesion::outputs::Plan;
 use decohesion::record::ColourField;
 use decohesion::report::RunSummary;
 use decohesion::scene::Scene as RustScene;
@@ -213,6 +214,7 @@ impl Simulation {
         if error.is_none() && !self.sim.finished() {
             s.status = "in_progress".into();
         }
+        s.outputs = decohesion::outputs::absent();
         if let Some((outputs, lines)) = &self.outputs {
             s.outputs = outputs.clone();
             s.output_lines = lines.clone();

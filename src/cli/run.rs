@@ -5,8 +5,9 @@
 
 use super::progress::{per_mille, sim_time, tenths, time_bar};
 use crate::checkpoint::{new_recording_id, Checkpointer, Every, RunRecord, STATE_FILE};
-use crate::driver::{cancel_on_ctrl_c, Driver, Plan, Progress};
+use crate::driver::{cancel_on_ctrl_c, Driver, Progress};
 use crate::output::OutputError;
+use crate::outputs::Plan;
 use crate::scene::load_scene;
 use crate::solver::Simulation;
 use anyhow::{bail, Context, Result};

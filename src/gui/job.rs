@@ -18,7 +18,8 @@ use web_time::Instant;
 #[cfg(not(target_arch = "wasm32"))]
 use {
     super::history::output_error_text,
-    crate::driver::{Driver, Plan, Progress},
+    crate::driver::{Driver, Progress},
+    crate::outputs::Plan,
     crate::record::{Cadence, Sink},
     std::path::Path,
     std::sync::atomic::{AtomicBool, Ordering},

@@ -10,8 +10,6 @@
 
 pub mod fields;
 #[cfg(not(target_arch = "wasm32"))]
-pub mod registry;
-#[cfg(not(target_arch = "wasm32"))]
 pub mod reports;
 #[cfg(not(target_arch = "wasm32"))]
 pub mod series;
@@ -85,7 +83,7 @@ pub struct Ending<'a> {
 #[cfg(not(target_arch = "wasm32"))]
 #[derive(Debug, Clone)]
 pub struct OutputReport {
-    /// The output's name ([`registry::Entry::name`]), the summary's key.
+    /// The output's name ([`crate::outputs::Entry::name`]), the summary's key.
     pub name: &'static str,
     /// What it wrote, as the summary's JSON holds it.
     pub value: serde_json::Value,

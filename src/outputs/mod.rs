@@ -1,24 +1,26 @@
-//! The registry of a run's outputs: every file `src/output/registry/<name>.rs` other than this
+//! The registry of a run's outputs: every file `src/outputs/<name>.rs` other than this
 //! one is one output, and declares `pub const ENTRY: Entry` — its name (the run summary's key),
 //! its command-line flags, whether the run's flags ask for it and how it is opened from them.
 //! `build.rs` lists the files (`$OUT_DIR/outputs.rs`, [`ENTRIES`]); the command line
 //! (`decohesion run`, [`OutputFlags`]), the explorer, `sweep`, `tradeoff` and the Python
 //! package describe a run's outputs as a [`Plan`] (the parsed flags, the frames' cadence, the
-//! watched nodes) and the run driver ([`crate::driver::Driver::open`]) opens the ones it asks
-//! for. Adding an output is adding its file, with its test: no list is edited by hand.
+//! watched nodes) and [`Driver::open`] (here, above the driver, which names no output) opens
+//! the ones it asks for. Adding an output is adding its file, with its test: no list is edited by hand.
 //!
 //! The flags of every output and the ones they share (`--every`, `--fps`, `--watch`, here) are
 //! one set, ordered by each flag's `display_order` (a flag without one comes last), so that
 //! `decohesion run --help` and the generated CLI reference list them in a fixed order whatever
 //! the order of the files.
 
-use super::watch::Watch;
-use super::{Cadence, Output, OutputError};
+use crate::driver::Driver;
+use crate::output::watch::Watch;
+use crate::output::{Cadence, Output, OutputError};
 use crate::scene::Scene;
 use crate::solver::Simulation;
 use clap::{ArgMatches, Args, Command, FromArgMatches};
 use std::collections::BTreeMap;
 use std::ffi::OsString;
+use std::time::Instant;
 
 include!(concat!(env!("OUT_DIR"), "/outputs.rs"));
 
@@ -283,6 +285,27 @@ impl Plan {
         }
         outputs.extend(rest);
         Ok(outputs)
+    }
+}
+
+impl Driver {
+    /// Opens the outputs `plan` asks for ([`Plan::open`]) for a simulation that is set up,
+    /// and takes the frame of the current state (step 0). The watched nodes first, then the
+    /// outputs: a node that cannot be watched, a directory or a file that cannot be written is
+    /// refused before a viewer starts or a capture file is created. `started` is when the run
+    /// started. The summary holds null under the names of the outputs not asked for that
+    /// [`Entry::null_when_absent`].
+    pub fn open(
+        plan: &Plan,
+        scene: &Scene,
+        sim: &Simulation,
+        started: Instant,
+    ) -> Result<Driver, OutputError> {
+        let watch = Watch::new(sim, &plan.watch)?;
+        let outputs = plan.open(scene, sim, &watch)?;
+        let mut driver = Driver::watching(outputs, plan.cadence, sim, started, watch)?;
+        driver.absent = absent();
+        Ok(driver)
     }
 }
 
