@@ -149,7 +149,7 @@ fn check_scene(scene: &str, end_time: &str) {
         );
     }
     for p in &model.planes {
-        if p.shape == decohesion::model::Shape::HalfSpace {
+        if p.shape.is_half_space() {
             for x in mould_drawing(p, body_box(&model)).vertices {
                 assert!(
                     in_frustum(&eye, x),

@@ -131,7 +131,7 @@ fn roller_peel_plots_each_mould_s_friction_and_the_roller_s_load() {
         .sum::<f64>()
         / steady.len() as f64;
     let radius = match roller.shape {
-        decohesion::model::Shape::Cylinder { radius, .. } => radius,
+        decohesion::model::Shape::Cylinder(c) => c.radius,
         _ => panic!("the roller is a cylinder"),
     };
     assert!(m_y * omega < 0.0, "M_y = {m_y} N·m against ω_y = {omega}");

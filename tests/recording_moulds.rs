@@ -46,7 +46,9 @@ fn indent_capture_draws_the_sphere_and_moves_it_with_its_pose() {
     let overrides: Vec<String> = OVERRIDES.iter().map(|o| o.to_string()).collect();
     let model = load_scene(Path::new(SCENE), &overrides).unwrap().model;
     let k = model.planes.iter().position(|p| p.name == "ball").unwrap();
-    let Shape::Sphere { centre, radius } = model.planes[k].shape else {
+    let Shape::Sphere(decohesion_physics::mould::shapes::sphere::Sphere { centre, radius }) =
+        model.planes[k].shape
+    else {
         panic!("the ball is a sphere");
     };
 

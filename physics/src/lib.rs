@@ -21,6 +21,7 @@ pub mod gmsh;
 pub mod interface;
 /// The element loop (stage 3) and the node loop (stage 5), built per instruction set.
 pub mod kernels;
+pub mod keydoc;
 /// The stiffness law g_N(α) (`interface::law`, under the path the rest of the code uses).
 pub use interface::law;
 pub mod material;

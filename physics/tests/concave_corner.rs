@@ -56,7 +56,7 @@ fn l_mould(l: f64, n: u32) -> RigidPlane {
     let s = SurfaceMesh::new("l_mould", None, 1.0, v, t, &|k| format!("triangle {k}")).unwrap();
     RigidPlane {
         name: "corner".into(),
-        shape: Shape::Surface(Arc::new(s)),
+        shape: Shape::Surface(Arc::new(s).into()),
         ..Default::default()
     }
 }

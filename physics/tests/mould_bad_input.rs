@@ -47,7 +47,7 @@ fn unknown_shape_lists_the_shapes() {
         &[
             &file(),
             "key `mould[0].shape` = \"cone\"",
-            "half_space, box, sphere, cylinder, surface",
+            "box, cylinder, half_space, sphere, surface",
         ],
     );
 }

@@ -22,10 +22,10 @@ fn riding(v: [f64; 3], w: [f64; 3], end_time: f64) -> Model {
     m.planes.push(RigidPlane {
         name: "tray".into(),
         point: [0.5 * L, 0.5 * L, -0.5 * L],
-        shape: Shape::Box {
+        shape: Shape::Box(decohesion_physics::mould::shapes::r#box::Box {
             centre: [0.5 * L, 0.5 * L, -0.5 * L],
             half_size: [L, L, 0.5 * L],
-        },
+        }),
         velocity: Some(PiecewiseLinear::constant(v)),
         angular_velocity: (w != [0.0; 3]).then(|| PiecewiseLinear::constant(w)),
         pivot: Some(c),

@@ -2,6 +2,7 @@
 //! sphere), to the facet error derived from the mesh itself; and the surface loader's refusals.
 
 use decohesion_physics::mesh::{cross, dot, norm, sub};
+use decohesion_physics::mould::shapes::{r#box::Box, sphere::Sphere};
 use decohesion_physics::mould::surface::read_stl;
 use decohesion_physics::mould::{Shape, SurfaceMesh};
 
@@ -83,7 +84,7 @@ fn triangulated_plane_is_the_half_space() {
     for _ in 0..500 {
         let x = [5.0 * rnd(&mut k), 5.0 * rnd(&mut k), 2.0 * rnd(&mut k)];
         let pr = s.project([0.0; 3], [0.0; 3], x);
-        let exact = Shape::HalfSpace.project([0.0; 3], [0.0, 0.0, 1.0], x);
+        let exact = Shape::default().project([0.0; 3], [0.0, 0.0, 1.0], x);
         assert_eq!(pr.normal, [0.0, 0.0, 1.0], "{x:?}");
         assert!((pr.gap(x) - exact.gap(x)).abs() <= 1e-15, "{x:?}");
     }
@@ -100,10 +101,10 @@ fn triangulated_box_is_the_box() {
     let h = [0.5, 1.0, 1.5];
     let (v, t) = box_mesh(h);
     let s = Shape::Surface(surface(v, t).into());
-    let exact = Shape::Box {
+    let exact = Shape::Box(Box {
         centre: [0.0; 3],
         half_size: h,
-    };
+    });
     let cos_max = (1.0f64 / 3.0).sqrt();
     let mut k = 3;
     let (mut faces, mut edges) = (0, 0);
@@ -156,10 +157,10 @@ fn triangulated_sphere_is_the_ball_to_the_chord_error() {
         }
     }
     let surf = Shape::Surface(surface(v.clone(), t.clone()).into());
-    let ball = Shape::Sphere {
+    let ball = Shape::Sphere(Sphere {
         centre: [0.0; 3],
         radius: r,
-    };
+    });
     let mut k = 11;
     for _ in 0..3000 {
         let d = [rnd(&mut k), rnd(&mut k), rnd(&mut k)];

@@ -9,10 +9,11 @@
 //! a committed page differs from what the code generates.
 
 use crate::law::{families, Delay, FamilySpec, Param, ParamKind};
-use crate::scene::keys::{DefaultDoc, KeyDoc, SectionDoc, MOULD_COMMON, MOULD_SHAPES, SECTIONS};
+use crate::scene::keys::{DefaultDoc, KeyDoc, SectionDoc, SECTIONS};
 use anyhow::{Context, Result};
 use clap::builder::StyledStr;
 use clap::{Arg, ArgAction, Command};
+use decohesion_physics::mould::shapes::SHAPES;
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -131,36 +132,7 @@ fn scene_section(out: &mut String, s: &SectionDoc) {
         section_title(s),
         markdown(s.about)
     );
-    let rows: Vec<Vec<String>> = s
-        .keys
-        .iter()
-        .map(|k| {
-            let key = match k.alias {
-                Some(alias) => format!("`{}` (or `{alias}`)", k.key),
-                None => format!("`{}`", k.key),
-            };
-            vec![
-                key,
-                k.kind.to_string(),
-                k.unit.to_string(),
-                default_cell(k),
-                admissible_cell(s, k),
-                k.description.to_string(),
-            ]
-        })
-        .collect();
-    table(
-        out,
-        &[
-            "key",
-            "type",
-            "unit",
-            "default",
-            "admissible",
-            "description",
-        ],
-        &rows,
-    );
+    key_table(out, s.path, s.keys);
     if s.path == "material" {
         let rows: Vec<Vec<String>> = crate::material::rubber::RUBBERS
             .iter()
@@ -186,25 +158,76 @@ fn scene_section(out: &mut String, s: &SectionDoc) {
         table(out, &["model", "family", "keys", "ψ_iso"], &rows);
     }
     if s.path == "mould" {
-        let rows: Vec<Vec<String>> = MOULD_SHAPES
+        let rows: Vec<Vec<String>> = SHAPES
             .iter()
             .map(|shape| {
-                let keys: Vec<String> = shape.keys.iter().map(|k| format!("`{k}`")).collect();
+                let keys: Vec<String> = shape.keys.iter().map(|k| format!("`{}`", k.key)).collect();
                 vec![
-                    format!("`{}`", shape.shape),
+                    format!("`{}`", shape.key),
                     keys.join(", "),
-                    shape.description.to_string(),
+                    shape.about.to_string(),
                 ]
             })
             .collect();
-        let common: Vec<String> = MOULD_COMMON.iter().map(|k| format!("`{k}`")).collect();
+        let common: Vec<String> = s.keys.iter().map(|k| format!("`{}`", k.key)).collect();
         let _ = writeln!(
             out,
             "The shapes, and the keys each takes besides {}:\n",
             common.join(", ")
         );
         table(out, &["shape", "keys", "the mould"], &rows);
+        for shape in SHAPES {
+            let _ = writeln!(
+                out,
+                "### `[[mould]]` of shape `\"{}\"`\n\n{} (`physics/src/mould/shapes/{}.rs`).\n",
+                shape.key,
+                markdown(&capitalised(shape.about)),
+                shape.key
+            );
+            key_table(out, &format!("mould.{}", shape.key), shape.keys);
+        }
     }
+}
+
+/// The table of keys of a section (`path`), one row per key.
+fn key_table(out: &mut String, path: &str, keys: &[KeyDoc]) {
+    let rows: Vec<Vec<String>> = keys
+        .iter()
+        .map(|k| {
+            let key = match k.alias {
+                Some(alias) => format!("`{}` (or `{alias}`)", k.key),
+                None => format!("`{}`", k.key),
+            };
+            vec![
+                key,
+                k.kind.to_string(),
+                k.unit.to_string(),
+                default_cell(k),
+                admissible_cell(path, k),
+                k.description.to_string(),
+            ]
+        })
+        .collect();
+    table(
+        out,
+        &[
+            "key",
+            "type",
+            "unit",
+            "default",
+            "admissible",
+            "description",
+        ],
+        &rows,
+    );
+}
+
+/// The phrase with its first letter in capitals.
+fn capitalised(text: &str) -> String {
+    let mut chars = text.chars();
+    chars.next().map_or_else(String::new, |first| {
+        first.to_uppercase().collect::<String>() + chars.as_str()
+    })
 }
 
 fn default_cell(k: &KeyDoc) -> String {
@@ -215,9 +238,9 @@ fn default_cell(k: &KeyDoc) -> String {
     }
 }
 
-fn admissible_cell(s: &SectionDoc, k: &KeyDoc) -> String {
+fn admissible_cell(path: &str, k: &KeyDoc) -> String {
     let mut parts = vec![];
-    if s.path == "interface.law" && k.key == "family" {
+    if path == "interface.law" && k.key == "family" {
         parts.push(quoted(families().iter().map(|f| f.key)));
     } else if !k.choices.is_empty() {
         parts.push(quoted(k.choices.iter().copied()));

@@ -8,7 +8,7 @@ use super::{log_err, ColourField, RecordError, Statics, ARROW_FRACTION, NORMAL_F
 use crate::energy::EnergySnapshot;
 use crate::interface::contact::ContactStatus;
 use crate::law::InterfaceState;
-use crate::model::{Model, RigidPlane, Shape};
+use crate::model::{Model, RigidPlane};
 use crate::output::surface::mould::{body_box, mould_drawing};
 use crate::output::surface::{contact_rgb, state_rgb};
 use crate::output::watch::Source;
@@ -350,7 +350,7 @@ fn planes(rec: &RecordingStream, m: &Model) -> Result<(), RecordError> {
     for p in &m.planes {
         let path = format!("planes/{}", path_part(&p.name));
         let mut mesh = mould_drawing(p, body);
-        if p.shape == Shape::HalfSpace {
+        if p.shape.is_half_space() {
             let back: Vec<[u32; 3]> = mesh.triangles.iter().map(|t| [t[0], t[2], t[1]]).collect();
             mesh.triangles.extend(back);
         }
@@ -359,7 +359,7 @@ fn planes(rec: &RecordingStream, m: &Model) -> Result<(), RecordError> {
         let mut drawing = Mesh3D::new(f32s(&mesh.vertices))
             .with_triangle_indices(mesh.triangles)
             .with_albedo_factor(grey);
-        if p.shape != Shape::HalfSpace {
+        if !p.shape.is_half_space() {
             drawing = drawing.with_vertex_normals(f32s(&mesh.normals));
         }
         rec.log_static(path, &drawing).map_err(log_err("a mould"))?;

@@ -1,5 +1,6 @@
-//! Rigid moulds of any shape (model §7): the shapes, their closest-point queries, and their
-//! prescribed rigid motion ([`motion`]). A `[[plane]]` is the half-space shape.
+//! Rigid moulds of any shape (model §7): the shapes, one file each with its closest-point
+//! query ([`shapes`]), and their prescribed rigid motion ([`motion`]). A `[[plane]]` is the
+//! half-space shape.
 //!
 //! **Contact and glue on a curved or faceted mould** (model §7.1, §7.4, §7.5, generalising
 //! the plane of §2.1 and §3): at a point x of the solid, p is the closest point of the
@@ -15,41 +16,16 @@
 //! X = c₀ + Rᵀ(x − c), projected, and p, n carried forward, p = c + R(P − c₀), n = R N.
 
 pub mod motion;
+pub mod shapes;
 pub mod step;
 pub mod surface;
 
-use crate::mesh::{dot, norm};
+use crate::mesh::dot;
 use crate::piecewise::PiecewiseLinear;
 pub use motion::{Pose, RigidMotion};
 use serde::Serialize;
-use std::sync::Arc;
+pub use shapes::{MouldMesh, Shape};
 pub use surface::{SurfaceError, SurfaceMesh};
-
-/// The shape of a mould in its frame at t = 0. The mould is the solid region: the body lies
-/// outside it (on the side its outward normal points to).
-#[derive(Debug, Clone, PartialEq, Default, Serialize)]
-#[serde(rename_all = "snake_case", tag = "shape")]
-pub enum Shape {
-    /// The half-space n·(x − p) ≤ 0 of the mould's `point` and `normal` (a `[[plane]]`).
-    #[default]
-    HalfSpace,
-    /// An axis-aligned box, centre and half-sizes [m].
-    Box {
-        centre: [f64; 3],
-        half_size: [f64; 3],
-    },
-    /// A ball, centre and radius [m].
-    Sphere { centre: [f64; 3], radius: f64 },
-    /// A capped cylinder: centre of its axis, unit axis, radius and half-length [m].
-    Cylinder {
-        centre: [f64; 3],
-        axis: [f64; 3],
-        radius: f64,
-        half_length: f64,
-    },
-    /// A triangulated surface (STL or Gmsh), its solid side given by its face orientation.
-    Surface(Arc<SurfaceMesh>),
-}
 
 /// One warning per mould of an open triangulated surface: its name, file and number of open
 /// edges, and what the mould does beyond its rim (module docs of [`surface`]). Not part of the
@@ -90,112 +66,6 @@ impl Projection {
     }
 }
 
-/// The unit vector along d, or `fallback` when d is 0.
-fn unit_or(d: [f64; 3], fallback: [f64; 3]) -> [f64; 3] {
-    let l = norm(d);
-    if l > 0.0 {
-        d.map(|c| c / l)
-    } else {
-        fallback
-    }
-}
-
-impl Shape {
-    /// Closest point and outward normal of the shape at x, in the mould's frame at t = 0
-    /// (`point`, `normal`: the half-space's plane).
-    pub fn project(&self, point: [f64; 3], normal: [f64; 3], x: [f64; 3]) -> Projection {
-        match self {
-            Shape::HalfSpace => {
-                let g = dot(normal, std::array::from_fn(|c| x[c] - point[c]));
-                Projection {
-                    point: std::array::from_fn(|c| x[c] - g * normal[c]),
-                    normal,
-                }
-            }
-            Shape::Sphere { centre, radius } => {
-                let q: [f64; 3] = std::array::from_fn(|c| x[c] - centre[c]);
-                let n = unit_or(q, [0.0, 0.0, 1.0]);
-                Projection {
-                    point: std::array::from_fn(|c| centre[c] + radius * n[c]),
-                    normal: n,
-                }
-            }
-            Shape::Box { centre, half_size } => {
-                let q: [f64; 3] = std::array::from_fn(|c| x[c] - centre[c]);
-                let (p, n) = project_box(q, *half_size);
-                Projection {
-                    point: std::array::from_fn(|c| centre[c] + p[c]),
-                    normal: n,
-                }
-            }
-            Shape::Cylinder {
-                centre,
-                axis,
-                radius,
-                half_length,
-            } => project_cylinder(*centre, *axis, *radius, *half_length, x),
-            Shape::Surface(s) => s.project(x),
-        }
-    }
-}
-
-/// Closest point of the boundary of the box |qᵢ| ≤ hᵢ to q, and the outward normal there.
-/// Outside: p = clamp(q), n = (q − p)/|q − p| (a face, edge or corner region). Inside or on it:
-/// the nearest face (smallest hᵢ − |qᵢ|), n = ±eᵢ.
-fn project_box(q: [f64; 3], h: [f64; 3]) -> ([f64; 3], [f64; 3]) {
-    let p: [f64; 3] = std::array::from_fn(|c| q[c].clamp(-h[c], h[c]));
-    let d: [f64; 3] = std::array::from_fn(|c| q[c] - p[c]);
-    if d != [0.0; 3] {
-        return (p, unit_or(d, [0.0; 3]));
-    }
-    let i = (0..3)
-        .min_by(|&a, &b| (h[a] - q[a].abs()).total_cmp(&(h[b] - q[b].abs())))
-        .unwrap_or(0);
-    let s = if q[i] < 0.0 { -1.0 } else { 1.0 };
-    let mut p = q;
-    p[i] = s * h[i];
-    let mut n = [0.0; 3];
-    n[i] = s;
-    (p, n)
-}
-
-/// Closest point of a capped cylinder's boundary (axis a through `centre`, radius r,
-/// half-length l) and the outward normal there: with z = a·q and ρ = q − z a,
-/// beyond the rim (|z| > l, |ρ| > r) the rim point and n = (x − p)/|x − p|; beyond a cap only,
-/// the cap (n = ±a); beyond the side only, the side (n = ρ/|ρ|); inside, the nearer of the cap
-/// and the side.
-fn project_cylinder(centre: [f64; 3], a: [f64; 3], r: f64, l: f64, x: [f64; 3]) -> Projection {
-    let q: [f64; 3] = std::array::from_fn(|c| x[c] - centre[c]);
-    let z = dot(q, a);
-    let rho: [f64; 3] = std::array::from_fn(|c| q[c] - z * a[c]);
-    // A radial direction even on the axis: any unit vector ⊥ a.
-    let any_perp = {
-        let t = if a[0].abs() < 0.9 {
-            [1.0, 0.0, 0.0]
-        } else {
-            [0.0, 1.0, 0.0]
-        };
-        let s = dot(t, a);
-        unit_or(std::array::from_fn(|c| t[c] - s * a[c]), [0.0; 3])
-    };
-    let er = unit_or(rho, any_perp);
-    let rr = norm(rho);
-    let s = if z < 0.0 { -1.0 } else { 1.0 };
-    let (dz, dr) = (z.abs() - l, rr - r);
-    let at = |zz: f64, radial: f64| -> [f64; 3] {
-        std::array::from_fn(|c| centre[c] + zz * a[c] + radial * er[c])
-    };
-    let (point, normal) = if dz > 0.0 && dr > 0.0 {
-        let p = at(s * l, r);
-        (p, unit_or(std::array::from_fn(|c| x[c] - p[c]), er))
-    } else if dz > 0.0 || (dr <= 0.0 && dz >= dr) {
-        (at(s * l, rr), a.map(|c| s * c))
-    } else {
-        (at(z, r), er)
-    };
-    Projection { point, normal }
-}
-
 /// A rigid mould (model §7): a shape ([`Shape`]) moved by a prescribed rigid motion. A
 /// `[[plane]]` is the half-space shape: points x with n·(x − p(t)) > 0 are on the solid's side.
 /// The name `RigidPlane` is kept for the code that knew only planes; [`Mould`] is the same type.
@@ -233,7 +103,7 @@ impl RigidPlane {
     /// True for the path of today's planes: a half-space that does not turn (its gaps and
     /// velocities are the plane's, the same at every node: the plain plane of model §7.2).
     pub fn is_plane(&self) -> bool {
-        matches!(self.shape, Shape::HalfSpace) && self.angular_velocity.is_none()
+        self.shape.is_half_space() && self.angular_velocity.is_none()
     }
 
     /// Its motion: translation of `point` and rotation about it ([`RigidMotion`]).
@@ -264,42 +134,4 @@ impl RigidPlane {
 pub fn mould_closest_point(plane: &RigidPlane, x: [f64; 3]) -> ([f64; 3], [f64; 3]) {
     let pr = plane.project0(x);
     (pr.point, pr.normal)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// Box and cylinder: outside, on an edge region and inside, against the values worked out by
-    /// hand (gap = signed distance to the surface).
-    #[test]
-    fn analytic_shapes_give_the_signed_distance() {
-        let bx = Shape::Box {
-            centre: [0.0; 3],
-            half_size: [1.0, 2.0, 3.0],
-        };
-        let pr = bx.project([0.0; 3], [0.0; 3], [2.0, 0.5, 0.0]);
-        assert_eq!((pr.point, pr.normal), ([1.0, 0.5, 0.0], [1.0, 0.0, 0.0]));
-        let pr = bx.project([0.0; 3], [0.0; 3], [4.0, 6.0, 0.0]);
-        assert_eq!(pr.point, [1.0, 2.0, 0.0]);
-        assert!((pr.gap([4.0, 6.0, 0.0]) - 5.0).abs() < 1e-15);
-        let pr = bx.project([0.0; 3], [0.0; 3], [0.0, 1.5, 0.0]);
-        assert_eq!((pr.point, pr.normal), ([0.0, 2.0, 0.0], [0.0, 1.0, 0.0]));
-        assert_eq!(pr.gap([0.0, 1.5, 0.0]), -0.5);
-        let cy = Shape::Cylinder {
-            centre: [0.0; 3],
-            axis: [0.0, 0.0, 1.0],
-            radius: 1.0,
-            half_length: 2.0,
-        };
-        let x = [3.0, 0.0, 0.5];
-        assert_eq!(cy.project([0.0; 3], [0.0; 3], x).gap(x), 2.0);
-        let x = [0.0, 0.5, -2.5];
-        let pr = cy.project([0.0; 3], [0.0; 3], x);
-        assert_eq!((pr.normal, pr.gap(x)), ([0.0, 0.0, -1.0], 0.5));
-        let x = [4.0, 0.0, 6.0];
-        assert!((cy.project([0.0; 3], [0.0; 3], x).gap(x) - 5.0).abs() < 1e-15);
-        let x = [0.0, 0.9, 0.0];
-        assert!((cy.project([0.0; 3], [0.0; 3], x).gap(x) + 0.1).abs() < 1e-15);
-    }
 }

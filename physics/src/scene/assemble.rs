@@ -217,23 +217,22 @@ impl Check<'_> {
         Ok(BulkViscosity { linear, quadratic })
     }
 
-    /// `plane[i]`: its normal normalised (it must not be zero), its velocity history if any.
+    /// `plane[i]`: sugar for a half-space mould (`mould/shapes/half_space.rs`): the entry is
+    /// rewritten as the `[[mould]]` entry `shape = "half_space"` with the same `name`, `point`,
+    /// `normal` and `velocity`, and read by the one mould path ([`Check::mould_of`]), so its
+    /// messages name `plane[i]` and its normal is normalised by the same arithmetic.
     fn plane_of(&self, key: String, p: RawPlane) -> Result<RigidPlane, SceneError> {
-        let normal = self.unit(&format!("{key}.normal"), p.normal)?;
-        let velocity = match p.velocity {
-            None => None,
-            Some(rows) => Some(self.history(
-                &format!("{key}.velocity"),
-                rows.iter().map(|r| (r[0], [r[1], r[2], r[3]])).collect(),
-            )?),
-        };
-        Ok(RigidPlane {
-            name: p.name,
-            point: p.point,
-            normal,
-            velocity,
-            ..Default::default()
-        })
+        let floats = |v: &[f64]| toml::Value::Array(v.iter().map(|&x| x.into()).collect());
+        let mut t = toml::Table::new();
+        t.insert("name".into(), p.name.into());
+        t.insert("shape".into(), "half_space".into());
+        t.insert("point".into(), floats(&p.point));
+        t.insert("normal".into(), floats(&p.normal));
+        if let Some(rows) = p.velocity {
+            let rows = rows.iter().map(|r| floats(r)).collect();
+            t.insert("velocity".into(), toml::Value::Array(rows));
+        }
+        self.mould_of(key, t)
     }
 
     /// `interface[i]`: its face set and plane, μ_inf ≥ 0, α₀ ≥ 0, its law.

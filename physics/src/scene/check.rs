@@ -126,22 +126,6 @@ impl Check<'_> {
         Err(self.invalid(key, format!("{name:?}"), reason))
     }
 
-    /// The unit vector along `v` at `key` (a normal or an axis), which must not be zero.
-    pub fn unit(&self, key: &str, v: [f64; 3]) -> Result<[f64; 3], SceneError> {
-        // Scale before squaring so that neither tiny nor huge vectors under/overflow.
-        let scale = v.iter().fold(0.0f64, |m, c| m.max(c.abs()));
-        if scale == 0.0 {
-            return Err(self.invalid(
-                key,
-                format!("{v:?}"),
-                "must be a non-zero vector (it is normalised on load)",
-            ));
-        }
-        let n = v.map(|c| c / scale);
-        let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
-        Ok(n.map(|c| c / len))
-    }
-
     /// Refuses the contact face set `faces` of entry `key` (`contact[k]`, plain or adhesive) on
     /// mould `plane` if some of its nodes start inside its
     /// mould beyond the tolerance: gap g₀ = n·(X − p) < −δ at the closest mould point p

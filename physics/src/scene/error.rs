@@ -51,21 +51,4 @@ fn key_prefix(key: &Option<String>) -> String {
         .unwrap_or_default()
 }
 
-/// A number as the messages show it (shortest form that reads back to the same value).
-pub(super) fn num(x: f64) -> String {
-    format!("{x:?}")
-}
-
-/// A TOML value as the messages show it: numbers (integers too) as [`num`], arrays element by
-/// element, anything else as TOML writes it.
-pub(super) fn show(value: &toml::Value) -> String {
-    match value {
-        toml::Value::Float(x) => num(*x),
-        toml::Value::Integer(i) => num(*i as f64),
-        toml::Value::Array(items) => {
-            let items: Vec<String> = items.iter().map(show).collect();
-            format!("[{}]", items.join(", "))
-        }
-        other => other.to_string(),
-    }
-}
+pub(super) use crate::keydoc::{num, show};

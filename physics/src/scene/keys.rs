@@ -1,11 +1,11 @@
 //! The keys of a scene file as data: for every section of the format, each key's type, unit,
-//! default, admissible values and meaning ([`SECTIONS`]), and the keys each mould shape takes
-//! ([`MOULD_SHAPES`]).
+//! default, admissible values and meaning ([`SECTIONS`]). The keys each mould shape takes are
+//! declared by the shape's own file ([`crate::mould::shapes`]).
 //!
 //! `decohesion reference scenes` renders these tables, with the law families' parameters
 //! ([`crate::law::families`]) for `[interface.law]`, as the scene reference. The loader reads
-//! them too: the numbers with a [`KeyDoc::range`] are checked against it (`Check::admit`), and
-//! the mould shapes' keys are [`MOULD_SHAPES`]. The scene tests compare the keys of every section
+//! them too: the numbers with a [`KeyDoc::range`] are checked against it (`Check::admit`). The
+//! scene tests compare the keys of every section
 //! with the fields that the serde structs of `raw.rs` accept, the defaults with what the loader
 //! takes when a key is left out, and the choices with the enums they name.
 //!
@@ -13,158 +13,10 @@
 //! `keys/sections.rs`, its tests `keys/tests.rs`.
 
 use crate::interface::family::Range;
+pub use crate::keydoc::{DefaultDoc, KeyDoc};
 
 mod sections;
 pub use sections::SECTIONS;
-
-/// What the loader takes when a scene leaves a key out.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum DefaultDoc {
-    /// The scene must give the key.
-    Required,
-    /// This number.
-    Number(f64),
-    /// What the loader does, in words (`the file's stem`, `[0, 0, 0]`, `required for a box`).
-    Text(&'static str),
-}
-
-/// One key of a section of a scene file.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct KeyDoc {
-    /// The key in its section (`end_time`).
-    pub key: &'static str,
-    /// Another name the loader accepts for it (`mould` for `plane`), if any.
-    pub alias: Option<&'static str>,
-    /// The TOML type (`number`, `integer`, `string`, `[x, y, z]`, `rows [t, U]`, `table`).
-    pub kind: &'static str,
-    /// SI unit; `–` for a dimensionless number, empty for a key that is not a quantity.
-    pub unit: &'static str,
-    /// The quantity's symbol (`ν`), if a range between two numbers reads better as an
-    /// inequality (`-1 < ν < 0.5`); empty otherwise.
-    pub symbol: &'static str,
-    pub default: DefaultDoc,
-    /// Admissible values of the number (each component of an array): the loader refuses any
-    /// other (`Check::admit`). `None`: any finite number, or not a number.
-    pub range: Option<Range>,
-    /// The admissible strings of a key that names one of a few choices (`svk`, `neo_hookean`).
-    pub choices: &'static [&'static str],
-    /// Further conditions, in words (appended to the range in messages and in the reference).
-    pub admissible: &'static str,
-    /// What the key is.
-    pub description: &'static str,
-}
-
-impl KeyDoc {
-    /// A required key of that type, unit and meaning, any value of the type admissible.
-    pub const fn new(
-        key: &'static str,
-        kind: &'static str,
-        unit: &'static str,
-        description: &'static str,
-    ) -> Self {
-        KeyDoc {
-            key,
-            alias: None,
-            kind,
-            unit,
-            symbol: "",
-            default: DefaultDoc::Required,
-            range: None,
-            choices: &[],
-            admissible: "",
-            description,
-        }
-    }
-
-    /// With another accepted name.
-    pub const fn alias(self, alias: &'static str) -> Self {
-        KeyDoc {
-            alias: Some(alias),
-            ..self
-        }
-    }
-
-    /// With the quantity's symbol, for its range as an inequality.
-    pub const fn symbol(self, symbol: &'static str) -> Self {
-        KeyDoc { symbol, ..self }
-    }
-
-    /// Optional: `x` when left out.
-    pub const fn default_number(self, x: f64) -> Self {
-        KeyDoc {
-            default: DefaultDoc::Number(x),
-            ..self
-        }
-    }
-
-    /// Optional, or required in some cases only: what happens when it is left out, in words.
-    pub const fn default_text(self, text: &'static str) -> Self {
-        KeyDoc {
-            default: DefaultDoc::Text(text),
-            ..self
-        }
-    }
-
-    /// Each number in `range`.
-    pub const fn range(self, range: Range) -> Self {
-        KeyDoc {
-            range: Some(range),
-            ..self
-        }
-    }
-
-    /// One of these strings.
-    pub const fn choices(self, choices: &'static [&'static str]) -> Self {
-        KeyDoc { choices, ..self }
-    }
-
-    /// With further conditions, in words.
-    pub const fn admissible(self, admissible: &'static str) -> Self {
-        KeyDoc { admissible, ..self }
-    }
-
-    /// `x` is admissible: finite and in [`KeyDoc::range`] if there is one.
-    pub fn admits(&self, x: f64) -> bool {
-        self.range.map_or(x.is_finite(), |r| r.contains(x))
-    }
-
-    /// The range as the reference and the messages write it: `> 0`, `in (0, 0.01]`, or with a
-    /// symbol and two finite ends `-1 < ν < 0.5`.
-    pub fn range_text(&self) -> Option<String> {
-        let r = self.range?;
-        if self.symbol.is_empty() || !(r.min.is_finite() && r.max.is_finite()) {
-            return Some(r.to_string());
-        }
-        let sign = |open: bool| if open { "<" } else { "≤" };
-        Some(format!(
-            "{} {} {} {} {}",
-            r.min,
-            sign(r.min_open),
-            self.symbol,
-            sign(r.max_open),
-            r.max
-        ))
-    }
-
-    /// What a message says of a number outside the range: `must be > 0 s`, `must satisfy -1 < ν
-    /// < 0.5 (0.5 is incompressible; above 0.49 use scheme.integration = "fbar" or
-    /// "reduced_physical")`.
-    pub fn must(&self) -> String {
-        let mut text = match (self.range_text(), self.symbol.is_empty()) {
-            (Some(r), false) if r.contains(self.symbol) => format!("must satisfy {r}"),
-            (Some(r), _) => format!("must be {r}"),
-            (None, _) => "must be finite".to_string(),
-        };
-        if !matches!(self.unit, "" | "–") {
-            text.push(' ');
-            text.push_str(self.unit);
-        }
-        if !self.admissible.is_empty() {
-            text.push_str(&format!(" ({})", self.admissible));
-        }
-        text
-    }
-}
 
 /// One section of a scene file: a table (`[material]`), an array of tables (`[[plane]]`), or
 /// the top level.
@@ -198,52 +50,6 @@ impl SectionDoc {
             .find(|k| k.key == key || k.alias == Some(key))
     }
 }
-
-/// A mould shape and the keys it takes besides [`MOULD_COMMON`].
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct ShapeDoc {
-    /// The value of `shape`.
-    pub shape: &'static str,
-    /// The keys this shape takes: every one is required, except `group` (a `.msh` file only)
-    /// and `scale` (1 by default).
-    pub keys: &'static [&'static str],
-    pub description: &'static str,
-}
-
-/// The keys of `[[mould]]` that every shape takes.
-pub const MOULD_COMMON: &[&str] = &["name", "shape", "pivot", "velocity", "angular_velocity"];
-
-/// The mould shapes ([`crate::mould::Shape`]) and the keys of `[[mould]]` each one takes; the
-/// loader refuses a key of another shape (`scene/mesh.rs`).
-pub const MOULD_SHAPES: &[ShapeDoc] = &[
-    ShapeDoc {
-        shape: "half_space",
-        keys: &["point", "normal"],
-        description: "the half-space on the mould's side of the plane through `point` with \
-                      normal `normal` (into the solid)",
-    },
-    ShapeDoc {
-        shape: "box",
-        keys: &["centre", "size"],
-        description: "an axis-aligned box (at t = 0) of full edge lengths `size` about `centre`",
-    },
-    ShapeDoc {
-        shape: "sphere",
-        keys: &["centre", "radius"],
-        description: "a ball of `radius` about `centre`",
-    },
-    ShapeDoc {
-        shape: "cylinder",
-        keys: &["centre", "axis", "radius", "length"],
-        description: "a capped cylinder of `radius` and `length` along `axis` about `centre`",
-    },
-    ShapeDoc {
-        shape: "surface",
-        keys: &["file", "group", "scale"],
-        description: "a triangulated surface read from `file` (STL, or a Gmsh `.msh` 2-D physical \
-                      group `group`), times `scale`",
-    },
-];
 
 const NONE: &str = "none";
 const ZERO3: &str = "[0, 0, 0]";
@@ -403,42 +209,6 @@ pub const BULK_VISCOSITY_QUADRATIC: KeyDoc = KeyDoc::new(
 .default_number(crate::model::BulkViscosity::DEFAULT_QUADRATIC)
 .range(Range::between(0.0, false, 5.0, true))
 .admissible("Abaqus/Explicit's default 1.2");
-
-/// `mould.size`.
-pub const MOULD_SIZE: KeyDoc = KeyDoc::new(
-    "size",
-    XYZ,
-    "m",
-    "full edge lengths of a `box`, axis-aligned at t = 0",
-)
-.default_text("required for `box`")
-.range(Range::above(0.0));
-
-/// `mould.radius`.
-pub const MOULD_RADIUS: KeyDoc = KeyDoc::new(
-    "radius",
-    "number",
-    "m",
-    "radius of a `sphere` or `cylinder`",
-)
-.default_text("required for `sphere`, `cylinder`")
-.range(Range::above(0.0));
-
-/// `mould.length`.
-pub const MOULD_LENGTH: KeyDoc =
-    KeyDoc::new("length", "number", "m", "length of a `cylinder` (capped)")
-        .default_text("required for `cylinder`")
-        .range(Range::above(0.0));
-
-/// `mould.scale`.
-pub const MOULD_SCALE: KeyDoc = KeyDoc::new(
-    "scale",
-    "number",
-    "–",
-    "metres per file unit of a `surface`",
-)
-.default_number(1.0)
-.range(Range::above(0.0));
 
 /// `interface.mu_inf`.
 pub const INTERFACE_MU_INF: KeyDoc = KeyDoc::new(

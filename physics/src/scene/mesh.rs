@@ -1,16 +1,14 @@
 //! `[mesh]`: a box (`size`, `cells`, optional `origin`) or a Gmsh file (`file`, optional
-//! `scale`), exactly one of the two; and `[[mould]]`, the rigid moulds of any shape, some of
-//! them triangulated surfaces read from a file.
+//! `scale`), exactly one of the two; and `[[mould]]`, the rigid moulds of any shape: the keys
+//! every shape takes, and the shape's own handed to its file (`mould/shapes/`).
 
 use super::check::Check;
-use super::error::{num, SceneError};
-use super::keys::{self, KeyDoc, ShapeDoc, MOULD_SHAPES};
+use super::error::{num, show, SceneError};
+use super::keys;
 use super::raw::{RawFaceSet, RawMesh, RawMould};
 use crate::mesh::Mesh;
-use crate::model::RigidPlane;
-use crate::mould::surface::read_stl;
-use crate::mould::{Shape, SurfaceMesh};
-use std::sync::Arc;
+use crate::mould::shapes::{Entry, EntryError, SHAPES, SHAPE_KEYS};
+use crate::mould::Mould;
 
 /// Largest mesh a scene may ask for, in elements.
 pub(super) const MAX_ELEMENTS: u128 = 50_000_000;
@@ -157,87 +155,65 @@ impl Check<'_> {
 }
 
 impl Check<'_> {
-    /// `mould[i]`: a rigid mould of any shape ([`crate::mould`]) and its prescribed motion.
-    /// Every key the shape needs must be there and no key of another shape; lengths > 0, axes
-    /// and normals non-zero (normalised on load), an angular velocity that turns about some axis.
-    pub(super) fn mould_of(&self, key: String, m: RawMould) -> Result<RigidPlane, SceneError> {
-        let given: [(&str, Option<String>); 9] = [
-            ("point", m.point.map(|v| format!("{v:?}"))),
-            ("normal", m.normal.map(|v| format!("{v:?}"))),
-            ("centre", m.centre.map(|v| format!("{v:?}"))),
-            ("size", m.size.map(|v| format!("{v:?}"))),
-            ("radius", m.radius.map(num)),
-            ("axis", m.axis.map(|v| format!("{v:?}"))),
-            ("length", m.length.map(num)),
-            ("file", m.file.as_ref().map(|f| format!("{f:?}"))),
-            ("group", m.group.as_ref().map(|g| format!("{g:?}"))),
-        ];
-        let shapes: Vec<&str> = MOULD_SHAPES.iter().map(|s| s.shape).collect();
-        let Some(ShapeDoc { keys: taken, .. }) = MOULD_SHAPES.iter().find(|s| s.shape == m.shape)
-        else {
+    /// `mould[i]`: a rigid mould of any shape ([`crate::mould::shapes`]) and its prescribed
+    /// motion. The keys every shape takes are read here ([`RawMould`]); the others must be keys
+    /// of the shape (its [`MouldShape::KEYS`](crate::mould::shapes::MouldShape::KEYS)), which its
+    /// own parse reads and checks (lengths > 0, axes and normals non-zero, normalised on load).
+    /// An angular velocity must turn about some axis.
+    pub(super) fn mould_of(&self, key: String, mut m: toml::Table) -> Result<Mould, SceneError> {
+        let common: toml::Table = (RawMould::KEYS.iter())
+            .filter_map(|k| Some((k.to_string(), m.remove(*k)?)))
+            .collect();
+        let raw: RawMould =
+            serde_path_to_error::deserialize(toml::Value::Table(common)).map_err(|e| {
+                let path = e.path().to_string();
+                SceneError::Toml {
+                    file: self.file.to_string(),
+                    key: Some(if path == "." {
+                        key.clone()
+                    } else {
+                        format!("{key}.{path}")
+                    }),
+                    message: e.into_inner().to_string().trim_end().to_string(),
+                }
+            })?;
+        let Some(spec) = SHAPES.iter().find(|s| s.key == raw.shape) else {
             return Err(self.invalid(
                 format!("{key}.shape"),
-                format!("{:?}", m.shape),
-                format!("admissible: {}", shapes.join(", ")),
+                format!("{:?}", raw.shape),
+                format!("admissible: {}", SHAPE_KEYS.join(", ")),
             ));
         };
-        for (k, v) in given.iter().chain([("scale", m.scale.map(num))].iter()) {
-            if let (Some(v), false) = (v, taken.contains(k)) {
-                return Err(self.invalid(
-                    format!("{key}.{k}"),
-                    v.clone(),
-                    format!(
-                        "a {} mould takes {} (and pivot, velocity, angular_velocity)",
-                        m.shape,
-                        taken.join(", ")
-                    ),
-                ));
-            }
-        }
-        let need = |k: &str| {
-            self.missing(
+        if let Some((k, v)) = m
+            .iter()
+            .find(|(k, _)| spec.keys.iter().all(|d| d.key != *k))
+        {
+            let taken: Vec<&str> = spec.keys.iter().map(|d| d.key).collect();
+            return Err(self.invalid(
                 format!("{key}.{k}"),
-                format!("a {} mould needs {}", m.shape, taken.join(", ")),
-            )
+                show(v),
+                format!(
+                    "a {} mould takes {} (and pivot, velocity, angular_velocity)",
+                    spec.key,
+                    taken.join(", ")
+                ),
+            ));
+        }
+        let read = |file: &str| (self.read)(&self.dir.join(file));
+        let entry = Entry {
+            shape: spec.key,
+            keys: spec.keys,
+            table: &m,
+            read: &read,
         };
-        let positive = |doc: &KeyDoc, k: &str, x: Option<f64>| -> Result<f64, SceneError> {
-            let x = x.ok_or_else(|| need(k))?;
-            self.admit(doc, format!("{key}.{k}"), x)?;
-            Ok(x)
-        };
-        let (mut point, mut normal) = ([0.0; 3], [0.0; 3]);
-        let shape = match m.shape.as_str() {
-            "half_space" => {
-                point = m.point.ok_or_else(|| need("point"))?;
-                normal = self.unit(
-                    &format!("{key}.normal"),
-                    m.normal.ok_or_else(|| need("normal"))?,
-                )?;
-                Shape::HalfSpace
-            }
-            "box" => {
-                let size = m.size.ok_or_else(|| need("size"))?;
-                for a in 0..3 {
-                    positive(&keys::MOULD_SIZE, &format!("size[{a}]"), Some(size[a]))?;
-                }
-                Shape::Box {
-                    centre: m.centre.ok_or_else(|| need("centre"))?,
-                    half_size: size.map(|c| 0.5 * c),
-                }
-            }
-            "sphere" => Shape::Sphere {
-                centre: m.centre.ok_or_else(|| need("centre"))?,
-                radius: positive(&keys::MOULD_RADIUS, "radius", m.radius)?,
-            },
-            "cylinder" => Shape::Cylinder {
-                centre: m.centre.ok_or_else(|| need("centre"))?,
-                axis: self.unit(&format!("{key}.axis"), m.axis.ok_or_else(|| need("axis"))?)?,
-                radius: positive(&keys::MOULD_RADIUS, "radius", m.radius)?,
-                half_length: 0.5 * positive(&keys::MOULD_LENGTH, "length", m.length)?,
-            },
-            _ => Shape::Surface(Arc::new(self.surface(&key, &m)?)),
-        };
-        let centre = m.centre.unwrap_or(point);
+        let (shape, frame) = (spec.parse)(&entry).map_err(|e| match e {
+            EntryError::Invalid {
+                key: k,
+                value,
+                reason,
+            } => self.invalid(format!("{key}.{k}"), value, reason),
+            EntryError::Missing { key: k, reason } => self.missing(format!("{key}.{k}"), reason),
+        })?;
         let rows = |k: &str, rows: Option<Vec<[f64; 4]>>| -> Result<_, SceneError> {
             rows.map(|r| {
                 self.history(
@@ -247,7 +223,7 @@ impl Check<'_> {
             })
             .transpose()
         };
-        let angular_velocity = rows("angular_velocity", m.angular_velocity)?;
+        let angular_velocity = rows("angular_velocity", raw.angular_velocity)?;
         if let Some(w) = angular_velocity
             .as_ref()
             .filter(|w| w.points.iter().all(|p| p.1 == [0.0; 3]))
@@ -258,58 +234,14 @@ impl Check<'_> {
                 "every row is [t, 0, 0, 0]: no rotation axis; leave angular_velocity out for a mould that does not turn",
             ));
         }
-        Ok(RigidPlane {
-            name: m.name,
-            point: if matches!(shape, Shape::HalfSpace) {
-                point
-            } else {
-                centre
-            },
-            normal,
-            velocity: rows("velocity", m.velocity)?,
+        Ok(Mould {
+            name: raw.name,
+            point: frame.point,
+            normal: frame.normal,
+            velocity: rows("velocity", raw.velocity)?,
             shape,
             angular_velocity,
-            pivot: m.pivot,
+            pivot: raw.pivot,
         })
-    }
-
-    /// A triangulated surface from `file` (relative to the scene's directory): STL (ASCII or
-    /// binary; no `group`) or a Gmsh `.msh` 2-D physical group `group`, times `scale`.
-    fn surface(&self, key: &str, m: &RawMould) -> Result<SurfaceMesh, SceneError> {
-        let file = m.file.as_deref().ok_or_else(|| {
-            self.missing(
-                format!("{key}.file"),
-                "a surface mould needs `file` (an STL or a Gmsh .msh with `group`)",
-            )
-        })?;
-        let scale = m.scale.unwrap_or(1.0);
-        self.admit(&keys::MOULD_SCALE, format!("{key}.scale"), scale)?;
-        let bad = |e: String| self.invalid(format!("{key}.file"), format!("{file:?}"), e);
-        let bytes =
-            (self.read)(&self.dir.join(file)).map_err(|e| bad(format!("cannot read it: {e}")))?;
-        let msh = file.to_ascii_lowercase().ends_with(".msh");
-        let (vertices, triangles, element): (_, _, Box<dyn Fn(usize) -> String>) = if msh {
-            let group = m.group.as_deref().ok_or_else(|| {
-                self.missing(
-                    format!("{key}.group"),
-                    "a .msh surface needs the name of its 2-D physical group",
-                )
-            })?;
-            let (v, t, tags) = crate::gmsh::read_surface_group(&bytes, file, group)
-                .map_err(|e| bad(e.to_string()))?;
-            (v, t, Box::new(move |k| format!("element {}", tags[k])))
-        } else {
-            if let Some(g) = &m.group {
-                return Err(self.invalid(
-                    format!("{key}.group"),
-                    format!("{g:?}"),
-                    "an STL file has no groups (`group` is for a Gmsh .msh)",
-                ));
-            }
-            let (v, t) = read_stl(&bytes, file).map_err(|e| bad(e.message))?;
-            (v, t, Box::new(|k| format!("facet {k}")))
-        };
-        SurfaceMesh::new(file, m.group.clone(), scale, vertices, triangles, &*element)
-            .map_err(|e| bad(e.message))
     }
 }

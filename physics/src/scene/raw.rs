@@ -81,8 +81,10 @@ pub struct RawScene {
     pub bulk_viscosity: Option<RawBulkViscosity>,
     #[serde(default)]
     pub plane: Vec<RawPlane>,
+    /// `[[mould]]`: each entry as written; its common keys are a [`RawMould`], the others its
+    /// shape's.
     #[serde(default)]
-    pub mould: Vec<RawMould>,
+    pub mould: Vec<toml::Table>,
     #[serde(default)]
     pub interface: Vec<RawInterface>,
     #[serde(default)]
@@ -191,33 +193,26 @@ pub struct RawPlane {
     pub velocity: Option<Vec<[f64; 4]>>,
 }
 
-/// `[[mould]]`: a rigid mould of any shape (`scene/mesh.rs` checks which keys each shape takes).
+/// `[[mould]]`: the keys every shape takes. The entry is read as a table (`RawScene::mould`):
+/// these keys are taken out of it and read here, the others are the shape's
+/// ([`crate::mould::shapes`]), which `scene/mesh.rs` hands to the shape's parse.
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct RawMould {
     pub name: String,
     pub shape: String,
     #[serde(default, deserialize_with = "exact::option")]
-    pub point: Option<[f64; 3]>,
-    #[serde(default, deserialize_with = "exact::option")]
-    pub normal: Option<[f64; 3]>,
-    #[serde(default, deserialize_with = "exact::option")]
-    pub centre: Option<[f64; 3]>,
-    #[serde(default, deserialize_with = "exact::option")]
-    pub size: Option<[f64; 3]>,
-    pub radius: Option<f64>,
-    #[serde(default, deserialize_with = "exact::option")]
-    pub axis: Option<[f64; 3]>,
-    pub length: Option<f64>,
-    pub file: Option<String>,
-    pub group: Option<String>,
-    pub scale: Option<f64>,
-    #[serde(default, deserialize_with = "exact::option")]
     pub pivot: Option<[f64; 3]>,
     #[serde(default, deserialize_with = "exact::option_rows")]
     pub velocity: Option<Vec<[f64; 4]>>,
     #[serde(default, deserialize_with = "exact::option_rows")]
     pub angular_velocity: Option<Vec<[f64; 4]>>,
+}
+
+impl RawMould {
+    /// The keys of [`RawMould`].
+    pub const KEYS: &'static [&'static str] =
+        &["name", "shape", "pivot", "velocity", "angular_velocity"];
 }
 
 #[derive(Deserialize)]

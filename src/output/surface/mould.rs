@@ -50,7 +50,7 @@ pub fn mould_normal(p: &RigidPlane, pose: &MouldPose, x: [f64; 3]) -> [f64; 3] {
 /// cavity is drawn as large as the block's side, not as a floor that sets the view's zoom);
 /// its two triangles wind along the normal, which every vertex carries.
 pub fn mould_drawing(p: &RigidPlane, body: ([f64; 3], [f64; 3])) -> MouldMesh {
-    if p.shape != Shape::HalfSpace {
+    if !p.shape.is_half_space() {
         return mould_mesh(&p.shape);
     }
     let (lo, hi) = body;
@@ -86,178 +86,14 @@ pub fn mould_drawing(p: &RigidPlane, body: ([f64; 3], [f64; 3])) -> MouldMesh {
     }
 }
 
-/// A mould's surface as triangles, in its frame at t = 0, wound so that (b − a) × (c − a)
-/// points out of the mould (into the solid), with a unit normal per vertex.
-pub struct MouldMesh {
-    pub vertices: Vec<[f64; 3]>,
-    pub normals: Vec<[f64; 3]>,
-    pub triangles: Vec<[u32; 3]>,
-}
+pub use decohesion_physics::mould::shapes::cylinder::CYLINDER_SEGMENTS;
+pub use decohesion_physics::mould::shapes::sphere::{SPHERE_MERIDIANS, SPHERE_RINGS};
+pub use decohesion_physics::mould::MouldMesh;
 
-/// Rings (pole to pole) and meridians of a sphere's drawing: 2 + 15 × 32 = 482 vertices,
-/// 960 triangles; each pole is a vertex, so the point of a sphere pressed along its axis is
-/// exact.
-pub const SPHERE_RINGS: usize = 16;
-pub const SPHERE_MERIDIANS: usize = 32;
-/// Segments around a cylinder's drawing.
-pub const CYLINDER_SEGMENTS: usize = 48;
-
-/// The drawing of a mould shape other than the half-space (empty for a half-space): a box as
-/// 6 faces of 4 vertices (12 triangles, flat normals); a sphere as a UV sphere about z
-/// ([`SPHERE_RINGS`] × [`SPHERE_MERIDIANS`], vertices on the sphere); a capped cylinder as its
-/// side ([`CYLINDER_SEGMENTS`] quads, radial normals) and two fans for the caps (axial
-/// normals); a triangulated surface as its own triangles with parry's angle-weighted vertex
-/// pseudo-normals.
+/// The drawing of a mould shape other than the half-space (empty for a half-space): the
+/// shape's own ([`Shape::drawing`], each shape's file in `physics/src/mould/shapes/`).
 pub fn mould_mesh(shape: &Shape) -> MouldMesh {
-    let mut mesh = MouldMesh {
-        vertices: vec![],
-        normals: vec![],
-        triangles: vec![],
-    };
-    match shape {
-        Shape::HalfSpace => {}
-        Shape::Box { centre, half_size } => {
-            // Each face: its normal axis i, sign s, and two tangent axes (j, k) with
-            // e_j × e_k = s e_i, so the quad (−−, +−, ++, −+) in (j, k) winds outwards.
-            for i in 0..3 {
-                for s in [1.0, -1.0] {
-                    let (j, k) = if s > 0.0 {
-                        ((i + 1) % 3, (i + 2) % 3)
-                    } else {
-                        ((i + 2) % 3, (i + 1) % 3)
-                    };
-                    let base = mesh.vertices.len() as u32;
-                    for (a, b) in [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)] {
-                        let mut x = *centre;
-                        x[i] += s * half_size[i];
-                        x[j] += a * half_size[j];
-                        x[k] += b * half_size[k];
-                        mesh.vertices.push(x);
-                        let mut n = [0.0; 3];
-                        n[i] = s;
-                        mesh.normals.push(n);
-                    }
-                    mesh.triangles
-                        .extend([[base, base + 1, base + 2], [base, base + 2, base + 3]]);
-                }
-            }
-        }
-        Shape::Sphere { centre, radius } => {
-            let (nr, nm) = (SPHERE_RINGS, SPHERE_MERIDIANS);
-            let mut push = |n: [f64; 3]| {
-                mesh.vertices
-                    .push(std::array::from_fn(|c| centre[c] + radius * n[c]));
-                mesh.normals.push(n);
-            };
-            push([0.0, 0.0, 1.0]);
-            for r in 1..nr {
-                let theta = std::f64::consts::PI * r as f64 / nr as f64;
-                for k in 0..nm {
-                    let phi = 2.0 * std::f64::consts::PI * k as f64 / nm as f64;
-                    push([
-                        theta.sin() * phi.cos(),
-                        theta.sin() * phi.sin(),
-                        theta.cos(),
-                    ]);
-                }
-            }
-            push([0.0, 0.0, -1.0]);
-            let (nm32, south) = (nm as u32, (1 + (nr - 1) * nm) as u32);
-            let ring = |r: u32, k: u32| 1 + r * nm32 + k % nm32;
-            for k in 0..nm32 {
-                mesh.triangles.push([0, ring(0, k), ring(0, k + 1)]);
-                for r in 0..(nr as u32 - 2) {
-                    let (a, b) = (ring(r, k), ring(r, k + 1));
-                    let (c, d) = (ring(r + 1, k), ring(r + 1, k + 1));
-                    mesh.triangles.extend([[a, c, d], [a, d, b]]);
-                }
-                let last = nr as u32 - 2;
-                mesh.triangles
-                    .push([south, ring(last, k + 1), ring(last, k)]);
-            }
-        }
-        Shape::Cylinder {
-            centre,
-            axis,
-            radius,
-            half_length,
-        } => {
-            let a = normalise(*axis);
-            let e1 = normalise(cross(
-                a,
-                if a[0].abs() < 0.9 {
-                    [1.0, 0.0, 0.0]
-                } else {
-                    [0.0, 1.0, 0.0]
-                },
-            ));
-            let e2 = cross(a, e1);
-            let ns = CYLINDER_SEGMENTS as u32;
-            let radial = |k: u32| -> [f64; 3] {
-                let phi = 2.0 * std::f64::consts::PI * k as f64 / ns as f64;
-                std::array::from_fn(|c| phi.cos() * e1[c] + phi.sin() * e2[c])
-            };
-            let at = |z: f64, r: f64, n: [f64; 3]| -> [f64; 3] {
-                std::array::from_fn(|c| centre[c] + z * a[c] + r * n[c])
-            };
-            let l = *half_length;
-            // Side: vertices 2k (bottom, z = −l) and 2k + 1 (top).
-            for k in 0..ns {
-                let n = radial(k);
-                mesh.vertices
-                    .extend([at(-l, *radius, n), at(l, *radius, n)]);
-                mesh.normals.extend([n, n]);
-            }
-            for k in 0..ns {
-                let (b0, t0) = (2 * k, 2 * k + 1);
-                let (b1, t1) = (2 * ((k + 1) % ns), 2 * ((k + 1) % ns) + 1);
-                mesh.triangles.extend([[b0, b1, t1], [b0, t1, t0]]);
-            }
-            // Caps: a centre and a ring each, normal ±a.
-            for s in [1.0, -1.0] {
-                let n = a.map(|c| s * c);
-                let base = mesh.vertices.len() as u32;
-                mesh.vertices.push(at(s * l, 0.0, n));
-                mesh.normals.push(n);
-                for k in 0..ns {
-                    mesh.vertices.push(at(s * l, *radius, radial(k)));
-                    mesh.normals.push(n);
-                }
-                for k in 0..ns {
-                    let (p, q) = (base + 1 + k, base + 1 + (k + 1) % ns);
-                    mesh.triangles
-                        .push(if s > 0.0 { [base, p, q] } else { [base, q, p] });
-                }
-            }
-        }
-        Shape::Surface(s) => {
-            let tri = &s.mesh;
-            mesh.vertices = tri.vertices().iter().map(|p| [p.x, p.y, p.z]).collect();
-            mesh.triangles = tri.indices().to_vec();
-            mesh.normals = match tri.pseudo_normals() {
-                Some(pn) => pn
-                    .vertices_pseudo_normal
-                    .iter()
-                    .map(|n| normalise([n.x, n.y, n.z]))
-                    .collect(),
-                // Without pseudo-normals (not built oriented): the area-weighted face normals.
-                None => {
-                    let mut acc = vec![[0.0; 3]; mesh.vertices.len()];
-                    for t in &mesh.triangles {
-                        let [a, b, c] = t.map(|v| mesh.vertices[v as usize]);
-                        let n = cross(sub(b, a), sub(c, a));
-                        for &v in t {
-                            for i in 0..3 {
-                                acc[v as usize][i] += n[i];
-                            }
-                        }
-                    }
-                    acc.into_iter().map(normalise).collect()
-                }
-            };
-        }
-    }
-    mesh
+    shape.drawing()
 }
 
 fn normalise(a: [f64; 3]) -> [f64; 3] {
@@ -268,26 +104,27 @@ fn normalise(a: [f64; 3]) -> [f64; 3] {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use decohesion_physics::mould::shapes::{cylinder::Cylinder, r#box::Box, sphere::Sphere};
 
     /// Every drawn triangle winds outwards (its (b − a) × (c − a) along the vertex normals),
     /// normals are unit, a sphere's vertices are on it, and the counts are the documented ones.
     #[test]
     fn mould_meshes_are_closed_outward_and_on_the_shape() {
         let shapes = [
-            Shape::Box {
+            Shape::Box(Box {
                 centre: [1.0, 2.0, 3.0],
                 half_size: [0.5, 1.0, 2.0],
-            },
-            Shape::Sphere {
+            }),
+            Shape::Sphere(Sphere {
                 centre: [0.0, 0.0, 0.18],
                 radius: 0.1,
-            },
-            Shape::Cylinder {
+            }),
+            Shape::Cylinder(Cylinder {
                 centre: [0.0, 1.0, 0.0],
                 axis: [0.6, 0.0, 0.8],
                 radius: 0.3,
                 half_length: 1.0,
-            },
+            }),
         ];
         let counts = [(24, 12), (482, 960), (194, 192)];
         for (shape, (nv, nt)) in shapes.iter().zip(counts) {
@@ -309,6 +146,6 @@ mod tests {
         for x in &m.vertices {
             assert!((norm(sub(*x, [0.0, 0.0, 0.18])) - 0.1).abs() < 1e-15);
         }
-        assert!(mould_mesh(&Shape::HalfSpace).vertices.is_empty());
+        assert!(mould_mesh(&Shape::default()).vertices.is_empty());
     }
 }

@@ -295,10 +295,11 @@ pub const SECTIONS: &[SectionDoc] = &[
         path: "mould",
         array: true,
         presence: "zero or more",
-        about: "A rigid mould of any shape (the shapes and their keys are listed below). \
-                `[[interface]]` and `[[contact]]` name it by `plane` (or `mould`, the same key); \
-                plane and mould names share one namespace. A key of another shape is refused, \
-                naming the keys the shape takes.",
+        about: "A rigid mould of any shape: the keys below, which every shape takes, and those \
+                of its shape (one table per shape below, each declared by the shape's file \
+                `physics/src/mould/shapes/<shape>.rs`). `[[interface]]` and `[[contact]]` name \
+                it by `plane` (or `mould`, the same key); plane and mould names share one \
+                namespace. A key of another shape is refused, naming the keys the shape takes.",
         keys: &[
             KeyDoc::new(
                 "name",
@@ -313,51 +314,7 @@ pub const SECTIONS: &[SectionDoc] = &[
                 "",
                 "the mould's shape (table of shapes below)",
             )
-            .choices(&["half_space", "box", "sphere", "cylinder", "surface"]),
-            KeyDoc::new(
-                "point",
-                XYZ,
-                "m",
-                "a point of a `half_space`'s plane at t = 0",
-            )
-            .default_text("required for `half_space`"),
-            KeyDoc::new(
-                "normal",
-                XYZ,
-                "–",
-                "normal of a `half_space`, into the solid; normalised on load",
-            )
-            .default_text("required for `half_space`")
-            .admissible("not all zero"),
-            KeyDoc::new("centre", XYZ, "m", "centre at t = 0")
-                .default_text("required for `box`, `sphere`, `cylinder`"),
-            MOULD_SIZE,
-            MOULD_RADIUS,
-            KeyDoc::new("axis", XYZ, "–", "axis of a `cylinder`; normalised on load")
-                .default_text("required for `cylinder`")
-                .admissible("not all zero"),
-            MOULD_LENGTH,
-            KeyDoc::new(
-                "file",
-                "string",
-                "",
-                "a `surface`'s triangles: an STL (ASCII or binary) or a Gmsh `.msh`, relative to \
-                 the scene file's directory",
-            )
-            .default_text("required for `surface`")
-            .admissible(
-                "triangles counter-clockwise seen from the solid (out of the mould), \
-                 consistent, not degenerate",
-            ),
-            KeyDoc::new(
-                "group",
-                "string",
-                "",
-                "the 2-D physical group (triangles or quadrangles) of a `.msh` `surface`",
-            )
-            .default_text("required for a `.msh` file; refused for an STL")
-            .admissible("a 2-D physical group of the file"),
-            MOULD_SCALE,
+            .choices(crate::mould::shapes::SHAPE_KEYS),
             KeyDoc::new(
                 "pivot",
                 XYZ,
@@ -365,7 +322,8 @@ pub const SECTIONS: &[SectionDoc] = &[
                 "the point the angular velocity turns about at t = 0 (it moves with `velocity`)",
             )
             .default_text(
-                "`point` (half_space), `centre` (box, sphere, cylinder), the origin (surface)",
+                "the shape's reference point: `point` of a half_space, `centre` of a shape \
+                 about a centre, the origin for a surface",
             ),
             KeyDoc::new(
                 "velocity",
