@@ -139,7 +139,7 @@ impl RunSummary {
             Some(crate::solver::SolverError::Cancelled { .. }) => "cancelled",
             Some(_) => "failed",
         };
-        let moulds_listed = !sim.model.planes.iter().all(|p| p.is_plane());
+        let moulds_listed = !sim.model.moulds.iter().all(|p| p.is_plane());
         RunSummary {
             scene: sim.model.name.clone(),
             status: status.into(),

@@ -90,7 +90,7 @@ fn contact_nodes_carry_their_status_and_the_moulds_normal() {
     let set: Vec<String> = overrides.iter().map(|o| o.to_string()).collect();
     let model = load_scene(scene, &set).unwrap().model;
     let Shape::Sphere(decohesion_physics::mould::shapes::sphere::Sphere { centre, .. }) =
-        model.planes[1].shape
+        model.moulds[1].shape
     else {
         panic!("the indent's second mould is the ball");
     };

@@ -148,7 +148,7 @@ fn check_scene(scene: &str, end_time: &str) {
             "{scene}: body corner {x:?} outside the view"
         );
     }
-    for p in &model.planes {
+    for p in &model.moulds {
         if p.shape.is_half_space() {
             for x in mould_drawing(p, body_box(&model)).vertices {
                 assert!(

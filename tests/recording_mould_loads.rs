@@ -83,7 +83,7 @@ fn roller_peel_plots_each_mould_s_friction_and_the_roller_s_load() {
     // The strip's width b and thickness t: its box's y and z extents.
     let (lo, hi) = body_box(&model);
     let (b, t) = (hi[1] - lo[1], hi[2] - lo[2]);
-    let roller = model.planes.iter().find(|p| p.name == "roller").unwrap();
+    let roller = model.moulds.iter().find(|p| p.name == "roller").unwrap();
     let v = roller.velocity.as_ref().unwrap().value(0.1)[0];
     let force = series(&store, "/reaction/mould_roller");
     assert_eq!(force.len(), friction.len(), "a force at every frame");

@@ -45,9 +45,9 @@ fn indent_capture_draws_the_sphere_and_moves_it_with_its_pose() {
 
     let overrides: Vec<String> = OVERRIDES.iter().map(|o| o.to_string()).collect();
     let model = load_scene(Path::new(SCENE), &overrides).unwrap().model;
-    let k = model.planes.iter().position(|p| p.name == "ball").unwrap();
+    let k = model.moulds.iter().position(|p| p.name == "ball").unwrap();
     let Shape::Sphere(decohesion_physics::mould::shapes::sphere::Sphere { centre, radius }) =
-        model.planes[k].shape
+        model.moulds[k].shape
     else {
         panic!("the ball is a sphere");
     };
@@ -104,7 +104,7 @@ fn indent_capture_draws_the_sphere_and_moves_it_with_its_pose() {
             }
         }
     }
-    let d = model.planes[k].displacement(t_end);
+    let d = model.moulds[k].displacement(t_end);
     assert!(d[2] < -1e-4, "the sphere went down: {d:?}");
     assert_eq!(
         last,
@@ -122,8 +122,8 @@ fn indent_capture_draws_the_sphere_and_moves_it_with_its_pose() {
 fn mould_pose_is_the_prescribed_motion() {
     let overrides: Vec<String> = OVERRIDES.iter().map(|o| o.to_string()).collect();
     let model = load_scene(Path::new(SCENE), &overrides).unwrap().model;
-    let k = model.planes.iter().position(|p| p.name == "ball").unwrap();
-    let base = model.planes.iter().position(|p| p.name == "base").unwrap();
+    let k = model.moulds.iter().position(|p| p.name == "ball").unwrap();
+    let base = model.moulds.iter().position(|p| p.name == "base").unwrap();
     let mut sim = Simulation::new(model).unwrap();
     let identity = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
     assert_eq!(sim.mould_pose(k), (identity, [0.0; 3]));
@@ -132,7 +132,7 @@ fn mould_pose_is_the_prescribed_motion() {
         sim.step().unwrap();
         steps += 1;
         let (r, t) = sim.mould_pose(k);
-        let d = sim.model.planes[k].displacement(sim.state.time);
+        let d = sim.model.moulds[k].displacement(sim.state.time);
         assert_eq!(r, identity);
         let err = (0..3).map(|c| (t[c] - d[c]).abs()).fold(0.0, f64::max);
         let size = d.iter().map(|c| c.abs()).fold(0.0, f64::max);

@@ -24,8 +24,8 @@ fn ribbed_mould_file_is_reproducible() {
 fn moulded_nodes_lie_on_the_mould() {
     let scene = load_scene("scenes/tread_demould.toml".as_ref(), &[]).unwrap();
     let m = &scene.model;
-    let k = m.planes.iter().position(|p| p.name == "ribbed").unwrap();
-    let mould = &m.planes[k];
+    let k = m.moulds.iter().position(|p| p.name == "ribbed").unwrap();
+    let mould = &m.moulds[k];
     let mut moulded = BTreeSet::new();
     for set in ["top", "groove"] {
         for q in &m.mesh.face_sets[set] {

@@ -174,7 +174,7 @@ fn roller_peel_series_has_the_roller_s_load_and_ends_at_the_summary() {
     );
     let (lo, hi) = body_box(&model);
     let (b, t) = (hi[1] - lo[1], hi[2] - lo[2]);
-    let roller = model.planes.iter().find(|p| p.name == "roller").unwrap();
+    let roller = model.moulds.iter().find(|p| p.name == "roller").unwrap();
     let v = roller.velocity.as_ref().unwrap().value(0.1)[0];
     let time = s.column("t [s]");
     let steady: Vec<usize> = (0..time.len()).filter(|&i| time[i] >= 0.06).collect();

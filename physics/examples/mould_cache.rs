@@ -136,7 +136,7 @@ fn main() {
         warm_step.push(t);
         warm_share.push(f);
     }
-    let Shape::Surface(s) = sim.model.planes[0].shape.clone() else {
+    let Shape::Surface(s) = sim.model.moulds[0].shape.clone() else {
         panic!("the mould is a surface")
     };
     let nodes = sim.state.contact_nodes.len();

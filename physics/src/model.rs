@@ -11,7 +11,7 @@ use crate::material::Material;
 use crate::mesh::{dot, sub, Mesh};
 use crate::mould::mould_closest_point;
 // The model's vocabulary defined in the modules below it.
-pub use crate::mould::{Mould, Projection, RigidMotion, RigidPlane, Shape};
+pub use crate::mould::{Mould, Projection, RigidMotion, Shape};
 pub use crate::piecewise::PiecewiseLinear;
 use serde::Serialize;
 
@@ -20,7 +20,7 @@ use serde::Serialize;
 pub struct Interface {
     /// Name of the face set of the mesh.
     pub faces: String,
-    /// Index into `Model::planes`.
+    /// Index into `Model::moulds`.
     pub plane: usize,
     pub law: StiffnessLaw,
     /// Friction coefficient of the fully ruptured interface, μ_inf ≥ 0 (paper eq. 21).
@@ -212,7 +212,7 @@ pub struct Model {
     /// Initial angular velocity ω₀ [rad/s] about the centre of mass X_c: the initial velocity
     /// field is V₀(X) = v₀ + ω₀ × (X − X_c), a rigid motion.
     pub initial_angular_velocity: [f64; 3],
-    pub planes: Vec<RigidPlane>,
+    pub moulds: Vec<Mould>,
     pub interfaces: Vec<Interface>,
     pub contacts: Vec<ContactFaces>,
     /// Face sets of the body joined to each other (model §7.8).
@@ -274,7 +274,7 @@ impl StartOffset {
         if itf.forms_on_contact.is_some() {
             return None; // no glue at t = 0: the contact entry's start check applies
         }
-        let plane = &model.planes[itf.plane];
+        let plane = &model.moulds[itf.plane];
         let scale =
             (mesh.nodes.iter().flatten().chain(&plane.point)).fold(0.0f64, |a, x| a.max(x.abs()));
         let round_off = 16.0 * f64::EPSILON * scale;

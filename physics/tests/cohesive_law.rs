@@ -36,7 +36,7 @@ fn pull_damaged(case: &str, law: StiffnessLaw, alpha0: f64) {
         Material::new(MaterialModel::Svk, 1e10, 0.0, 1000.0),
         t_end,
     );
-    m.planes.push(mould());
+    m.moulds.push(mould());
     m.interfaces.push(Interface {
         faces: "z-".into(),
         plane: 0,

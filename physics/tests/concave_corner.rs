@@ -12,7 +12,7 @@
 
 use crate::common::bare_box;
 use decohesion_physics::material::{Material, MaterialModel};
-use decohesion_physics::model::{ContactFaces, PrescribedDisplacement, RigidPlane, Shape};
+use decohesion_physics::model::{ContactFaces, Mould, PrescribedDisplacement, Shape};
 use decohesion_physics::mould::SurfaceMesh;
 use decohesion_physics::piecewise::PiecewiseLinear;
 use decohesion_physics::solver::Simulation;
@@ -22,7 +22,7 @@ use std::sync::Arc;
 /// the wall z ∈ [0, l], `n` cells a side, two triangles a cell, outward (floor +z, wall +x),
 /// sharing the corner line's vertices. 4n² triangles (n = 4: 64, above the size queried
 /// without the lists of nearby triangles, so the lists' path is the one exercised).
-fn l_mould(l: f64, n: u32) -> RigidPlane {
+fn l_mould(l: f64, n: u32) -> Mould {
     let step = |i: u32| i as f64 / n as f64;
     let mut v = Vec::new();
     // Floor P(i, j) = (l i/n, −l + 2l j/n, 0), then the wall Q(k, j), k ≥ 1 (k = 0 is P(0, j)).
@@ -54,7 +54,7 @@ fn l_mould(l: f64, n: u32) -> RigidPlane {
         }
     }
     let s = SurfaceMesh::new("l_mould", None, 1.0, v, t, &|k| format!("triangle {k}")).unwrap();
-    RigidPlane {
+    Mould {
         name: "corner".into(),
         shape: Shape::Surface(Arc::new(s).into()),
         ..Default::default()
@@ -71,7 +71,7 @@ fn block_in_corner(mu_x: f64, mu_z: f64, end_time: f64) -> decohesion_physics::m
         Material::new(MaterialModel::NeoHookean, 1.0e6, 0.3, 1100.0),
         end_time,
     );
-    model.planes = vec![l_mould(0.1, 4)];
+    model.moulds = vec![l_mould(0.1, 4)];
     for (faces, mu) in [("x-", mu_x), ("z-", mu_z)] {
         model.contacts.push(ContactFaces {
             faces: faces.into(),

@@ -140,7 +140,7 @@ fn enf_run(sets: &[String]) -> (Vec<[f64; 3]>, f64, Simulation) {
     let mut sim = Simulation::new(scene.model).unwrap_or_else(|e| panic!("{e}"));
     let nose = sim
         .model
-        .planes
+        .moulds
         .iter()
         .position(|p| p.name == "nose")
         .unwrap();
@@ -152,7 +152,7 @@ fn enf_run(sets: &[String]) -> (Vec<[f64; 3]>, f64, Simulation) {
             .filter(|c| c.plane as usize == nose)
             .map(|c| -c.area * c.contact_impulse[2] / sim.state.h)
             .sum();
-        let delta = -sim.model.planes[nose].displacement(sim.state.time)[2];
+        let delta = -sim.model.moulds[nose].displacement(sim.state.time)[2];
         let front = (sim.state.bond_nodes.iter())
             .filter(|p| p.bond == 1 && law.state(p.alpha) == InterfaceState::Ruptured)
             .map(|p| sim.model.mesh.nodes[p.node as usize][0])

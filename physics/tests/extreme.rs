@@ -166,7 +166,7 @@ fn frictionless_interface_never_rubs() {
     // μ_inf = 0: μ(α) = μ_inf(1 − g_N(α)/g_N(0)) = 0 at every damage, so the contact impulses
     // of the glued nodes are purely normal, exactly, and no friction is ever dissipated.
     let mut sim = scene("frictionless_shear", &[]);
-    let n = sim.model.planes[0].normal;
+    let n = sim.model.moulds[0].normal;
     let mut max_rn = 0.0f64;
     run_finite_with(&mut sim, |s| {
         for itf in &s.state.interface_nodes {
@@ -190,7 +190,7 @@ fn frictionless_interface_never_rubs() {
 fn high_friction_stays_in_the_coulomb_cone() {
     let mut sim = scene("high_friction_shear", &[]);
     let mu_inf = sim.model.interfaces[0].mu_inf;
-    let n = sim.model.planes[0].normal;
+    let n = sim.model.moulds[0].normal;
     let (mut worst, mut max_ratio, mut max_mu) = (f64::NEG_INFINITY, 0.0f64, 0.0f64);
     sim.run(|s| {
         let law = &s.model.interfaces[0].law;

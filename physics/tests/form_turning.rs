@@ -94,7 +94,7 @@ fn run(factor: f64) -> Run {
     let o = [format!("scheme.time_step_factor={factor}")];
     let scene = parse_scene(SCENE, "form_turning.toml", &o).unwrap();
     let mut sim = Simulation::new(scene.model).unwrap();
-    let roller = sim.model.planes[0].clone();
+    let roller = sim.model.moulds[0].clone();
     let c0 = roller.pivot();
     let omega = roller.angular_velocity.clone().unwrap();
     let mut was_formed: Vec<bool> = sim.state.interface_nodes.iter().map(|n| n.formed).collect();

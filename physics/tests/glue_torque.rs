@@ -56,7 +56,7 @@ fn turning(law: StiffnessLaw, second_mould: bool) -> Model {
     let mat = Material::new(MaterialModel::Svk, 1e8, 0.3, 1000.0);
     let mut m = bare_box([L; 3], [1, 1, 1], mat, T);
     let pivot = [0.0, 0.0, -DELTA];
-    m.planes.push(RigidPlane {
+    m.moulds.push(Mould {
         name: "turning".into(),
         point: pivot,
         normal: [0.0, 0.0, 1.0],
@@ -73,7 +73,7 @@ fn turning(law: StiffnessLaw, second_mould: bool) -> Model {
         forms_on_contact: None,
     });
     if second_mould {
-        m.planes.push(RigidPlane {
+        m.moulds.push(Mould {
             name: "lid".into(),
             point: [0.0, 0.0, 10.0 * L],
             normal: [0.0, 0.0, -1.0],

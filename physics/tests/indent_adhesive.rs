@@ -23,7 +23,7 @@ fn run() -> (Curve, Simulation) {
     sim.run(|s| {
         let h_bar = 0.5 * (h_prev + s.state.h);
         h_prev = s.state.h;
-        let ball = &s.model.planes[1];
+        let ball = &s.model.moulds[1];
         let delta = -ball.displacement(s.state.time)[2];
         let fz: f64 = (s.state.interface_nodes.iter())
             .filter(|n| s.model.interfaces[n.interface as usize].plane == 1)

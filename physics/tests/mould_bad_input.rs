@@ -36,7 +36,7 @@ fn a_valid_sphere_mould_is_valid() {
     let text = common::GLUED_CUBE.to_string()
         + "\n[[mould]]\nname = \"ball\"\nshape = \"sphere\"\ncentre = [0.5, 0.5, 2.0]\nradius = 0.5\nangular_velocity = [[0.0, 0.0, 0.0, 1.0]]\n";
     let scene = parse_scene(&text, &file(), &[]).unwrap();
-    assert_eq!(scene.model.planes[1].pivot(), [0.5, 0.5, 2.0]);
+    assert_eq!(scene.model.moulds[1].pivot(), [0.5, 0.5, 2.0]);
 }
 
 #[test]
@@ -227,7 +227,7 @@ fn open_edges_are_counted_and_reported() {
     let text = corpus.template.stl.replace("{file}", "valid/box_open.stl");
     let file = corpus::dir().join("stl_scene.toml").display().to_string();
     let scene = parse_scene(&text, &file, &[]).unwrap();
-    let warnings = open_surface_warnings(&scene.model.planes);
+    let warnings = open_surface_warnings(&scene.model.moulds);
     assert_eq!(warnings.len(), 1, "{warnings:?}");
     assert_has(
         &warnings[0],

@@ -17,7 +17,7 @@ fn indent() -> (Curve, Curve, Simulation) {
     let mut sim = Simulation::new(scene.model).unwrap();
     let (mut load, mut unload) = (vec![], vec![]);
     sim.run(|s| {
-        let ball = &s.model.planes[1];
+        let ball = &s.model.moulds[1];
         let delta = -ball.displacement(s.state.time)[2];
         let f: f64 = (s.state.contact_nodes.iter())
             .map(|c| c.contact_impulse[2] * c.area)

@@ -19,7 +19,7 @@ fn riding(v: [f64; 3], w: [f64; 3], end_time: f64) -> Model {
     let c = [0.5 * L, 0.5 * L, 0.5 * L];
     m.initial_velocity = v;
     m.initial_angular_velocity = w;
-    m.planes.push(RigidPlane {
+    m.moulds.push(Mould {
         name: "tray".into(),
         point: [0.5 * L, 0.5 * L, -0.5 * L],
         shape: Shape::Box(decohesion_physics::mould::shapes::r#box::Box {

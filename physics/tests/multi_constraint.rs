@@ -16,7 +16,7 @@ use decohesion_physics::interface::contact::{
 };
 use decohesion_physics::material::{Material, MaterialModel};
 use decohesion_physics::mesh::{dot, norm};
-use decohesion_physics::model::{ContactFaces, RigidPlane};
+use decohesion_physics::model::{ContactFaces, Mould};
 use decohesion_physics::solver::Simulation;
 use proptest::prelude::*;
 
@@ -284,12 +284,12 @@ fn a_block_thrown_into_a_sixty_degree_corner_between_two_moulds() {
     for x in &mut model.mesh.nodes {
         x[0] += x[2] * c60 / s60;
     }
-    model.planes = vec![
-        RigidPlane {
+    model.moulds = vec![
+        Mould {
             name: "floor".into(),
             ..mould()
         },
-        RigidPlane {
+        Mould {
             name: "wall".into(),
             normal: overhang,
             ..mould()

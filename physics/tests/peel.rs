@@ -180,7 +180,7 @@ fn kendall_peel(
             Some(d.history.value(0.1)[0] / 0.1)
         }
         End::Grip { mould, .. } => {
-            let v = sim.model.planes[mould].velocity.as_ref()?;
+            let v = sim.model.moulds[mould].velocity.as_ref()?;
             Some(v.value(sim.model.end_time)[component])
         }
     };

@@ -65,7 +65,7 @@ fn run_case(law: &StiffnessLaw, mu_inf: f64, zs: &[f64], xs: &[f64]) -> Result<C
     let (t_end, size, young) = (0.02, 0.1, 1e8);
     let mat = Material::new(MaterialModel::Svk, young, 0.3, 1000.0);
     let mut m = bare_box([size; 3], [1, 1, 1], mat, t_end);
-    m.planes.push(mould());
+    m.moulds.push(mould());
     m.interfaces.push(Interface {
         faces: "z-".into(),
         plane: 0,

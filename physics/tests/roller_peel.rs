@@ -122,9 +122,9 @@ fn run(set: &[String]) -> Run {
     let scene = load_scene(&scene_file("roller_peel.toml"), set).unwrap_or_else(|e| panic!("{e}"));
     let mut sim = Simulation::new(scene.model).unwrap_or_else(|e| panic!("{e}"));
     let roller = 1;
-    assert_eq!(sim.model.planes[roller].name, "roller");
+    assert_eq!(sim.model.moulds[roller].name, "roller");
     let u_r = sim.model.interfaces[0].law.u_r;
-    let mould = sim.model.planes[roller].clone();
+    let mould = sim.model.moulds[roller].clone();
     let (vel, omega) = (mould.velocity.unwrap(), mould.angular_velocity.unwrap());
     let (c0, radius) = (mould.pivot.unwrap_or(mould.point), 0.015);
     let mesh = sim.model.mesh.clone();
@@ -286,7 +286,7 @@ fn the_steady_peel_is_kendall_s_and_follows_the_roller() {
     let gc = law.fracture_energy();
     let (b, t, radius, v) = (0.02, 0.003, 0.015, 1.0);
     let (young, rho) = (sim.model.material.young, sim.model.material.density);
-    let roller = &sim.model.planes[1];
+    let roller = &sim.model.moulds[1];
     let omega = value(roller.angular_velocity.as_ref().unwrap(), 0.1)[1];
     let steady: Vec<&Sample> = r.samples.iter().filter(|s| s.t >= 0.06).collect();
     let f: [f64; 3] = std::array::from_fn(|c| mean(steady.iter().map(|s| s.force[c])));

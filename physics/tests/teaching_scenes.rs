@@ -332,7 +332,7 @@ fn sliding_stops_after_v0_squared_over_2_mu_g() {
 fn mixed_mode_opens_along_the_norm_of_the_jump() {
     let mut sim = start("mixed_mode", &[]);
     let law = sim.model.interfaces[0].law.clone();
-    let base = sim.model.planes[0].clone();
+    let base = sim.model.moulds[0].clone();
     let area = 0.1 * 0.1;
     let (tmax, _) = law.peak_traction();
     let centre = sim
@@ -495,7 +495,7 @@ fn demould_block_leaves_the_cavity() {
             }
         }
     }
-    let floor_z = sim.model.planes[0].displacement(sim.state.time)[2];
+    let floor_z = sim.model.moulds[0].displacement(sim.state.time)[2];
     let rim_z = depth + floor_z;
     let bottom_z = sim
         .model

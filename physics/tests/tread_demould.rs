@@ -28,7 +28,7 @@ fn tread_demoulds() {
         "{:?}",
         sim.setup.start_offsets
     );
-    let ribbed = sim.model.planes.iter().position(|p| p.name == "ribbed");
+    let ribbed = sim.model.moulds.iter().position(|p| p.name == "ribbed");
     let k = ribbed.expect("the scene's mould is `ribbed`");
     // Contact is a velocity-level condition (Signorini on V_{n+3/2}, model §3.1, §4.7)
     // without position correction, so a node can end inside the mould, and the depth it can
@@ -51,12 +51,12 @@ fn tread_demoulds() {
     let mut allowed = vec![0.0f64; n_itf];
     let (mut t_prev, mut c_prev) = (
         sim.state.time,
-        sim.model.planes[k].displacement(sim.state.time),
+        sim.model.moulds[k].displacement(sim.state.time),
     );
     let (mut worst, mut deepest, mut at) = (0.0f64, 0.0f64, (0.0, [0.0; 3]));
     sim.run(|s| {
         let h = s.state.time - t_prev;
-        let c = s.model.planes[k].displacement(s.state.time);
+        let c = s.model.moulds[k].displacement(s.state.time);
         let mould_travel = norm(std::array::from_fn(|i| c[i] - c_prev[i]));
         for (j, itf) in s.state.interface_nodes.iter().enumerate() {
             let i = itf.node as usize;
@@ -91,7 +91,7 @@ fn tread_demoulds() {
     assert!(t < 0.5 * sim.model.end_time, "full rupture at {t} s");
     // The ribs have cleared the grooves: the mould has risen by more than the groove depth
     // (8 mm) plus the block's stretch before the glue let go, and every node is off it.
-    let rise = sim.model.planes[k].displacement(sim.state.time)[2];
+    let rise = sim.model.moulds[k].displacement(sim.state.time)[2];
     assert!(rise > 0.012, "the mould rose {rise} m");
     for itf in &sim.state.interface_nodes {
         assert!(itf.gap > 0.0, "node {} still on the mould", itf.node);

@@ -114,7 +114,7 @@ pub fn check(path: &Path, set: &[String]) -> Result<()> {
         "  state memory                 {:.0} bytes per element",
         state_bytes(&sim) as f64 / m.mesh.element_count() as f64
     );
-    let surfaces = decohesion_physics::mould::open_surface_warnings(&m.planes);
+    let surfaces = decohesion_physics::mould::open_surface_warnings(&m.moulds);
     for w in sim.advisories().into_iter().chain(surfaces) {
         println!("  warning                      {w}");
     }

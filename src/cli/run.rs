@@ -211,7 +211,7 @@ impl Terminal {
                 expected,
                 end_time
             );
-            let surfaces = decohesion_physics::mould::open_surface_warnings(&sim.model.planes);
+            let surfaces = decohesion_physics::mould::open_surface_warnings(&sim.model.moulds);
             for w in sim.advisories().into_iter().chain(surfaces) {
                 eprintln!("warning: {w}");
             }

@@ -165,7 +165,7 @@ impl FrameBuilder {
         let extent = (0..3).map(|i| hi[i] - lo[i]).fold(0.0, f64::max);
         let body = body_box(m);
         let moulds = m
-            .planes
+            .moulds
             .iter()
             .map(|p| {
                 let d = mould_drawing(p, body);
@@ -175,7 +175,7 @@ impl FrameBuilder {
                 }
             })
             .collect();
-        let plane = |k: usize| &m.planes[k].name;
+        let plane = |k: usize| &m.moulds[k].name;
         let boundary_labels = (sim.state.interface_nodes.iter())
             .map(|n| {
                 let itf = &m.interfaces[n.interface as usize];
@@ -245,7 +245,7 @@ impl FrameBuilder {
                 .map(|n| position(m, u, n.node))
                 .collect(),
             contact_states: sim.state.contact_nodes.iter().map(|n| n.contact).collect(),
-            mould_poses: (0..m.planes.len())
+            mould_poses: (0..m.moulds.len())
                 .map(|k| {
                     let (r, t) = sim.mould_pose(k);
                     (r.map(f32x3), f32x3(t))
@@ -362,8 +362,8 @@ mod tests {
             (f.points.len(), f.states.len()),
             ((n + 1) * (n + 1), (n + 1) * (n + 1))
         );
-        assert_eq!(f.mould_poses.len(), m.planes.len());
-        assert_eq!(f.topology.moulds.len(), m.planes.len());
+        assert_eq!(f.mould_poses.len(), m.moulds.len());
+        assert_eq!(f.topology.moulds.len(), m.moulds.len());
         // |U| at the vertices: the largest is the largest |U| on the surface.
         let max_u = |v: &[f32]| v.iter().fold(0.0f32, |a, &b| a.max(b));
         let surface_max = (0..m.mesh.nodes.len())

@@ -209,7 +209,7 @@ impl Settings {
         let m = &scene.model;
         self.interfaces = (m.interfaces.iter())
             .map(|itf| {
-                let mould = m.planes.get(itf.plane).map_or("?", |p| p.name.as_str());
+                let mould = m.moulds.get(itf.plane).map_or("?", |p| p.name.as_str());
                 format!("{} on {mould}", itf.faces)
             })
             .collect();

@@ -100,7 +100,7 @@ impl Columns {
             names.push(format!("F_{name} [N]"));
             integer.extend([false; 2]);
         }
-        for p in &m.planes {
+        for p in &m.moulds {
             let name = name_part(&p.name);
             names.extend(AXES.map(|a| format!("F_mould_{name}_{a} [N]")));
             names.extend(AXES.map(|a| format!("M_mould_{name}_{a} [N m]")));
@@ -109,9 +109,9 @@ impl Columns {
         names.extend(ENERGY_COLUMNS.map(|e| format!("{e} [J]")));
         names.push("relative_residual [-]".into());
         integer.extend([false; ENERGY_COLUMNS.len() + 1]);
-        let mould_friction = m.planes.len() > 1;
+        let mould_friction = m.moulds.len() > 1;
         if mould_friction {
-            for p in &m.planes {
+            for p in &m.moulds {
                 names.push(format!("friction_mould_{} [J]", name_part(&p.name)));
                 integer.push(false);
             }

@@ -27,13 +27,13 @@ pub struct Snapshot {
     pub interface: Vec<InterfaceSnapshot>,
     /// Contact status and impulse per unit area [Pa·s] of the contact-only nodes.
     pub contact: Vec<(ContactStatus, [f64; 3])>,
-    /// The pose of each mould at tₙ, in `model.planes` order: (R, T) with x = R x₀ + T for a
+    /// The pose of each mould at tₙ, in `model.moulds` order: (R, T) with x = R x₀ + T for a
     /// point x₀ of the mould at t = 0 ([`Simulation::mould_pose`]).
     pub moulds: Vec<([[f64; 3]; 3], [f64; 3])>,
     /// The force F [N] and the moment M about its pivot at tₙ [N·m] that the body exerted on
-    /// each mould over the last step, in `model.planes` order ([`mould_loads`]).
+    /// each mould over the last step, in `model.moulds` order ([`mould_loads`]).
     pub mould_loads: Vec<([f64; 3], [f64; 3])>,
-    /// The friction dissipated on each mould since t₀ [J], in `model.planes` order
+    /// The friction dissipated on each mould since t₀ [J], in `model.moulds` order
     /// ([`Simulation::mould_frictions`]: with one mould, `friction_dissipated` itself).
     pub mould_friction: Vec<f64>,
     pub energies: EnergySnapshot,
@@ -103,7 +103,7 @@ impl Snapshot {
                 .iter()
                 .map(|n| (n.contact, n.contact_impulse))
                 .collect(),
-            moulds: (0..sim.model.planes.len())
+            moulds: (0..sim.model.moulds.len())
                 .map(|k| sim.mould_pose(k))
                 .collect(),
             mould_loads: mould_loads(sim),
@@ -140,7 +140,7 @@ impl Snapshot {
 /// as the ledger's per-mould work (force · velocity at these points, couple times ω) and as
 /// the roller-peel test's load; zero before the first step.
 pub fn mould_loads(sim: &Simulation) -> Vec<([f64; 3], [f64; 3])> {
-    let n = sim.model.planes.len();
+    let n = sim.model.moulds.len();
     let mut loads = vec![([0.0; 3], [0.0; 3]); n];
     if n == 0 || sim.state.step_count == 0 || sim.state.h <= 0.0 {
         return loads;
@@ -148,7 +148,7 @@ pub fn mould_loads(sim: &Simulation) -> Vec<([f64; 3], [f64; 3])> {
     let pivots: Vec<[f64; 3]> = (0..n)
         .map(|k| {
             let (r, t) = sim.mould_pose(k);
-            let c0 = sim.model.planes[k].pivot();
+            let c0 = sim.model.moulds[k].pivot();
             std::array::from_fn(|i| r[i][0] * c0[0] + r[i][1] * c0[1] + r[i][2] * c0[2] + t[i])
         })
         .collect();

@@ -248,12 +248,12 @@ mod native {
                 for (j, n) in sim.state.interface_nodes.iter().enumerate() {
                     if n.node == node {
                         let plane = m.interfaces[n.interface as usize].plane;
-                        own.push((Source::Interface(j), m.planes[plane].name.as_str()));
+                        own.push((Source::Interface(j), m.moulds[plane].name.as_str()));
                     }
                 }
                 for (k, n) in sim.state.contact_nodes.iter().enumerate() {
                     if n.node == node {
-                        own.push((Source::Contact(k), m.planes[n.plane as usize].name.as_str()));
+                        own.push((Source::Contact(k), m.moulds[n.plane as usize].name.as_str()));
                     }
                 }
                 if own.is_empty() {

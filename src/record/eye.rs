@@ -52,7 +52,7 @@ pub fn framed_box(m: &Model) -> ([f64; 3], [f64; 3]) {
     let extent = (0..3).map(|i| hi[i] - lo[i]).fold(0.0, f64::max);
     let reach = EYE_NEAR_FRACTION * extent;
     let (mut flo, mut fhi) = body;
-    for p in &m.planes {
+    for p in &m.moulds {
         for x in mould_drawing(p, body).vertices {
             for i in 0..3 {
                 let c = x[i].clamp(lo[i] - reach, hi[i] + reach);

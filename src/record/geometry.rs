@@ -83,7 +83,7 @@ impl Geometry {
             colour,
             colour_range: (f64::INFINITY, f64::NEG_INFINITY),
             moving_moulds: m
-                .planes
+                .moulds
                 .iter()
                 .enumerate()
                 .filter(|p| p.1.velocity.is_some() || p.1.angular_velocity.is_some())
@@ -100,7 +100,7 @@ impl Geometry {
             // x = R x₀ + T of the step's own pose (`Simulation::mould_pose`); the mesh logged
             // at t = 0 is static, only this transform moves.
             let (r, t) = s.moulds[k];
-            let path = format!("planes/{}", path_part(&m.planes[k].name));
+            let path = format!("planes/{}", path_part(&m.moulds[k].name));
             cols.push(
                 &path,
                 Transform3D::descriptor_translation(),
@@ -239,7 +239,7 @@ impl Geometry {
                 continue;
             }
             let x = position(m, s, n);
-            let normal = mould_normal(&m.planes[k], &s.moulds[k], x.map(f64::from));
+            let normal = mould_normal(&m.moulds[k], &s.moulds[k], x.map(f64::from));
             origins.extend(x);
             vectors.extend(normal.map(|c| (c * length) as f32));
             class.push(contact_class(status));

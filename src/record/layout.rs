@@ -8,7 +8,7 @@ use super::{log_err, ColourField, RecordError, Statics, ARROW_FRACTION, NORMAL_F
 use crate::energy::EnergySnapshot;
 use crate::interface::contact::ContactStatus;
 use crate::law::InterfaceState;
-use crate::model::{Model, RigidPlane};
+use crate::model::{Model, Mould};
 use crate::output::surface::mould::{body_box, mould_drawing};
 use crate::output::surface::{contact_rgb, state_rgb};
 use crate::output::watch::Source;
@@ -51,22 +51,22 @@ pub(super) const ADDED_MASS_KINETIC: &str = "energy/added_mass_kinetic";
 pub(super) const BULK_VISCOUS_DISSIPATED: &str = "energy/bulk_viscous_dissipated";
 
 /// The friction dissipated on each mould [J] (`Simulation::mould_frictions`), one instance per
-/// mould in `model.planes` order, in the energy view: logged when there are several moulds
+/// mould in `model.moulds` order, in the energy view: logged when there are several moulds
 /// (with one, it is `friction_dissipated`, already drawn).
 pub(super) const MOULD_FRICTION: &str = "energy/mould_friction";
 
 /// Does mould `p` move (a velocity or an angular-velocity history)? Its load is plotted.
-pub(super) fn moving(p: &RigidPlane) -> bool {
+pub(super) fn moving(p: &Mould) -> bool {
     p.velocity.is_some() || p.angular_velocity.is_some()
 }
 
 /// The force the body exerts on a moving mould [N] (x, y, z), in the reaction view.
-pub(super) fn mould_force_path(p: &RigidPlane) -> String {
+pub(super) fn mould_force_path(p: &Mould) -> String {
     format!("reaction/mould_{}", path_part(&p.name))
 }
 
 /// The moment about its pivot the body exerts on a turning mould [N·m] (x, y, z).
-pub(super) fn mould_moment_path(p: &RigidPlane) -> String {
+pub(super) fn mould_moment_path(p: &Mould) -> String {
     format!("mould_moment/{}", path_part(&p.name))
 }
 
@@ -347,7 +347,7 @@ fn classes_and_styles(rec: &RecordingStream, st: &Statics, r: f32) -> Result<(),
 fn planes(rec: &RecordingStream, m: &Model) -> Result<(), RecordError> {
     let grey = Rgba32::from_unmultiplied_rgba(150, 155, 165, 160);
     let body = body_box(m);
-    for p in &m.planes {
+    for p in &m.moulds {
         let path = format!("planes/{}", path_part(&p.name));
         let mut mesh = mould_drawing(p, body);
         if p.shape.is_half_space() {
@@ -492,7 +492,7 @@ fn series_names(
             SeriesLines::new().with_names(["min", "max"]),
         ),
     ];
-    let planes = &st.model.planes;
+    let planes = &st.model.moulds;
     if planes.len() > 1 {
         let names = planes.iter().map(|p| format!("friction on {}", p.name));
         styles.push((MOULD_FRICTION.into(), SeriesLines::new().with_names(names)));

@@ -129,10 +129,10 @@ impl Logger {
         if m.scheme.bulk_viscosity.is_some() {
             cols.scalars(BULK_VISCOUS_DISSIPATED, &[e.bulk_viscous_dissipated]);
         }
-        if m.planes.len() > 1 {
+        if m.moulds.len() > 1 {
             cols.scalars(MOULD_FRICTION, &s.mould_friction);
         }
-        for (p, (f, mm)) in m.planes.iter().zip(&s.mould_loads) {
+        for (p, (f, mm)) in m.moulds.iter().zip(&s.mould_loads) {
             if moving(p) {
                 cols.scalars(&mould_force_path(p), f);
             }

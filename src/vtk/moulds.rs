@@ -19,7 +19,7 @@ pub const VTK_TRIANGLE: u8 = 5;
 
 /// One mould's series.
 pub(super) struct MouldSeries {
-    /// Index in `Model::planes`.
+    /// Index in `Model::moulds`.
     pub(super) index: usize,
     /// The mould's name, and as a file name part.
     pub(super) name: String,
@@ -37,7 +37,7 @@ impl MouldSeries {
     pub(super) fn of(m: &Model) -> Vec<MouldSeries> {
         let body = body_box(m);
         let mut bytes = Vec::new();
-        m.planes
+        m.moulds
             .iter()
             .enumerate()
             .map(|(index, p)| {

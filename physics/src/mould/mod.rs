@@ -68,9 +68,8 @@ impl Projection {
 
 /// A rigid mould (model §7): a shape ([`Shape`]) moved by a prescribed rigid motion. A
 /// `[[plane]]` is the half-space shape: points x with n·(x − p(t)) > 0 are on the solid's side.
-/// The name `RigidPlane` is kept for the code that knew only planes; [`Mould`] is the same type.
 #[derive(Debug, Clone, PartialEq, Serialize, Default)]
-pub struct RigidPlane {
+pub struct Mould {
     pub name: String,
     /// A point of the plane at t = 0 [m] (half-space); for another shape, its pivot c₀.
     pub point: [f64; 3],
@@ -88,10 +87,7 @@ pub struct RigidPlane {
     pub pivot: Option<[f64; 3]>,
 }
 
-/// A rigid mould: the same type as [`RigidPlane`].
-pub type Mould = RigidPlane;
-
-impl RigidPlane {
+impl Mould {
     /// Rigid displacement of the plane (of the pivot) since t = 0 [m].
     pub fn displacement(&self, t: f64) -> [f64; 3] {
         match &self.velocity {
@@ -131,7 +127,7 @@ impl RigidPlane {
 /// to x and the mould's outward unit normal n there (into the solid), so that the gap is
 /// g = n·(x − p). For a plane p is the orthogonal projection and n the plane's normal, the same
 /// at every point; on a faceted surface n is the pseudo-normal of the feature hit.
-pub fn mould_closest_point(plane: &RigidPlane, x: [f64; 3]) -> ([f64; 3], [f64; 3]) {
+pub fn mould_closest_point(plane: &Mould, x: [f64; 3]) -> ([f64; 3], [f64; 3]) {
     let pr = plane.project0(x);
     (pr.point, pr.normal)
 }

@@ -12,15 +12,15 @@ use super::raw::{
 };
 use crate::mesh::{dot, Mesh};
 use crate::model::{
-    BulkViscosity, Interface, MassScaling, Model, PiecewiseLinear, PrescribedDisplacement,
-    RigidPlane, SchemeParams, StartOffset, Traction,
+    BulkViscosity, Interface, MassScaling, Model, Mould, PiecewiseLinear, PrescribedDisplacement,
+    SchemeParams, StartOffset, Traction,
 };
 use crate::mould::mould_closest_point;
 
 /// The (face set, plane) pairs attached so far, with the key that attached each: a face set
 /// meets a plane through one `[[interface]]` or one `[[contact]]`.
 pub(super) struct Attachments<'p> {
-    pub planes: &'p [RigidPlane],
+    pub planes: &'p [Mould],
     pub pairs: Vec<(String, usize, String)>,
 }
 
@@ -88,7 +88,7 @@ impl Check<'_> {
             gravity: raw.gravity,
             initial_velocity: raw.initial_velocity,
             initial_angular_velocity: raw.initial_angular_velocity,
-            planes,
+            moulds: planes,
             interfaces,
             contacts,
             bonds,
@@ -129,7 +129,7 @@ impl Check<'_> {
     pub(super) fn glued_faces_face_mould(
         &self,
         mesh: &Mesh,
-        plane: &RigidPlane,
+        plane: &Mould,
         key: &str,
         faces: &str,
     ) -> Result<(), SceneError> {
@@ -221,7 +221,7 @@ impl Check<'_> {
     /// rewritten as the `[[mould]]` entry `shape = "half_space"` with the same `name`, `point`,
     /// `normal` and `velocity`, and read by the one mould path ([`Check::mould_of`]), so its
     /// messages name `plane[i]` and its normal is normalised by the same arithmetic.
-    fn plane_of(&self, key: String, p: RawPlane) -> Result<RigidPlane, SceneError> {
+    fn plane_of(&self, key: String, p: RawPlane) -> Result<Mould, SceneError> {
         let floats = |v: &[f64]| toml::Value::Array(v.iter().map(|&x| x.into()).collect());
         let mut t = toml::Table::new();
         t.insert("name".into(), p.name.into());

@@ -4,7 +4,7 @@
 use super::error::{num, SceneError};
 use super::keys::KeyDoc;
 use crate::mesh::{dot, sub, Mesh};
-use crate::model::{PiecewiseLinear, RigidPlane};
+use crate::model::{Mould, PiecewiseLinear};
 use crate::mould::mould_closest_point;
 use std::path::Path;
 
@@ -104,12 +104,7 @@ impl Check<'_> {
     }
 
     /// The index of the plane named `name`.
-    pub fn plane(
-        &self,
-        planes: &[RigidPlane],
-        key: String,
-        name: &str,
-    ) -> Result<usize, SceneError> {
+    pub fn plane(&self, planes: &[Mould], key: String, name: &str) -> Result<usize, SceneError> {
         if let Some(i) = planes.iter().position(|p| p.name == name) {
             return Ok(i);
         }
@@ -137,7 +132,7 @@ impl Check<'_> {
     pub fn contact_start(
         &self,
         mesh: &Mesh,
-        plane: &RigidPlane,
+        plane: &Mould,
         key: &str,
         faces: &str,
     ) -> Result<(), SceneError> {
@@ -199,7 +194,7 @@ impl Check<'_> {
 /// t = 0: 1e-6 of the body's size (the largest edge of the mesh's bounding box; a mesh written
 /// with six significant digits puts its nodes there), and never below the round-off of
 /// positions, 16ε·(largest |coordinate|, the mould's point included).
-pub fn contact_start_tolerance(mesh: &Mesh, plane: &RigidPlane) -> f64 {
+pub fn contact_start_tolerance(mesh: &Mesh, plane: &Mould) -> f64 {
     let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
     for x in &mesh.nodes {
         for c in 0..3 {

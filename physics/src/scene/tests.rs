@@ -112,9 +112,9 @@ fn complete_scene_builds_the_model() {
     assert_eq!(m.scheme.h_crit_update_interval, 0);
     assert_eq!(m.scheme.h_crit_tolerance, 1e-4);
     assert_eq!(m.scheme.energy_growth_limit, 2.0);
-    assert_eq!(m.planes[0].normal, [0.0, 0.0, 1.0]);
-    assert_eq!(m.planes[1].normal, [-0.6, 0.0, 0.8]);
-    let velocity = &m.planes[1].velocity.as_ref().unwrap().points;
+    assert_eq!(m.moulds[0].normal, [0.0, 0.0, 1.0]);
+    assert_eq!(m.moulds[1].normal, [-0.6, 0.0, 0.8]);
+    let velocity = &m.moulds[1].velocity.as_ref().unwrap().points;
     assert_eq!(velocity[1], (1.0, [0.0, 0.0, 0.2]));
     let law = &m.interfaces[0].law;
     assert_eq!(law.spec().key, "exponential");
@@ -134,7 +134,7 @@ fn complete_scene_builds_the_model() {
     assert_eq!(scene.text, FULL);
     // The resolved text is a scene in its own right and gives the same model.
     let again = parse_scene(&scene.resolved, "scenes/full.toml", &[]).unwrap();
-    assert_eq!(again.model.planes, m.planes);
+    assert_eq!(again.model.moulds, m.moulds);
     assert_eq!(again.model.interfaces, m.interfaces);
 }
 
@@ -150,7 +150,7 @@ fn defaults_and_name_from_the_file_stem() {
         (m.gravity, m.initial_velocity, m.initial_angular_velocity),
         ([0.0; 3], [0.0; 3], [0.0; 3])
     );
-    assert!(m.planes.is_empty() && m.interfaces.is_empty() && m.tractions.is_empty());
+    assert!(m.moulds.is_empty() && m.interfaces.is_empty() && m.tractions.is_empty());
 }
 
 #[test]
@@ -167,7 +167,7 @@ fn override_enters_a_single_element_array_implicitly() {
     ]
     .map(String::from);
     let scene = parse_scene(text, "scenes/t.toml", &set).unwrap();
-    assert_eq!(scene.model.planes[0].normal, [1.0, 0.0, 0.0]);
+    assert_eq!(scene.model.moulds[0].normal, [1.0, 0.0, 0.0]);
     assert_eq!(scene.model.interfaces[0].law.u_r, 0.02);
     assert_eq!(scene.model.name, "renamed run");
     assert!(scene.resolved.contains("name = \"renamed run\""));
@@ -190,7 +190,7 @@ fn override_with_explicit_indices() {
     assert_eq!(m.mesh.elements.len(), 2 * 3 * 5);
     assert_eq!(m.scheme.time_step_factor, 0.3);
     assert_eq!(
-        m.planes[1].velocity.as_ref().unwrap().value(0.0),
+        m.moulds[1].velocity.as_ref().unwrap().value(0.0),
         [1.0, 0.0, 0.0]
     );
 }

@@ -150,7 +150,7 @@ impl BoundaryStep<'_> {
         if !self.general || ms.plane[k] {
             let sc = self.scratch;
             (
-                self.model.planes[k].normal,
+                self.model.moulds[k].normal,
                 [sc.plane_v_old[k], sc.plane_v_new[k]],
             )
         } else {
@@ -173,7 +173,7 @@ impl BoundaryStep<'_> {
             _ => {
                 let sc = self.scratch;
                 (
-                    self.model.planes[k].normal,
+                    self.model.moulds[k].normal,
                     [sc.plane_v_old[k], sc.plane_v_new[k]],
                 )
             }
@@ -412,7 +412,7 @@ impl BoundaryStep<'_> {
             let k = spec.plane;
             // On a curved mould the anchor's velocity and its normal at tₙ₊₂ (R(tₙ₊₂)N₀).
             let (vp, n) = if !self.general || ms.plane[k] {
-                (self.scratch.plane_v_new[k], self.model.planes[k].normal)
+                (self.scratch.plane_v_new[k], self.model.moulds[k].normal)
             } else {
                 let g = &ms.interface[j];
                 (

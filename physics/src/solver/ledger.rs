@@ -198,7 +198,7 @@ impl Simulation {
     /// round-off: the contact impulse is read back per unit area). With one mould there is
     /// nothing to split and `plane_work` is its work (the pass is skipped).
     fn push_mould_work(&mut self, first: bool) {
-        let n = self.model.planes.len();
+        let n = self.model.moulds.len();
         if n < 2 {
             return;
         }
@@ -253,7 +253,7 @@ impl Simulation {
     /// contact impulse is read back per unit area). With one mould the total is its friction
     /// and the pass is skipped ([`Simulation::mould_frictions`]).
     fn push_mould_friction(&mut self, first: bool) {
-        let n_moulds = self.model.planes.len();
+        let n_moulds = self.model.moulds.len();
         if n_moulds < 2 {
             return;
         }
@@ -301,7 +301,7 @@ impl Simulation {
         let ms = &self.state.scratch.moulds;
         if ms.plane[k] {
             return (
-                self.model.planes[k].normal,
+                self.model.moulds[k].normal,
                 self.mould_velocities(k, [0.0; 3]),
             );
         }
@@ -320,7 +320,7 @@ impl Simulation {
     /// work, [`Simulation::push_mould_friction`]): with one mould, the ledger's
     /// `friction_dissipated` itself; with several, their sum is it to round-off.
     pub fn mould_frictions(&self) -> Vec<(String, f64)> {
-        let planes = &self.model.planes;
+        let planes = &self.model.moulds;
         if planes.len() == 1 {
             return vec![(
                 planes[0].name.clone(),

@@ -257,7 +257,7 @@ impl Simulation {
         self.state.ledger.snapshot()
     }
 
-    /// The pose of mould `k` (index into `model.planes`) at the current time tₙ, as the affine
+    /// The pose of mould `k` (index into `model.moulds`) at the current time tₙ, as the affine
     /// map (R, T) that takes a point x₀ of the mould at t = 0 to its place now, x = R x₀ + T:
     /// R the rotation the step composed ([`crate::mould::step::MouldStep`]: R(tₙ), exactly
     /// the pose stage 2 used at tₙ), T = d + (c₀ − R c₀) with c₀ the pivot at t = 0 and
@@ -266,7 +266,7 @@ impl Simulation {
     /// T = its displacement. Read-only (for the outputs); the step does not use it.
     pub fn mould_pose(&self, k: usize) -> ([[f64; 3]; 3], [f64; 3]) {
         use crate::mould::motion::{mat_vec, IDENTITY};
-        let m = &self.model.planes[k];
+        let m = &self.model.moulds[k];
         let ms = &self.state.scratch.moulds;
         if ms.plane.get(k).copied().unwrap_or(true) {
             return (IDENTITY, m.displacement(self.state.time));

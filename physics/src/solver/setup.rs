@@ -72,7 +72,7 @@ fn glued_nodes(model: &Model) -> Result<Vec<InterfaceNode>, SolverError> {
     for (k, itf) in model.interfaces.iter().enumerate() {
         let formed = itf.forms_on_contact.is_none();
         let g0 = if formed { itf.law.g_n0 } else { 0.0 };
-        let plane = &model.planes[itf.plane];
+        let plane = &model.moulds[itf.plane];
         for (node, area) in mesh.nodal_areas(face(mesh, &itf.faces)?) {
             let x = mesh.nodes[node as usize];
             let (y0, n) = mould_closest_point(plane, x);
@@ -346,7 +346,7 @@ impl Simulation {
             },
             model,
         };
-        sim.state.scratch.moulds = MouldStep::new(&sim.model.planes, 0.0);
+        sim.state.scratch.moulds = MouldStep::new(&sim.model.moulds, 0.0);
         sim.mould_geometry_at_start();
         sim.bulk_viscosity_setup();
         sim.start()?;

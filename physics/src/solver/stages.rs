@@ -86,7 +86,7 @@ impl Simulation {
     /// impact of h·V depth inside a persistent contact).
     pub(super) fn surfaces_and_gaps(&mut self) {
         let t = self.state.time;
-        let planes = &self.model.planes;
+        let planes = &self.model.moulds;
         let sc = &mut self.state.scratch;
         sc.plane_disp.clear();
         sc.plane_disp
@@ -199,7 +199,7 @@ impl Simulation {
     pub(super) fn prescribed_motion(&mut self, h_next: f64, first: bool) {
         let t = self.state.time;
         let t_next = t + h_next;
-        let planes = &self.model.planes;
+        let planes = &self.model.moulds;
         let h_prev = self.state.h;
         let sc = &mut self.state.scratch;
         (sc.moulds).advance(planes, t, h_next, h_prev, first || h_prev <= 0.0);

@@ -59,7 +59,7 @@ pub fn bare_box(size: [f64; 3], cells: [usize; 3], mat: Material, end_time: f64)
         gravity: [0.0; 3],
         initial_velocity: [0.0; 3],
         initial_angular_velocity: [0.0; 3],
-        planes: vec![],
+        moulds: vec![],
         interfaces: vec![],
         contacts: vec![],
         bonds: vec![],
@@ -70,8 +70,8 @@ pub fn bare_box(size: [f64; 3], cells: [usize; 3], mat: Material, end_time: f64)
     }
 }
 
-pub fn mould() -> RigidPlane {
-    RigidPlane {
+pub fn mould() -> Mould {
+    Mould {
         name: "mould".into(),
         point: [0.0; 3],
         normal: [0.0, 0.0, 1.0],
@@ -96,7 +96,7 @@ pub fn pull_off(n: usize, end_time: f64) -> Model {
         end_time,
     );
     m.gravity = [0.0, 0.0, -9.81];
-    m.planes.push(mould());
+    m.moulds.push(mould());
     m.interfaces.push(Interface {
         faces: "z-".into(),
         plane: 0,
@@ -127,7 +127,7 @@ pub fn pull_off_law() -> StiffnessLaw {
 /// friction μ on its `z-` face, no glue.
 pub fn on_floor(size: [f64; 3], cells: [usize; 3], mat: Material, mu: f64, end_time: f64) -> Model {
     let mut m = bare_box(size, cells, mat, end_time);
-    m.planes.push(RigidPlane {
+    m.moulds.push(Mould {
         name: "floor".into(),
         ..mould()
     });

@@ -5,7 +5,7 @@
 //! normal at a point of the body, for the contact arrows. Uses neither the Rerun SDK nor egui.
 
 use crate::mesh::{cross, dot, norm, sub};
-use crate::model::{Model, RigidPlane, Shape};
+use crate::model::{Model, Mould, Shape};
 
 /// A pose (R, T) of a mould: x = R x₀ + T for a point x₀ of the mould at t = 0.
 pub type MouldPose = ([[f64; 3]; 3], [f64; 3]);
@@ -34,9 +34,9 @@ pub fn place(pose: &MouldPose, x0: [f64; 3]) -> [f64; 3] {
 
 /// The mould's outward unit normal n at the point of its surface closest to x, in the pose
 /// (R, T): x is taken back to the mould's frame at t = 0, X = Rᵀ(x − T), projected there
-/// (`RigidPlane::project0`, the closest-point query of the step) and the normal carried
+/// (`Mould::project0`, the closest-point query of the step) and the normal carried
 /// forward, n = R N (the same construction as the step's, `mould::step::MouldStep::project`).
-pub fn mould_normal(p: &RigidPlane, pose: &MouldPose, x: [f64; 3]) -> [f64; 3] {
+pub fn mould_normal(p: &Mould, pose: &MouldPose, x: [f64; 3]) -> [f64; 3] {
     let (r, t) = pose;
     let d = sub(x, *t);
     let x0: [f64; 3] = std::array::from_fn(|j| r[0][j] * d[0] + r[1][j] * d[1] + r[2][j] * d[2]);
@@ -49,7 +49,7 @@ pub fn mould_normal(p: &RigidPlane, pose: &MouldPose, x: [f64; 3]) -> [f64; 3] {
 /// with a margin of [`HALF_SPACE_MARGIN`] × the body's extent on every side (so a wall of a
 /// cavity is drawn as large as the block's side, not as a floor that sets the view's zoom);
 /// its two triangles wind along the normal, which every vertex carries.
-pub fn mould_drawing(p: &RigidPlane, body: ([f64; 3], [f64; 3])) -> MouldMesh {
+pub fn mould_drawing(p: &Mould, body: ([f64; 3], [f64; 3])) -> MouldMesh {
     if !p.shape.is_half_space() {
         return mould_mesh(&p.shape);
     }

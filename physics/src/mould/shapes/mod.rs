@@ -299,7 +299,7 @@ const _: () = assert!(
      `touch physics/build.rs` reruns the build script"
 );
 
-/// The half-space: the shape of a `[[plane]]` and of a `RigidPlane` left to its default.
+/// The half-space: the shape of a `[[plane]]` and of a `Mould` left to its default.
 impl Default for Shape {
     fn default() -> Self {
         Shape::HalfSpace(half_space::HalfSpace)

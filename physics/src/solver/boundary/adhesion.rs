@@ -59,7 +59,7 @@ impl Simulation {
         let bonded = if !ms.any_general() || ms.plane[k] {
             sub(x, self.state.scratch.plane_disp[k])
         } else {
-            let mould = &self.model.planes[k];
+            let mould = &self.model.moulds[k];
             let pose = ms.pose_at(k, self.state.time);
             let geo = &mut ms.interface[j];
             geo.normal0 = mat_t_vec(&pose.rotation, geo.normal);

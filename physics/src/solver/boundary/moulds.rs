@@ -18,7 +18,7 @@ impl Simulation {
         if !ms.any_general() {
             return;
         }
-        let planes = &self.model.planes;
+        let planes = &self.model.moulds;
         ms.interface = (self.state.interface_nodes.iter())
             .map(|itf| {
                 let k = self.model.interfaces[itf.interface as usize].plane;
@@ -50,7 +50,7 @@ impl Simulation {
             return;
         }
         let (nodes, t) = (&self.model.mesh.nodes, self.state.time);
-        let (planes, u) = (&self.model.planes, &self.state.u);
+        let (planes, u) = (&self.model.moulds, &self.state.u);
         let sc = &mut self.state.scratch;
         let (ms, tol) = (&mut sc.moulds, &sc.plane_tol);
         let snap = |g: f64, tol: f64| if g.abs() <= tol { 0.0 } else { g };
@@ -110,7 +110,7 @@ impl Simulation {
     pub(in crate::solver) fn glue_normal(&self, j: usize) -> [f64; 3] {
         let k = self.model.interfaces[self.state.interface_nodes[j].interface as usize].plane;
         if self.state.scratch.moulds.plane[k] {
-            self.model.planes[k].normal
+            self.model.moulds[k].normal
         } else {
             self.state.scratch.moulds.interface[j].glue_normal
         }
@@ -165,7 +165,7 @@ impl Simulation {
     /// Each mould's name and its work since t₀ [J] (force · velocity at the points it acts
     /// on, moments included): with one mould, the ledger's `plane_work`.
     pub fn mould_works(&self) -> Vec<(String, f64)> {
-        let planes = &self.model.planes;
+        let planes = &self.model.moulds;
         if planes.len() == 1 {
             return vec![(planes[0].name.clone(), self.state.ledger.plane_work.value)];
         }
