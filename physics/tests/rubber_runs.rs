@@ -36,7 +36,10 @@ fn the_pull_off_closes_its_ledger_with_every_rubber() {
         let residual = sim.state.ledger.max_relative_residual;
         record(
             "ledger_pull_off_rubber",
-            &format!("largest relative residual of the energy balance, {model:?}"),
+            &format!(
+                "largest relative residual of the energy balance, {}",
+                model.key()
+            ),
             0.0,
             "energy balance (model §5.10)",
             residual,
