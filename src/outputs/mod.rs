@@ -24,26 +24,10 @@ use std::time::Instant;
 
 include!(concat!(env!("OUT_DIR"), "/outputs.rs"));
 
-/// Whether `a` and `b` are the same string, at compile time.
-const fn same_str(a: &str, b: &str) -> bool {
-    let (a, b) = (a.as_bytes(), b.as_bytes());
-    if a.len() != b.len() {
-        return false;
-    }
-    let mut i = 0;
-    while i < a.len() {
-        if a[i] != b[i] {
-            return false;
-        }
-        i += 1;
-    }
-    true
-}
-
 // A target directory shared by two clones could compile the other clone's output files when
 // build.rs is not rerun: stop the build instead.
 const _: () = assert!(
-    same_str(GENERATED_IN, env!("CARGO_MANIFEST_DIR")),
+    decohesion_physics::interface::laws::same_str(GENERATED_IN, env!("CARGO_MANIFEST_DIR")),
     "outputs.rs was generated for another clone sharing this target directory: \
      `touch build.rs` reruns the build script"
 );

@@ -96,8 +96,9 @@ macro_rules! families {
 
 include!(concat!(env!("OUT_DIR"), "/law_families.rs"));
 
-/// Byte-wise equality of two strings, at compile time.
-pub(crate) const fn same_str(a: &str, b: &str) -> bool {
+/// Byte-wise equality of two strings, at compile time (the generated registries' check that
+/// they were generated for this clone, here and in the root crate's outputs).
+pub const fn same_str(a: &str, b: &str) -> bool {
     let (a, b) = (a.as_bytes(), b.as_bytes());
     if a.len() != b.len() {
         return false;

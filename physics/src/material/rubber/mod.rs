@@ -55,6 +55,18 @@ impl Volumetric {
     }
 }
 
+/// A 3×3 matrix, rows first.
+pub type Matrix = [[f64; 3]; 3];
+
+/// The kinematics of one point that the isochoric stress reads (model §1.10): F, cof F,
+/// J = det F and J^{-2/3}.
+pub struct IsoPoint<'a> {
+    pub f: &'a Matrix,
+    pub cof: &'a Matrix,
+    pub j: f64,
+    pub j23: f64,
+}
+
 /// What an isochoric rubber family declares (model §1.10), one file of `families/` each.
 pub trait Family: Sized + Copy {
     /// Its key (`material.model`), label, energy and parameters.
@@ -70,15 +82,9 @@ pub trait Family: Sized + Copy {
     /// Its constants as `check` prints them (`C₁₀ = 3.0000e5 Pa`).
     fn describe(&self) -> Vec<String>;
 
-    /// (P_iso, ψ_iso) = (∂ψ_iso(C̄)/∂F, ψ_iso) at F, with cof F, J = det F and J^{-2/3} given
-    /// (ψ_iso only if `ENERGY`, else 0). An invariant family calls [`invariant_stress`].
-    fn piola_iso<const ENERGY: bool>(
-        &self,
-        f: &[[f64; 3]; 3],
-        cof: &[[f64; 3]; 3],
-        j: f64,
-        j23: f64,
-    ) -> ([[f64; 3]; 3], f64);
+    /// (P_iso, ψ_iso) = (∂ψ_iso(C̄)/∂F, ψ_iso) at the point `x` (ψ_iso only if `ENERGY`, else
+    /// 0). An invariant family calls [`invariant_stress`].
+    fn piola_iso<const ENERGY: bool>(&self, x: &IsoPoint) -> (Matrix, f64);
 
     /// A material of the family for tests and examples, and its volumetric form (the examples
     /// take K = 50 μ₀, a filled rubber's).
@@ -175,15 +181,9 @@ macro_rules! rubber_families {
 
             /// (P_iso, ψ_iso) of the family ([`Family::piola_iso`]).
             #[inline(always)]
-            fn piola_iso<const ENERGY: bool>(
-                &self,
-                f: &[[f64; 3]; 3],
-                cof: &[[f64; 3]; 3],
-                j: f64,
-                j23: f64,
-            ) -> ([[f64; 3]; 3], f64) {
+            fn piola_iso<const ENERGY: bool>(&self, x: &IsoPoint) -> (Matrix, f64) {
                 match self {
-                    $(Isochoric::$family(m) => m.piola_iso::<ENERGY>(f, cof, j, j23),)*
+                    $(Isochoric::$family(m) => m.piola_iso::<ENERGY>(x),)*
                 }
             }
         }
@@ -389,7 +389,13 @@ pub fn isochoric_piola_energy<const ENERGY: bool>(
     let cof = super::kinematics::cofactor(f);
     let j13 = j.cbrt();
     let j23 = 1.0 / (j13 * j13);
-    let (p, psi_iso) = r.iso.piola_iso::<ENERGY>(f, &cof, j, j23);
+    let x = IsoPoint {
+        f,
+        cof: &cof,
+        j,
+        j23,
+    };
+    let (p, psi_iso) = r.iso.piola_iso::<ENERGY>(&x);
     (p, psi_iso, cof)
 }
 
@@ -397,12 +403,10 @@ pub fn isochoric_piola_energy<const ENERGY: bool>(
 /// [`piola_energy`]); returns (P_iso, ψ_iso).
 #[inline(always)]
 pub fn invariant_stress<const ENERGY: bool>(
-    f: &[[f64; 3]; 3],
-    cof: &[[f64; 3]; 3],
-    j: f64,
-    j23: f64,
+    x: &IsoPoint,
     psi: impl Fn(f64, f64) -> (f64, f64, f64),
-) -> ([[f64; 3]; 3], f64) {
+) -> (Matrix, f64) {
+    let &IsoPoint { f, cof, j, j23 } = x;
     let c = right_cauchy_green(f);
     let i1 = c[0][0] + c[1][1] + c[2][2];
     let mut cc = 0.0;

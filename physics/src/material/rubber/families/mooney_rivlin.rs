@@ -1,6 +1,6 @@
 //! Mooney–Rivlin rubber (model §1.10): ψ_iso = C₁₀(Ī₁ − 3) + C₀₁(Ī₂ − 3), μ₀ = 2(C₁₀ + C₀₁).
 
-use super::{admit, invariant_stress, Family, ParamError, RubberParam, RubberSpec};
+use super::{admit, IsoPoint, Matrix, invariant_stress, Family, ParamError, RubberParam, RubberSpec};
 use super::{RubberValues, Volumetric, FINITE};
 use serde::Serialize;
 
@@ -34,9 +34,25 @@ pub struct MooneyRivlin {
 }
 
 impl MooneyRivlin {
+
+
+    /// (ψ_iso, ∂ψ_iso/∂Ī₁, ∂ψ_iso/∂Ī₂) at (Ī₁, Ī₂).
+    #[inline(always)]
+    pub fn psi(&self, i1: f64, i2: f64) -> (f64, f64, f64) {
+        (
+            self.c10 * (i1 - 3.0) + self.c01 * (i2 - 3.0),
+            self.c10,
+            self.c01,
+        )
+    }
+}
+
+impl Family for MooneyRivlin {
+    const SPEC: RubberSpec = SPEC;
+
     /// The two constants; μ₀ = 2(C₁₀ + C₀₁) must be positive (else the material is unstable at
     /// the reference state).
-    pub fn from_values(v: &dyn RubberValues) -> Result<Self, ParamError> {
+    fn from_values(v: &dyn RubberValues) -> Result<Self, ParamError> {
         let m = MooneyRivlin {
             c10: admit(&C10, v.number("c10"), SPEC.key)?,
             c01: admit(&C01, v.number("c01"), SPEC.key)?,
@@ -56,30 +72,8 @@ impl MooneyRivlin {
     }
 
     /// μ₀ = 2(C₁₀ + C₀₁).
-    pub fn initial_shear_modulus(&self) -> f64 {
-        2.0 * (self.c10 + self.c01)
-    }
-
-    /// (ψ_iso, ∂ψ_iso/∂Ī₁, ∂ψ_iso/∂Ī₂) at (Ī₁, Ī₂).
-    #[inline(always)]
-    pub fn psi(&self, i1: f64, i2: f64) -> (f64, f64, f64) {
-        (
-            self.c10 * (i1 - 3.0) + self.c01 * (i2 - 3.0),
-            self.c10,
-            self.c01,
-        )
-    }
-}
-
-impl Family for MooneyRivlin {
-    const SPEC: RubberSpec = SPEC;
-
-    fn from_values(v: &dyn RubberValues) -> Result<Self, ParamError> {
-        MooneyRivlin::from_values(v)
-    }
-
     fn initial_shear_modulus(&self) -> f64 {
-        MooneyRivlin::initial_shear_modulus(self)
+        2.0 * (self.c10 + self.c01)
     }
 
     fn describe(&self) -> Vec<String> {
@@ -90,14 +84,8 @@ impl Family for MooneyRivlin {
     }
 
     #[inline(always)]
-    fn piola_iso<const ENERGY: bool>(
-        &self,
-        f: &[[f64; 3]; 3],
-        cof: &[[f64; 3]; 3],
-        j: f64,
-        j23: f64,
-    ) -> ([[f64; 3]; 3], f64) {
-        invariant_stress::<ENERGY>(f, cof, j, j23, |i1, i2| self.psi(i1, i2))
+    fn piola_iso<const ENERGY: bool>(&self, x: &IsoPoint) -> (Matrix, f64) {
+        invariant_stress::<ENERGY>(x, |i1, i2| self.psi(i1, i2))
     }
 
     fn example() -> (Self, Volumetric) {

@@ -1,6 +1,6 @@
 //! Isochoric neo-Hookean rubber (model §1.10): ψ_iso = C₁₀(Ī₁ − 3), μ₀ = 2C₁₀.
 
-use super::{admit, invariant_stress, Family, ParamError, RubberParam, RubberSpec, RubberValues};
+use super::{admit, IsoPoint, Matrix, invariant_stress, Family, ParamError, RubberParam, RubberSpec, RubberValues};
 use super::Volumetric;
 use crate::interface::family::Range;
 use serde::Serialize;
@@ -30,16 +30,7 @@ pub struct NeoHookean {
 }
 
 impl NeoHookean {
-    pub fn from_values(v: &dyn RubberValues) -> Result<Self, ParamError> {
-        Ok(NeoHookean {
-            c10: admit(&C10, v.number("c10"), SPEC.key)?,
-        })
-    }
 
-    /// μ₀ = 2C₁₀.
-    pub fn initial_shear_modulus(&self) -> f64 {
-        2.0 * self.c10
-    }
 
     /// (ψ_iso, ∂ψ_iso/∂Ī₁, ∂ψ_iso/∂Ī₂) at Ī₁.
     #[inline(always)]
@@ -52,11 +43,14 @@ impl Family for NeoHookean {
     const SPEC: RubberSpec = SPEC;
 
     fn from_values(v: &dyn RubberValues) -> Result<Self, ParamError> {
-        NeoHookean::from_values(v)
+        Ok(NeoHookean {
+            c10: admit(&C10, v.number("c10"), SPEC.key)?,
+        })
     }
 
+    /// μ₀ = 2C₁₀.
     fn initial_shear_modulus(&self) -> f64 {
-        NeoHookean::initial_shear_modulus(self)
+        2.0 * self.c10
     }
 
     fn describe(&self) -> Vec<String> {
@@ -64,14 +58,8 @@ impl Family for NeoHookean {
     }
 
     #[inline(always)]
-    fn piola_iso<const ENERGY: bool>(
-        &self,
-        f: &[[f64; 3]; 3],
-        cof: &[[f64; 3]; 3],
-        j: f64,
-        j23: f64,
-    ) -> ([[f64; 3]; 3], f64) {
-        invariant_stress::<ENERGY>(f, cof, j, j23, |i1, _| self.psi(i1))
+    fn piola_iso<const ENERGY: bool>(&self, x: &IsoPoint) -> (Matrix, f64) {
+        invariant_stress::<ENERGY>(x, |i1, _| self.psi(i1))
     }
 
     fn example() -> (Self, Volumetric) {

@@ -1,7 +1,7 @@
 //! Ogden rubber (model §1.10): ψ_iso = Σᵢ (μᵢ/αᵢ)(λ̄₁^αᵢ + λ̄₂^αᵢ + λ̄₃^αᵢ − 3), N ≤ 3 pairs,
 //! λ̄ₐ = J^{-1/3} λₐ the isochoric principal stretches, μ₀ = ½ Σᵢ μᵢαᵢ.
 
-use super::{admit, right_cauchy_green, symmetric_eigen, ParamError, RubberParam, RubberSpec};
+use super::{admit, IsoPoint, Matrix, right_cauchy_green, symmetric_eigen, ParamError, RubberParam, RubberSpec};
 use super::{Family, RubberValues, Volumetric, FINITE};
 use serde::Serialize;
 
@@ -41,8 +41,57 @@ pub struct Ogden {
 }
 
 impl Ogden {
+
+
+    /// Σᵢ μᵢ λ̄^αᵢ from λ̄² (= λ̄ ∂w/∂λ̄ for w(λ̄) = Σᵢ (μᵢ/αᵢ)λ̄^αᵢ), and w(λ̄).
+    #[inline(always)]
+    fn beta_w(&self, lb2: f64) -> (f64, f64) {
+        let (mut b, mut w) = (0.0, 0.0);
+        for i in 0..self.n {
+            let x = lb2.powf(0.5 * self.alpha[i]);
+            b += self.mu[i] * x;
+            w += self.mu[i] / self.alpha[i] * (x - 1.0);
+        }
+        (b, w)
+    }
+
+    /// (P_iso, ψ_iso) from F and J^{-2/3} (model §1.10): C = FᵀF = Σₐ cₐ Nₐ⊗Nₐ
+    /// ([`symmetric_eigen`]), λ̄ₐ² = J^{-2/3}cₐ, βₐ = Σᵢ μᵢ λ̄ₐ^αᵢ, β̄ = ⅓Σₐβₐ; the isochoric
+    /// principal Kirchhoff stresses τₐ = βₐ − β̄, S_iso = Σₐ (τₐ/cₐ) Nₐ⊗Nₐ, P_iso = F S_iso;
+    /// ψ_iso = Σₐ w(λ̄ₐ). (S_iso is the same whichever basis of a repeated eigenvalue's space:
+    /// equal cₐ give equal τₐ/cₐ.) ψ only if `ENERGY`.
+    #[inline]
+    pub fn stress<const ENERGY: bool>(&self, f: &[[f64; 3]; 3], j23: f64) -> ([[f64; 3]; 3], f64) {
+        let (c, v) = symmetric_eigen(right_cauchy_green(f));
+        let mut beta = [0.0; 3];
+        let mut psi = 0.0;
+        for a in 0..3 {
+            let (b, w) = self.beta_w(j23 * c[a]);
+            beta[a] = b;
+            psi += w;
+        }
+        let mean = (beta[0] + beta[1] + beta[2]) / 3.0;
+        let coef: [f64; 3] = std::array::from_fn(|a| (beta[a] - mean) / c[a]);
+        let mut s = [[0.0; 3]; 3];
+        for (i, si) in s.iter_mut().enumerate() {
+            for (k, sik) in si.iter_mut().enumerate() {
+                *sik = coef[0] * v[i][0] * v[k][0]
+                    + coef[1] * v[i][1] * v[k][1]
+                    + coef[2] * v[i][2] * v[k][2];
+            }
+        }
+        let p = std::array::from_fn(|i| {
+            std::array::from_fn(|k| f[i][0] * s[0][k] + f[i][1] * s[1][k] + f[i][2] * s[2][k])
+        });
+        (p, if ENERGY { psi } else { 0.0 })
+    }
+}
+
+impl Family for Ogden {
+    const SPEC: RubberSpec = SPEC;
+
     /// 1 to 3 pairs, αᵢ ≠ 0, μ₀ = ½Σμᵢαᵢ > 0 (else the material is unstable at rest).
-    pub fn from_values(v: &dyn RubberValues) -> Result<Self, ParamError> {
+    fn from_values(v: &dyn RubberValues) -> Result<Self, ParamError> {
         let list = |p: &RubberParam| -> Result<Vec<f64>, ParamError> {
             let Some(x) = v.list(p.key) else {
                 return Err(ParamError {
@@ -99,63 +148,8 @@ impl Ogden {
     }
 
     /// μ₀ = ½ Σᵢ μᵢαᵢ.
-    pub fn initial_shear_modulus(&self) -> f64 {
-        0.5 * (0..self.n).map(|i| self.mu[i] * self.alpha[i]).sum::<f64>()
-    }
-
-    /// Σᵢ μᵢ λ̄^αᵢ from λ̄² (= λ̄ ∂w/∂λ̄ for w(λ̄) = Σᵢ (μᵢ/αᵢ)λ̄^αᵢ), and w(λ̄).
-    #[inline(always)]
-    fn beta_w(&self, lb2: f64) -> (f64, f64) {
-        let (mut b, mut w) = (0.0, 0.0);
-        for i in 0..self.n {
-            let x = lb2.powf(0.5 * self.alpha[i]);
-            b += self.mu[i] * x;
-            w += self.mu[i] / self.alpha[i] * (x - 1.0);
-        }
-        (b, w)
-    }
-
-    /// (P_iso, ψ_iso) from F and J^{-2/3} (model §1.10): C = FᵀF = Σₐ cₐ Nₐ⊗Nₐ
-    /// ([`symmetric_eigen`]), λ̄ₐ² = J^{-2/3}cₐ, βₐ = Σᵢ μᵢ λ̄ₐ^αᵢ, β̄ = ⅓Σₐβₐ; the isochoric
-    /// principal Kirchhoff stresses τₐ = βₐ − β̄, S_iso = Σₐ (τₐ/cₐ) Nₐ⊗Nₐ, P_iso = F S_iso;
-    /// ψ_iso = Σₐ w(λ̄ₐ). (S_iso is the same whichever basis of a repeated eigenvalue's space:
-    /// equal cₐ give equal τₐ/cₐ.) ψ only if `ENERGY`.
-    #[inline]
-    pub fn stress<const ENERGY: bool>(&self, f: &[[f64; 3]; 3], j23: f64) -> ([[f64; 3]; 3], f64) {
-        let (c, v) = symmetric_eigen(right_cauchy_green(f));
-        let mut beta = [0.0; 3];
-        let mut psi = 0.0;
-        for a in 0..3 {
-            let (b, w) = self.beta_w(j23 * c[a]);
-            beta[a] = b;
-            psi += w;
-        }
-        let mean = (beta[0] + beta[1] + beta[2]) / 3.0;
-        let coef: [f64; 3] = std::array::from_fn(|a| (beta[a] - mean) / c[a]);
-        let mut s = [[0.0; 3]; 3];
-        for (i, si) in s.iter_mut().enumerate() {
-            for (k, sik) in si.iter_mut().enumerate() {
-                *sik = coef[0] * v[i][0] * v[k][0]
-                    + coef[1] * v[i][1] * v[k][1]
-                    + coef[2] * v[i][2] * v[k][2];
-            }
-        }
-        let p = std::array::from_fn(|i| {
-            std::array::from_fn(|k| f[i][0] * s[0][k] + f[i][1] * s[1][k] + f[i][2] * s[2][k])
-        });
-        (p, if ENERGY { psi } else { 0.0 })
-    }
-}
-
-impl Family for Ogden {
-    const SPEC: RubberSpec = SPEC;
-
-    fn from_values(v: &dyn RubberValues) -> Result<Self, ParamError> {
-        Ogden::from_values(v)
-    }
-
     fn initial_shear_modulus(&self) -> f64 {
-        Ogden::initial_shear_modulus(self)
+        0.5 * (0..self.n).map(|i| self.mu[i] * self.alpha[i]).sum::<f64>()
     }
 
     fn describe(&self) -> Vec<String> {
@@ -170,14 +164,8 @@ impl Family for Ogden {
     }
 
     #[inline(always)]
-    fn piola_iso<const ENERGY: bool>(
-        &self,
-        f: &[[f64; 3]; 3],
-        _cof: &[[f64; 3]; 3],
-        _j: f64,
-        j23: f64,
-    ) -> ([[f64; 3]; 3], f64) {
-        self.stress::<ENERGY>(f, j23)
+    fn piola_iso<const ENERGY: bool>(&self, x: &IsoPoint) -> (Matrix, f64) {
+        self.stress::<ENERGY>(x.f, x.j23)
     }
 
     fn example() -> (Self, Volumetric) {

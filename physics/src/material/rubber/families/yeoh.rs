@@ -1,6 +1,6 @@
 //! Yeoh rubber (model §1.10): ψ_iso = C₁₀(Ī₁ − 3) + C₂₀(Ī₁ − 3)² + C₃₀(Ī₁ − 3)³, μ₀ = 2C₁₀.
 
-use super::{admit, invariant_stress, Family, ParamError, RubberParam, RubberSpec};
+use super::{admit, IsoPoint, Matrix, invariant_stress, Family, ParamError, RubberParam, RubberSpec};
 use super::{RubberValues, Volumetric, FINITE};
 use serde::Serialize;
 
@@ -40,19 +40,7 @@ pub struct Yeoh {
 }
 
 impl Yeoh {
-    /// C₁₀ > 0 (μ₀ > 0); C₂₀ and C₃₀ any, 0 when left out.
-    pub fn from_values(v: &dyn RubberValues) -> Result<Self, ParamError> {
-        Ok(Yeoh {
-            c10: admit(&super::neo_hookean::C10, v.number("c10"), SPEC.key)?,
-            c20: admit(&C20, v.number("c20"), SPEC.key)?,
-            c30: admit(&C30, v.number("c30"), SPEC.key)?,
-        })
-    }
 
-    /// μ₀ = 2C₁₀.
-    pub fn initial_shear_modulus(&self) -> f64 {
-        2.0 * self.c10
-    }
 
     /// (ψ_iso, ∂ψ_iso/∂Ī₁, ∂ψ_iso/∂Ī₂) at Ī₁: with x = Ī₁ − 3,
     /// ψ₁ = C₁₀ + 2C₂₀x + 3C₃₀x².
@@ -68,12 +56,18 @@ impl Yeoh {
 impl Family for Yeoh {
     const SPEC: RubberSpec = SPEC;
 
+    /// C₁₀ > 0 (μ₀ > 0); C₂₀ and C₃₀ any, 0 when left out.
     fn from_values(v: &dyn RubberValues) -> Result<Self, ParamError> {
-        Yeoh::from_values(v)
+        Ok(Yeoh {
+            c10: admit(&super::neo_hookean::C10, v.number("c10"), SPEC.key)?,
+            c20: admit(&C20, v.number("c20"), SPEC.key)?,
+            c30: admit(&C30, v.number("c30"), SPEC.key)?,
+        })
     }
 
+    /// μ₀ = 2C₁₀.
     fn initial_shear_modulus(&self) -> f64 {
-        Yeoh::initial_shear_modulus(self)
+        2.0 * self.c10
     }
 
     fn describe(&self) -> Vec<String> {
@@ -85,14 +79,8 @@ impl Family for Yeoh {
     }
 
     #[inline(always)]
-    fn piola_iso<const ENERGY: bool>(
-        &self,
-        f: &[[f64; 3]; 3],
-        cof: &[[f64; 3]; 3],
-        j: f64,
-        j23: f64,
-    ) -> ([[f64; 3]; 3], f64) {
-        invariant_stress::<ENERGY>(f, cof, j, j23, |i1, _| self.psi(i1))
+    fn piola_iso<const ENERGY: bool>(&self, x: &IsoPoint) -> (Matrix, f64) {
+        invariant_stress::<ENERGY>(x, |i1, _| self.psi(i1))
     }
 
     fn example() -> (Self, Volumetric) {
