@@ -8,6 +8,7 @@
 //! pass, pair by pair on one thread: a bond's nodes carry no other condition (refused at
 //! set-up), so the two passes touch different nodes.
 
+use super::boundary::BoundarySums;
 use super::ledger::{InterfaceSums, StepChange};
 use super::state::SolverError;
 use super::Simulation;
@@ -178,7 +179,7 @@ impl Simulation {
     /// V_{n+½} of both nodes of every pair, before stage 5 changes them (the ledger's
     /// backward halves).
     pub(super) fn keep_bond_velocities(&mut self) {
-        let sc = &mut self.state.scratch;
+        let sc = &mut self.work.step;
         sc.bond_v_old.clear();
         sc.bond_v_old.extend(self.state.bond_nodes.iter().map(|p| {
             [
@@ -189,11 +190,16 @@ impl Simulation {
     }
 
     /// Stages 5, 7, 9 (the nodes' shares) and 8 on every node pair, after stage 5's free
-    /// velocity (see the module docs); adds the pairs' ledger halves to the boundary's sums. A
+    /// velocity (see the module docs); returns the boundary's sums `sums` with the pairs' ledger
+    /// halves added. A
     /// pair in several bonds takes each bond's cohesion, then one contact with their total
     /// area W = Σ Wᵢ and the area-weighted μ = Σ Wᵢ μᵢ(αᵢ)/W, shared as one impulse per area.
-    pub(super) fn bond_pass(&mut self, h_bar: f64, h_next: f64) {
-        let mut sums = self.state.scratch.boundary_sums;
+    pub(super) fn bond_pass(
+        &mut self,
+        h_bar: f64,
+        h_next: f64,
+        mut sums: BoundarySums,
+    ) -> BoundarySums {
         let n = self.state.bond_nodes.len();
         let mut start = 0;
         while start < n {
@@ -201,7 +207,7 @@ impl Simulation {
             self.bond_pair(start..end, h_bar, h_next, &mut sums);
             start = end;
         }
-        self.state.scratch.boundary_sums = sums;
+        sums
     }
 
     /// [`Simulation::bond_pass`] on the entries `range` of one node pair.
@@ -247,7 +253,7 @@ impl Simulation {
         self.state.v.set(b, v[1]);
         // 9. The nodes' forward halves and corrections (as a boundary node's), and the
         // contact's work on the relative velocity.
-        let vo = self.state.scratch.bond_v_old[range.start];
+        let vo = self.work.step.bond_v_old[range.start];
         for (s, (i, m)) in [(a, ma), (b, mb)].into_iter().enumerate() {
             let dv: [f64; 3] = std::array::from_fn(|c| v[s][c] - free0[s][c]);
             let f = self.state.f_int.get(i);

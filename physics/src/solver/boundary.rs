@@ -12,7 +12,7 @@ use crate::interface::contact::{contact_impulse, JointStats};
 use crate::kernels::{internal_and_gravity_impulses, Planes, PlanesPtr};
 use crate::mesh::dot;
 use crate::model::Model;
-use crate::mould::step::NodeGeometry;
+use crate::mould::step::{MouldStep, NodeGeometry};
 use crate::mould::surface::{Faces, MAX_FACES};
 use crate::team::SharedSlice;
 use std::ops::Range;
@@ -41,6 +41,8 @@ struct BoundaryStep<'a> {
     /// The step's surface and prescribed velocities, traction amplitudes, and V_{n+½} of the
     /// boundary nodes (stages 4 and 5).
     scratch: &'a StepScratch,
+    /// The moulds' poses and per-node geometry (stages 2 and 4).
+    moulds: &'a MouldStep,
     mass: &'a [f64],
     inv_mass: &'a [f64],
     f_int: &'a Planes,
@@ -57,13 +59,14 @@ macro_rules! boundary_step {
         BoundaryStep {
             model: &$sim.model,
             boundary: &$sim.state.boundary,
-            scratch: &$sim.state.scratch,
+            scratch: &$sim.work.step,
+            moulds: &$sim.state.moulds,
             mass: &$sim.setup.mass,
             inv_mass: &$sim.setup.inv_mass,
             f_int: &$sim.state.f_int,
             h_bar: $h_bar,
             h_next: $h_next,
-            general: $sim.state.scratch.moulds.any_general(),
+            general: $sim.state.moulds.any_general(),
         }
     };
 }
@@ -146,7 +149,7 @@ impl BoundaryStep<'_> {
     /// ([`crate::mould::step`]).
     #[inline]
     fn glue(&self, j: usize, k: usize) -> ([f64; 3], [[f64; 3]; 2]) {
-        let ms = &self.scratch.moulds;
+        let ms = &self.moulds;
         if !self.general || ms.plane[k] {
             let sc = self.scratch;
             (
@@ -164,7 +167,7 @@ impl BoundaryStep<'_> {
     /// before and after tₙ₊₁ (`geo`: the node's geometry on a curved mould).
     #[inline]
     fn surface(&self, k: usize, geo: Option<&NodeGeometry>) -> ([f64; 3], [[f64; 3]; 2]) {
-        let ms = &self.scratch.moulds;
+        let ms = &self.moulds;
         match geo {
             Some(g) if self.general && !ms.plane[k] => {
                 let v = [ms.velocity_old(k, g.point), ms.velocity_new(k, g.point)];
@@ -184,7 +187,7 @@ impl BoundaryStep<'_> {
     /// the flag is false) on mould `k`.
     #[inline]
     fn surface_of(&self, k: usize, from: (u32, bool)) -> ([f64; 3], [[f64; 3]; 2]) {
-        let ms = &self.scratch.moulds;
+        let ms = &self.moulds;
         let geo = match from {
             (j, true) => ms.interface.get(j as usize),
             (j, false) => ms.contact.get(j as usize),
@@ -197,7 +200,7 @@ impl BoundaryStep<'_> {
     /// another shape).
     #[inline]
     fn faces_of(&self, k: usize, from: (u32, bool)) -> Faces {
-        let ms = &self.scratch.moulds;
+        let ms = &self.moulds;
         if !self.general || ms.plane[k] {
             return Faces::default();
         }
@@ -401,7 +404,7 @@ impl BoundaryStep<'_> {
     /// # Safety
     /// No other thread may touch the interface entries of `b`.
     unsafe fn damage(&self, b: &BoundaryNode, itfs: SharedSlice<InterfaceNode>, v: [f64; 3]) {
-        let ms = &self.scratch.moulds;
+        let ms = &self.moulds;
         for e in b.interfaces.clone() {
             let j = self.boundary.interfaces[e as usize] as usize;
             let itf = itfs.get(j);
@@ -476,10 +479,10 @@ impl Simulation {
     /// Stages 5–8 at every boundary node (model §4.5–§4.8), in fixed chunks on the thread team.
     /// `h_bar` = (h_{n+½} + h_{n+3/2})/2 scales forces into impulses, `h_next` = h_{n+3/2} is
     /// the interval the new velocities act over. Needs [`Simulation::prescribed_motion`] and
-    /// [`Simulation::free_velocity`] of this step; leaves the chunks' sums and the reactions in
-    /// the step's scratch for stage 9.
-    pub(super) fn boundary_pass(&mut self, h_bar: f64, h_next: f64) {
-        self.state.scratch.moulds.h_bar = h_bar;
+    /// [`Simulation::free_velocity`] of this step; returns the chunks' sums for stage 9 and
+    /// leaves the reactions in the step's scratch.
+    pub(super) fn boundary_pass(&mut self, h_bar: f64, h_next: f64) -> BoundarySums {
+        self.state.moulds.h_bar = h_bar;
         let cx = boundary_step!(self, h_bar, h_next);
         let (v_all, itfs, cns) = (
             self.state.v.ptr(),
@@ -507,12 +510,12 @@ impl Simulation {
                 parts.extend((0..chunks).map(run));
             }
         }
-        let sc = &mut self.state.scratch;
-        sc.boundary_sums = parts.iter().fold(BoundarySums::default(), |a, &b| a.add(b));
-        self.stats.joint_contact = self.stats.joint_contact.merge(sc.boundary_sums.joint);
-        for (k, r) in sc.reactions.iter_mut().enumerate() {
+        let sums = parts.iter().fold(BoundarySums::default(), |a, &b| a.add(b));
+        self.stats.joint_contact = self.stats.joint_contact.merge(sums.joint);
+        for (k, r) in self.work.step.reactions.iter_mut().enumerate() {
             *r = (0..chunks).fold(0.0, |acc, c| acc + self.work.parts_reactions[c * n_bc + k]);
         }
+        sums
     }
 }
 

@@ -1,9 +1,11 @@
 //! Stage 9 (model §4.9): the energy ledger of model §5 closed for the step, the run statistics
 //! (reactions and their peaks, first damage, full rupture), and the blow-up checks.
 
+use super::boundary::BoundarySums;
 use super::state::{SolverError, StateCounts};
 use super::Simulation;
 use crate::energy::Work;
+use crate::kernels::NodeSums;
 use crate::mesh::dot;
 
 /// What the interface nodes hold after a step: Σ Ψ_d, Σ ΔD, the most negative ΔD, the state
@@ -39,6 +41,15 @@ pub(super) struct StepChange {
     pub now: f64,
 }
 
+/// What stage 5 and stages 5–8 hand to stage 9: the sums of the ledger's halves from the
+/// node loop ([`Simulation::free_velocity`]) and from the boundary and bond passes
+/// ([`Simulation::boundary_pass`], [`Simulation::bond_pass`]) (model §4.9, §5).
+#[derive(Clone, Copy)]
+pub(super) struct StepSums {
+    pub nodes: NodeSums,
+    pub boundary: BoundarySums,
+}
+
 impl Simulation {
     /// Stage 9: the step's work halves into the ledger (trapezoid pairing, model §5.3), the
     /// reactions and their peaks, the interface energies, damage dissipation and the glue's
@@ -59,7 +70,12 @@ impl Simulation {
     /// up to the bulk's O(h²) term whatever the steps. In halves: the impulse halves b, a of
     /// F_int (at tₙ, h̄ = ½(h_{n−½} + h_{n+½})) give b(1 − h_{n−½}/h̄) and a(1 − h_{n+½}/h̄);
     /// the cohesive part uses [u]ₙ − [u]ₙ₋₁ directly ([`StepChange`]).
-    pub(super) fn ledger(&mut self, h_next: f64, first: bool) -> Result<(), SolverError> {
+    pub(super) fn ledger(
+        &mut self,
+        h_next: f64,
+        first: bool,
+        sums: StepSums,
+    ) -> Result<(), SolverError> {
         self.reactions_and_peaks();
         let c = &mut self.state.step_control;
         if first {
@@ -80,7 +96,7 @@ impl Simulation {
             c.h_before = h;
         }
         let internal = (!first && h_next != h).then(|| (h_next - h) / (h_next + h));
-        self.push_work(first, internal, itf.step_change, itf.torque);
+        self.push_work(first, sums, internal, itf.step_change, itf.torque);
         self.push_mould_work(first);
         self.push_mould_friction(first);
         if itf.clamped > 0.0 {
@@ -118,7 +134,7 @@ impl Simulation {
     /// reaction only measures its vibration).
     fn reactions_and_peaks(&mut self) {
         let t = self.state.time;
-        let sc = &self.state.scratch;
+        let sc = &self.work.step;
         for (k, r) in sc.reactions.iter().enumerate() {
             self.stats.reactions[k] = *r;
             let peak = &mut self.stats.peaks[k];
@@ -138,11 +154,15 @@ impl Simulation {
     /// `internal` = ρ = (h_{n+½} − h_{n−½})/(h_{n+½} + h_{n−½}), the internal force's halves
     /// ρb and −ρa ([`Simulation::ledger`]); and the glue's torque work W_τ of the interval just
     /// taken, `torque`, to the moulds' work (model §5.5, §5.7).
-    fn push_work(&mut self, first: bool, internal: Option<f64>, cohesive: f64, torque: f64) {
-        let (mut s, bs) = (
-            self.state.scratch.node_sums,
-            self.state.scratch.boundary_sums,
-        );
+    fn push_work(
+        &mut self,
+        first: bool,
+        sums: StepSums,
+        internal: Option<f64>,
+        cohesive: f64,
+        torque: f64,
+    ) {
+        let (mut s, bs) = (sums.nodes, sums.boundary);
         s.int_a += bs.int_a;
         // The viscous part of F_int is not conservative: its halves go to its own work
         // (model §5.11), not to the internal work or the step-change work.
@@ -206,7 +226,7 @@ impl Simulation {
         for j in 0..self.state.interface_nodes.len() {
             let itf = &self.state.interface_nodes[j];
             let k = self.model.interfaces[itf.interface as usize].plane;
-            let h_bar = self.state.scratch.moulds.h_bar;
+            let h_bar = self.state.moulds.h_bar;
             let coh = itf.cohesive_traction.map(|c| -h_bar * itf.area * c);
             let con = itf.contact_impulse.map(|c| c * itf.area);
             let (anchor, point) = self.mould_points(k, Some(j), None);
@@ -226,19 +246,19 @@ impl Simulation {
             halves[k].0 += 0.5 * dot(v[0], con);
             halves[k].1 += 0.5 * dot(v[1], con);
         }
-        for (half, &torque) in halves.iter_mut().zip(&self.state.scratch.moulds.torque) {
+        for (half, &torque) in halves.iter_mut().zip(&self.state.moulds.torque) {
             if torque != 0.0 {
                 half.0 += torque;
             }
         }
-        push_halves(&mut self.state.scratch.moulds.work, &halves, first);
-        self.state.scratch.moulds.halves = halves;
+        push_halves(&mut self.state.moulds.work, &halves, first);
+        self.state.moulds.halves = halves;
     }
 
     /// The per-mould (before, after) work array, zeroed for `n` moulds: taken out of the
     /// step's scratch (give it back after use), so that no step allocates.
     fn mould_halves(&mut self, n: usize) -> Vec<(f64, f64)> {
-        let mut halves = std::mem::take(&mut self.state.scratch.moulds.halves);
+        let mut halves = std::mem::take(&mut self.state.moulds.halves);
         halves.clear();
         halves.resize(n, (0.0, 0.0));
         halves
@@ -260,7 +280,7 @@ impl Simulation {
         let mut halves = self.mould_halves(n_moulds);
         for (b, node) in self.state.boundary.nodes.iter().enumerate() {
             let (vo, v) = (
-                self.state.scratch.v_old[b],
+                self.work.step.v_old[b],
                 self.state.v.get(node.node as usize),
             );
             let mut add = |k: usize, p: [f64; 3], geo: Option<usize>, interface: bool| {
@@ -285,8 +305,8 @@ impl Simulation {
                 add(cn.plane as usize, p, Some(j), false);
             }
         }
-        push_halves(&mut self.state.scratch.moulds.friction, &halves, first);
-        self.state.scratch.moulds.halves = halves;
+        push_halves(&mut self.state.moulds.friction, &halves, first);
+        self.state.moulds.halves = halves;
     }
 
     /// The normal of mould `k` at the contact point of interface entry (`interface`) or contact
@@ -298,7 +318,7 @@ impl Simulation {
         j: Option<usize>,
         interface: bool,
     ) -> ([f64; 3], [[f64; 3]; 2]) {
-        let ms = &self.state.scratch.moulds;
+        let ms = &self.state.moulds;
         if ms.plane[k] {
             return (
                 self.model.moulds[k].normal,
@@ -327,7 +347,7 @@ impl Simulation {
                 self.state.ledger.friction_dissipated,
             )];
         }
-        let works = &self.state.scratch.moulds.friction;
+        let works = &self.state.moulds.friction;
         (planes.iter().zip(works))
             .map(|(p, w)| (p.name.clone(), 0.0 - w.value))
             .collect()
@@ -352,7 +372,7 @@ impl Simulation {
             evolving: 0,
             clamped: 0.0,
         };
-        self.state.scratch.moulds.torque.fill(0.0);
+        self.state.moulds.torque.fill(0.0);
         for j in 0..self.state.interface_nodes.len() {
             let n = self.glue_normal(j);
             let n_before = if first {
@@ -396,7 +416,7 @@ impl Simulation {
                     [n_prev, n],
                 );
                 out.torque += torque;
-                self.state.scratch.moulds.torque[spec.plane] += torque;
+                self.state.moulds.torque[spec.plane] += torque;
             }
             itf.prev_stiffness = itf.stiffness;
             itf.prev_jump = itf.jump;

@@ -56,7 +56,9 @@ pub use checkpoint::{
     model_fingerprint, read_header, write_atomically, CheckpointError, CheckpointHeader,
     CHECKPOINT_FORMAT,
 };
+use ledger::StepSums;
 pub use mass_scaling::MassScalingReport;
+use stages::StepScratch;
 use std::sync::Arc;
 // std's `Instant` on native; the browser's clock on wasm32, where std's panics.
 use web_time::Instant;
@@ -130,6 +132,9 @@ struct Workspace {
     parts_boundary: Vec<BoundarySums>,
     /// Reaction impulse of each prescribed condition from each boundary chunk.
     parts_reactions: Vec<f64>,
+    /// The values stages hand to later stages of the same step (surface and prescribed
+    /// velocities, traction amplitudes, V_{n+½} of the boundary nodes, the reactions).
+    step: StepScratch,
 }
 
 impl Simulation {
@@ -153,17 +158,17 @@ impl Simulation {
         self.prescribed_motion(h_next, false);
         let h_bar = 0.5 * (h + h_next);
         // 5. Free velocity on every node: internal forces and gravity (§4.5).
-        self.free_velocity(h_bar);
+        let nodes = self.free_velocity(h_bar);
         let t4 = Instant::now();
         // 5–8 at the boundary nodes, one fused pass: tractions and cohesion (5), prescribed
         //    components (6), contact and friction (7), damage for the next step (8) (§4.10).
-        self.boundary_pass(h_bar, h_next);
+        let boundary = self.boundary_pass(h_bar, h_next);
         // 5–8 at the bonded node pairs (§7.8).
-        self.bond_pass(h_bar, h_next);
+        let boundary = self.bond_pass(h_bar, h_next, boundary);
         let t5 = Instant::now();
         // 9. Glue that forms on contact (§8), then the ledger and checks (§4.9, §5).
         self.form_glue();
-        self.ledger(h_next, false)?;
+        self.ledger(h_next, false, StepSums { nodes, boundary })?;
         self.count_step_change(h, h_next);
         self.state.h = h_next;
         let t6 = Instant::now();
@@ -267,7 +272,7 @@ impl Simulation {
     pub fn mould_pose(&self, k: usize) -> ([[f64; 3]; 3], [f64; 3]) {
         use crate::mould::motion::{mat_vec, IDENTITY};
         let m = &self.model.moulds[k];
-        let ms = &self.state.scratch.moulds;
+        let ms = &self.state.moulds;
         if ms.plane.get(k).copied().unwrap_or(true) {
             return (IDENTITY, m.displacement(self.state.time));
         }

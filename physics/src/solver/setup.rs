@@ -3,6 +3,7 @@
 //! of the leapfrog at t₀ (model §4.11: V_{−½}, then the first impulses give V_{½}).
 
 use super::boundary::{Boundary, NONE};
+use super::ledger::StepSums;
 use super::mass_scaling::class_factors;
 use super::stable_step::{capped_step, StepControl};
 use super::stages::StepScratch;
@@ -300,6 +301,7 @@ impl Simulation {
                 parts_nodes: Vec::new(),
                 parts_boundary: Vec::new(),
                 parts_reactions: Vec::new(),
+                step: StepScratch::default(),
             },
             state: State {
                 bulk_viscosity: None,
@@ -310,7 +312,7 @@ impl Simulation {
                 contact_nodes,
                 bond_nodes,
                 boundary,
-                scratch: StepScratch::default(),
+                moulds: MouldStep::default(),
                 time: 0.0,
                 step_count: 0,
                 h: 0.0,
@@ -346,7 +348,7 @@ impl Simulation {
             },
             model,
         };
-        sim.state.scratch.moulds = MouldStep::new(&sim.model.moulds, 0.0);
+        sim.state.moulds = MouldStep::new(&sim.model.moulds, 0.0);
         sim.mould_geometry_at_start();
         sim.bulk_viscosity_setup();
         sim.start()?;
@@ -376,11 +378,11 @@ impl Simulation {
         self.internal_forces(true, false)?;
         let h = self.state.h;
         self.half_step_back(h);
-        self.free_velocity(h);
-        self.boundary_pass(h, h);
-        self.bond_pass(h, h);
+        let nodes = self.free_velocity(h);
+        let boundary = self.boundary_pass(h, h);
+        let boundary = self.bond_pass(h, h, boundary);
         self.form_glue();
-        self.ledger(h, true)
+        self.ledger(h, true, StepSums { nodes, boundary })
     }
 
     /// α₀ = min(u_r, max(initial damage, f₀)): eq. 12's "largest jump ever reached", with the

@@ -1,7 +1,6 @@
 //! Stages 1, 2, 3, 4's velocities and 5 of model §4 (the boundary's stages 5–8 are in
 //! `boundary.rs`, the step's choice in `stable_step.rs`, the ledger's stage 9 in `ledger.rs`), and the per-step buffers they fill.
 
-use super::boundary::BoundarySums;
 use super::state::SolverError;
 use super::{ElementLoop, Simulation, NODE_GRAIN};
 use crate::kernels::{free_velocity_chunk, NodeSums, CORNER_EXACT_BELOW};
@@ -13,7 +12,7 @@ type NodeChunk<'a> = ([&'a mut [f64]; 3], [&'a [f64]; 3], (&'a [f64], &'a [f64])
 /// Per-step values of the planes, prescribed conditions and tractions, computed once per step
 /// (not per node), and the step's sums, in buffers that are reused, so the step allocates
 /// nothing after the first.
-#[derive(Default, Clone, serde::Serialize, serde::Deserialize)]
+#[derive(Default)]
 pub(super) struct StepScratch {
     /// Plane displacement d(tₙ₊₁) and the round-off tolerance of its gaps.
     pub plane_disp: Vec<[f64; 3]>,
@@ -31,13 +30,7 @@ pub(super) struct StepScratch {
     /// V_{n+½} of the boundary nodes (by boundary index), before stage 5, for the ledger.
     pub v_old: Vec<[f64; 3]>,
     /// V_{n+½} of both nodes of each bond pair, before stage 5, for the ledger.
-    #[serde(default)]
     pub bond_v_old: Vec<[[f64; 3]; 2]>,
-    /// Sums of the all-node loop (stage 5) and of the boundary pass (5–8), for stage 9.
-    pub node_sums: NodeSums,
-    pub boundary_sums: BoundarySums,
-    /// The moulds' poses, per-node geometry against curved moulds, and works (model §7).
-    pub moulds: crate::mould::step::MouldStep,
 }
 
 impl Simulation {
@@ -87,7 +80,7 @@ impl Simulation {
     pub(super) fn surfaces_and_gaps(&mut self) {
         let t = self.state.time;
         let planes = &self.model.moulds;
-        let sc = &mut self.state.scratch;
+        let sc = &mut self.work.step;
         sc.plane_disp.clear();
         sc.plane_disp
             .extend(planes.iter().map(|p| p.displacement(t)));
@@ -201,8 +194,8 @@ impl Simulation {
         let t_next = t + h_next;
         let planes = &self.model.moulds;
         let h_prev = self.state.h;
-        let sc = &mut self.state.scratch;
-        (sc.moulds).advance(planes, t, h_next, h_prev, first || h_prev <= 0.0);
+        let sc = &mut self.work.step;
+        (self.state.moulds).advance(planes, t, h_next, h_prev, first || h_prev <= 0.0);
         sc.plane_v_old.clear();
         sc.plane_v_old.extend(planes.iter().map(|p| {
             if first || h_prev <= 0.0 {
@@ -243,10 +236,11 @@ impl Simulation {
     /// Stage 5 on every node: V_free = V + h̄ M⁻¹(m g − F_int), with the ledger's halves
     /// b = ½V_old·P and a = ½V_free·P of the internal and gravity impulses P; keeps V_{n+½} of
     /// the boundary nodes first (their stages 5–8 follow in [`Simulation::boundary_pass`]).
-    pub(super) fn free_velocity(&mut self, h_bar: f64) {
+    /// Returns the node loop's sums for stage 9.
+    pub(super) fn free_velocity(&mut self, h_bar: f64) -> NodeSums {
         // Keep V_{n+½} of boundary nodes and bond pairs for the ledger's backward halves.
         self.keep_bond_velocities();
-        let sc = &mut self.state.scratch;
+        let sc = &mut self.work.step;
         sc.v_old.clear();
         sc.v_old.extend(
             self.state
@@ -282,9 +276,9 @@ impl Simulation {
                 parts.extend((0..n.div_ceil(grain)).map(chunk));
             }
         }
-        self.state.scratch.node_sums = parts.iter().fold(NodeSums::default(), |a, &b| a.add(b));
         if let Some(bv) = self.state.bulk_viscosity.as_mut() {
             bv.h_bar = h_bar;
         }
+        parts.iter().fold(NodeSums::default(), |a, &b| a.add(b))
     }
 }

@@ -11,9 +11,9 @@ use std::time::Duration;
 use super::boundary::Boundary;
 use super::bulk_viscosity::BulkViscosityState;
 use super::stable_step::StepControl;
-use super::stages::StepScratch;
 use crate::energy::Ledger;
 use crate::kernels::Planes;
+use crate::mould::step::MouldStep;
 
 /// What defines a run at tₙ (model §4.13): the displacements, velocities and internal forces,
 /// every interface and contact node (damage, jumps, impulses, the glue formed), the moulds' poses
@@ -40,8 +40,9 @@ pub struct State {
     /// What acts on each boundary node (glue, contact, tractions, prescribed components), with
     /// the glue still to form.
     pub(super) boundary: Boundary,
-    /// Per-step values and sums, in buffers reused from step to step, with the moulds' poses.
-    pub(super) scratch: StepScratch,
+    /// The moulds' poses at tₙ, tₙ₊₁, tₙ₊₂, per-node geometry against curved moulds, and
+    /// their works (model §7).
+    pub(super) moulds: MouldStep,
     /// Bulk viscosity's constants, forces and step values (model §4.12); None without.
     pub(super) bulk_viscosity: Option<BulkViscosityState>,
     /// Current time tₙ [s] and step count n.

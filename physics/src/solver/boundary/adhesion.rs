@@ -55,9 +55,9 @@ impl Simulation {
         let i = itf.node as usize;
         let x: [f64; 3] =
             std::array::from_fn(|c| self.model.mesh.nodes[i][c] + self.state.u.get(i)[c]);
-        let ms = &mut self.state.scratch.moulds;
+        let ms = &mut self.state.moulds;
         let bonded = if !ms.any_general() || ms.plane[k] {
-            sub(x, self.state.scratch.plane_disp[k])
+            sub(x, self.work.step.plane_disp[k])
         } else {
             let mould = &self.model.moulds[k];
             let pose = ms.pose_at(k, self.state.time);

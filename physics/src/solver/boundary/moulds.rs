@@ -14,7 +14,7 @@ impl Simulation {
     /// every mould is a plain plane): the glue normal N₀ at each anchor y₀ (the closest mould
     /// point to the node at t₀, already in `bonded_point`).
     pub(in crate::solver) fn mould_geometry_at_start(&mut self) {
-        let ms = &mut self.state.scratch.moulds;
+        let ms = &mut self.state.moulds;
         if !ms.any_general() {
             return;
         }
@@ -46,13 +46,13 @@ impl Simulation {
     /// planes); on a triangulated mould, the faces a node inside the mould is behind at a
     /// concave edge or vertex (model §7.5), its constraints in stage 7.
     pub(in crate::solver) fn mould_gaps(&mut self) {
-        if !self.state.scratch.moulds.any_general() {
+        if !self.state.moulds.any_general() {
             return;
         }
         let (nodes, t) = (&self.model.mesh.nodes, self.state.time);
         let (planes, u) = (&self.model.moulds, &self.state.u);
-        let sc = &mut self.state.scratch;
-        let (ms, tol) = (&mut sc.moulds, &sc.plane_tol);
+        let sc = &mut self.work.step;
+        let (ms, tol) = (&mut self.state.moulds, &sc.plane_tol);
         let snap = |g: f64, tol: f64| if g.abs() <= tol { 0.0 } else { g };
         let place = |i: usize| -> [f64; 3] {
             let ui = u.get(i);
@@ -95,12 +95,12 @@ impl Simulation {
     /// node's list of nearby triangles: the same results (see
     /// [`crate::mould::SurfaceMesh::project_near`]), slower; for measuring the lists only.
     pub fn set_mould_queries_cold(&mut self, cold: bool) {
-        self.state.scratch.moulds.cold = cold;
+        self.state.moulds.cold = cold;
     }
 
     /// What the lists of nearby triangles did since the start (interface nodes, contact nodes).
     pub fn mould_near_stats(&self) -> [crate::mould::surface::NearStats; 2] {
-        let ms = &self.state.scratch.moulds;
+        let ms = &self.state.moulds;
         [ms.near_interface.stats, ms.near_contact.stats]
     }
 
@@ -109,10 +109,10 @@ impl Simulation {
     #[inline]
     pub(in crate::solver) fn glue_normal(&self, j: usize) -> [f64; 3] {
         let k = self.model.interfaces[self.state.interface_nodes[j].interface as usize].plane;
-        if self.state.scratch.moulds.plane[k] {
+        if self.state.moulds.plane[k] {
             self.model.moulds[k].normal
         } else {
-            self.state.scratch.moulds.interface[j].glue_normal
+            self.state.moulds.interface[j].glue_normal
         }
     }
 
@@ -126,7 +126,7 @@ impl Simulation {
     pub(in crate::solver) fn glue_normal_before(&self, j: usize) -> Option<[f64; 3]> {
         let itf = &self.state.interface_nodes[j];
         let spec = &self.model.interfaces[itf.interface as usize];
-        let ms = &self.state.scratch.moulds;
+        let ms = &self.state.moulds;
         if ms.plane[spec.plane] || spec.law.loading().isotropic() || !itf.formed {
             return None;
         }
@@ -141,7 +141,7 @@ impl Simulation {
         itf: Option<usize>,
         cn: Option<usize>,
     ) -> ([f64; 3], [f64; 3]) {
-        let ms = &self.state.scratch.moulds;
+        let ms = &self.state.moulds;
         if ms.plane[k] {
             return ([0.0; 3], [0.0; 3]);
         }
@@ -154,11 +154,12 @@ impl Simulation {
 
     /// The velocity of mould `k` at the point p over the intervals before and after tₙ₊₁.
     pub(in crate::solver) fn mould_velocities(&self, k: usize, p: [f64; 3]) -> [[f64; 3]; 2] {
-        let sc = &self.state.scratch;
-        if sc.moulds.plane[k] {
+        let sc = &self.work.step;
+        if self.state.moulds.plane[k] {
             [sc.plane_v_old[k], sc.plane_v_new[k]]
         } else {
-            [sc.moulds.velocity_old(k, p), sc.moulds.velocity_new(k, p)]
+            let ms = &self.state.moulds;
+            [ms.velocity_old(k, p), ms.velocity_new(k, p)]
         }
     }
 
@@ -169,7 +170,7 @@ impl Simulation {
         if planes.len() == 1 {
             return vec![(planes[0].name.clone(), self.state.ledger.plane_work.value)];
         }
-        let works = &self.state.scratch.moulds.work;
+        let works = &self.state.moulds.work;
         (planes.iter().zip(works))
             .map(|(p, w)| (p.name.clone(), w.value))
             .collect()
