@@ -37,3 +37,5 @@ pub mod solver;
 pub mod team;
 /// The median the benchmarks report.
 pub mod timing;
+/// The numbers the solver chose rather than derived: meaning, unit and source of each.
+pub mod tunables;

@@ -378,7 +378,10 @@ fn drucker_check_finds_the_instability() {
         uniaxial.stretch > 0.6 && uniaxial.stretch < 1.0,
         "{uniaxial}"
     );
-    let before = uniaxial.stretch * (drucker::STRETCH_MAX.ln() / 500.0).exp();
+    let before = uniaxial.stretch
+        * (drucker::DRUCKER_STRETCH_MAX.ln()
+            / decohesion_physics::tunables::DRUCKER_SAMPLES as f64)
+            .exp();
     assert!(drucker::stable_at(
         &mr,
         drucker::Mode::Uniaxial.strains(before)

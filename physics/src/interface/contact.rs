@@ -5,6 +5,7 @@
 //! velocities are relative to the surface's material point, impulses are W R (N·s).
 
 use crate::mesh::{dot, norm};
+pub use crate::tunables::{JOINT_MAX_CONSTRAINTS, JOINT_MAX_SWEEPS, JOINT_TOLERANCE};
 
 /// Contact status of a node against a plane, for output and debugging.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize, Default)]
@@ -150,19 +151,6 @@ pub struct Constraint {
     pub v_surface: [f64; 3],
     pub mu: f64,
 }
-
-/// Relative tolerance of the joint solve: the sweeps stop when no impulse changed the velocity
-/// by more than `JOINT_TOLERANCE · s` (|Δpᵢ|/m ≤ ε s), with s = maxᵢ |V_free − v_surface,i|
-/// the node's velocity scale.
-pub const JOINT_TOLERANCE: f64 = 1e-12;
-
-/// Sweeps after which the joint solve stops unconverged (and says so, [`JointSolve`]).
-pub const JOINT_MAX_SWEEPS: u32 = 200;
-
-/// The most constraint entries one node may have (the solver refuses more at setup), and the
-/// most constraints the exact frictionless projection enumerates (a node behind the faces of a
-/// concave corner of a triangulated mould can have more, model §7.5: the sweeps take them).
-pub const JOINT_MAX_CONSTRAINTS: usize = 8;
 
 /// What a joint solve took: the sweeps, whether the impulses converged to
 /// [`JOINT_TOLERANCE`] before [`JOINT_MAX_SWEEPS`], and the last sweep's largest impulse change

@@ -7,7 +7,7 @@
 //! Written as an energy (model §1.13, §1.14): the nodal volume ratio Jₐ = vₐ/Vₐ,
 //! vₐ = Σ_{e∋a} v_e/4, v_e = J_e V_e, the element's J̄_e = ¼Σ_{a∈e} Jₐ, the nodal displacement
 //! gradient Hₐ = (1/Vₐ) Σ_{e∋a} V_e H_e/4 and Fₐ = I + Hₐ, and the element's share
-//! α = [`ELEMENT_SHARE`] of the isochoric energy:
+//! α = [`TET_ELEMENT_SHARE`] of the isochoric energy:
 //!
 //!   W = Σ_e V_e [α ψ_iso(F_e) + U(J̄_e)] + (1 − α) Σ_a Vₐ ψ_iso(Fₐ),
 //!
@@ -28,13 +28,7 @@ use crate::material::{first_piola, rubber, with_law, Deformation, Material};
 use crate::mesh::tet::tet_deformation_gradient;
 use crate::mesh::{Mesh, TetData};
 use crate::team::Team;
-
-/// The element's share α of the rubbers' isochoric energy on tetrahedra (model §1.14): the
-/// rest is taken at the nodes' averaged F, which removes the linear tetrahedron's bending
-/// stiffening; the element's share keeps the nodal averaging's spurious modes (a displacement
-/// field whose nodal averages vanish) stiff. Chosen on the nearly incompressible cantilever
-/// (performance log, "Tetrahedra that do not stiffen").
-pub const ELEMENT_SHARE: f64 = 0.3;
+pub use crate::tunables::TET_ELEMENT_SHARE;
 
 /// One tetrahedron's state at U: H = F − I, J, cof F (under the nodal pressure), the stress
 /// without the nodal pressure's part and the energy density without U(J̄).
@@ -216,7 +210,7 @@ fn nodal_isochoric(
     nodal_h: &mut Vec<[[f64; 3]; 3]>,
     nodal_p: &mut Vec<[[f64; 3]; 3]>,
 ) -> f64 {
-    let alpha = ELEMENT_SHARE;
+    let alpha = TET_ELEMENT_SHARE;
     let n = mesh.nodes.len();
     nodal_h.clear();
     nodal_h.resize(n, [[0.0; 3]; 3]);

@@ -36,14 +36,11 @@ pub(crate) use tensor::{
     parent_gradient,
 };
 
+pub use crate::tunables::RUBBER_HOURGLASS_SHEAR;
 pub use kinematics::Deformation;
 use kinematics::{doubled_green_lagrange, f_times_s, id};
 use nalgebra::Matrix3;
 use serde::{Deserialize, Serialize};
-
-/// A rubber's hourglass modulus in units of its initial shear modulus μ₀
-/// ([`Material::hourglass_modulus`]): 2(1 − ν)/(1 − 2ν) at ν = 0.45.
-pub const RUBBER_HOURGLASS_SHEAR: f64 = 11.0;
 
 /// Constitutive model.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

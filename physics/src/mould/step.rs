@@ -13,13 +13,11 @@
 //! the contact points, moments included (Σ P·(v + ω × (p − c)) = F·v + M_c·ω).
 
 use super::motion::{mat_mul_t, mat_vec, Mat3, Pose, RigidMotion};
-use super::surface::{Faces, NearLists, NEAR_CAPACITY, NO_FEATURE};
+use super::surface::{Faces, NearLists, NO_FEATURE};
 
-/// A triangulated mould with at most this many triangles is queried with parry's full query
-/// (its BVH is a few leaves; the lists cost more there; docs: performance log).
-pub const SMALL_SURFACE: usize = 2 * NEAR_CAPACITY;
 use super::{Mould, Shape};
 use crate::energy::Work;
+pub use crate::tunables::SMALL_SURFACE;
 
 /// A node's geometry against a mould that is not a plain plane, at tₙ₊₁.
 #[derive(Debug, Clone, Copy, serde::Serialize, serde::Deserialize)]

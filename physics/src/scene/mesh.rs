@@ -9,9 +9,7 @@ use super::raw::{RawFaceSet, RawMesh, RawMould};
 use crate::mesh::Mesh;
 use crate::mould::shapes::{Entry, EntryError, SHAPES, SHAPE_KEYS};
 use crate::mould::Mould;
-
-/// Largest mesh a scene may ask for, in elements.
-pub(super) const MAX_ELEMENTS: u128 = 50_000_000;
+pub(crate) use crate::tunables::MAX_ELEMENTS;
 
 /// The two forms, for messages.
 const FORMS: &str = "a mesh is either a Gmsh file (`file`, optional `scale`) or a box \

@@ -27,13 +27,8 @@ use crate::kernels::simd::{simd_dispatch, ISA_AVX2, ISA_AVX512};
 use crate::material::{Material, MaterialModel};
 use crate::mesh::ElementClasses;
 use crate::model::Integration;
+use crate::tunables::{BOUND_ELEMENT_CHUNK, BOUND_ROUNDING_SLACK};
 use nalgebra::{DMatrix, SymmetricEigen};
-
-/// Elements per chunk of the bound's parallel pass.
-const ELEMENT_CHUNK: usize = 512;
-/// Relative slack on (B) for the round-off of the 8×8 eigenvalues and of the pass (a few
-/// ulps each; 1e-9 is far above them and far below anything that matters for h).
-const ROUNDING_SLACK: f64 = 1e-9;
 
 /// What the bound keeps between calls: g_e and g_hg,e per element class (empty until the
 /// first call) and the per-chunk maxima and per-node spring sums of the pass.
@@ -223,7 +218,7 @@ pub(super) struct ElementPass<'a> {
 }
 
 simd_dispatch! {
-    /// max_e (a_e g_e + g_hg,e) over chunk `c` of the elements ([`ELEMENT_CHUNK`] each), the
+    /// max_e (a_e g_e + g_hg,e) over chunk `c` of the elements ([`BOUND_ELEMENT_CHUNK`] each), the
     /// element part of (B). Built for AVX-512 and AVX2 like the kernels: the pass vectorises
     /// over the 8 Gauss points, which the baseline x86-64 build did 2 lanes at a time (then a
     /// large share of the stable-step estimates' time; docs: performance log). No fused
@@ -244,7 +239,7 @@ unsafe fn element_pass_impl<const FMA: bool, const ISA: u8>(pass: &ElementPass, 
         u,
     } = *pass;
     let mut worst = 0.0f64;
-    let range = c * ELEMENT_CHUNK..((c + 1) * ELEMENT_CHUNK).min(elements.len());
+    let range = c * BOUND_ELEMENT_CHUNK..((c + 1) * BOUND_ELEMENT_CHUNK).min(elements.len());
     let gather = |e: usize| elements[e].map(|n| u.get(n as usize));
     if !full {
         // One point: 8 elements of one class at a time, F at their centres on lanes
@@ -440,7 +435,7 @@ impl Simulation {
         // SAFETY: the dispatch runs the build the CPU supports; chunk c's range is clamped to
         // the elements, whose nodes are in range of U.
         let chunk = |c: usize| unsafe { element_pass_chunk(&pass, c) };
-        let n_chunks = elements.len().div_ceil(ELEMENT_CHUNK);
+        let n_chunks = elements.len().div_ceil(BOUND_ELEMENT_CHUNK);
         match self.work.team.as_ref() {
             Some(team) => team.map_into(n_chunks, &mut cache.maxima, chunk),
             None => {
@@ -475,7 +470,7 @@ impl Simulation {
             cache.node_springs[i] = 0.0;
         }
         self.state.step_control.bound = cache;
-        (bulk + springs) * (1.0 + ROUNDING_SLACK)
+        (bulk + springs) * (1.0 + BOUND_ROUNDING_SLACK)
     }
 }
 

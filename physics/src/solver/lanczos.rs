@@ -8,12 +8,8 @@
 //! as the operator's internal-force assembly itself (docs: performance log).
 
 use super::state::StableStep;
-use super::NODE_GRAIN;
 use crate::team::{SharedSlice, Team};
-
-/// Degrees of freedom per chunk of the estimate's streaming passes: the nodes of a chunk of
-/// the step's node loops, so that a participant touches the share it has in those loops.
-pub(super) const DOF_GRAIN: usize = 3 * NODE_GRAIN;
+pub(crate) use crate::tunables::DOF_GRAIN;
 
 /// `f(a, b)` over the consecutive ranges a..b of [`DOF_GRAIN`] of n degrees of freedom, on
 /// `team` (participant t on its contiguous share, as in the step's node loops) or on the

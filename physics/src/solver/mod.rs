@@ -61,17 +61,9 @@ pub use mass_scaling::MassScalingReport;
 use stages::StepScratch;
 use std::sync::Arc;
 // std's `Instant` on native; the browser's clock on wasm32, where std's panics.
+pub use crate::tunables::PARALLEL_MIN_ELEMENTS;
+use crate::tunables::{BOUNDARY_GRAIN, ELEMENT_GRAIN, NODE_GRAIN};
 use web_time::Instant;
-
-/// Smallest element block ([`crate::mesh::Mesh::element_blocks`]), and nodes per chunk in node
-/// loops. Fixed, so the reduction order never depends on the thread count.
-const ELEMENT_GRAIN: usize = 256;
-const NODE_GRAIN: usize = 4096;
-/// Boundary nodes per chunk of the boundary loop (stages 5–8).
-const BOUNDARY_GRAIN: usize = 256;
-/// Below this many elements the loops run on the calling thread (a parallel section would
-/// cost more than it saves).
-pub const PARALLEL_MIN_ELEMENTS: usize = 2048;
 
 /// A simulation in progress. Build it with [`Simulation::new`], advance it with
 /// [`Simulation::step`] or [`Simulation::run`].

@@ -7,41 +7,11 @@ use super::lanczos::{lanczos, LanczosOut, LanczosStop};
 use super::state::StableStep;
 use super::stiffness::{EstimateCache, StiffnessOperator};
 use super::Simulation;
-
-/// Smallest and largest change of the smallest Jacobian since the last h_crit estimate that
-/// triggers a new estimate before its scheduled step, once some element is compressed below
-/// [`JACOBIAN_COMPRESSED`] (`next_time_step`). The threshold adapts between the two: halved
-/// after an estimate that found ω_max² moved by more than [`OMEGA_MOVED`], doubled after one
-/// that found it within [`OMEGA_STILL`] (a body vibrating in and out of compression, whose
-/// stiffest mode barely moves, would otherwise re-estimate at every swing).
-const JACOBIAN_RETRIGGER: f64 = 0.02;
-const JACOBIAN_RETRIGGER_MAX: f64 = 0.16;
-const OMEGA_MOVED: f64 = 0.05;
-const OMEGA_STILL: f64 = 0.02;
-/// Smallest J where the stress is evaluated ([`Simulation::stress_jacobian`]: the Gauss points,
-/// one point's centre) below which compression re-estimates h_crit between scheduled
-/// estimates.
-pub(super) const JACOBIAN_COMPRESSED: f64 = 0.9;
-/// Change of the glue's total spring stiffness Σ W g_N(α) since the last estimate, as a
-/// fraction of its value at t = 0, that re-estimates h_crit (damage and rupture soften the
-/// glue, which may set the step).
-const SPRING_RETRIGGER: f64 = 0.1;
-/// Largest number of Lanczos iterations of an update (warm-started) estimate.
-const UPDATE_MAX_ITER: usize = 12;
-/// An update estimate stops once the Ritz residual ‖r‖ is below this fraction of θ: the margin
-/// θ + ‖r‖ then costs at most ½ % of h_crit.
-const UPDATE_RESIDUAL: f64 = 1e-2;
-/// Smallest margin of an update estimate, relative to θ (see
-/// [`Simulation::update_stable_step`]).
-const UPDATE_MARGIN: f64 = 0.03;
-/// Largest Lanczos basis kept in memory by an estimate (f64 values, 64 MB): a run of more
-/// iterations than fit forms its Ritz vector by a second pass that regenerates the basis.
-const BASIS_BUDGET: usize = 1 << 23;
-/// Largest ratio h_{n+3/2}/h_{n+½} while the step grows back after a softening.
-pub(super) const GROWTH_RATIO: f64 = 1.02;
-/// Relative dead band of the step's changes: h shrinks when it exceeds the target
-/// factor × h_crit by more than this, and grows when the target exceeds it by more.
-const STEP_BAND: f64 = 0.05;
+use crate::tunables::{
+    BASIS_BUDGET, JACOBIAN_RETRIGGER, JACOBIAN_RETRIGGER_MAX, OMEGA_MOVED, OMEGA_STILL,
+    SPRING_RETRIGGER, STEP_BAND, UPDATE_MARGIN, UPDATE_MAX_ITER, UPDATE_RESIDUAL,
+};
+pub(crate) use crate::tunables::{GROWTH_RATIO, JACOBIAN_COMPRESSED};
 
 /// The step for a time-step factor: h = factor × h_crit, never above h_crit (model §6.1, §6.6:
 /// central differences are unstable above h_crit = 2/ω_max). A factor above 1 is accepted

@@ -9,16 +9,11 @@
 //! D₁₁D₂₂ − D₁₂D₂₁ > 0 (the check of Abaqus' "hyperelastic material stability"). D is formed by
 //! central differences of t, t from the material's own stress ([`super::piola_energy`] with
 //! K = 0), along the uniaxial (λ, λ^{-½}, λ^{-½}), equibiaxial (λ, λ, λ^{-2}) and planar
-//! (λ, 1, λ^{-1}) paths, from λ = 1 out to [`STRETCH_MAX`] and in to 1/[`STRETCH_MAX`].
+//! (λ, 1, λ^{-1}) paths, from λ = 1 out to [`DRUCKER_STRETCH_MAX`] and in to 1/[`DRUCKER_STRETCH_MAX`].
 
 use super::{piola_energy, Rubber};
-
-/// The largest stretch checked (and its inverse the smallest).
-pub const STRETCH_MAX: f64 = 10.0;
-/// Samples between λ = 1 and [`STRETCH_MAX`] (and its inverse), evenly in ln λ.
-const SAMPLES: usize = 500;
-/// The central-difference step in logarithmic strain.
-const STEP: f64 = 1e-4;
+pub use crate::tunables::DRUCKER_STRETCH_MAX;
+use crate::tunables::{DRUCKER_SAMPLES, DRUCKER_STEP};
 
 /// A standard homogeneous test of an incompressible material.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -92,11 +87,11 @@ pub fn tangent(r: &Rubber, e: [f64; 2]) -> [[f64; 2]; 2] {
     let mut d = [[0.0; 2]; 2];
     for j in 0..2 {
         let (mut ep, mut em) = (e, e);
-        ep[j] += STEP;
-        em[j] -= STEP;
+        ep[j] += DRUCKER_STEP;
+        em[j] -= DRUCKER_STEP;
         let (tp, tm) = (stress_differences(r, ep), stress_differences(r, em));
         for i in 0..2 {
-            d[i][j] = (tp[i] - tm[i]) / (2.0 * STEP);
+            d[i][j] = (tp[i] - tm[i]) / (2.0 * DRUCKER_STEP);
         }
     }
     let off = 0.5 * (d[0][1] + d[1][0]);
@@ -110,13 +105,15 @@ pub fn stable_at(r: &Rubber, e: [f64; 2]) -> bool {
 }
 
 /// The first unstable stretch of every mode and sense (tension, compression) that has one,
-/// over 1/[`STRETCH_MAX`] ≤ λ ≤ [`STRETCH_MAX`]; empty for a material stable throughout.
+/// over 1/[`DRUCKER_STRETCH_MAX`] ≤ λ ≤ [`DRUCKER_STRETCH_MAX`]; empty for a material stable throughout.
 pub fn check(r: &Rubber) -> Vec<Instability> {
     let mut out = Vec::new();
     for mode in Mode::ALL {
         for sense in [1.0, -1.0] {
-            let first = (0..=SAMPLES)
-                .map(|k| (sense * STRETCH_MAX.ln() * k as f64 / SAMPLES as f64).exp())
+            let first = (0..=DRUCKER_SAMPLES)
+                .map(|k| {
+                    (sense * DRUCKER_STRETCH_MAX.ln() * k as f64 / DRUCKER_SAMPLES as f64).exp()
+                })
                 .find(|&stretch| !stable_at(r, mode.strains(stretch)));
             if let Some(stretch) = first {
                 out.push(Instability { mode, stretch });

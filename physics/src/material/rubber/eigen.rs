@@ -1,9 +1,7 @@
 //! Eigenvalues and eigenvectors of a symmetric 3×3 matrix, for the principal stretches of the
 //! Ogden material (model §1.10).
 
-/// The most sweeps [`symmetric_eigen`] makes (it converges quadratically: a 3×3 matrix takes a
-/// handful).
-const MAX_SWEEPS: usize = 24;
+use crate::tunables::EIGEN_MAX_SWEEPS;
 
 /// Eigenvalues dₐ and orthonormal eigenvectors (the columns of V, `v[i][a]` component i of
 /// eigenvector a) of the symmetric 3×3 matrix `a`, A = V diag(d) Vᵀ, by cyclic Jacobi
@@ -12,10 +10,10 @@ const MAX_SWEEPS: usize = 24;
 /// Robust for repeated eigenvalues (any orthonormal basis of an eigenspace is returned: the
 /// identity for a multiple of I), accurate to round-off relative to the largest |dₐ|.
 /// Stops when the off-diagonal entries are below round-off of the diagonal, or after
-/// [`MAX_SWEEPS`].
+/// [`EIGEN_MAX_SWEEPS`].
 pub fn symmetric_eigen(mut a: [[f64; 3]; 3]) -> ([f64; 3], [[f64; 3]; 3]) {
     let mut v = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
-    for _ in 0..MAX_SWEEPS {
+    for _ in 0..EIGEN_MAX_SWEEPS {
         let off = a[0][1].abs() + a[0][2].abs() + a[1][2].abs();
         let diag = a[0][0].abs() + a[1][1].abs() + a[2][2].abs();
         if !(off > 1e-18 * diag) {

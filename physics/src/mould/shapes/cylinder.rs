@@ -6,9 +6,8 @@ use crate::interface::family::Range;
 use crate::keydoc::KeyDoc;
 use crate::mesh::{cross, dot, norm};
 use crate::mould::Projection;
+pub use crate::tunables::CYLINDER_SEGMENTS;
 
-/// Segments around a cylinder's drawing.
-pub const CYLINDER_SEGMENTS: usize = 48;
 
 /// A capped cylinder: centre of its axis, unit axis, radius and half-length [m].
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]

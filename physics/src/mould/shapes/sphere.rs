@@ -6,12 +6,8 @@ use super::{unit_or, Entry, EntryError, Frame, MouldMesh, MouldShape};
 use crate::interface::family::Range;
 use crate::keydoc::KeyDoc;
 use crate::mould::Projection;
+pub use crate::tunables::{SPHERE_RINGS, SPHERE_MERIDIANS};
 
-/// Rings (pole to pole) and meridians of a sphere's drawing: 2 + 15 × 32 = 482 vertices,
-/// 960 triangles; each pole is a vertex, so the point of a sphere pressed along its axis is
-/// exact.
-pub const SPHERE_RINGS: usize = 16;
-pub const SPHERE_MERIDIANS: usize = 32;
 
 /// A ball, centre and radius [m].
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]

@@ -4,18 +4,8 @@
 //! count of its open edges.
 
 use crate::mesh::{cross, dot, norm, sub};
+pub use crate::tunables::{FOLD_TOLERANCE, WELD_TOLERANCE};
 use std::collections::HashMap;
-
-/// Two vertices closer than this fraction of the surface's bounding-box diagonal are one vertex
-/// (welded): the same corner written twice by a program that rounds differently, or an STL
-/// whose facets repeat their corners in single precision. Each vertex is welded to the first
-/// vertex of the file within the tolerance of it, and takes that vertex's position.
-pub const WELD_TOLERANCE: f64 = 1e-6;
-
-/// Two triangles that share an edge are folded onto each other when their unit normals satisfy
-/// n₁·n₂ ≤ −1 + [`FOLD_TOLERANCE`] (they face opposite ways to within 0.08°): the edge's
-/// pseudo-normal n₁ + n₂ is then zero or nearly so, and the gap measured along it undefined.
-pub const FOLD_TOLERANCE: f64 = 1e-6;
 
 /// What the checks found on an admissible surface.
 #[derive(Debug, Clone)]

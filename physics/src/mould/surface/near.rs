@@ -3,6 +3,7 @@
 
 use super::SurfaceMesh;
 use crate::mould::Projection;
+pub use crate::tunables::{NEAR_CAPACITY, NEAR_REACH, NEAR_TOLERANCE};
 use nalgebra::{SimdPartialOrd, SimdValue};
 use parry3d_f64::bounding_volume::SimdAabb;
 use parry3d_f64::math::{Point, SimdReal, SIMD_WIDTH};
@@ -248,17 +249,6 @@ impl SurfaceMesh {
         (w2 > w1 + eps || self.ties_agree(pt, eps, w1, &found, near_ties)).then_some(found)
     }
 }
-
-/// The most triangles a node's list holds ([`SurfaceMesh::project_near`]).
-pub const NEAR_CAPACITY: usize = 16;
-
-/// ρ/(longest edge of the node's closest triangle): the list reaches about ρ around the node's
-/// foot point on the surface ([`SurfaceMesh::project_near`]).
-pub const NEAR_REACH: f64 = 0.5;
-
-/// ε/(the largest coordinate of the node and the surface): the margin of the list's bounds and
-/// of a tie ([`SurfaceMesh::project_near`]).
-pub const NEAR_TOLERANCE: f64 = 1e-9;
 
 /// A triangle's projection of a point: the point, the triangle, the feature.
 type Found = (PointProjection, u32, TrianglePointLocation);

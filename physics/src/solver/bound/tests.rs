@@ -42,7 +42,7 @@ fn the_element_pass_builds_agree() {
                 class_g: &sim.state.step_control.bound.class_g,
                 u: &sim.state.u,
             };
-            let chunks = sim.model.mesh.elements.len().div_ceil(ELEMENT_CHUNK);
+            let chunks = sim.model.mesh.elements.len().div_ceil(BOUND_ELEMENT_CHUNK);
             let builds = element_pass_chunk_builds();
             let (first, reference) = (builds[0].0, builds[0].1);
             for &(name, build) in &builds {
@@ -101,9 +101,10 @@ fn the_one_point_lanes_are_the_element_bound() {
                 class_g,
                 u: &sim.state.u,
             };
-            for c in 0..elements.len().div_ceil(ELEMENT_CHUNK) {
+            for c in 0..elements.len().div_ceil(BOUND_ELEMENT_CHUNK) {
                 let lanes = unsafe { element_pass_chunk(&pass, c) };
-                let range = c * ELEMENT_CHUNK..((c + 1) * ELEMENT_CHUNK).min(elements.len());
+                let range =
+                    c * BOUND_ELEMENT_CHUNK..((c + 1) * BOUND_ELEMENT_CHUNK).min(elements.len());
                 let each = range.fold(0.0f64, |m, e| {
                     let ue = elements[e].map(|n| sim.state.u.get(n as usize));
                     m.max(centre_bound(&mat, &sim.work.classes, class_g, e, &ue))
