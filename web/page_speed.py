@@ -10,8 +10,16 @@ the browser test: software WebGL) from every site given, in turn, and runs
 `decohesion run scenes/NAME.toml --summary … --threads 1` natively, so that the builds compared
 share the machine's load. Per run it prints the summary's wall time (set-up and run), the time
 inside `step()`, ns per element-step, and the page's slices of steps (its console line:
-pictures drawn ≈ slices); then the medians and ranges. `DECOHESION_ISA` in the environment
-picks the native kernels (e.g. `portable`: no FMA, as in the page).
+pictures drawn ≈ slices); then the medians and ranges, the median per stage of the step
+(`stage_seconds`), and the medians of the per-round ratios of ns per element-step: each site
+against the first site and against native. `DECOHESION_ISA` in the environment picks the native
+kernels (e.g. `portable`: no FMA, as in the page).
+
+All rounds share one browser profile unless `--cold`: then every page load gets a fresh profile,
+as a student's first visit does. The difference matters: a profile that has run the page before
+holds the engine's optimised code of the module (V8's code cache), a first load runs the step in
+the engine's baseline code until its optimising compiler has compiled the hot functions, on
+background threads that share the cores with the run (docs: performance log).
 """
 
 import argparse
@@ -55,6 +63,8 @@ def main():
     ap.add_argument("--scene", default="pull_off")
     ap.add_argument("--runs", type=int, default=5)
     ap.add_argument("--timeout", type=float, default=300.0)
+    ap.add_argument("--cold", action="store_true",
+                    help="a fresh browser profile for every page load (a first visit)")
     ap.add_argument("--chromium", default="/usr/bin/chromium")
     ap.add_argument("--chromedriver", default="/usr/bin/chromedriver")
     args = ap.parse_args()
@@ -69,11 +79,18 @@ def main():
     try:
         test_page.wait_for("chromedriver", lambda: test_page._ready(wd), 30)
         with tempfile.TemporaryDirectory() as profile:
-            wd.start(args.chromium, profile)
+            if not args.cold:
+                wd.start(args.chromium, profile)
             for r in range(args.runs):
                 for site, port in zip(args.site, ports):
-                    s, slices = page_run(
-                        wd, f"http://127.0.0.1:{port}/?scene={args.scene}&run=1", args.timeout)
+                    url = f"http://127.0.0.1:{port}/?scene={args.scene}&run=1"
+                    if args.cold:
+                        with tempfile.TemporaryDirectory() as fresh:
+                            wd.start(args.chromium, fresh)
+                            s, slices = page_run(wd, url, args.timeout)
+                            wd.quit()
+                    else:
+                        s, slices = page_run(wd, url, args.timeout)
                     results[site].append((s, slices))
                     print(f"round {r + 1} {site}: wall {s['wall_seconds']:.3f} s, step "
                           f"{s['step_wall_seconds']:.3f} s, {s['ns_per_element_step']:.0f} ns/el-step, "
@@ -84,7 +101,8 @@ def main():
                       f"{n['step_wall_seconds']:.3f} s, {n['ns_per_element_step']:.0f} ns/el-step",
                       flush=True)
                 time.sleep(0.5)
-            wd.quit()
+            if not args.cold:
+                wd.quit()
     finally:
         chromedriver.terminate()
         chromedriver.wait(10)
@@ -98,6 +116,20 @@ def main():
         if slices:
             cols.append(f"slices {statistics.median(slices):g}")
         print(f"  {name}: " + ", ".join(cols))
+    print("median seconds per stage of the step:")
+    for name, runs in results.items():
+        stages = runs[0][0]["stage_seconds"]
+        print(f"  {name}: " + ", ".join(
+            f"{k} {statistics.median(s['stage_seconds'][k] for s, _ in runs):.4f}" for k in stages))
+    print("medians of the per-round ratios of ns per element-step (range):")
+    ns = {name: [s["ns_per_element_step"] for s, _ in runs] for name, runs in results.items()}
+    for name in args.site:
+        for base in [args.site[0], "native"]:
+            if base == name:
+                continue
+            r = [b / a if base != "native" else a / b for a, b in zip(ns[name], ns[base])]
+            what = "faster than" if base != "native" else "times the time of"
+            print(f"  {name} {what} {base}: {statistics.median(r):.2f}× ({min(r):.2f}–{max(r):.2f})")
 
 
 if __name__ == "__main__":
