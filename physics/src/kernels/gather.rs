@@ -58,8 +58,11 @@ pub(super) const NODAL_BYTES: usize = 72;
 /// ([`last_level_cache_bytes`]; 32 MiB where it cannot be read). Measured with the full
 /// kernel: slower while the nodal fields fit in the cache, faster once they do not: the hints
 /// cost issue slots, and only data coming from memory repays them (docs: performance log).
+/// Never in the web page: WebAssembly has no prefetch ([`prefetch_group`] is empty there), and
+/// its element loops are built without the hints ([`super::simd::simd_dispatch`]).
 pub fn prefetch_pays(nodes: usize) -> bool {
-    nodes.saturating_mul(NODAL_BYTES) > last_level_cache_bytes().unwrap_or(32 << 20)
+    !cfg!(target_arch = "wasm32")
+        && nodes.saturating_mul(NODAL_BYTES) > last_level_cache_bytes().unwrap_or(32 << 20)
 }
 
 /// The size of CPU 0's largest cache level, from Linux's sysfs

@@ -17,16 +17,19 @@ pub mod tet;
 
 use gather::*;
 pub use gather::{last_level_cache_bytes, prefetch_pays};
-use groups::{full_group, reduced_group};
+use groups::{full_group, reduced_group, scalar_element};
 
 pub(crate) use crate::mesh::planes::PlanesPtr;
 pub use crate::mesh::planes::{NodalField, Planes};
 pub use crate::mesh::rows::row_starts;
 pub(crate) use nodes::{free_velocity_chunk, internal_and_gravity_impulses, NodeSums};
 
+// The web page calls the scalar full kernel per law (`groups::scalar_element`).
+#[cfg_attr(target_arch = "wasm32", allow(unused_imports))]
+use crate::material::element_forces;
 use crate::material::{
-    element_forces, element_forces_reduced, element_forces_reduced_lanes_in, hourglass_stiffness,
-    with_law, F64x8, LaneElements, Material, OnePointScratch,
+    element_forces_reduced, element_forces_reduced_lanes_in, hourglass_stiffness, with_law, F64x8,
+    LaneElements, Material, OnePointScratch,
 };
 use crate::mesh::{CentreData, ElementClasses, GaussData, Mesh};
 use crate::model::Integration;
@@ -541,36 +544,6 @@ unsafe fn chunk_forces_impl<const FMA: bool, const ISA: u8, const PREFETCH: bool
         keep_min_j(j, e, &mut min_j, &mut min_e);
     }
     (e_sum, min_j, min_e)
-}
-
-/// Element `e` through the scalar full kernel ([`element_forces`], the Gauss points in lanes),
-/// its forces scattered: (strain energy if `energy`, min J).
-///
-/// # Safety
-/// As [`scatter`]; `e` and its nodes in range.
-#[inline(always)]
-unsafe fn scalar_element<const FMA: bool>(
-    mesh: &Mesh,
-    classes: &ElementClasses,
-    mat: &Material,
-    u: [&[f64]; 3],
-    f: PlanesPtr,
-    e: u32,
-    energy: bool,
-) -> (f64, f64) {
-    let conn = mesh.elements.get_unchecked(e as usize);
-    let gd: &GaussData = classes
-        .data
-        .get_unchecked(*classes.class_of.get_unchecked(e as usize) as usize);
-    let ue: [[f64; 3]; 8] = std::array::from_fn(|a| node_of(u, conn[a]));
-    let mut fe = [[0.0; 3]; 8];
-    let out = if energy {
-        element_forces::<true, FMA>(mat, gd, &ue, &mut fe)
-    } else {
-        element_forces::<false, FMA>(mat, gd, &ue, &mut fe)
-    };
-    scatter(f, conn, &fe);
-    out
 }
 
 #[cfg(test)]

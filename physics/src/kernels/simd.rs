@@ -236,12 +236,14 @@ macro_rules! simd_dispatch {
         }
     };
     // The build's call: `imp::<FMA, ISA>`, or, with `const by flag`, `imp::<FMA, ISA, B>` with
-    // B the runtime argument `flag` made a constant (a body compiled once per value).
+    // B the runtime argument `flag` made a constant (a body compiled once per value). The flag
+    // is `prefetch`, false in the web page (`prefetch_pays`): there one body, without the
+    // hints, so that the engine optimises one copy of the loop, not two.
     (@call $imp:ident, $fma:expr, $isa:expr, [], ($($arg:ident),*)) => {
         $imp::<$fma, $isa>($($arg),*)
     };
     (@call $imp:ident, $fma:expr, $isa:expr, [$flag:ident], ($($arg:ident),*)) => {
-        if $flag {
+        if $flag && !cfg!(target_arch = "wasm32") {
             $imp::<$fma, $isa, true>($($arg),*)
         } else {
             $imp::<$fma, $isa, false>($($arg),*)

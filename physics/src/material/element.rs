@@ -80,6 +80,19 @@ pub fn element_forces<const ENERGY: bool, const FMA: bool>(
     with_law!(mat.model, L => full::<L, ENERGY, FMA>(mat, gd, u, f))
 }
 
+/// [`element_forces`] for the law `L` (the web page's chunk remainders call it per law:
+/// `kernels::scalar_element`).
+#[cfg(target_arch = "wasm32")]
+#[inline(always)]
+pub(crate) fn element_forces_law<L: Law, const ENERGY: bool, const FMA: bool>(
+    mat: &Material,
+    gd: &GaussData,
+    u: &[[f64; 3]; 8],
+    f: &mut [[f64; 3]; 8],
+) -> (f64, f64) {
+    full::<L, ENERGY, FMA>(mat, gd, u, f)
+}
+
 /// [`element_forces`] for the law `L`: the parent derivatives by sum factorisation
 /// ([`parent_gradient`], (T1) of `material::tensor`), H_q = D_q·(⅛ J₀⁻¹) and P at the 8 points
 /// in lanes, Q_q = P_q·(w_q det J₀ ⅛ J₀⁻ᵀ), the forces by the transpose ([`parent_forces`], (T2));

@@ -21,6 +21,8 @@ pub mod real;
 pub mod rubber;
 mod tensor;
 
+#[cfg(target_arch = "wasm32")]
+pub(crate) use element::element_forces_law;
 pub(crate) use element::first_piola_lanes_into;
 pub use element::{
     centre_norms_of, element_forces, element_forces_reduced, element_forces_reduced_lanes,
