@@ -230,11 +230,26 @@ fn fbar_group<const FMA: bool, const DIAG: bool>(
     work: &mut FbarScratch,
     energy: bool,
 ) -> (F64x8, F64x8) {
-    with_law!(mat.model, L => if energy {
+    with_law!(mat.model, L => fbar_group_law::<L, FMA, DIAG>(mat, g, ul, fl, work, energy))
+}
+
+/// [`fbar_group`] for the law `L`: inlined natively, a function per law and variant in the web
+/// page, which then optimises only its run's law (as `groups::full_group_law`).
+#[cfg_attr(not(target_arch = "wasm32"), inline(always))]
+#[cfg_attr(target_arch = "wasm32", inline(never))]
+fn fbar_group_law<L: Law, const FMA: bool, const DIAG: bool>(
+    mat: &Material,
+    g: &LaneGauss,
+    ul: &[[[f64; 8]; 3]; 8],
+    fl: &mut [[F64x8; 3]; 8],
+    work: &mut FbarScratch,
+    energy: bool,
+) -> (F64x8, F64x8) {
+    if energy {
         fbar_lanes::<L, true, FMA, DIAG, LaneGauss>(mat, g, ul, fl, work)
     } else {
         fbar_lanes::<L, false, FMA, DIAG, LaneGauss>(mat, g, ul, fl, work)
-    })
+    }
 }
 
 simd_dispatch! {

@@ -271,11 +271,25 @@ fn physical_group<const FMA: bool>(
     fl: &mut [[F64x8; 3]; 8],
     energy: bool,
 ) -> [F64x8; 3] {
-    with_law!(mat.model, L => if energy {
+    with_law!(mat.model, L => physical_group_law::<L, FMA>(mat, g, ul, fl, energy))
+}
+
+/// [`physical_group`] for the law `L`: inlined natively, a function per law in the web page,
+/// which then optimises only its run's law (as `groups::full_group_law`).
+#[cfg_attr(not(target_arch = "wasm32"), inline(always))]
+#[cfg_attr(target_arch = "wasm32", inline(never))]
+fn physical_group_law<L: Law, const FMA: bool>(
+    mat: &Material,
+    g: &PhysicalLanes,
+    ul: &[[[f64; 8]; 3]; 8],
+    fl: &mut [[F64x8; 3]; 8],
+    energy: bool,
+) -> [F64x8; 3] {
+    if energy {
         physical_lanes::<L, true, FMA>(mat, g, ul, fl)
     } else {
         physical_lanes::<L, false, FMA>(mat, g, ul, fl)
-    })
+    }
 }
 
 simd_dispatch! {
