@@ -31,6 +31,12 @@ against the native run of its scene with the overrides of the lesson's steps 1 t
 link to the book gone, and the 3-D view at least 40 % of the frame's width and half its height
 (the page's `#layout`); and `embed=yes`, which the page must refuse with a message naming it.
 
+Before the browser, the module itself (`check_kernel_sizes`): no function of the physics'
+element kernels (`decohesion_physics::kernels::`) is larger than `KERNEL_BODY_LIMIT` bytes of
+WebAssembly, so that a first load of the page does not run its step in V8's baseline code while
+the optimising compiler works through a kernel for every law (docs: performance log, "Where the
+page's step goes").
+
 Saves a screenshot of the page at the end of each run. Exit status 0 when every check passes.
 """
 
@@ -241,6 +247,100 @@ def run_page(wd, url, timeout, screenshot):
     return page
 
 
+# The largest body (bytes of WebAssembly) admitted for a function of the element kernels. V8's
+# optimising compiler took 1.3–1.6 ms per KB of body on the 2-core test machine in a page's
+# first run (257 KB of the chunk loop 402 ms, 51 KB of a lane kernel holding every law 67 ms:
+# performance log, 2026-11-29), on background threads that share the cores with the run, which
+# goes on in the baseline code meanwhile. 48 KB (≈ 70 ms, the order of the 7³ pull-off's whole
+# step) admits one law's kernel and refuses the functions that inlined every law's.
+KERNEL_BODY_LIMIT = 48 * 1024
+
+
+def _leb128(b, i):
+    """The unsigned LEB128 number at `b[i:]` and the index after it."""
+    value = shift = 0
+    while True:
+        byte = b[i]
+        i += 1
+        value |= (byte & 0x7F) << shift
+        shift += 7
+        if byte < 0x80:
+            return value, i
+
+
+def function_sizes(path):
+    """{name: body bytes} of the functions a WebAssembly module defines (names from its `name`
+    section; `#index` for a function without one)."""
+    with open(path, "rb") as f:
+        b = f.read()
+    i, imported, bodies, names = 8, 0, [], {}
+    while i < len(b):
+        section = b[i]
+        size, i = _leb128(b, i + 1)
+        end = i + size
+        if section == 2:  # imports: functions defined come after the imported ones
+            n, j = _leb128(b, i)
+            for _ in range(n):
+                for _ in range(2):  # module and field names
+                    length, j = _leb128(b, j)
+                    j += length
+                kind = b[j]
+                j += 1
+                if kind == 0:  # function: its type index
+                    imported += 1
+                    _, j = _leb128(b, j)
+                elif kind in (1, 2):  # table (its element type first) or memory: limits
+                    j += kind == 1
+                    flags, j = _leb128(b, j)
+                    _, j = _leb128(b, j)
+                    if flags & 1:
+                        _, j = _leb128(b, j)
+                elif kind == 3:  # global: value type, mutability
+                    j += 2
+                elif kind == 4:  # tag: attribute, type index
+                    _, j = _leb128(b, j + 1)
+        elif section == 10:  # code: one size-prefixed body per defined function
+            n, j = _leb128(b, i)
+            for _ in range(n):
+                length, j = _leb128(b, j)
+                bodies.append(length)
+                j += length
+        elif section == 0:  # custom: the `name` section's function names (subsection 1)
+            length, j = _leb128(b, i)
+            if b[j:j + length] == b"name":
+                j += length
+                while j < end:
+                    sub, (length, j) = b[j], _leb128(b, j + 1)
+                    if sub == 1:
+                        n, k = _leb128(b, j)
+                        for _ in range(n):
+                            index, k = _leb128(b, k)
+                            size_name, k = _leb128(b, k)
+                            names[index] = b[k:k + size_name].decode("utf-8", "replace")
+                            k += size_name
+                    j += length
+        i = end
+    return {names.get(imported + k, f"#{imported + k}"): n for k, n in enumerate(bodies)}
+
+
+def check_kernel_sizes(wasm):
+    """Exits naming the element kernels' functions over `KERNEL_BODY_LIMIT`; prints the largest."""
+    sizes = {name: n for name, n in function_sizes(wasm).items()
+             if name.startswith("decohesion_physics::kernels::")}
+    if not sizes:
+        sys.exit(f"test_page: {wasm}: no function named decohesion_physics::kernels::… "
+                 "(the module must keep its name section)")
+    largest = max(sizes, key=sizes.get)
+    print(f"test_page: {len(sizes)} kernel functions in {wasm}, the largest "
+          f"{sizes[largest]} bytes ({largest}; at most {KERNEL_BODY_LIMIT})")
+    over = [f"{name}: {n} bytes" for name, n in sorted(sizes.items(), key=lambda x: -x[1])
+            if n > KERNEL_BODY_LIMIT]
+    if over:
+        sys.exit(f"test_page: {wasm}: kernel functions over {KERNEL_BODY_LIMIT} bytes, which "
+                 "a first load runs in baseline code while V8 optimises them:\n  "
+                 + "\n  ".join(over))
+
+
 def main():
     root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
     target = os.environ.get("CARGO_TARGET_DIR", os.path.expanduser("~/.cache/decohesion-target"))
@@ -272,6 +372,7 @@ def main():
         portable = native_summary(args.native, scene_file(scene), sets, isa="portable")
         return native_summary(args.native, scene_file(scene), sets), portable if svk else None
 
+    check_kernel_sizes(os.path.join(args.site, "decohesion_bg.wasm"))
     native, portable = natives(args.scene)
     site_port = serve(args.site)
     driver_port = free_port()
