@@ -9,7 +9,7 @@
 //! set-up), so the two passes touch different nodes.
 
 use super::boundary::BoundarySums;
-use super::ledger::{InterfaceSums, StepChange};
+use super::ledger::{GluePoint, InterfaceSums, StepChange};
 use super::state::SolverError;
 use super::Simulation;
 use crate::interface::contact::{contact_impulse, ContactStatus};
@@ -286,34 +286,20 @@ impl Simulation {
     pub(super) fn bond_sums(&mut self, change: Option<StepChange>, out: &mut InterfaceSums) {
         for p in &mut self.state.bond_nodes {
             let law = &self.model.bonds[p.bond as usize].law;
-            let n = p.normal;
-            out.stored += law.stored_energy(p.area, p.stiffness, p.jump, n);
-            let (dd, clamped) = law.loading().booked_dissipation(
-                p.area,
-                p.prev_stiffness,
-                p.stiffness,
-                p.prev_jump,
-                p.jump,
-                n,
-            );
-            out.clamped += clamped;
-            out.worst = out.worst.min(dd);
-            out.dissipated += dd;
-            out.springs += p.area * p.stiffness;
-            if let Some(w) = change {
-                let r_prev = law.cohesive_traction(p.prev_stiffness, p.prev_jump, n);
-                out.step_change += (0..3)
-                    .map(|c| {
-                        let du = p.jump[c] - p.prev_jump[c];
-                        0.5 * du * p.area * (w.prev * r_prev[c] - w.now * p.cohesive_traction[c])
-                    })
-                    .sum::<f64>();
-            }
+            let glue = GluePoint {
+                area: p.area,
+                stiffness: p.stiffness,
+                prev_stiffness: p.prev_stiffness,
+                jump: &p.jump,
+                prev_jump: &p.prev_jump,
+                cohesive_traction: &p.cohesive_traction,
+                alpha: p.alpha,
+                alpha_static: p.alpha_static,
+            };
+            out.add_glue(law, &glue, p.normal, p.normal, change);
             p.prev_stiffness = p.stiffness;
             p.prev_jump = p.jump;
             out.counts.add(law.state(p.alpha));
-            out.evolving +=
-                usize::from(super::ledger::damage_evolving(law, p.alpha, p.alpha_static));
         }
     }
 

@@ -5,6 +5,7 @@ use super::boundary::BoundarySums;
 use super::state::{SolverError, StateCounts};
 use super::Simulation;
 use crate::energy::Work;
+use crate::interface::law::StiffnessLaw;
 use crate::kernels::NodeSums;
 use crate::mesh::dot;
 
@@ -29,6 +30,61 @@ pub(super) struct InterfaceSums {
     ///
     /// [`Loading::booked_dissipation`]: crate::interface::damage::Loading::booked_dissipation
     pub clamped: f64,
+}
+
+/// The glue's values at one point (an interface node or a bond pair) that stage 9's sums read.
+pub(super) struct GluePoint<'a> {
+    /// W [m²], g_N(αₙ) and g_N(αₙ₋₁) [Pa/m].
+    pub area: f64,
+    pub stiffness: f64,
+    pub prev_stiffness: f64,
+    /// [u]ₙ, [u]ₙ₋₁ [m] and R_d,ₙ [Pa].
+    pub jump: &'a [f64; 3],
+    pub prev_jump: &'a [f64; 3],
+    pub cohesive_traction: &'a [f64; 3],
+    /// αₙ and the static damage of the delayed law.
+    pub alpha: f64,
+    pub alpha_static: f64,
+}
+
+impl InterfaceSums {
+    /// One glue point's share of the sums (model §5.4, §5.8): Ψ_d, ΔD (the most negative, and
+    /// what taking a delayed law's ΔD as ≥ 0 added), W g_N(αₙ), whether its damage evolves, and
+    /// at a change of step the cohesive step-change work
+    /// ½([u]ₙ − [u]ₙ₋₁)·W(prev R_d,ₙ₋₁ − now R_d,ₙ), R_d,ₙ₋₁ along the glue normal `n_prev` of
+    /// tₙ₋₁ (`n` the normal at tₙ).
+    pub(super) fn add_glue(
+        &mut self,
+        law: &StiffnessLaw,
+        g: &GluePoint,
+        n: [f64; 3],
+        n_prev: [f64; 3],
+        change: Option<StepChange>,
+    ) {
+        self.stored += law.stored_energy(g.area, g.stiffness, *g.jump, n);
+        let (dd, clamped) = law.loading().booked_dissipation(
+            g.area,
+            g.prev_stiffness,
+            g.stiffness,
+            *g.prev_jump,
+            *g.jump,
+            n,
+        );
+        self.clamped += clamped;
+        self.worst = self.worst.min(dd);
+        self.dissipated += dd;
+        self.springs += g.area * g.stiffness;
+        if let Some(w) = change {
+            let r_prev = law.cohesive_traction(g.prev_stiffness, *g.prev_jump, n_prev);
+            self.step_change += (0..3)
+                .map(|c| {
+                    let du = g.jump[c] - g.prev_jump[c];
+                    0.5 * du * g.area * (w.prev * r_prev[c] - w.now * g.cohesive_traction[c])
+                })
+                .sum::<f64>();
+        }
+        self.evolving += usize::from(damage_evolving(law, g.alpha, g.alpha_static));
+    }
 }
 
 /// The weights of a change of step in the interval [tₙ₋₁, tₙ] just taken (model §5.8):
@@ -383,31 +439,17 @@ impl Simulation {
             let itf = &mut self.state.interface_nodes[j];
             let spec = &self.model.interfaces[itf.interface as usize];
             let law = &spec.law;
-            out.stored += law.stored_energy(itf.area, itf.stiffness, itf.jump, n);
-            let (dd, clamped) = law.loading().booked_dissipation(
-                itf.area,
-                itf.prev_stiffness,
-                itf.stiffness,
-                itf.prev_jump,
-                itf.jump,
-                n,
-            );
-            out.clamped += clamped;
-            out.worst = out.worst.min(dd);
-            out.dissipated += dd;
-            out.springs += itf.area * itf.stiffness;
-            if let Some(w) = change {
-                let n_prev = n_before.unwrap_or(n);
-                let r_prev = law.cohesive_traction(itf.prev_stiffness, itf.prev_jump, n_prev);
-                out.step_change += (0..3)
-                    .map(|c| {
-                        let du = itf.jump[c] - itf.prev_jump[c];
-                        0.5 * du
-                            * itf.area
-                            * (w.prev * r_prev[c] - w.now * itf.cohesive_traction[c])
-                    })
-                    .sum::<f64>();
-            }
+            let glue = GluePoint {
+                area: itf.area,
+                stiffness: itf.stiffness,
+                prev_stiffness: itf.prev_stiffness,
+                jump: &itf.jump,
+                prev_jump: &itf.prev_jump,
+                cohesive_traction: &itf.cohesive_traction,
+                alpha: itf.alpha,
+                alpha_static: itf.alpha_static,
+            };
+            out.add_glue(law, &glue, n, n_before.unwrap_or(n), change);
             if let Some(n_prev) = n_before {
                 let torque = law.loading().torque_work(
                     itf.area,
@@ -421,7 +463,6 @@ impl Simulation {
             itf.prev_stiffness = itf.stiffness;
             itf.prev_jump = itf.jump;
             out.counts.add(itf.state(law));
-            out.evolving += usize::from(damage_evolving(law, itf.alpha, itf.alpha_static));
         }
         self.bond_sums(change, &mut out);
         out
