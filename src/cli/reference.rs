@@ -156,6 +156,46 @@ fn scene_section(out: &mut String, s: &SectionDoc) {
              besides `bulk` or `poisson`, `volumetric` and `density`:\n\n",
         );
         table(out, &["model", "family", "keys", "ψ_iso"], &rows);
+        let rows: Vec<Vec<String>> = (crate::material::rubber::RUBBERS.iter())
+            .flat_map(|r| r.params.iter().map(move |p| (r, p)))
+            .map(|(r, p)| {
+                let kind = if p.list {
+                    format!("[{}, …] 1 to 3 numbers", p.symbol)
+                } else {
+                    "number".to_string()
+                };
+                let default = if p.optional { "0" } else { "required" };
+                vec![
+                    format!("`{}`", r.key),
+                    format!("`{}`", p.key),
+                    kind,
+                    p.unit.to_string(),
+                    default.to_string(),
+                    if p.range.min.is_finite() || p.range.max.is_finite() {
+                        p.range.to_string()
+                    } else {
+                        "finite".to_string()
+                    },
+                    format!("{}, {}", p.symbol, p.meaning),
+                ]
+            })
+            .collect();
+        out.push_str(
+            "Each family's keys (the family's conditions, such as μ₀ > 0, in ψ_iso above):\n\n",
+        );
+        table(
+            out,
+            &[
+                "model",
+                "key",
+                "type",
+                "unit",
+                "default",
+                "admissible",
+                "description",
+            ],
+            &rows,
+        );
     }
     if s.path == "mould" {
         let rows: Vec<Vec<String>> = SHAPES

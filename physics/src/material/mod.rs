@@ -70,8 +70,7 @@ impl MaterialModel {
 
     /// The keys of every model, in the order of [`MaterialModel::all`].
     pub fn keys() -> &'static [&'static str] {
-        static KEYS: std::sync::OnceLock<Vec<&'static str>> = std::sync::OnceLock::new();
-        KEYS.get_or_init(|| MaterialModel::all().map(MaterialModel::key).collect())
+        &MODEL_KEYS
     }
 
     /// The key of the model in scene files (`svk`, `mooney_rivlin`).
@@ -97,6 +96,19 @@ impl MaterialModel {
         }
     }
 }
+
+/// The keys of every model (`material.model`): SVK, the compressible neo-Hookean, then the rubber
+/// families in the order of [`rubber::RUBBERS`] (so a family's file adds its key here).
+pub const MODEL_KEYS: [&str; 2 + rubber::RUBBERS.len()] = {
+    let mut keys = ["svk"; 2 + rubber::RUBBERS.len()];
+    keys[1] = "neo_hookean";
+    let mut i = 0;
+    while i < rubber::RUBBERS.len() {
+        keys[2 + i] = rubber::RUBBERS[i].key;
+        i += 1;
+    }
+    keys
+};
 
 /// As its key (`"mooney_rivlin"`).
 impl Serialize for MaterialModel {

@@ -5,46 +5,45 @@
 use super::check::Check;
 use super::error::{num, SceneError};
 use super::keys;
-use super::raw::RawMaterial;
+use super::raw::{ParamValue, RawMaterial};
 use crate::material::rubber::{bulk_from_poisson, ParamError, Rubber, RubberValues, RUBBERS};
 use crate::material::{Material, MaterialModel};
 
-/// The keys of `[material]` that only the rubber models take, and what each scene gave.
-fn rubber_keys(m: &RawMaterial) -> [(&'static str, Option<String>); 8] {
-    let n = |x: Option<f64>| x.map(num);
-    let l = |x: &Option<Vec<f64>>| x.as_ref().map(|v| format!("{v:?}"));
-    [
-        ("bulk", n(m.bulk)),
+/// The keys of `[material]` that only the rubber models take and the scene gave, with their
+/// values as shown: `bulk`, `volumetric`, then the families' parameters in the file's order.
+fn rubber_keys(m: &RawMaterial) -> Vec<(&'static str, String)> {
+    let shared = [
+        ("bulk", m.bulk.map(num)),
         (
             "volumetric",
             m.volumetric.map(|v| format!("{v:?}").to_lowercase()),
         ),
-        ("c10", n(m.c10)),
-        ("c01", n(m.c01)),
-        ("c20", n(m.c20)),
-        ("c30", n(m.c30)),
-        ("mu", l(&m.mu)),
-        ("alpha", l(&m.alpha)),
-    ]
+    ];
+    let params = m.params.iter().map(|(p, value)| {
+        let shown = match value {
+            ParamValue::Number(x) => num(*x),
+            ParamValue::List(v) => format!("{v:?}"),
+        };
+        (p.key, Some(shown))
+    });
+    (shared.into_iter().chain(params))
+        .filter_map(|(k, v)| Some((k, v?)))
+        .collect()
 }
 
 impl RubberValues for RawMaterial {
     fn number(&self, key: &str) -> Option<f64> {
-        match key {
-            "c10" => self.c10,
-            "c01" => self.c01,
-            "c20" => self.c20,
-            "c30" => self.c30,
+        self.params.iter().find_map(|(p, value)| match value {
+            ParamValue::Number(x) if p.key == key => Some(*x),
             _ => None,
-        }
+        })
     }
 
     fn list(&self, key: &str) -> Option<Vec<f64>> {
-        match key {
-            "mu" => self.mu.clone(),
-            "alpha" => self.alpha.clone(),
+        self.params.iter().find_map(|(p, value)| match value {
+            ParamValue::List(v) if p.key == key => Some(v.clone()),
             _ => None,
-        }
+        })
     }
 }
 
@@ -60,10 +59,7 @@ impl Check<'_> {
                 "the `{}` model takes `young` E [Pa], `poisson` ν and `density` ρ₀",
                 model.key()
             );
-            if let Some((key, value)) = rubber_keys(mat)
-                .into_iter()
-                .find_map(|(k, v)| Some((k, v?)))
-            {
+            if let Some((key, value)) = rubber_keys(mat).into_iter().next() {
                 return Err(self.invalid(
                     format!("material.{key}"),
                     value,
@@ -115,9 +111,9 @@ impl Check<'_> {
                 format!("{takes}: its small-strain E follows from μ₀ and K"),
             ));
         }
-        let foreign = rubber_keys(mat).into_iter().find_map(|(k, v)| {
-            let common = matches!(k, "bulk" | "volumetric");
-            (!common && !params.contains(&k)).then_some((k, v?))
+        let foreign = rubber_keys(mat).into_iter().find(|(k, _)| {
+            let common = matches!(*k, "bulk" | "volumetric");
+            !common && !params.contains(k)
         });
         if let Some((key, value)) = foreign {
             return Err(self.invalid(format!("material.{key}"), value, takes));

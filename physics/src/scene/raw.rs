@@ -4,7 +4,7 @@
 //! `pub` for the sibling modules only.
 
 use super::error::SceneError;
-use crate::material::rubber::Volumetric;
+use crate::material::rubber::{RubberParam, Volumetric};
 use crate::material::MaterialModel;
 use crate::model::Integration;
 use serde::de::DeserializeOwned;
@@ -139,8 +139,11 @@ pub struct RawFaceSet {
     pub max: [f64; 3],
 }
 
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
+/// `[material]`: the model, E and ν (SVK and the compressible neo-Hookean), ρ₀, a rubber's bulk
+/// modulus and volumetric form, and the rubber families' parameters, whose keys (and whether each
+/// is a number or a list) are the families' rows ([`crate::material::rubber::RUBBERS`]): a family
+/// with keys of its own adds nothing here. Deserialized by hand ([`material`]) for that reason,
+/// with serde's errors (an unknown key lists the admissible ones, with the line).
 pub struct RawMaterial {
     pub model: Option<MaterialModel>,
     pub young: Option<f64>,
@@ -148,12 +151,103 @@ pub struct RawMaterial {
     pub density: f64,
     pub bulk: Option<f64>,
     pub volumetric: Option<Volumetric>,
-    pub c10: Option<f64>,
-    pub c01: Option<f64>,
-    pub c20: Option<f64>,
-    pub c30: Option<f64>,
-    pub mu: Option<Vec<f64>>,
-    pub alpha: Option<Vec<f64>>,
+    /// The rubber families' parameters the scene gave, in the file's order.
+    pub params: Vec<(&'static RubberParam, ParamValue)>,
+}
+
+/// A rubber family's parameter as given: a number, or a list ([`RubberParam::list`]).
+pub enum ParamValue {
+    Number(f64),
+    List(Vec<f64>),
+}
+
+mod material {
+    use super::{ParamValue, RawMaterial};
+    use crate::material::rubber::{rubber_param, rubber_param_keys, RubberParam};
+    use serde::de::{Deserializer, Error, MapAccess, Visitor};
+    use serde::Deserialize;
+    use std::fmt;
+
+    /// The keys every model shares.
+    const FIELDS: &[&str] = &["model", "young", "poisson", "density", "bulk", "volumetric"];
+
+    /// [`FIELDS`], then every family's parameter keys: what an unknown key is told.
+    fn every_key() -> &'static [&'static str] {
+        static KEYS: std::sync::OnceLock<Vec<&'static str>> = std::sync::OnceLock::new();
+        KEYS.get_or_init(|| FIELDS.iter().copied().chain(rubber_param_keys()).collect())
+    }
+
+    /// A key of `[material]`: one of [`FIELDS`] (its index) or a family's parameter.
+    enum Field {
+        Shared(usize),
+        Param(&'static RubberParam),
+    }
+
+    impl<'de> Deserialize<'de> for Field {
+        fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Field, D::Error> {
+            struct Key;
+            impl Visitor<'_> for Key {
+                type Value = Field;
+                fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                    f.write_str("a key of [material]")
+                }
+                fn visit_str<E: Error>(self, v: &str) -> Result<Field, E> {
+                    if let Some(i) = FIELDS.iter().position(|&k| k == v) {
+                        return Ok(Field::Shared(i));
+                    }
+                    rubber_param(v)
+                        .map(Field::Param)
+                        .ok_or_else(|| E::unknown_field(v, every_key()))
+                }
+            }
+            d.deserialize_identifier(Key)
+        }
+    }
+
+    impl<'de> Deserialize<'de> for RawMaterial {
+        fn deserialize<D: Deserializer<'de>>(d: D) -> Result<RawMaterial, D::Error> {
+            struct Table;
+            impl<'de> Visitor<'de> for Table {
+                type Value = RawMaterial;
+                fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                    f.write_str("the table [material]")
+                }
+                fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<RawMaterial, A::Error> {
+                    let mut m = RawMaterial {
+                        model: None,
+                        young: None,
+                        poisson: None,
+                        density: f64::NAN,
+                        bulk: None,
+                        volumetric: None,
+                        params: vec![],
+                    };
+                    let mut density = None;
+                    while let Some(field) = map.next_key::<Field>()? {
+                        match field {
+                            Field::Shared(0) => m.model = Some(map.next_value()?),
+                            Field::Shared(1) => m.young = Some(map.next_value()?),
+                            Field::Shared(2) => m.poisson = Some(map.next_value()?),
+                            Field::Shared(3) => density = Some(map.next_value()?),
+                            Field::Shared(4) => m.bulk = Some(map.next_value()?),
+                            Field::Shared(_) => m.volumetric = Some(map.next_value()?),
+                            Field::Param(p) => {
+                                let value = if p.list {
+                                    ParamValue::List(map.next_value()?)
+                                } else {
+                                    ParamValue::Number(map.next_value()?)
+                                };
+                                m.params.push((p, value));
+                            }
+                        }
+                    }
+                    m.density = density.ok_or_else(|| A::Error::missing_field("density"))?;
+                    Ok(m)
+                }
+            }
+            d.deserialize_struct("RawMaterial", FIELDS, Table)
+        }
+    }
 }
 
 #[derive(Deserialize, Default)]

@@ -290,6 +290,21 @@ pub fn rubber_spec(key: &str) -> Option<&'static RubberSpec> {
     RUBBERS.iter().find(|s| s.key == key)
 }
 
+/// The parameter of that key in the first family that declares it (a key that several
+/// families take is of the same kind, number or list, in each: tested).
+pub fn rubber_param(key: &str) -> Option<&'static RubberParam> {
+    RUBBERS.iter().flat_map(|s| s.params).find(|p| p.key == key)
+}
+
+/// Every key of a family's parameters, each once, in the order of [`RUBBERS`].
+pub fn rubber_param_keys() -> impl Iterator<Item = &'static str> {
+    let all = || RUBBERS.iter().flat_map(|s| s.params);
+    all()
+        .enumerate()
+        .filter(move |&(i, p)| all().position(|q| q.key == p.key) == Some(i))
+        .map(|(_, p)| p.key)
+}
+
 /// Why a family's values are not admissible: the key, the value as shown, what is admissible.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ParamError {

@@ -156,6 +156,32 @@ fn every_section_documents_exactly_the_keys_the_loader_accepts() {
     }
 }
 
+/// `[material]` reads a family's parameter by its key alone (`raw.rs`), as a number or a list
+/// by the first family that declares it: a key two families share must be of one kind and unit,
+/// and no family's key may be one of the keys every model shares.
+#[test]
+fn a_rubber_key_means_one_kind_in_every_family() {
+    use crate::material::rubber::{rubber_param, RUBBERS};
+    for spec in RUBBERS {
+        for p in spec.params {
+            let first = rubber_param(p.key).unwrap();
+            assert_eq!(
+                (first.list, first.unit),
+                (p.list, p.unit),
+                "`{}` of `{}`: another family reads it as another kind or unit",
+                p.key,
+                spec.key
+            );
+            assert!(
+                documented("material").iter().all(|&k| k != p.key),
+                "`{}` of `{}` is a key every model shares",
+                p.key,
+                spec.key
+            );
+        }
+    }
+}
+
 #[test]
 fn choices_are_the_variants_of_the_enums() {
     let key = |path: &str, key: &str| section(path).unwrap().key(key).unwrap().choices;
