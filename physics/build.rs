@@ -11,6 +11,8 @@
 //! `rubber_families!`) per entry (its index
 //! in the table, its type, its module and its file name as a string — the scene key of a shape),
 //! in the order of the file names. Adding an entry is adding its file: no list is edited by hand.
+//! (Being declared in a generated file, the entries are not reached by `cargo fmt`: `.ci/run`
+//! runs `rustfmt --check` on them by path.)
 
 use std::fmt::Write as _;
 use std::path::Path;

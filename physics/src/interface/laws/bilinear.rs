@@ -2,7 +2,7 @@
 //! g_N(α) = g_N(0) α_e (u_r − α) / (α (u_r − α_e)), so that T(δ) = g_N(δ)δ falls linearly from
 //! g_N(0)α_e at α_e to 0 at u_r.
 
-use crate::interface::family::{R_T, Family, Knots, Param, ParamValues, Range, ALPHA_E, G_N0, U_R};
+use crate::interface::family::{Family, Knots, Param, ParamValues, Range, ALPHA_E, G_N0, R_T, U_R};
 use crate::interface::law::{LawError, StiffnessLaw};
 
 /// Linear-softening traction; no data beyond g_N(0), α_e, u_r.
@@ -19,7 +19,9 @@ impl Family for Bilinear {
             Range::above(0.0),
             "the bilinear law's peak traction is g_N(0)·α_e",
         ),
-        U_R, R_T];
+        U_R,
+        R_T,
+    ];
 
     /// Admissible as soon as g_N(0) > 0, α_e > 0 and u_r > α_e: g_N is then non-increasing
     /// (T falls while δ grows) and g_N(u_r) = 0.

@@ -1,7 +1,7 @@
 //! `exponential` (model §2.6): past α_e, g_N(α) = g_N(0) exp(−k (α − α_e)/(u_r − α_e)), cut
 //! to 0 at u_r; k is the decay over the softening range (dimensionless).
 
-use crate::interface::family::{R_T, Family, Knots, Param, ParamValues, Range, ALPHA_E, G_N0, U_R};
+use crate::interface::family::{Family, Knots, Param, ParamValues, Range, ALPHA_E, G_N0, R_T, U_R};
 use crate::interface::law::{LawError, StiffnessLaw};
 
 /// Exponential decrease of the stiffness past α_e.
@@ -20,7 +20,8 @@ const DECAY: Param = Param::number("decay", "k", "–", Range::above(0.0), 5.0)
 impl Family for Exponential {
     const KEY: &'static str = "exponential";
     const LABEL: &'static str = "exponential (cut to 0 at u_r)";
-    const DESCRIPTION: &'static str = "Past α_e, g_N(α) = g_N(0) exp(−k (α − α_e)/(u_r − α_e)), cut to 0 at u_r.";
+    const DESCRIPTION: &'static str =
+        "Past α_e, g_N(α) = g_N(0) exp(−k (α − α_e)/(u_r − α_e)), cut to 0 at u_r.";
     const PARAMS: &'static [Param] = &[G_N0, ALPHA_E, U_R, DECAY, R_T];
 
     /// Admissible as soon as g_N(0) > 0, α_e ≥ 0, u_r > α_e and k > 0: g_N then decreases and

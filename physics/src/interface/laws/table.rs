@@ -2,7 +2,7 @@
 //! point is at α = 0 (its g_N is g_N(0)), the last one at α = u_r with g_N = 0; α_e is the end of
 //! the leading plateau.
 
-use crate::interface::family::{R_T, Family, Knots, Param, ParamKind, ParamValues};
+use crate::interface::family::{Family, Knots, Param, ParamKind, ParamValues, R_T};
 use crate::interface::law::{LawError, StiffnessLaw};
 
 /// A piecewise-linear g_N through the user's points.
@@ -42,8 +42,8 @@ impl Family for Table {
                 "a table law needs at least 2 points: (0, g_N(0)) and (u_r, 0)",
             );
         }
-        if let Some((i, p)) = (points.iter().enumerate())
-            .find(|(_, p)| !(p[0].is_finite() && p[1].is_finite()))
+        if let Some((i, p)) =
+            (points.iter().enumerate()).find(|(_, p)| !(p[0].is_finite() && p[1].is_finite()))
         {
             return err(format!("{p:?} (point {i})"), "values must be finite");
         }
@@ -91,11 +91,7 @@ impl Family for Table {
         if u_r <= alpha_e {
             return err(u_r.to_string(), "u_r must exceed α_e");
         }
-        let knots = Knots {
-            g_n0,
-            alpha_e,
-            u_r,
-        };
+        let knots = Knots { g_n0, alpha_e, u_r };
         Ok((Table { points }, knots))
     }
 

@@ -8,7 +8,6 @@ use crate::mesh::{cross, dot, norm};
 use crate::mould::Projection;
 pub use crate::tunables::CYLINDER_SEGMENTS;
 
-
 /// A capped cylinder: centre of its axis, unit axis, radius and half-length [m].
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct Cylinder {
@@ -23,7 +22,8 @@ impl MouldShape for Cylinder {
         "a capped cylinder of `radius` and `length` along `axis` about `centre`";
     const KEYS: &'static [KeyDoc] = &[
         KeyDoc::new("centre", "[x, y, z]", "m", "centre of the axis at t = 0"),
-        KeyDoc::new("axis", "[x, y, z]", "–", "axis; normalised on load").admissible("not all zero"),
+        KeyDoc::new("axis", "[x, y, z]", "–", "axis; normalised on load")
+            .admissible("not all zero"),
         KeyDoc::new("radius", "number", "m", "radius").range(Range::above(0.0)),
         KeyDoc::new("length", "number", "m", "length (capped)").range(Range::above(0.0)),
     ];

@@ -6,8 +6,7 @@ use super::{unit_or, Entry, EntryError, Frame, MouldMesh, MouldShape};
 use crate::interface::family::Range;
 use crate::keydoc::KeyDoc;
 use crate::mould::Projection;
-pub use crate::tunables::{SPHERE_RINGS, SPHERE_MERIDIANS};
-
+pub use crate::tunables::{SPHERE_MERIDIANS, SPHERE_RINGS};
 
 /// A ball, centre and radius [m].
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]

@@ -86,7 +86,11 @@ impl MouldShape for Surface {
                 })?;
                 let (v, t, tags) = crate::gmsh::read_surface_group(&bytes, file, group)
                     .map_err(|err| bad(err.to_string()))?;
-                (v, t, std::boxed::Box::new(move |k| format!("element {}", tags[k])))
+                (
+                    v,
+                    t,
+                    std::boxed::Box::new(move |k| format!("element {}", tags[k])),
+                )
             } else {
                 if let Some(g) = group {
                     return Err(e.invalid(
@@ -150,7 +154,12 @@ mod tests {
     /// Without a `file` the message says what a surface needs.
     #[test]
     fn a_surface_projects_on_its_triangles() {
-        let v = vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]];
+        let v = vec![
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [1.0, 1.0, 0.0],
+            [0.0, 1.0, 0.0],
+        ];
         let s = SurfaceMesh::new("square", None, 1.0, v, vec![[0, 1, 2], [0, 2, 3]], &|k| {
             format!("triangle {k}")
         })

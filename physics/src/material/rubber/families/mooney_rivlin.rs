@@ -1,6 +1,8 @@
 //! Mooney–Rivlin rubber (model §1.10): ψ_iso = C₁₀(Ī₁ − 3) + C₀₁(Ī₂ − 3), μ₀ = 2(C₁₀ + C₀₁).
 
-use super::{admit, IsoPoint, Matrix, invariant_stress, Family, ParamError, RubberParam, RubberSpec};
+use super::{
+    admit, invariant_stress, Family, IsoPoint, Matrix, ParamError, RubberParam, RubberSpec,
+};
 use super::{RubberValues, Volumetric, FINITE};
 use serde::Serialize;
 
@@ -34,8 +36,6 @@ pub struct MooneyRivlin {
 }
 
 impl MooneyRivlin {
-
-
     /// (ψ_iso, ∂ψ_iso/∂Ī₁, ∂ψ_iso/∂Ī₂) at (Ī₁, Ī₂).
     #[inline(always)]
     pub fn psi(&self, i1: f64, i2: f64) -> (f64, f64, f64) {

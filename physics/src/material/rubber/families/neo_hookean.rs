@@ -1,7 +1,10 @@
 //! Isochoric neo-Hookean rubber (model §1.10): ψ_iso = C₁₀(Ī₁ − 3), μ₀ = 2C₁₀.
 
-use super::{admit, IsoPoint, Matrix, invariant_stress, Family, ParamError, RubberParam, RubberSpec, RubberValues};
 use super::Volumetric;
+use super::{
+    admit, invariant_stress, Family, IsoPoint, Matrix, ParamError, RubberParam, RubberSpec,
+    RubberValues,
+};
 use crate::interface::family::Range;
 use serde::Serialize;
 
@@ -30,8 +33,6 @@ pub struct NeoHookean {
 }
 
 impl NeoHookean {
-
-
     /// (ψ_iso, ∂ψ_iso/∂Ī₁, ∂ψ_iso/∂Ī₂) at Ī₁.
     #[inline(always)]
     pub fn psi(&self, i1: f64) -> (f64, f64, f64) {

@@ -1,7 +1,10 @@
 //! Ogden rubber (model §1.10): ψ_iso = Σᵢ (μᵢ/αᵢ)(λ̄₁^αᵢ + λ̄₂^αᵢ + λ̄₃^αᵢ − 3), N ≤ 3 pairs,
 //! λ̄ₐ = J^{-1/3} λₐ the isochoric principal stretches, μ₀ = ½ Σᵢ μᵢαᵢ.
 
-use super::{admit, IsoPoint, Matrix, right_cauchy_green, symmetric_eigen, ParamError, RubberParam, RubberSpec};
+use super::{
+    admit, right_cauchy_green, symmetric_eigen, IsoPoint, Matrix, ParamError, RubberParam,
+    RubberSpec,
+};
 use super::{Family, RubberValues, Volumetric, FINITE};
 use serde::Serialize;
 
@@ -41,8 +44,6 @@ pub struct Ogden {
 }
 
 impl Ogden {
-
-
     /// Σᵢ μᵢ λ̄^αᵢ from λ̄² (= λ̄ ∂w/∂λ̄ for w(λ̄) = Σᵢ (μᵢ/αᵢ)λ̄^αᵢ), and w(λ̄).
     #[inline(always)]
     fn beta_w(&self, lb2: f64) -> (f64, f64) {

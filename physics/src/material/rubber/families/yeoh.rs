@@ -1,6 +1,8 @@
 //! Yeoh rubber (model §1.10): ψ_iso = C₁₀(Ī₁ − 3) + C₂₀(Ī₁ − 3)² + C₃₀(Ī₁ − 3)³, μ₀ = 2C₁₀.
 
-use super::{admit, IsoPoint, Matrix, invariant_stress, Family, ParamError, RubberParam, RubberSpec};
+use super::{
+    admit, invariant_stress, Family, IsoPoint, Matrix, ParamError, RubberParam, RubberSpec,
+};
 use super::{RubberValues, Volumetric, FINITE};
 use serde::Serialize;
 
@@ -40,8 +42,6 @@ pub struct Yeoh {
 }
 
 impl Yeoh {
-
-
     /// (ψ_iso, ∂ψ_iso/∂Ī₁, ∂ψ_iso/∂Ī₂) at Ī₁: with x = Ī₁ − 3,
     /// ψ₁ = C₁₀ + 2C₂₀x + 3C₃₀x².
     #[inline(always)]
