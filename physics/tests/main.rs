@@ -57,6 +57,7 @@ mod rubber_runs;
 mod stability;
 mod step;
 mod teaching_scenes;
+mod tet_damping;
 mod tets;
 mod tread_demould;
 mod wave_speed;

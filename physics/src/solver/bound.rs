@@ -373,25 +373,33 @@ pub(super) fn class_bounds(
         .collect()
 }
 
-/// max_e a(F_e) g_e over the tetrahedra (model §1.13), the element part of (B) for them: F
-/// is constant over a tetrahedron, L_e = V_e ∇ₓNₐ·∇ₓN_b and M_e = ρV_e/4 I, so
+/// g_e = λ_max(M_e^{-½} L_e M_e^{-½}) of a tetrahedron of gradients ∇ₓNₐ = `grad` and
+/// density ρ (model §1.13): F is constant over it, L_e = V_e ∇ₓNₐ·∇ₓN_b and M_e = ρV_e/4 I, so
 /// g_e = (4/ρ) λ_max(Σₐ ∇ₓNₐ ⊗ ∇ₓNₐ) (the 4×4 Gram matrix and the 3×3 one share their nonzero
-/// eigenvalues). 0 without tetrahedra. (The nodal pressure is not bounded: a rubber has no
-/// bound at all, [`modulus_bound`].)
+/// eigenvalues), independent of V_e.
+pub(super) fn tet_g(grad: &[[f64; 3]; 4], density: f64) -> f64 {
+    let gram =
+        nalgebra::Matrix3::from_fn(|i, j| (0..4).map(|a| grad[a][i] * grad[a][j]).sum::<f64>());
+    4.0 / density * SymmetricEigen::new(gram).eigenvalues.max()
+}
+
+/// max_e a(F_e) g_e over the tetrahedra (model §1.13), the element part of (B) for them, g_e
+/// of [`tet_g`] at the tetrahedron's density s_e ρ₀ (s_e = `density_factor[e]`, mass scaling,
+/// model §6.8; an empty slice: 1 for every tetrahedron). 0 without tetrahedra. (The nodal
+/// pressure is not bounded: a rubber has no bound at all, [`modulus_bound`].)
 fn tet_bound(
     mat: &Material,
     mesh: &crate::mesh::Mesh,
     data: &crate::mesh::TetData,
+    density_factor: &[f64],
     u: &Planes,
 ) -> f64 {
     let mut worst = 0.0f64;
     for (t, conn) in mesh.tets.iter().enumerate() {
         let g = &data.grad[t];
         let f = crate::mesh::tet::tet_deformation_gradient(g, &conn.map(|n| u.get(n as usize)));
-        let gram =
-            nalgebra::Matrix3::from_fn(|i, j| (0..4).map(|a| g[a][i] * g[a][j]).sum::<f64>());
-        let g_e = 4.0 / mat.density * SymmetricEigen::new(gram).eigenvalues.max();
-        worst = worst.max(modulus_bound(mat, &f) * g_e);
+        let rho = mat.density * density_factor.get(t).copied().unwrap_or(1.0);
+        worst = worst.max(modulus_bound(mat, &f) * tet_g(g, rho));
     }
     worst
 }
@@ -451,6 +459,7 @@ impl Simulation {
                 &mat,
                 &self.model.mesh,
                 &classes.tets,
+                &self.setup.tet_density,
                 &self.state.u,
             ));
         // The glue springs W g_N(α) per node (a node of several interfaces sums them).

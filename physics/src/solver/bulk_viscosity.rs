@@ -3,7 +3,7 @@
 //! (b₂, shock fronts), added to the internal forces at stage 3 and booked by the ledger as a
 //! dissipation (model §5.11).
 
-use super::mass_scaling::class_lengths;
+use super::mass_scaling::{class_lengths, tet_lengths};
 use super::Simulation;
 use crate::kernels::Planes;
 use crate::model::BulkViscosity;
@@ -11,9 +11,9 @@ use crate::model::BulkViscosity;
 /// What the bulk viscosity keeps between stages and steps.
 #[derive(Debug, Default, Clone, serde::Serialize, serde::Deserialize)]
 pub(super) struct BulkViscosityState {
-    /// Per element class: its length L_e = c_d h_e [m] (h_e its element bound at rest, so a
-    /// bar of length L has L_e = L), density ρ_e [kg/m³] and wave speed c_d,e [m/s] (mass
-    /// scaling included).
+    /// Per hexahedron class, then per tetrahedron: its length L_e = c_d h_e [m] (h_e its
+    /// element bound at rest, so a bar of length L has L_e = L), density ρ_e [kg/m³] and wave
+    /// speed c_d,e [m/s] (mass scaling included).
     class: Vec<[f64; 3]>,
     /// The viscous nodal forces f_bv at tₙ₊₁ [N] (a part of F_int).
     pub force: Planes,
@@ -45,11 +45,18 @@ impl Simulation {
         let mat = self.model.material;
         let lengths = class_lengths(&self.model, &self.work.classes);
         let m = mat.p_wave_modulus();
+        let constants = |l: f64, factor: Option<&f64>| {
+            let rho = mat.density * factor.copied().unwrap_or(1.0);
+            [l, rho, (m / rho).sqrt()]
+        };
         let class = (lengths.iter().enumerate())
-            .map(|(c, &l)| {
-                let rho = mat.density * self.setup.class_density.get(c).copied().unwrap_or(1.0);
-                [l, rho, (m / rho).sqrt()]
-            })
+            .map(|(c, &l)| constants(l, self.setup.class_density.get(c)))
+            .chain(
+                (tet_lengths(&self.model, &self.work.classes)
+                    .iter()
+                    .enumerate())
+                .map(|(t, &l)| constants(l, self.setup.tet_density.get(t))),
+            )
             .collect();
         self.state.bulk_viscosity = Some(BulkViscosityState {
             class,
@@ -120,6 +127,21 @@ impl Simulation {
                 state.force.set(n, fa);
             }
         }
+        let n_classes = classes.data.len();
+        let tets = &classes.tets;
+        for (t, conn) in self.model.mesh.tets.iter().enumerate() {
+            let [l, rho, speed] = state.class[n_classes + t];
+            let (p, xi) = tet_viscous_forces(
+                &mut state.force,
+                conn,
+                &tets.grad[t],
+                tets.volume[t],
+                (u, v),
+                [l, rho, speed, linear, b2],
+            );
+            power += p;
+            xi_max = f64::max(xi_max, xi);
+        }
         let [fx, fy, fz] = self.state.f_int.planes_mut();
         let [gx, gy, gz] = state.force.planes();
         for (fi, gi) in [(fx, gx), (fy, gy), (fz, gz)] {
@@ -143,6 +165,52 @@ impl Simulation {
             .sum();
         (-0.5 * state.h_bar * state.power, -0.5 * state.h_bar * vf)
     }
+}
+
+/// The viscous stress of one tetrahedron (model §4.12) added to `force`: F = I + Σₐ uₐ ⊗ ∇ₓNₐ
+/// and Ḟ = Σₐ vₐ ⊗ ∇ₓNₐ (constant over it, model §1.13), ε̇ = tr(Ḟ F⁻¹) = J̇/J,
+///
+///   q = ρ_e L_e ε̇ (b₁ c_d − b₂² L_e min(0, ε̇)),   fₐ = q V cof(F) ∇ₓNₐ,
+///
+/// `c` = [L_e, ρ_e, c_d, b₁, b₂²]. Returns the power q J V ε̇ ≥ 0 and the damping ratio
+/// b₁ − b₂² (L_e/c_d) min(0, ε̇) before the mode factor (λ + 2μ)/K.
+fn tet_viscous_forces(
+    force: &mut Planes,
+    conn: &[u32; 4],
+    grad: &[[f64; 3]; 4],
+    volume: f64,
+    (u, v): (&Planes, &Planes),
+    c: [f64; 5],
+) -> (f64, f64) {
+    let [l, rho, speed, linear, b2] = c;
+    let f = crate::mesh::tet::tet_deformation_gradient(grad, &conn.map(|n| u.get(n as usize)));
+    let mut fdot = [[0.0; 3]; 3];
+    for (a, &n) in conn.iter().enumerate() {
+        let va = v.get(n as usize);
+        for i in 0..3 {
+            for j in 0..3 {
+                fdot[i][j] += va[i] * grad[a][j];
+            }
+        }
+    }
+    let cof = cofactor(&f);
+    let j = (0..3).map(|k| f[0][k] * cof[0][k]).sum::<f64>();
+    let rate = (0..3)
+        .map(|i| (0..3).map(|k| fdot[i][k] * cof[i][k]).sum::<f64>())
+        .sum::<f64>()
+        / j;
+    let compression = rate.min(0.0);
+    let q = rho * l * rate * (linear * speed - b2 * l * compression);
+    let s = q * volume;
+    for (a, &n) in conn.iter().enumerate() {
+        let n = n as usize;
+        let mut fa = force.get(n);
+        for i in 0..3 {
+            fa[i] += s * (0..3).map(|k| cof[i][k] * grad[a][k]).sum::<f64>();
+        }
+        force.set(n, fa);
+    }
+    (s * j * rate, linear - b2 * l / speed * compression)
 }
 
 /// (λ + 2μ)/K, K = λ + ⅔μ: the damping ratio of the breathing mode of a cube element (its

@@ -5,8 +5,10 @@
 //! scaled element's bound is exactly h_t, and Irons' bound then keeps ω_max² of the bulk below
 //! (2/h_t)²: h_crit of the bulk is at least h_t. The glue's springs W g_N/m are softened by the
 //! added mass but not scaled for: a target they still hold below is refused at set-up.
+//! A tetrahedron is scaled the same way, element by element, with its own bound
+//! h_e = 2/√(a₀ g_e), g_e = (4/ρ₀) λ_max(Σₐ ∇ₓNₐ ⊗ ∇ₓNₐ) (model §1.13, §6.8).
 
-use super::bound::class_bounds;
+use super::bound::{class_bounds, tet_g};
 use super::Simulation;
 use crate::mesh::ElementClasses;
 use crate::model::Model;
@@ -62,6 +64,17 @@ fn class_steps(model: &Model, classes: &ElementClasses) -> Vec<f64> {
         .collect()
 }
 
+/// The stable step of each tetrahedron at rest and at the unscaled density, its element bound
+/// h_e = 2/√(a₀ g_e) with g_e = (4/ρ₀) λ_max(Σₐ ∇ₓNₐ ⊗ ∇ₓNₐ) ([`tet_g`], model §1.13, §6.8),
+/// a₀ as for the hexahedra ([`class_steps`]). Empty without tetrahedra.
+fn tet_steps(model: &Model, classes: &ElementClasses) -> Vec<f64> {
+    let mat = &model.material;
+    let a0 = (3.0 * mat.lambda + 2.0 * mat.mu).max(2.0 * mat.mu);
+    (classes.tets.grad.iter())
+        .map(|g| 2.0 / (a0 * tet_g(g, mat.density)).sqrt())
+        .collect()
+}
+
 /// The length of each element class for bulk viscosity (model §4.12), L_c = c_d h_c with
 /// c_d = √((λ + 2μ)/ρ₀) and h_c its stable step ([`class_steps`]): the element length of a bar,
 /// and independent of the density, so of mass scaling.
@@ -72,31 +85,54 @@ pub(super) fn class_lengths(model: &Model, classes: &ElementClasses) -> Vec<f64>
         .collect()
 }
 
-/// The density factor of each element class, s_c = max(1, (h_t/h_c)²) with h_c the class's
-/// element bound at rest ([`class_steps`]), and the report's set-up part (the masses are
-/// filled in by the caller). `None` without mass scaling.
+/// The length of each tetrahedron for bulk viscosity (model §4.12), L_e = c_d h_e with h_e its
+/// stable step at rest ([`tet_steps`]), as [`class_lengths`] for the hexahedra.
+pub(super) fn tet_lengths(model: &Model, classes: &ElementClasses) -> Vec<f64> {
+    let c = model.material.wave_speed();
+    (tet_steps(model, classes).iter()).map(|h| c * h).collect()
+}
+
+/// The density factors of mass scaling, s_e = max(1, (h_t/h_e)²) with h_e the element bound at
+/// rest: one per hexahedron class ([`class_steps`]) and one per tetrahedron ([`tet_steps`]).
+pub(super) struct DensityFactors {
+    pub class: Vec<f64>,
+    pub tet: Vec<f64>,
+}
+
+/// The density factor of each element class and of each tetrahedron
+/// ([`DensityFactors`]), and the report's set-up part (the masses are filled in by the
+/// caller). `None` without mass scaling.
 pub(super) fn class_factors(
     model: &Model,
     classes: &ElementClasses,
-) -> Option<(Vec<f64>, MassScalingReport)> {
+) -> Option<(DensityFactors, MassScalingReport)> {
     let ms = model.scheme.mass_scaling?;
+    let factor = |&h: &f64| (ms.target_step / h).powi(2).max(1.0);
     let steps = class_steps(model, classes);
-    let factors: Vec<f64> = steps
-        .iter()
-        .map(|&h| (ms.target_step / h).powi(2).max(1.0))
-        .collect();
+    let factors: Vec<f64> = steps.iter().map(factor).collect();
+    let t_steps = tet_steps(model, classes);
+    let tet: Vec<f64> = t_steps.iter().map(factor).collect();
     let scaled_elements = (classes.class_of.iter())
         .filter(|&&c| factors[c as usize] > 1.0)
-        .count();
+        .count()
+        + tet.iter().filter(|&&s| s > 1.0).count();
     let report = MassScalingReport {
         target_step: ms.target_step,
-        smallest_element_step: steps.iter().copied().fold(f64::INFINITY, f64::min),
+        smallest_element_step: (steps.iter().chain(&t_steps))
+            .copied()
+            .fold(f64::INFINITY, f64::min),
         scaled_elements,
-        elements: classes.class_of.len(),
-        largest_factor: factors.iter().copied().fold(1.0, f64::max),
+        elements: classes.class_of.len() + tet.len(),
+        largest_factor: (factors.iter().chain(&tet)).copied().fold(1.0, f64::max),
         ..Default::default()
     };
-    Some((factors, report))
+    Some((
+        DensityFactors {
+            class: factors,
+            tet,
+        },
+        report,
+    ))
 }
 
 impl Simulation {

@@ -87,9 +87,11 @@ pub struct Setup {
     /// Lumped nodal masses [kg] and their inverses.
     pub mass: Vec<f64>,
     inv_mass: Vec<f64>,
-    /// Mass scaling (model §6.8): the density factor of each element class (empty without),
-    /// the mass added at each node that has some, and what the scaling did.
+    /// Mass scaling (model §6.8): the density factor of each hexahedron class and of each
+    /// tetrahedron (empty without), the mass added at each node that has some, and what the
+    /// scaling did.
     class_density: Vec<f64>,
+    tet_density: Vec<f64>,
     added_mass: Vec<(u32, f64)>,
     pub mass_scaling: Option<MassScalingReport>,
     /// Energy below which growth is round-off, E·V·1e-14 [J].

@@ -29,12 +29,14 @@ fn face<'a>(mesh: &'a Mesh, name: &str) -> Result<&'a Vec<[u32; 4]>, SolverError
 }
 
 /// Lumped nodal masses mₐ = Σ_e ρ₀ s_e Vₐᵉ, the row sums of the consistent mass (model §1.7),
-/// s_e the density factor of mass scaling (model §6.8; `factors` by element class, empty: 1);
+/// s_e the density factor of mass scaling (model §6.8; `factors` by hexahedron class,
+/// `tet_factors` by tetrahedron, empty: 1);
 /// a node of no element (zero mass) is refused.
 fn lumped_masses(
     model: &Model,
     classes: &ElementClasses,
     factors: &[f64],
+    tet_factors: &[f64],
 ) -> Result<Vec<f64>, SolverError> {
     let rho = model.material.density;
     let mut mass = vec![0.0; model.mesh.nodes.len()];
@@ -49,10 +51,15 @@ fn lumped_masses(
             mass[conn[a] as usize] += rho_e * lv[a];
         }
     }
-    // A tetrahedron's share is ρ₀V/4 at each node (model §1.13).
-    for (conn, v) in model.mesh.tets.iter().zip(&classes.tets.volume) {
+    // A tetrahedron's share is ρV/4 at each node (model §1.13), ρ = s_e ρ₀ with mass scaling
+    // (model §6.8).
+    for (t, (conn, v)) in model.mesh.tets.iter().zip(&classes.tets.volume).enumerate() {
+        let rho_e = match tet_factors.get(t) {
+            Some(s) => rho * s,
+            None => rho,
+        };
         for &a in conn {
-            mass[a as usize] += 0.25 * rho * v;
+            mass[a as usize] += 0.25 * rho_e * v;
         }
     }
     if let Some(i) = mass.iter().position(|&m| !(m > 0.0)) {
@@ -209,32 +216,15 @@ impl Simulation {
         let classes = mesh
             .element_classes()
             .map_err(|e| SolverError::Setup(e.to_string()))?;
-        if !mesh.tets.is_empty() {
-            let scheme = &model.scheme;
-            let key = if scheme.mass_scaling.is_some() {
-                Some("[mass_scaling]")
-            } else if scheme.bulk_viscosity.is_some() {
-                Some("[bulk_viscosity]")
-            } else {
-                None
-            };
-            if let Some(key) = key {
-                return Err(SolverError::Setup(format!(
-                    "{key} is implemented for hexahedra only, and the mesh has {} tetrahedra: \
-                     remove {key}, or mesh the body with hexahedra",
-                    mesh.tets.len()
-                )));
-            }
-        }
-        let (class_density, mut mass_scaling) = match class_factors(&model, &classes) {
-            Some((f, r)) => (f, Some(r)),
-            None => (vec![], None),
+        let (class_density, tet_density, mut mass_scaling) = match class_factors(&model, &classes) {
+            Some((f, r)) => (f.class, f.tet, Some(r)),
+            None => (vec![], vec![], None),
         };
-        let mass = lumped_masses(&model, &classes, &class_density)?;
+        let mass = lumped_masses(&model, &classes, &class_density, &tet_density)?;
         let added_mass = match mass_scaling.as_mut() {
             None => vec![],
             Some(report) => {
-                let unscaled = lumped_masses(&model, &classes, &[])?;
+                let unscaled = lumped_masses(&model, &classes, &[], &[])?;
                 report.mass = unscaled.iter().sum();
                 report.added_mass = mass.iter().sum::<f64>() - report.mass;
                 (mass.iter().zip(&unscaled).enumerate())
@@ -286,6 +276,7 @@ impl Simulation {
                 inv_mass: mass.iter().map(|m| 1.0 / m).collect(),
                 mass,
                 class_density,
+                tet_density,
                 added_mass,
                 mass_scaling,
                 energy_floor: model.material.young * volume * 1e-14,

@@ -3,9 +3,9 @@ use super::*;
 /// The shipped scene `name` with the overrides `set`.
 fn model(name: &str, set: &[&str]) -> std::sync::Arc<Model> {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("../scenes/{name}"));
-    let text = std::fs::read_to_string(&path).unwrap();
     let set: Vec<String> = set.iter().map(|s| s.to_string()).collect();
-    crate::scene::parse_scene(&text, name, &set).unwrap().model
+    // Loaded from its path: a scene's mesh file is found beside it.
+    crate::scene::load_scene(&path, &set).unwrap().model
 }
 
 /// The bits of the fields a step writes: U, V, F_int, every interface node's α, α_next, jump
@@ -41,10 +41,11 @@ fn bits(sim: &Simulation) -> Vec<u64> {
 /// A run restored from a checkpoint at step k goes on bit for bit as the run that did not
 /// stop (model §4.13), on scenes that carry the state across steps in every way: glue that
 /// damages and a variable step (pull-off), friction and contact (sliding), a turning mould
-/// (roller peel), delayed damage and RCCM (rate effect, rccm shear), bulk viscosity.
+/// (roller peel), delayed damage and RCCM (rate effect, rccm shear), bulk viscosity, and
+/// tetrahedra (the Gmsh rubber strip) with bulk viscosity and mass scaling.
 #[test]
 fn a_restored_run_goes_on_bit_for_bit() {
-    let cases: [(&str, &[&str]); 5] = [
+    let cases: [(&str, &[&str]); 6] = [
         ("pull_off.toml", &["mesh.cells=[3,3,2]"]),
         ("sliding.toml", &[]),
         ("roller_peel.toml", &[]),
@@ -52,6 +53,13 @@ fn a_restored_run_goes_on_bit_for_bit() {
         (
             "pull_off.toml",
             &["mesh.cells=[3,3,2]", "bulk_viscosity.linear=0.06"],
+        ),
+        (
+            "rubber_peel.toml",
+            &[
+                "bulk_viscosity.linear=0.06",
+                "mass_scaling.target_step=5e-7",
+            ],
         ),
     ];
     for (name, set) in cases {
