@@ -83,16 +83,10 @@ pub struct MouldStep {
     /// Each mould's share of the glue's torque work over the interval just taken (model §5.5)
     /// [J], summed by the ledger's interface pass for the per-mould works.
     pub torque: Vec<f64>,
-    /// Work array of the per-mould ledger passes (one (before, after) pair per mould), kept
-    /// between steps so that the time step does not allocate.
-    pub halves: Vec<(f64, f64)>,
     /// Per interface node and per contact node on a triangulated mould: its list of nearby
     /// triangles ([`super::SurfaceMesh::project_near`]; empty when no mould is triangulated).
     pub near_interface: NearLists,
     pub near_contact: NearLists,
-    /// Query triangulated moulds cold (the full BVH query at every step, the cache unused):
-    /// only for measuring what the cache saves (`physics/examples/mould_cache.rs`); off in runs.
-    pub cold: bool,
 }
 
 impl MouldStep {

@@ -28,7 +28,7 @@ use std::path::{Path, PathBuf};
 /// The first bytes of every checkpoint.
 const MAGIC: &[u8; 22] = b"decohesion checkpoint\n";
 /// The layout of the payload; a checkpoint of another format is refused.
-pub const CHECKPOINT_FORMAT: u32 = 4;
+pub const CHECKPOINT_FORMAT: u32 = 5;
 
 /// Why a checkpoint could not be written or read back.
 #[derive(Debug, thiserror::Error)]

@@ -308,13 +308,13 @@ impl Simulation {
             }
         }
         push_halves(&mut self.state.moulds.work, &halves, first);
-        self.state.moulds.halves = halves;
+        self.work.step.mould_halves = halves;
     }
 
     /// The per-mould (before, after) work array, zeroed for `n` moulds: taken out of the
     /// step's scratch (give it back after use), so that no step allocates.
     fn mould_halves(&mut self, n: usize) -> Vec<(f64, f64)> {
-        let mut halves = std::mem::take(&mut self.state.moulds.halves);
+        let mut halves = std::mem::take(&mut self.work.step.mould_halves);
         halves.clear();
         halves.resize(n, (0.0, 0.0));
         halves
@@ -362,7 +362,7 @@ impl Simulation {
             }
         }
         push_halves(&mut self.state.moulds.friction, &halves, first);
-        self.state.moulds.halves = halves;
+        self.work.step.mould_halves = halves;
     }
 
     /// The normal of mould `k` at the contact point of interface entry (`interface`) or contact
@@ -533,11 +533,7 @@ fn tearing(counts: StateCounts) -> bool {
 /// transition, the same classification for every family: for `rccm` α_e = u₀ and u_r =
 /// u₀/√β_min), or, with a delayed law, α still behind its rate-independent target α_s (the
 /// damage keeps growing while α ≤ α_e or after the jump has turned back).
-pub(super) fn damage_evolving(
-    law: &crate::interface::law::StiffnessLaw,
-    alpha: f64,
-    alpha_s: f64,
-) -> bool {
+fn damage_evolving(law: &crate::interface::law::StiffnessLaw, alpha: f64, alpha_s: f64) -> bool {
     law.state(alpha) == crate::interface::law::InterfaceState::Transition
         || (law.delay().is_some() && alpha < alpha_s)
 }

@@ -129,6 +129,10 @@ struct Workspace {
     /// The values stages hand to later stages of the same step (surface and prescribed
     /// velocities, traction amplitudes, V_{n+½} of the boundary nodes, the reactions).
     step: StepScratch,
+    /// Query triangulated moulds cold (the full BVH query at every step, the lists of nearby
+    /// triangles unused): only for measuring what the lists save
+    /// (`physics/examples/mould_cache.rs`); off in runs.
+    cold_mould_queries: bool,
 }
 
 impl Simulation {

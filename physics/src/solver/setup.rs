@@ -293,6 +293,7 @@ impl Simulation {
                 parts_boundary: Vec::new(),
                 parts_reactions: Vec::new(),
                 step: StepScratch::default(),
+                cold_mould_queries: false,
             },
             state: State {
                 bulk_viscosity: None,

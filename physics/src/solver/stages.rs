@@ -31,6 +31,8 @@ pub(super) struct StepScratch {
     pub v_old: Vec<[f64; 3]>,
     /// V_{n+½} of both nodes of each bond pair, before stage 5, for the ledger.
     pub bond_v_old: Vec<[[f64; 3]; 2]>,
+    /// The per-mould (before, after) works of the ledger's passes.
+    pub mould_halves: Vec<(f64, f64)>,
 }
 
 impl Simulation {

@@ -52,7 +52,11 @@ impl Simulation {
         let (nodes, t) = (&self.model.mesh.nodes, self.state.time);
         let (planes, u) = (&self.model.moulds, &self.state.u);
         let sc = &mut self.work.step;
-        let (ms, tol) = (&mut self.state.moulds, &sc.plane_tol);
+        let (ms, tol, cold) = (
+            &mut self.state.moulds,
+            &sc.plane_tol,
+            self.work.cold_mould_queries,
+        );
         let snap = |g: f64, tol: f64| if g.abs() <= tol { 0.0 } else { g };
         let place = |i: usize| -> [f64; 3] {
             let ui = u.get(i);
@@ -70,8 +74,7 @@ impl Simulation {
             geo.glue_normal = crate::mould::motion::mat_vec(&pose.rotation, geo.normal0);
             itf.jump = sub(x, geo.anchor);
             let near = (&mut ms.near_interface, j);
-            let (pr, faces) =
-                MouldStep::project(m, &pose, x, &mut geo.feature, near, ms.cold, tol[k]);
+            let (pr, faces) = MouldStep::project(m, &pose, x, &mut geo.feature, near, cold, tol[k]);
             (geo.point, geo.normal, geo.faces) = (pr.point, pr.normal, faces);
             itf.gap = snap(dot(pr.normal, sub(x, pr.point)), tol[k]);
             ms.interface[j] = geo;
@@ -82,7 +85,7 @@ impl Simulation {
                 continue;
             }
             let x = place(cn.node as usize);
-            let (pose, cold) = (ms.pose_at(k, t), ms.cold);
+            let pose = ms.pose_at(k, t);
             let (geo, near) = (&mut ms.contact[j], (&mut ms.near_contact, j));
             let (pr, faces) =
                 MouldStep::project(&planes[k], &pose, x, &mut geo.feature, near, cold, tol[k]);
@@ -95,7 +98,7 @@ impl Simulation {
     /// node's list of nearby triangles: the same results (see
     /// [`crate::mould::SurfaceMesh::project_near`]), slower; for measuring the lists only.
     pub fn set_mould_queries_cold(&mut self, cold: bool) {
-        self.state.moulds.cold = cold;
+        self.work.cold_mould_queries = cold;
     }
 
     /// What the lists of nearby triangles did since the start (interface nodes, contact nodes).
