@@ -83,6 +83,7 @@ impl Simulation {
         };
         let BulkViscosity { linear, quadratic } = bv;
         let b2 = quadratic * quadratic;
+        let constants = |[l, rho, speed]: [f64; 3]| [l, rho, speed, linear, b2];
         state.force.fill_zero();
         let (mut power, mut xi_max) = (0.0, linear);
         let (u, v) = (&self.state.u, &self.state.v);
@@ -90,54 +91,27 @@ impl Simulation {
         for (e, conn) in self.model.mesh.elements.iter().enumerate() {
             let c = classes.class_of[e] as usize;
             let cd = &classes.centre[c];
-            let [l, rho, speed] = state.class[c];
-            let mut f = [[0.0; 3]; 3];
-            let mut fdot = [[0.0; 3]; 3];
-            for (i, fi) in f.iter_mut().enumerate() {
-                fi[i] = 1.0;
-            }
-            for a in 0..8 {
-                let (ua, va) = (u.get(conn[a] as usize), v.get(conn[a] as usize));
-                for i in 0..3 {
-                    for j in 0..3 {
-                        f[i][j] += ua[i] * cd.b[a][j];
-                        fdot[i][j] += va[i] * cd.b[a][j];
-                    }
-                }
-            }
-            let cof = cofactor(&f);
-            let j = (0..3).map(|k| f[0][k] * cof[0][k]).sum::<f64>();
-            // F⁻¹ = cof(F)ᵀ/J, so tr(Ḟ F⁻¹) = Σ Ḟ_ik cof_ik / J.
-            let rate = (0..3)
-                .map(|i| (0..3).map(|k| fdot[i][k] * cof[i][k]).sum::<f64>())
-                .sum::<f64>()
-                / j;
-            let compression = rate.min(0.0);
-            let q = rho * l * rate * (linear * speed - b2 * l * compression);
-            xi_max = f64::max(xi_max, linear - b2 * l / speed * compression);
-            // fₐ = q J V F⁻ᵀ bₐ = q V cof(F) bₐ.
-            let s = q * cd.volume;
-            power += s * j * rate;
-            for a in 0..8 {
-                let n = conn[a] as usize;
-                let mut fa = state.force.get(n);
-                for i in 0..3 {
-                    fa[i] += s * (0..3).map(|k| cof[i][k] * cd.b[a][k]).sum::<f64>();
-                }
-                state.force.set(n, fa);
-            }
+            let (p, xi) = viscous_forces(
+                &mut state.force,
+                conn,
+                &cd.b,
+                cd.volume,
+                (u, v),
+                constants(state.class[c]),
+            );
+            power += p;
+            xi_max = f64::max(xi_max, xi);
         }
         let n_classes = classes.data.len();
         let tets = &classes.tets;
         for (t, conn) in self.model.mesh.tets.iter().enumerate() {
-            let [l, rho, speed] = state.class[n_classes + t];
-            let (p, xi) = tet_viscous_forces(
+            let (p, xi) = viscous_forces(
                 &mut state.force,
                 conn,
                 &tets.grad[t],
                 tets.volume[t],
                 (u, v),
-                [l, rho, speed, linear, b2],
+                constants(state.class[n_classes + t]),
             );
             power += p;
             xi_max = f64::max(xi_max, xi);
@@ -167,34 +141,40 @@ impl Simulation {
     }
 }
 
-/// The viscous stress of one tetrahedron (model §4.12) added to `force`: F = I + Σₐ uₐ ⊗ ∇ₓNₐ
-/// and Ḟ = Σₐ vₐ ⊗ ∇ₓNₐ (constant over it, model §1.13), ε̇ = tr(Ḟ F⁻¹) = J̇/J,
+/// The viscous stress of one element (model §4.12) added to `force`, at its centre for a
+/// hexahedron (constant over a tetrahedron, model §1.13): with `grad` the N shape-function
+/// gradients bₐ there, F = I + Σₐ uₐ ⊗ bₐ, Ḟ = Σₐ vₐ ⊗ bₐ, ε̇ = tr(Ḟ F⁻¹) = J̇/J,
 ///
-///   q = ρ_e L_e ε̇ (b₁ c_d − b₂² L_e min(0, ε̇)),   fₐ = q V cof(F) ∇ₓNₐ,
+///   q = ρ_e L_e ε̇ (b₁ c_d − b₂² L_e min(0, ε̇)),   fₐ = q J V F⁻ᵀ bₐ = q V cof(F) bₐ,
 ///
-/// `c` = [L_e, ρ_e, c_d, b₁, b₂²]. Returns the power q J V ε̇ ≥ 0 and the damping ratio
-/// b₁ − b₂² (L_e/c_d) min(0, ε̇) before the mode factor (λ + 2μ)/K.
-fn tet_viscous_forces(
+/// `c` = [L_e, ρ_e, c_d, b₁, b₂²]. Returns the power Σₐ fₐ·vₐ = q J V ε̇ ≥ 0 and the damping
+/// ratio b₁ − b₂² (L_e/c_d) min(0, ε̇) before the mode factor (λ + 2μ)/K.
+fn viscous_forces<const N: usize>(
     force: &mut Planes,
-    conn: &[u32; 4],
-    grad: &[[f64; 3]; 4],
+    conn: &[u32; N],
+    grad: &[[f64; 3]; N],
     volume: f64,
     (u, v): (&Planes, &Planes),
     c: [f64; 5],
 ) -> (f64, f64) {
     let [l, rho, speed, linear, b2] = c;
-    let f = crate::mesh::tet::tet_deformation_gradient(grad, &conn.map(|n| u.get(n as usize)));
+    let mut f = [[0.0; 3]; 3];
     let mut fdot = [[0.0; 3]; 3];
-    for (a, &n) in conn.iter().enumerate() {
-        let va = v.get(n as usize);
+    for (i, fi) in f.iter_mut().enumerate() {
+        fi[i] = 1.0;
+    }
+    for a in 0..N {
+        let (ua, va) = (u.get(conn[a] as usize), v.get(conn[a] as usize));
         for i in 0..3 {
             for j in 0..3 {
+                f[i][j] += ua[i] * grad[a][j];
                 fdot[i][j] += va[i] * grad[a][j];
             }
         }
     }
     let cof = cofactor(&f);
     let j = (0..3).map(|k| f[0][k] * cof[0][k]).sum::<f64>();
+    // F⁻¹ = cof(F)ᵀ/J, so tr(Ḟ F⁻¹) = Σ Ḟ_ik cof_ik / J.
     let rate = (0..3)
         .map(|i| (0..3).map(|k| fdot[i][k] * cof[i][k]).sum::<f64>())
         .sum::<f64>()
@@ -202,8 +182,8 @@ fn tet_viscous_forces(
     let compression = rate.min(0.0);
     let q = rho * l * rate * (linear * speed - b2 * l * compression);
     let s = q * volume;
-    for (a, &n) in conn.iter().enumerate() {
-        let n = n as usize;
+    for a in 0..N {
+        let n = conn[a] as usize;
         let mut fa = force.get(n);
         for i in 0..3 {
             fa[i] += s * (0..3).map(|k| cof[i][k] * grad[a][k]).sum::<f64>();
