@@ -55,6 +55,9 @@ pub mod report;
 /// Speed against accuracy: a grid of configurations of one scene compared with the finest.
 #[cfg(not(target_arch = "wasm32"))]
 pub mod tradeoff;
+/// The front ends' tunables (the outputs, the recording, the fit, the explorer), each with its
+/// meaning, unit and source.
+pub mod tunables;
 /// ParaView output (`.vtu` frames and a `.pvd` index): reads a simulation, uses no Rerun.
 #[cfg(not(target_arch = "wasm32"))]
 pub mod vtk;

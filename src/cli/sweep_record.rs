@@ -85,11 +85,7 @@ pub fn timelines(v: &Vary) -> Vec<(String, Vec<i64>)> {
     out
 }
 
-/// Widest span of ticks the viewer plots whole: on a sequence timeline whose data span more
-/// than 2000 ticks, Rerun 0.36's time-series views open on the time cursor ± 1000
-/// (`re_view_time_series` fallbacks), which cut a three-decade sweep at 1000 per decade to
-/// its last decade.
-const WHOLE_SPAN: f64 = 2000.0;
+use crate::tunables::SWEEP_WHOLE_SPAN as WHOLE_SPAN;
 
 /// Decimals of log₁₀ kept on a log timeline spanning `decades`: 3 (ticks 1000·log₁₀ v) while
 /// the span fits [`WHOLE_SPAN`] (up to 2 decades), then 2, 1, 0.

@@ -101,11 +101,8 @@ impl FitArgs {
     }
 }
 
-/// Default of `--max-evals`.
-pub const DEFAULT_MAX_EVALS: usize = 600;
-/// Default of `--tolerance`: misfits within 1e-10 of each other (relative RMS residuals within
-/// about 1e-5) are one.
-pub const DEFAULT_TOLERANCE: f64 = 1e-10;
+pub use crate::tunables::FIT_MAX_EVALS as DEFAULT_MAX_EVALS;
+pub use crate::tunables::FIT_TOLERANCE as DEFAULT_TOLERANCE;
 
 /// A fit checked and ready: the problem, the start, the measured curve and its units.
 #[derive(Debug, Clone)]

@@ -230,8 +230,7 @@ pub fn default_sample(n: usize) -> usize {
     20 * n
 }
 
-/// Nelder–Mead restarts at most (after the first descent).
-pub(super) const MAX_RESTARTS: usize = 20;
+pub(super) use crate::tunables::FIT_MAX_RESTARTS as MAX_RESTARTS;
 
 /// One descent of Nelder–Mead from the simplex of `from` and `step`: its first vertices run side
 /// by side, then argmin's iterations until the tolerance, a stall, `max_evals` or Ctrl-C.
@@ -278,8 +277,7 @@ pub(super) fn nelder_mead(obj: &Objective<'_>, from: &[f64], step: f64, n: usize
 /// σ of each value, the correlation matrix (when every σ exists), the runs made.
 pub(super) type Uncertainty = (Vec<Option<f64>>, Option<Vec<Vec<f64>>>, usize);
 
-/// Step of the central differences, in z: 1 % of each key's searched range.
-pub(super) const JACOBIAN_STEP: f64 = 0.01;
+pub(super) use crate::tunables::FIT_JACOBIAN_STEP as JACOBIAN_STEP;
 
 /// σ of each value and the correlations, from the Jacobian of the relative residuals at the
 /// optimum z* by central differences (one-sided at a bound), its runs side by side; and how

@@ -6,13 +6,9 @@ use super::App;
 use egui::ColorImage;
 use std::sync::{Arc, Mutex};
 
-/// At most this many of the run's frames go into an animation (evenly spread, the last one
-/// included).
-pub const GIF_FRAMES: usize = 60;
-/// Delay between the animation's frames [1/100 s].
-pub const GIF_DELAY: u16 = 10;
-/// A capture wider than this [pixels] is halved.
-const GIF_MAX_WIDTH: usize = 480;
+pub use crate::tunables::GIF_DELAY;
+pub use crate::tunables::GIF_FRAMES;
+use crate::tunables::GIF_MAX_WIDTH;
 
 /// An animation being captured.
 pub struct GifCapture {

@@ -26,8 +26,7 @@ use crate::output::{Cadence, FrameClock};
 use crate::solver::Simulation;
 use std::sync::Arc;
 
-/// The most memory a run's frames take [bytes].
-pub const MAX_RUN_BYTES: usize = 64 << 20;
+pub use crate::tunables::MAX_RUN_BYTES;
 
 /// The field that colours the surface.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]

@@ -104,8 +104,7 @@ impl CurvePoint {
     }
 }
 
-/// Most samples a run keeps (72 bytes each: ≤ 74 kB per run, in memory and in the saved history).
-pub const CURVE_MAX_POINTS: usize = 1024;
+pub use crate::tunables::CURVE_MAX_POINTS;
 
 /// A run's samples, bounded: every `stride`-th sample offered is kept; when more than
 /// [`CURVE_MAX_POINTS`] are kept, every other one is dropped and the stride doubles, so a run

@@ -19,13 +19,9 @@ use std::sync::mpsc::TryRecvError;
 use std::time::Duration;
 use web_time::Instant;
 
-/// The solver's time per unit of the page's drawing time, when drawing is slow
-/// ([`PageRun::advance`]).
-pub const DRAWING_RATIO: u32 = 4;
+pub use crate::tunables::DRAWING_RATIO;
 
-/// The longest slice of steps between two pictures when drawing is slow: Stop still acts
-/// within about this much.
-pub const MAX_SLICE: Duration = Duration::from_millis(500);
+pub use crate::tunables::MAX_SLICE;
 
 /// A run of the page in progress.
 pub struct PageRun {

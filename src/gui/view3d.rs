@@ -26,14 +26,11 @@ use nalgebra::{Matrix4, Point3, Vector3};
 use std::collections::VecDeque;
 use std::sync::{Arc, Mutex};
 
-/// Frame times kept for the frame-rate label.
-const FRAME_TIMES: usize = 60;
+use crate::tunables::FRAME_TIMES;
 
-/// A click selects the node drawn nearest to it within this distance [points].
-pub const PICK_RADIUS: f32 = 12.0;
+pub use crate::tunables::PICK_RADIUS;
 
-/// Vertical field of view of the camera [rad].
-const FOV_Y: f32 = 0.6;
+use crate::tunables::FOV_Y;
 
 /// The node inspected: one boundary entry of the run's frames over time.
 #[derive(Debug, Clone)]

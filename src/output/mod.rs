@@ -176,12 +176,9 @@ impl std::error::Error for OutputError {
     }
 }
 
-/// Memory that frames waiting for an output's writer thread may take before the solver waits
-/// (back-pressure) [bytes].
-pub const QUEUE_BYTES: usize = 64 << 20;
+pub use crate::tunables::QUEUE_BYTES;
 
-/// Default number of frames over the scene's `end_time` (see [`Cadence::Default`]).
-pub const DEFAULT_FRAMES: f64 = 200.0;
+pub use crate::tunables::DEFAULT_FRAMES;
 
 /// When a frame is taken. Step 0 and the last step are always taken.
 #[derive(Debug, Clone, Copy, PartialEq)]

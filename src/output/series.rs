@@ -24,11 +24,8 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-/// Rows are written to the file once this many bytes of whole lines wait…
-pub const FLUSH_BYTES: usize = 64 << 10;
-/// …or this much wall time after the last write, so a file being followed (`tail -f`) lags
-/// little and a killed process loses at most this much.
-pub const FLUSH_WALL: Duration = Duration::from_millis(250);
+pub use crate::tunables::SERIES_FLUSH_BYTES as FLUSH_BYTES;
+pub use crate::tunables::SERIES_FLUSH_WALL as FLUSH_WALL;
 
 /// The ledger's terms as columns [J]: [`EnergySnapshot::TERMS`], then `relative_residual` [-].
 pub const ENERGY_COLUMNS: [&str; 15] = EnergySnapshot::TERMS;

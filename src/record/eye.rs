@@ -16,21 +16,11 @@ use rerun::external::re_sdk_types::blueprint::archetypes::EyeControls3D;
 use rerun::log::LogMsg;
 use rerun::{EntityPath, RecordingStream, RecordingStreamBuilder, RecordingStreamResult};
 
-/// Vertical field of view of the viewer's 3-D eye [degrees] (`Eye::DEFAULT_FOV_Y` of
-/// rerun's `re_view_spatial`, which the blueprint cannot set).
-pub const EYE_FOV_Y_DEG: f64 = 55.0;
-/// The narrowest width / height the 3-D view is framed for: in the default layout it takes the
-/// left half of the window (1560 × 960 in the screenshots: 0.87), so the horizontal field of
-/// view is the narrower one.
-pub const EYE_ASPECT_MIN: f64 = 0.75;
-/// The eye's elevation above the horizontal plane [degrees] (z is up in every scene): the body
-/// is seen from above its side, the interface below it through the gap to the mould.
-pub const EYE_ELEVATION_DEG: f64 = 30.0;
-/// A mould's drawing counts as near the body within this fraction of the body's largest extent
-/// around its bounding box; farther parts (a long plate, a large mould) are not framed.
-pub const EYE_NEAR_FRACTION: f64 = 0.5;
-/// Margin on the distance that fits the framed box's bounding sphere in the field of view.
-pub const EYE_MARGIN: f64 = 1.05;
+pub use crate::tunables::EYE_ASPECT_MIN;
+pub use crate::tunables::EYE_ELEVATION_DEG;
+pub use crate::tunables::EYE_FOV_Y_DEG;
+pub use crate::tunables::EYE_MARGIN;
+pub use crate::tunables::EYE_NEAR_FRACTION;
 
 /// The default eye of the 3-D view, z up.
 #[derive(Debug, Clone, Copy, PartialEq)]

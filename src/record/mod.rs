@@ -90,22 +90,12 @@ use std::time::{Duration, Instant};
 
 /// Application id of every recording.
 pub const APPLICATION_ID: &str = "decohesion";
-/// Buffered frames are sent at least every this many frames…
-pub const FLUSH_ROWS: usize = 1000;
-/// …or when they take this much memory [bytes]…
-pub const FLUSH_BYTES: usize = 16 << 20;
-/// …or after a tenth of the wall time the run has taken so far, between 10 ms and this (the
-/// lag of a live viewer): short runs encode beside the solver rather than all at the end,
-/// long runs do not make thousands of small chunks.
-pub const FLUSH_WALL: Duration = Duration::from_millis(500);
-/// Interfaces with at most this many nodes get one α(t) series per node (paper fig. 6 left).
-pub const ALPHA_PER_NODE_MAX: usize = 64;
-/// Longest arrow, drawn for the peak traction T_max of the law, as a fraction of the body's
-/// largest extent.
-pub const ARROW_FRACTION: f64 = 0.2;
-/// Length of a contact normal arrow (the mould's unit normal at a node in contact), as a
-/// fraction of the body's largest extent.
-pub const NORMAL_FRACTION: f64 = 0.08;
+pub use crate::tunables::ALPHA_PER_NODE_MAX;
+pub use crate::tunables::ARROW_FRACTION;
+pub use crate::tunables::NORMAL_FRACTION;
+pub use crate::tunables::RECORD_FLUSH_BYTES as FLUSH_BYTES;
+pub use crate::tunables::RECORD_FLUSH_ROWS as FLUSH_ROWS;
+pub use crate::tunables::RECORD_FLUSH_WALL as FLUSH_WALL;
 /// Version of the Rerun viewer that reads our files (same as the SDK).
 pub const RERUN_VERSION: &str = "0.36.3";
 

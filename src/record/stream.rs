@@ -23,8 +23,7 @@ use std::path::PathBuf;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-/// The shortest wall time between two flushes.
-const FLUSH_WALL_MIN: Duration = Duration::from_millis(10);
+use crate::tunables::RECORD_FLUSH_WALL_MIN as FLUSH_WALL_MIN;
 
 /// The SDK batches logged rows into chunks on its own thread. Its default for files (a tick of
 /// 200 ms) leaves a short run's whole encoding to the final flush, on the solver's clock; a

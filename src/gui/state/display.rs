@@ -22,20 +22,15 @@ pub const PANELS: [(&str, &str); 6] = [
     ("measured", "the measured curve and fit section"),
 ];
 
-/// The zoom of the projector mode (egui's points per pixel, × the system's).
-pub const PROJECTOR_ZOOM: f32 = 1.5;
-/// The width of plot lines in the projector mode [points] (egui_plot's default is 1.5).
-pub const PROJECTOR_LINE: f32 = 3.5;
+pub use crate::tunables::PROJECTOR_LINE;
+pub use crate::tunables::PROJECTOR_ZOOM;
 
 /// The panels the embeddable view (`embed=1`) leaves out: the menus and tables around the
 /// lesson or scene (its text, run bar, plots and 3-D view stay).
 pub const EMBED_HIDDEN: [&str; 3] = ["settings", "history", "measured"];
 
-/// The share of the frame's width the lesson's text takes in the embeddable view, and the 3-D
-/// view's (the plots have the rest, a plot a row in an 800-point frame): the picture keeps
-/// at least 40 % of the frame's width with the panel's margins.
-pub const EMBED_LESSON_WIDTH: f32 = 0.30;
-pub const EMBED_VIEW_WIDTH: f32 = 0.44;
+pub use crate::tunables::EMBED_LESSON_WIDTH;
+pub use crate::tunables::EMBED_VIEW_WIDTH;
 
 /// Panels hidden, the projector mode and the embeddable view.
 #[derive(Debug, Clone, Default, PartialEq)]

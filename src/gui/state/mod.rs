@@ -28,18 +28,13 @@ use crate::solver::Simulation;
 use serde::{Deserialize, Serialize};
 use std::collections::{BTreeSet, VecDeque};
 use std::path::Path;
-use std::time::Duration;
 
-/// Above this many elements the window does not estimate h_crit while settings are edited (the
-/// set-up and the Lanczos estimate would hold the window for a visible time); the run does it.
-pub const CHECK_MAX_ELEMENTS: usize = 25_000;
+pub use crate::tunables::CHECK_MAX_ELEMENTS;
 
 /// Progress of a run over simulated time, for the live plot.
 pub type Curve = RunCurve;
 
-/// Wall time a run in the page steps per frame before the frame is drawn: the page stays
-/// responsive (≥ ~40 frames per second with the drawing) and Stop acts at the next frame.
-pub const FRAME_BUDGET: Duration = Duration::from_millis(10);
+pub use crate::tunables::FRAME_BUDGET;
 
 /// Where the app is.
 #[derive(Debug, Clone, PartialEq)]

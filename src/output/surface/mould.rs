@@ -10,9 +10,7 @@ use crate::model::{Model, Mould, Shape};
 /// A pose (R, T) of a mould: x = R x₀ + T for a point x₀ of the mould at t = 0.
 pub type MouldPose = ([[f64; 3]; 3], [f64; 3]);
 
-/// Margin of a half-space's square beyond the body's bounding box projected on it, as a
-/// fraction of the body's largest extent.
-pub const HALF_SPACE_MARGIN: f64 = 0.15;
+pub use crate::tunables::HALF_SPACE_MARGIN;
 
 /// The body's reference bounding box (lowest and highest corner) [m].
 pub fn body_box(m: &Model) -> ([f64; 3], [f64; 3]) {
