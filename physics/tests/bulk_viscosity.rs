@@ -1,7 +1,7 @@
 //! Bulk viscosity (model §4.12, §5.11): the damping it gives a mode against the damped
 //! oscillator's logarithmic decrement, the ledger's dissipation, and the step it allows.
 
-use crate::common::scene_file;
+use crate::common::{damping_ratio, scene_file};
 use decohesion_physics::scene::{load_scene, parse_scene};
 use decohesion_physics::solver::Simulation;
 
@@ -63,14 +63,7 @@ fn a_breathing_cube_decays_with_the_damping_ratio_of_the_model() {
         sim.step().unwrap();
         xs.push(sim.state.u.get(corner)[0]);
     }
-    let peaks: Vec<f64> = (1..xs.len() - 1)
-        .filter(|&i| xs[i] > xs[i - 1] && xs[i] >= xs[i + 1] && xs[i] > 0.0)
-        .map(|i| xs[i])
-        .collect();
-    assert!(peaks.len() >= 3, "{} maxima in 4 periods", peaks.len());
-    let delta = (peaks[0] / peaks[2]).ln() / 2.0;
-    let measured =
-        delta / (4.0 * std::f64::consts::PI * std::f64::consts::PI + delta * delta).sqrt();
+    let measured = damping_ratio(&xs);
     assert!(
         (measured / xi - 1.0).abs() <= 0.01,
         "damping ratio {measured:.5}, model {xi:.5} (b₁ (λ + 2μ)/K)"

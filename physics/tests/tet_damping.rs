@@ -2,7 +2,7 @@
 //! (model §1.13, §4.12, §5.11, §6.8): the scaled mesh's h_crit against the target, the ledger
 //! with the added mass and with the viscous work, and the viscosity's dissipation.
 
-use crate::common::{bare_box, pull_off, scene_file};
+use crate::common::{bare_box, damping_ratio, pull_off, scene_file};
 use decohesion_physics::material::{Material, MaterialModel};
 use decohesion_physics::mesh::Mesh;
 use decohesion_physics::model::BulkViscosity;
@@ -181,14 +181,7 @@ fn a_breathing_tetrahedron_decays_with_the_damping_ratio_of_the_model() {
         sim.step().unwrap();
         xs.push(sim.state.u.get(0)[0]);
     }
-    let peaks: Vec<f64> = (1..xs.len() - 1)
-        .filter(|&i| xs[i] > xs[i - 1] && xs[i] >= xs[i + 1] && xs[i] > 0.0)
-        .map(|i| xs[i])
-        .collect();
-    assert!(peaks.len() >= 3, "{} maxima in 4 periods", peaks.len());
-    let delta = (peaks[0] / peaks[2]).ln() / 2.0;
-    let measured =
-        delta / (4.0 * std::f64::consts::PI * std::f64::consts::PI + delta * delta).sqrt();
+    let measured = damping_ratio(&xs);
     eprintln!(
         "breathing tetrahedron: damping ratio {measured:.6}, model {xi:.6}, residual {:.2e}",
         sim.state.ledger.max_relative_residual

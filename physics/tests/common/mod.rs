@@ -188,3 +188,16 @@ pub fn slope(pts: &[(f64, f64)]) -> f64 {
     let sxx: f64 = pts.iter().map(|p| (p.0 - mx) * (p.0 - mx)).sum();
     sxy / sxx
 }
+
+/// The damping ratio ξ of a damped oscillation sampled at every step, `xs`, from the
+/// logarithmic decrement of its first and third positive maxima: δ = ln(x₀/x₂)/2 = 2πξ/√(1 − ξ²),
+/// so ξ = δ/√(4π² + δ²). Fails when fewer than three maxima were sampled.
+pub fn damping_ratio(xs: &[f64]) -> f64 {
+    let peaks: Vec<f64> = (1..xs.len() - 1)
+        .filter(|&i| xs[i] > xs[i - 1] && xs[i] >= xs[i + 1] && xs[i] > 0.0)
+        .map(|i| xs[i])
+        .collect();
+    assert!(peaks.len() >= 3, "{} maxima in 4 periods", peaks.len());
+    let delta = (peaks[0] / peaks[2]).ln() / 2.0;
+    delta / (4.0 * std::f64::consts::PI * std::f64::consts::PI + delta * delta).sqrt()
+}
