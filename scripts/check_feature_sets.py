@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Checks that the test build, the command's build and the Python extension's build share one
-build of every crates.io dependency they have in common (`.ci/run` calls it).
+build of every crates.io dependency and workspace crate they have in common (`.ci/run` calls it).
 
 Cargo unifies features per build: a dependency that only one build has (the tests' proptest, the
 explorer's egui, the extension's PyO3) can turn on features of crates that every build shares, and
@@ -8,8 +8,8 @@ those crates, with everything above them (the Rerun SDK is ~500 crates), are the
 feature set. This script asks cargo for the unit graph of each build (`--unit-graph`, read through
 RUSTC_BOOTSTRAP=1: a query only, nothing is compiled) and fails, naming the crates, when a unit of
 the command's build is not also a unit of the test build, or a unit of the extension's build (other
-than PyO3's own) is not a unit of the command's build. The fix is in `Cargo.toml`: ask for the
-missing features in the root crate's dependencies.
+than PyO3's own) is not a unit of the command's build. The fix is in `run/Cargo.toml`: ask for the
+missing features in the run crate's dependencies (the crate the extension builds).
 """
 
 import json
@@ -24,7 +24,7 @@ BUILDS = {
 }
 # Crates that only the extension's build has: its own dependencies.
 PYTHON_ONLY = ("pyo3", "pyo3-build-config", "pyo3-ffi", "pyo3-macros", "pyo3-macros-backend",
-               "target-lexicon")
+               "target-lexicon", "decohesion-py")
 
 
 def unit_graph(args):
@@ -35,8 +35,8 @@ def unit_graph(args):
 
 
 def identities(units):
-    """Every registry unit as (package, target, mode, platform, a digest of what it is built
-    from: features and, recursively, its dependencies' digests)."""
+    """Every registry and workspace unit as (package, target, mode, platform, a digest of what it
+    is built from: features and, recursively, its dependencies' digests)."""
     memo = {}
 
     def digest(i):
@@ -49,7 +49,7 @@ def identities(units):
 
     found = {}
     for i, u in enumerate(units):
-        if u["pkg_id"].startswith("registry+"):
+        if u["pkg_id"].startswith(("registry+", "path+")):
             name = u["pkg_id"].split("#")[-1]
             found.setdefault((name, u["target"]["name"], u["mode"]), set()).add(digest(i))
     return found
@@ -71,11 +71,11 @@ def main():
                             f"build lacks (other features): " + ", ".join(extra[:20]))
     if problems:
         print("\n".join(problems), file=sys.stderr)
-        print("ask for the features in the root Cargo.toml's dependencies (see its comment)",
+        print("ask for the features in run/Cargo.toml's dependencies (see its comment)",
               file=sys.stderr)
         return 1
     print("one feature set: the command's build is part of the test build, the Python "
-          "extension's of the command's (PyO3 aside)")
+          "extension's of the command's (PyO3 and the extension aside), workspace crates included")
     return 0
 
 

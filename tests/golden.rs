@@ -14,7 +14,7 @@
 //! **Regeneration guards the physics.** With `UPDATE_GOLDEN=1`, each new summary is compared
 //! with the committed one by `decohesion::compare` (what `decohesion compare A B` does), each
 //! observable within its physical tolerance (energies within the ledger's residual band, event
-//! times within two steps, …; the reasons are in `src/compare/mod.rs`). A file whose bits
+//! times within two steps, …; the reasons are in `run/src/compare/mod.rs`). A file whose bits
 //! changed but whose physics is within tolerance (reordered arithmetic) is rewritten; a file
 //! whose physics moved is **not** rewritten and the test fails listing what moved, unless
 //! `GOLDEN_PHYSICS_CHANGE="why"` acknowledges it (then it is rewritten and the table printed).

@@ -10,9 +10,9 @@
 //! | `CheckpointError::Io` (`save`, `restore`) | `FileNotFoundError`, `PermissionError`, `IsADirectoryError` or `OSError` |
 //! | any other `CheckpointError` (not a checkpoint, corrupt, another format or model) | `ValueError` |
 
-use decohesion::output::OutputError;
-use decohesion::scene::SceneError;
-use decohesion::solver::{CheckpointError, SolverError as RustSolverError};
+use decohesion_run::output::OutputError;
+use decohesion_run::scene::SceneError;
+use decohesion_run::solver::{CheckpointError, SolverError as RustSolverError};
 use pyo3::exceptions::{
     PyFileNotFoundError, PyIsADirectoryError, PyOSError, PyPermissionError, PyRuntimeError,
     PyValueError,
@@ -61,10 +61,10 @@ pub fn checkpoint_error(e: CheckpointError) -> PyErr {
     }
 }
 
-/// `e` and its sources as the command line prints an error (`decohesion::cli::causes_once`):
+/// `e` and its sources as the command line prints an error (`decohesion_run::errors::causes_once`):
 /// `e: source: …`, a source that the text already ends with left out.
 fn with_sources(e: &(dyn std::error::Error + 'static)) -> String {
-    decohesion::cli::causes_once(std::iter::successors(Some(e), |e| e.source()))
+    decohesion_run::errors::causes_once(std::iter::successors(Some(e), |e| e.source()))
 }
 
 /// A solver error as a Python exception: the set-up's as `ValueError` (named after `file`),

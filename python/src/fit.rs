@@ -1,11 +1,11 @@
-//! `decohesion.fit(...)`: `decohesion fit` from Python ([`decohesion::fit`]), the GIL released
+//! `decohesion.fit(...)`: `decohesion fit` from Python ([`decohesion_run::fit`]), the GIL released
 //! while the runs go; Ctrl-C (a signal handler raising) stops the fit after the run in progress
 //! and the best so far is returned (`"stop": "cancelled"`).
 
 use crate::scene::{override_specs, type_name};
 use crate::to_python;
-use decohesion::fit::outputs::write_outputs;
-use decohesion::fit::{fit as run_fit, prepare, FitArgs, Record, Watch};
+use decohesion_run::fit::outputs::write_outputs;
+use decohesion_run::fit::{fit as run_fit, prepare, FitArgs, Record, Watch};
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyAny, PyDict};
@@ -60,7 +60,7 @@ fn free_specs(free: &Bound<'_, PyAny>) -> PyResult<Vec<String>> {
 
 /// Fits the free keys of a scene to a measured curve; returns the report as a dict.
 #[pyfunction]
-#[pyo3(signature = (scene, data, x, y, free, overrides = None, x_unit = None, y_unit = None, max_evals = decohesion::fit::DEFAULT_MAX_EVALS as i64, sample = None, tolerance = decohesion::fit::DEFAULT_TOLERANCE, threads = None, out = None))]
+#[pyo3(signature = (scene, data, x, y, free, overrides = None, x_unit = None, y_unit = None, max_evals = decohesion_run::fit::DEFAULT_MAX_EVALS as i64, sample = None, tolerance = decohesion_run::fit::DEFAULT_TOLERANCE, threads = None, out = None))]
 #[allow(clippy::too_many_arguments)]
 pub fn fit<'py>(
     py: Python<'py>,
@@ -110,7 +110,8 @@ pub fn fit<'py>(
         threads,
         ..FitArgs::new(&scene, &data, &x, &y, &free_specs(free)?)
     };
-    let message = |e: anyhow::Error| PyValueError::new_err(decohesion::cli::error_message(&e));
+    let message =
+        |e: anyhow::Error| PyValueError::new_err(decohesion_run::errors::error_message(&e));
     let cancel = AtomicBool::new(false);
     let (report, raised) = py
         .detach(|| {

@@ -12,7 +12,7 @@
 //! - [`errors`]: scene errors → `ValueError` (the command line's message), blow-ups →
 //!   `decohesion.SolverError` carrying step, t, h, h_crit.
 //!
-//! No physics here: every number comes from the `decohesion` and `decohesion-physics` crates.
+//! No physics here: every number comes from the `decohesion-run` and `decohesion-physics` crates.
 
 mod arrays;
 mod errors;

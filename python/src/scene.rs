@@ -3,9 +3,9 @@
 
 use crate::errors::{scene_error, solver_error};
 use crate::to_python;
-use decohesion::report::state_bytes;
-use decohesion::scene::{load_scene, parse_scene, Scene as RustScene};
-use decohesion::solver::Simulation;
+use decohesion_run::report::state_bytes;
+use decohesion_run::scene::{load_scene, parse_scene, Scene as RustScene};
+use decohesion_run::solver::Simulation;
 use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 use pyo3::types::{PyAny, PyBool, PyDict, PyList, PyString, PyTuple};
@@ -196,14 +196,14 @@ struct CheckReport {
 
 #[derive(Serialize)]
 struct MaterialReport {
-    model: decohesion::material::MaterialModel,
+    model: decohesion_run::material::MaterialModel,
     young: f64,
     poisson: f64,
     density: f64,
     lambda: f64,
     mu: f64,
     /// A rubber's constants (model §1.10): the family's, `bulk` K [Pa], `volumetric`.
-    rubber: Option<decohesion::material::rubber::Rubber>,
+    rubber: Option<decohesion_run::material::rubber::Rubber>,
 }
 
 #[derive(Serialize)]

@@ -1,4 +1,4 @@
-//! `decohesion.Simulation`: a [`decohesion::solver::Simulation`] driven from Python. Stepping
+//! `decohesion.Simulation`: a [`decohesion_run::solver::Simulation`] driven from Python. Stepping
 //! releases the GIL (`Python::detach`) and looks at Python's signals every
 //! [`SIGNAL_INTERVAL`] between steps, so Ctrl-C stops a run after the current step; `run()` goes
 //! through the command line's run driver ([`Driver`]), whose outputs are the command line's
@@ -10,16 +10,16 @@ use crate::arrays::{array, column, vectors};
 use crate::errors::{checkpoint_error, output_error, solver_error};
 use crate::scene::Scene;
 use crate::to_python;
-use decohesion::driver::{Driver, Progress};
-use decohesion::interface::contact::ContactStatus;
-use decohesion::law::InterfaceState;
-use decohesion::output::series::History;
-use decohesion::output::{Cadence, OutputError};
-use decohesion::outputs::Plan;
-use decohesion::record::ColourField;
-use decohesion::report::RunSummary;
-use decohesion::scene::Scene as RustScene;
-use decohesion::solver::{Simulation as Solver, SolverError};
+use decohesion_run::driver::{Driver, Progress};
+use decohesion_run::interface::contact::ContactStatus;
+use decohesion_run::law::InterfaceState;
+use decohesion_run::output::series::History;
+use decohesion_run::output::{Cadence, OutputError};
+use decohesion_run::outputs::Plan;
+use decohesion_run::record::ColourField;
+use decohesion_run::report::RunSummary;
+use decohesion_run::scene::Scene as RustScene;
+use decohesion_run::solver::{Simulation as Solver, SolverError};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyAny;
@@ -214,7 +214,7 @@ impl Simulation {
         if error.is_none() && !self.sim.finished() {
             s.status = "in_progress".into();
         }
-        s.outputs = decohesion::outputs::absent();
+        s.outputs = decohesion_run::outputs::absent();
         if let Some((outputs, lines)) = &self.outputs {
             s.outputs = outputs.clone();
             s.output_lines = lines.clone();

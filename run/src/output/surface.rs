@@ -1,5 +1,5 @@
 //! The body's surface as the outputs draw it — the Rerun recording ([`crate::record`]) and the
-//! explorer's 3-D view ([`crate::gui`]): the nodes of the mesh's boundary faces renumbered as
+//! explorer's 3-D view (`decohesion::gui`): the nodes of the mesh's boundary faces renumbered as
 //! vertices, two triangles per face, the colouring field at each vertex (|U| at the node, or an
 //! element field of [`super::fields`] at the centres of the surface elements around it,
 //! averaged), the viridis colour map, and the colours of the interface states and contact

@@ -11,7 +11,7 @@
 use std::time::Duration;
 
 // ---------------------------------------------------------------------------------------------
-// The run driver's outputs (`src/output/`, `src/outputs/`).
+// The run driver's outputs (`run/src/output/`, `run/src/outputs/`).
 
 /// Memory that frames waiting for an output's writer thread may take before the solver waits
 /// (back-pressure) [bytes]. Source: limit.
@@ -34,7 +34,7 @@ pub const SERIES_FLUSH_WALL: Duration = Duration::from_millis(250);
 pub const HALF_SPACE_MARGIN: f64 = 0.15;
 
 // ---------------------------------------------------------------------------------------------
-// The Rerun recording (`src/record/`).
+// The Rerun recording (`run/src/record/`).
 
 /// Buffered frames are sent at least every this many frames… [frames]. Source: chosen.
 pub const RECORD_FLUSH_ROWS: usize = 1000;
@@ -93,7 +93,7 @@ pub const EYE_MARGIN: f64 = 1.05;
 pub const SWEEP_WHOLE_SPAN: f64 = 2000.0;
 
 // ---------------------------------------------------------------------------------------------
-// The fit (`src/fit/`).
+// The fit (`run/src/fit/`).
 
 /// Default of `--max-evals` [runs]. Source: limit.
 pub const FIT_MAX_EVALS: usize = 600;

@@ -1,5 +1,5 @@
-//! The run driver: one loop for the command line (`decohesion run`, [`crate::cli::run`]) and
-//! the explorer's job thread ([`crate::gui`]). It opens the outputs of a run (ParaView files,
+//! The run driver: one loop for the command line (`decohesion run`, `decohesion::cli::run`) and
+//! the explorer's job thread (`decohesion::gui`). It opens the outputs of a run (ParaView files,
 //! the Rerun recording), steps the simulation, takes one [`Snapshot`] per output frame at the
 //! cadence of its [`FrameClock`] and hands it to every output (and the state after every step
 //! to the outputs that take per-step scalars: the `--series` CSV), reports progress, stops on
@@ -340,7 +340,7 @@ mod tests {
         fail_at: Option<u64>,
         velocities: bool,
     ) -> (Finished, [Seen; 2], u64) {
-        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/pull_off.toml");
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/pull_off.toml");
         let set = ["mesh.cells=[2,2,2]".into(), format!("end_time={end_time}")];
         let scene = crate::scene::load_scene(&path, &set).unwrap();
         let mut sim = Simulation::new(scene.model).unwrap();
@@ -459,7 +459,7 @@ mod tests {
     /// there to the end time.
     #[test]
     fn run_until_stops_at_the_first_step_at_or_past_until() {
-        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/pull_off.toml");
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/pull_off.toml");
         let set = ["mesh.cells=[2,2,2]".into(), "end_time=0.02".into()];
         let model = crate::scene::load_scene(&path, &set).unwrap().model;
         let until = 0.0071;

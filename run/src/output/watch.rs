@@ -393,7 +393,9 @@ mod native {
         use crate::law::InterfaceState;
 
         fn sim(scene: &str, set: &[&str]) -> Simulation {
-            let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(scene);
+            let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+                .join("..")
+                .join(scene);
             let set: Vec<String> = set.iter().map(|s| s.to_string()).collect();
             Simulation::new(crate::scene::load_scene(&path, &set).unwrap().model).unwrap()
         }

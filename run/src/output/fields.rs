@@ -68,7 +68,7 @@ mod tests {
     /// deviator.
     #[test]
     fn uniform_stretch_is_hydrostatic() {
-        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/pull_off.toml");
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/pull_off.toml");
         let m = crate::scene::load_scene(&path, &["mesh.cells=[2,2,2]".into()])
             .unwrap()
             .model;

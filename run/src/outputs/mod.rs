@@ -1,4 +1,4 @@
-//! The registry of a run's outputs: every file `src/outputs/<name>.rs` other than this
+//! The registry of a run's outputs: every file `run/src/outputs/<name>.rs` other than this
 //! one is one output, and declares `pub const ENTRY: Entry` — its name (the run summary's key),
 //! its command-line flags, whether the run's flags ask for it and how it is opened from them.
 //! `build.rs` lists the files (`$OUT_DIR/outputs.rs`, [`ENTRIES`]); the command line
