@@ -7,7 +7,7 @@
 # 2. wasm-bindgen-cli of the version Cargo.lock gives wasm-bindgen (the two must match), installed
 #    from crates.io into $DECOHESION_TOOLS (default ~/.cache/decohesion-tools, outside the clone)
 #    and reused while the version stays;
-# 3. the library in release as a wasm32 cdylib (src/web.rs is its entry point), in the shared
+# 3. the explorer's library in release as a wasm32 cdylib (explorer/src/web.rs is its entry point), in the shared
 #    target directory ($CARGO_TARGET_DIR, default ~/.cache/decohesion-target);
 # 4. wasm-bindgen --target web: OUT/decohesion_bg.wasm and its loader OUT/decohesion.js;
 # 5. web/index.html (the canvas, #status and #result for scripts, the four-line module loader);
@@ -34,10 +34,10 @@ if [ "$("$bindgen" --version 2>/dev/null | awk '{print $2}')" != "$version" ]; t
         cargo install wasm-bindgen-cli --version "$version" --root "$TOOLS"
 fi
 
-cargo rustc --release --lib --target wasm32-unknown-unknown --crate-type cdylib
+cargo rustc --release -p decohesion-explorer --lib --target wasm32-unknown-unknown --crate-type cdylib
 mkdir -p "$OUT"
 "$bindgen" --target web --no-typescript --out-dir "$OUT" --out-name decohesion \
-    "$CARGO_TARGET_DIR/wasm32-unknown-unknown/release/decohesion.wasm"
+    "$CARGO_TARGET_DIR/wasm32-unknown-unknown/release/decohesion_explorer.wasm"
 cp web/index.html "$OUT/index.html"
 mdbook=${MDBOOK:-$(command -v mdbook || true)}
 if [ -n "$mdbook" ]; then

@@ -3,11 +3,12 @@
 //! growing with damage). The model is stated in `docs/src/model.md`; every
 //! function that implements an equation names it and cites the section ("model §4.7").
 //!
-//! This crate is the command line ([`cli`]), the explorer (`gui`, feature `gui`) and the web page
-//! (`web`, wasm32). The physics is the crate `decohesion_physics` (folder `physics/`), the run
-//! driver and its outputs the crate `decohesion_run` (folder `run/`); both are re-exported here
-//! under the paths the command line and the tests use. The physics knows nothing of the command
-//! line or of any viewer, by its dependencies; the run crate knows no GUI and no command line.
+//! This crate is the command line ([`cli`]). The physics is the crate `decohesion_physics`
+//! (folder `physics/`), the run driver and its outputs the crate `decohesion_run` (folder `run/`),
+//! the explorer and the web page the crate `decohesion_explorer` (folder `explorer/`, feature
+//! `gui`); they are re-exported here under the paths the command line and the tests use. The
+//! physics knows nothing of the command line or of any viewer, by its dependencies; the run crate
+//! knows no GUI and no command line.
 
 // Index loops over tensor components and Gauss lanes read like the equations they implement.
 #![allow(clippy::needless_range_loop)]
@@ -21,16 +22,12 @@ pub use decohesion_physics::{
 // The run crate's modules, likewise.
 #[cfg(not(target_arch = "wasm32"))]
 pub use decohesion_run::{checkpoint, driver, fit, outputs, record, tradeoff, vtk};
-pub use decohesion_run::{compare, errors, figure, measured, output, report, tunables};
+pub use decohesion_run::{compare, errors, figure, measured, output, report, tunables, vary};
 
-/// The `decohesion` subcommands behind the command line's parsing (run, check, tradeoff, bench);
-/// on wasm32 only what the explorer shares with it (the `--vary` parser, the series colours).
+/// The `decohesion` subcommands behind the command line's parsing (run, check, tradeoff, bench,
+/// sweep, compare, fit, reference).
 pub mod cli;
-/// The explorer (egui): reads scenes, runs simulations on a thread or, in the web page, inside
-/// the frame loop; not used by the physics. Left out without the `gui` feature.
+/// The explorer (egui, the crate `decohesion_explorer`, folder `explorer/`), which `decohesion
+/// gui` opens. Left out without the `gui` feature.
 #[cfg(feature = "gui")]
-pub mod gui;
-/// The web page's entry point (wasm32): the explorer in a canvas, every scene of `scenes/`
-/// built in, runs stepped inside the frame loop.
-#[cfg(all(target_arch = "wasm32", feature = "gui"))]
-pub mod web;
+pub use decohesion_explorer::gui;

@@ -55,6 +55,9 @@ pub mod tradeoff;
 /// The front ends' tunables (the outputs, the recording, the fit, the explorer), each with its
 /// meaning, unit and source.
 pub mod tunables;
+/// The `--vary key=v1,v2,…` parser of `sweep` and of the explorer's *compare values of*, and the
+/// colours of series.
+pub mod vary;
 /// ParaView output (`.vtu` frames and a `.pvd` index): reads a simulation, uses no Rerun.
 #[cfg(not(target_arch = "wasm32"))]
 pub mod vtk;

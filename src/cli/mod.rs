@@ -3,7 +3,7 @@
 //! `tradeoff`, `bench`, `compare` (two results, [`compare()`]), `fit` (a law fitted to a measured curve, [`fit()`]), `reference` (the reference pages generated from the code,
 //! [`reference`]).
 //!
-//! On wasm32 (the web page) only [`Vary`] and [`PALETTE`] exist, which the explorer uses.
+//! [`Vary`] and [`PALETTE`] are the run crate's (the explorer uses them too).
 
 #[cfg(not(target_arch = "wasm32"))]
 mod bench;
@@ -27,9 +27,8 @@ mod sweep;
 mod sweep_record;
 #[cfg(not(target_arch = "wasm32"))]
 mod tradeoff;
-mod vary;
 
-pub use vary::{Vary, PALETTE};
+pub use decohesion_run::vary::{Vary, PALETTE};
 #[cfg(not(target_arch = "wasm32"))]
 pub use {
     bench::bench, check::check, compare::compare, fit::fit, fit::FitCli, run::run,

@@ -15,13 +15,13 @@
 
 use super::progress::{per_mille, sim_time, time_bar};
 use super::sweep_record::log_sweep;
-pub use super::vary::Vary;
 use crate::driver::{cancel_on_ctrl_c, Driver, Progress};
 use crate::output::Cadence;
 use crate::outputs::Plan;
 use crate::report::RunSummary;
 use crate::scene::{load_scene, Scene};
 use crate::solver::Simulation;
+pub use crate::vary::Vary;
 use anyhow::{bail, Context, Result};
 use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
 use serde::Serialize;

@@ -12,7 +12,7 @@
 //! `table`.
 
 use super::sweep::{observable_names, observables, SweepRow, Vary};
-use super::vary::PALETTE;
+use crate::vary::PALETTE;
 use anyhow::{Context, Result};
 use rerun::blueprint::components::{PanelState, PlayState};
 use rerun::blueprint::{

@@ -155,3 +155,16 @@ pub fn run_window(
     )
     .map_err(|e| format!("cannot open the window: {e}"))
 }
+
+/// For the tests: the explorer reads `scenes/` and `lessons/` relative to the working directory,
+/// as `decohesion gui` does when run from the repository, but cargo runs a crate's tests in the
+/// crate's folder (`explorer/`). The tests that read them call this first: it moves the whole
+/// test process to the repository, once.
+#[cfg(test)]
+pub(crate) fn at_repository_root() {
+    static ONCE: std::sync::Once = std::sync::Once::new();
+    ONCE.call_once(|| {
+        std::env::set_current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/.."))
+            .expect("the repository is the explorer crate's parent folder")
+    });
+}

@@ -314,7 +314,7 @@ mod tests {
     use super::*;
 
     fn pull_off(cells: usize, set: &[&str]) -> Simulation {
-        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/pull_off.toml");
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/pull_off.toml");
         let mut o = vec![format!("mesh.cells=[{cells},{cells},{cells}]")];
         o.extend(set.iter().map(|s| s.to_string()));
         Simulation::new(crate::scene::load_scene(&path, &o).unwrap().model).unwrap()

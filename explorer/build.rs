@@ -1,4 +1,4 @@
-//! The scenes built into the web page: writes `$OUT_DIR/builtin_scenes.rs`, one
+//! The scenes built into the web page (the repository's `scenes/`, beside this crate): writes `$OUT_DIR/builtin_scenes.rs`, one
 //! `(path, include_str!(file))` entry per `scenes/*.toml` in the order of the file names, and one
 //! `(path, include_bytes!(file))` entry per file of `scenes/meshes/` (the meshes and mould
 //! surfaces scenes name), which `src/gui/settings.rs` includes (the page has no file system; the
@@ -12,10 +12,10 @@ use std::path::Path;
 
 fn main() {
     let manifest = std::env::var("CARGO_MANIFEST_DIR").expect("cargo sets CARGO_MANIFEST_DIR");
-    let dir = Path::new(&manifest).join("scenes");
+    let dir = Path::new(&manifest).join("../scenes");
     // A directory: cargo reruns this script when any file in it is added, removed or changed.
-    println!("cargo::rerun-if-changed=scenes");
-    println!("cargo::rerun-if-changed=scenes/meshes");
+    println!("cargo::rerun-if-changed=../scenes");
+    println!("cargo::rerun-if-changed=../scenes/meshes");
     let mut names: Vec<String> = std::fs::read_dir(&dir)
         .unwrap_or_else(|e| panic!("cannot list {}: {e}", dir.display()))
         .map(|entry| entry.expect("readable directory entry").path())
@@ -35,7 +35,7 @@ fn main() {
             out,
             "    ({:?}, include_str!(concat!(env!(\"CARGO_MANIFEST_DIR\"), {:?}))),",
             format!("scenes/{name}"),
-            format!("/scenes/{name}")
+            format!("/../scenes/{name}")
         )
         .expect("writing to a String");
     }
@@ -61,7 +61,7 @@ fn main() {
             out,
             "    ({:?}, include_bytes!(concat!(env!(\"CARGO_MANIFEST_DIR\"), {:?}))),",
             format!("scenes/meshes/{name}"),
-            format!("/scenes/meshes/{name}")
+            format!("/../scenes/meshes/{name}")
         )
         .expect("writing to a String");
     }

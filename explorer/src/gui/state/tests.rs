@@ -13,7 +13,7 @@ use std::time::{Duration, Instant};
 fn runs_and_history_without_a_window() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let mut app = App::default();
-    app.load_scene(&root.join("scenes/pull_off.toml").display().to_string());
+    app.load_scene(&root.join("../scenes/pull_off.toml").display().to_string());
     assert!(app.notes.is_empty(), "{:?}", app.notes);
     app.settings.cells = 3;
     app.settings.record = RecordChoice::Off;
@@ -101,7 +101,12 @@ fn runs_and_history_without_a_window() {
 fn the_editor_edits_one_interface_at_a_time() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let mut app = App::default();
-    app.load_scene(&root.join("scenes/roller_peel.toml").display().to_string());
+    app.load_scene(
+        &root
+            .join("../scenes/roller_peel.toml")
+            .display()
+            .to_string(),
+    );
     assert!(app.notes.is_empty(), "{:?}", app.notes);
     assert_eq!(app.settings.interfaces, ["z- on plate", "clamp on roller"]);
     assert_eq!(app.settings.interface, 0);
@@ -136,7 +141,7 @@ fn the_editor_edits_one_interface_at_a_time() {
 fn queued_variants_are_run_and_compared() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let mut app = App::default();
-    app.load_scene(&root.join("scenes/pull_off.toml").display().to_string());
+    app.load_scene(&root.join("../scenes/pull_off.toml").display().to_string());
     app.settings.cells = 3;
     app.settings.record = RecordChoice::Off;
     let e = app.queue_spec("young=1e6,2e6").unwrap_err();
@@ -190,7 +195,7 @@ fn a_measured_curve_is_drawn_and_fitted() {
     use crate::interface::family::ParamValue;
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let mut app = App::default();
-    app.load_scene(&root.join("scenes/pull_off.toml").display().to_string());
+    app.load_scene(&root.join("../scenes/pull_off.toml").display().to_string());
     app.settings.record = RecordChoice::Off;
     app.load_measured_text("u [mm], F [kN]\n0, 1\n0, 2\n", "bad.csv", None);
     assert!(app.measured.is_none());
@@ -200,7 +205,12 @@ fn a_measured_curve_is_drawn_and_fitted() {
         "{note}"
     );
 
-    app.load_measured(&root.join("data/pull_off_noisy.csv").display().to_string());
+    app.load_measured(
+        &root
+            .join("../data/pull_off_noisy.csv")
+            .display()
+            .to_string(),
+    );
     let m = app.measured.as_ref().expect("the shipped curve loads");
     let si = m.si.as_ref().expect("a length and a force");
     assert_eq!(si.len(), m.curve.x.len());
@@ -253,7 +263,7 @@ fn a_measured_curve_is_drawn_and_fitted() {
 fn panels_hidden_and_the_projector_mode_go_into_links() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let mut app = App::default();
-    app.load_scene(&root.join("scenes/pull_off.toml").display().to_string());
+    app.load_scene(&root.join("../scenes/pull_off.toml").display().to_string());
     let opening = crate::gui::Opening {
         hide: vec!["history,law".into(), "view".into()],
         projector: true,
@@ -287,6 +297,7 @@ fn panels_hidden_and_the_projector_mode_go_into_links() {
 /// `embed=1` without a lesson or scene to show.
 #[test]
 fn the_embeddable_view_leaves_out_the_menus_and_links_to_the_full_page() {
+    crate::gui::at_repository_root();
     use super::parse_embed;
     assert_eq!(parse_embed(None, false), Ok(false));
     assert_eq!(parse_embed(Some("1"), true), Ok(true));
@@ -318,7 +329,7 @@ fn the_embeddable_view_leaves_out_the_menus_and_links_to_the_full_page() {
 
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let mut app = App::default();
-    app.load_scene(&root.join("scenes/pull_off.toml").display().to_string());
+    app.load_scene(&root.join("../scenes/pull_off.toml").display().to_string());
     let opening = crate::gui::Opening {
         set: vec!["interface.law.u_r=0.005".into()],
         embed: true,
@@ -394,7 +405,7 @@ fn the_3d_view_is_saved_as_a_gif() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let dir = std::env::temp_dir().join(format!("decohesion-gif-{}", std::process::id()));
     let mut app = App::default();
-    app.load_scene(&root.join("scenes/pull_off.toml").display().to_string());
+    app.load_scene(&root.join("../scenes/pull_off.toml").display().to_string());
     app.settings.cells = 3;
     app.settings.record = RecordChoice::Off;
     app.settings.output_dir = dir.display().to_string();
@@ -446,7 +457,7 @@ fn a_node_clicked_in_the_3d_view_shows_its_run() {
     use crate::output::watch::{Reading, Source};
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let mut app = App::default();
-    app.load_scene(&root.join("scenes/pull_off.toml").display().to_string());
+    app.load_scene(&root.join("../scenes/pull_off.toml").display().to_string());
     app.settings.cells = 3;
     app.settings.record = RecordChoice::Off;
     app.start();
@@ -503,6 +514,7 @@ fn a_node_clicked_in_the_3d_view_shows_its_run() {
 /// following the newest there) with that node inspected.
 #[test]
 fn a_lesson_step_holds_a_time_and_a_node() {
+    crate::gui::at_repository_root();
     let text = r#"+++
 title = "Hold"
 scene = "pull_off"

@@ -164,7 +164,7 @@ mod tests {
     fn pull_off(in_page: bool) -> App {
         let root = Path::new(env!("CARGO_MANIFEST_DIR"));
         let mut app = App::default();
-        app.load_scene(&root.join("scenes/pull_off.toml").display().to_string());
+        app.load_scene(&root.join("../scenes/pull_off.toml").display().to_string());
         app.settings.cells = 7;
         app.settings.record = RecordChoice::Off;
         app.in_page = in_page;

@@ -31,6 +31,7 @@ explain = "G_c times the area."
 "#;
 
 fn err(text: &str) -> LessonError {
+    crate::gui::at_repository_root();
     load(text, "lessons/bad.md").unwrap_err()
 }
 
@@ -38,6 +39,7 @@ fn err(text: &str) -> LessonError {
 /// its block, the overrides accumulated, the question.
 #[test]
 fn a_lesson_parses() {
+    crate::gui::at_repository_root();
     let l = load(GOOD, "lessons/good.md").unwrap();
     assert_eq!((l.name.as_str(), l.title.as_str()), ("good", "A test"));
     assert_eq!(l.scene, "scenes/pull_off.toml");
@@ -66,6 +68,7 @@ fn a_lesson_parses() {
 /// Each kind of error names the file, the line, the key or value and what is admissible.
 #[test]
 fn errors_name_the_file_the_line_and_what_is_admissible() {
+    crate::gui::at_repository_root();
     let e = err(&GOOD.replace("scene = \"pull_off\"", "scene = \"pul_off\""));
     let m = e.to_string();
     assert!(m.starts_with("lessons/bad.md: scene = \"pul_off\""), "{m}");
@@ -166,6 +169,7 @@ fn errors_name_the_file_the_line_and_what_is_admissible() {
     let e = err(GOOD.split("## First").next().unwrap());
     assert!(e.message.contains("no step"), "{e}");
 
+    crate::gui::at_repository_root();
     let l = load(GOOD, "lessons/good.md").unwrap();
     let e = step_index(&l, 3).unwrap_err();
     assert!(e.contains("no step 3") && e.contains("steps 1 to 2"), "{e}");
@@ -175,7 +179,8 @@ fn errors_name_the_file_the_line_and_what_is_admissible() {
 /// Every shipped lesson loads, and `lessons/` holds exactly the shipped ones.
 #[test]
 fn the_shipped_lessons_load_and_are_the_folder_s() {
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("lessons");
+    crate::gui::at_repository_root();
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../lessons");
     let mut files: Vec<String> = std::fs::read_dir(&dir)
         .unwrap()
         .flatten()

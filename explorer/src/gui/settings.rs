@@ -337,7 +337,7 @@ mod tests {
     /// The page ships every scene of `scenes/` (the picker's list), each with the file's text.
     #[test]
     fn the_page_ships_every_scene_of_the_folder() {
-        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
+        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes");
         let files = list_scenes(&dir);
         assert!(files.len() >= 10, "{} scenes", files.len());
         let shipped: Vec<&str> = builtin::BUILTIN_SCENES.iter().map(|s| s.0).collect();
@@ -366,7 +366,8 @@ mod tests {
     /// in is refused naming the key, the file and the files there are.
     #[test]
     fn shipped_scenes_load_from_the_built_in_files() {
-        // Paths as the picker names them, relative to the package root (the tests' directory).
+        crate::gui::at_repository_root();
+        // Paths as the picker names them, relative to the repository.
         let mut with_files = 0;
         for (path, text) in builtin::BUILTIN_SCENES {
             let from_disk = crate::scene::load_scene(Path::new(path), &[]).unwrap();

@@ -10,14 +10,20 @@ use std::fmt;
 pub const LESSONS: &[(&str, &str)] = &[
     (
         "cohesive_law",
-        include_str!("../../../lessons/cohesive_law.md"),
+        include_str!("../../../../lessons/cohesive_law.md"),
     ),
-    ("pull_off", include_str!("../../../lessons/pull_off.md")),
-    ("peel", include_str!("../../../lessons/peel.md")),
-    ("friction", include_str!("../../../lessons/friction.md")),
-    ("rate", include_str!("../../../lessons/rate.md")),
-    ("stability", include_str!("../../../lessons/stability.md")),
-    ("demoulding", include_str!("../../../lessons/demoulding.md")),
+    ("pull_off", include_str!("../../../../lessons/pull_off.md")),
+    ("peel", include_str!("../../../../lessons/peel.md")),
+    ("friction", include_str!("../../../../lessons/friction.md")),
+    ("rate", include_str!("../../../../lessons/rate.md")),
+    (
+        "stability",
+        include_str!("../../../../lessons/stability.md"),
+    ),
+    (
+        "demoulding",
+        include_str!("../../../../lessons/demoulding.md"),
+    ),
 ];
 
 /// Why a lesson was refused: the file, the line (1-based, when the error is at one) and what is

@@ -68,7 +68,7 @@ fn tick_label(value: f64, step: f64) -> String {
 
 /// The colour of run `id` (the same in every plot and in the history).
 pub(super) fn run_colour(id: u32) -> Color32 {
-    use crate::cli::PALETTE;
+    use crate::vary::PALETTE;
     let [r, g, b] = PALETTE[(id.max(1) as usize - 1) % PALETTE.len()];
     Color32::from_rgb(r, g, b)
 }

@@ -63,7 +63,7 @@ fn parse_compare(
     family: Option<&str>,
     params: &[&str],
 ) -> Result<(String, Vec<f64>), String> {
-    let vary = crate::cli::Vary::parse(spec).map_err(|e| e.to_string().replace("--vary ", ""))?;
+    let vary = crate::vary::Vary::parse(spec).map_err(|e| e.to_string().replace("--vary ", ""))?;
     let key = variant_key(&vary.key, family, params)?;
     let values = vary
         .values

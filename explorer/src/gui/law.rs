@@ -267,7 +267,7 @@ mod tests {
     fn pull_off_settings() -> crate::gui::Settings {
         let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
         crate::gui::Settings {
-            scene: root.join("scenes/pull_off.toml").display().to_string(),
+            scene: root.join("../scenes/pull_off.toml").display().to_string(),
             ..Default::default()
         }
     }
