@@ -174,6 +174,30 @@ fn override_enters_a_single_element_array_implicitly() {
     assert!(!scene.text.contains("renamed"));
 }
 
+/// A string with runs of 300 quotes of both kinds, in the file and through `--set`, comes back
+/// unchanged from the resolved text. The TOML writer (toml_write 0.1.2) counts a run of quotes
+/// in a byte: past 255 the count wraps (a panic with overflow checks, which the fuzz build turns
+/// off for that crate), and its longest run stays at 255, which still makes it escape them.
+#[test]
+fn long_runs_of_quotes_survive_the_resolved_text() {
+    let quotes = format!("a{}b{}c", "\"".repeat(300), "'".repeat(300));
+    let text = format!(
+        "end_time = 1.0\ndescription = {}\n[mesh]\nsize = [1, 1, 1]\ncells = [1, 1, 1]\n\
+         [material]\nyoung = 1e6\npoisson = 0.3\ndensity = 1000\n",
+        toml::Value::String(quotes.clone())
+    );
+    let scene = parse_scene(&text, "scenes/t.toml", &[format!("name={quotes}")]).unwrap();
+    assert_eq!(
+        (scene.model.description.as_str(), scene.model.name.as_str()),
+        (quotes.as_str(), quotes.as_str())
+    );
+    let again = parse_scene(&scene.resolved, "scenes/t.toml", &[]).unwrap();
+    assert_eq!(
+        (again.model.description.as_str(), again.model.name.as_str()),
+        (quotes.as_str(), quotes.as_str())
+    );
+}
+
 #[test]
 fn override_with_explicit_indices() {
     let set: Vec<String> = [
