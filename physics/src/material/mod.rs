@@ -1,10 +1,11 @@
 //! Hyperelastic bulk materials (model §1.3, §1.4, §1.10) and the per-element internal-force
 //! kernels.
 //!
-//! Each constitutive model is written once, over any [`Real`] number type:
-//! [`saint_venant_kirchhoff`] (S and ψ from E), [`neo_hookean`] (P and ψ from F and J) and the
-//! nearly incompressible rubbers of [`rubber`] (one file per isochoric family, one kernel law
-//! for all of them).
+//! Each constitutive model is written once, over any [`Real`] number type, in a file of its own
+//! with the bound of its tangent modulus that the stable step reads ([`Law`]):
+//! [`svk`] (S and ψ from E), [`compressible`] (the compressible neo-Hookean: P and ψ from F and
+//! J) and the nearly incompressible rubbers of [`rubber`] (one file per isochoric family, one
+//! kernel law for all of them).
 //! [`first_piola`] picks one by a [`Law`] type ([`with_law!`] turns a [`MaterialModel`] into
 //! one), and everything that evaluates a stress goes through it: the pointwise
 //! [`Material::piola_energy`] (post-processing and tests) and the kernels of [`element`] — full
@@ -15,10 +16,12 @@
 //! - `kinematics`: H = ∂U/∂X, F, J, cof F, E, P = F·S, hourglass modes, shared by the kernels;
 //! - [`element`]: the element kernels and the hourglass stiffness.
 
+pub mod compressible;
 pub mod element;
 mod kinematics;
 pub mod real;
 pub mod rubber;
+pub mod svk;
 mod tensor;
 
 #[cfg(target_arch = "wasm32")]
@@ -39,10 +42,12 @@ pub(crate) use tensor::{
 };
 
 pub use crate::tunables::RUBBER_HOURGLASS_SHEAR;
+pub use compressible::{neo_hookean, NeoHookeanLaw};
+use kinematics::id;
 pub use kinematics::Deformation;
-use kinematics::{doubled_green_lagrange, f_times_s, id};
 use nalgebra::Matrix3;
 use serde::{Deserialize, Serialize};
+pub use svk::{saint_venant_kirchhoff, SvkLaw};
 
 /// Constitutive model.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -259,64 +264,90 @@ impl Material {
     }
 }
 
-/// The stress code a kernel is compiled for: one per [`Law`] type.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum KernelLaw {
-    Svk,
-    NeoHookean,
-    /// Every rubber model (model §1.10): one kernel, the family matched at run time (all the
-    /// lanes of a kernel share one material, so the branch is uniform).
-    Rubber,
-}
-
 /// A constitutive model as a type, so that a kernel generic over it is compiled once per law
-/// as straight-line code ([`with_law!`] picks the type of a [`MaterialModel`]).
+/// as straight-line code ([`with_law!`] picks the type of a [`MaterialModel`]). What a bulk
+/// material declares to the kernels and to the stable step: its stress and energy density, and
+/// an upper bound of its tangent modulus. One file each: [`svk`], [`compressible`] and the
+/// rubbers' [`RubberLaw`] (one law for every family of [`rubber`]).
 pub trait Law {
-    const KERNEL: KernelLaw;
+    /// First Piola–Kirchhoff stress P and energy density ψ (ψ only if `ENERGY`, else 0) at a
+    /// point deformed by `d`, over any [`Real`]; multiply–adds fused when `FMA` (`d` is formed
+    /// with the same `FMA`).
+    fn piola<T: Real, const ENERGY: bool, const FMA: bool>(
+        mat: &Material,
+        d: &Deformation<T>,
+    ) -> (Mat3<T>, T);
+
+    /// Upper bound a(F) of the pointwise tangent modulus, G : A(F) : G ≤ a(F) |G|² for every G,
+    /// A = ∂P/∂F, given C = FᵀF (model §6.4); +∞ where the model declares none or F is
+    /// inverted. The stable step clips it at 0 (`solver::bound`).
+    fn modulus_bound(mat: &Material, f: &[[f64; 3]; 3], c: &[[f64; 3]; 3]) -> f64;
+
+    /// [`Law::modulus_bound`] for 8 deformation gradients at once (`f[i][j][lane]`, C likewise):
+    /// the same arithmetic on lanes, which the compiler vectorises. A lane with a non-positive
+    /// J gives +∞ and may leave the others 0: the callers take the maximum.
+    fn modulus_lanes(mat: &Material, f: &Lanes3, c: &Lanes3) -> [f64; 8];
 }
 
-/// [`MaterialModel::Svk`] as a [`Law`].
-pub struct SvkLaw;
-impl Law for SvkLaw {
-    const KERNEL: KernelLaw = KernelLaw::Svk;
-}
-
-/// [`MaterialModel::NeoHookean`] as a [`Law`].
-pub struct NeoHookeanLaw;
-impl Law for NeoHookeanLaw {
-    const KERNEL: KernelLaw = KernelLaw::NeoHookean;
-}
+/// A 3×3 matrix of 8 lanes, `m[i][j][lane]`.
+pub type Lanes3 = [[[f64; 8]; 3]; 3];
 
 /// The rubber models ([`rubber`]) as one [`Law`]: one more copy of each kernel for all of
-/// them, not one per family.
+/// them, not one per family; the family is matched at run time (all the lanes of a kernel
+/// share one material, so the branch is uniform). They declare no modulus bound (+∞): every
+/// estimate of their stable step is a converged Lanczos estimate (model §6.4).
 pub struct RubberLaw;
 impl Law for RubberLaw {
-    const KERNEL: KernelLaw = KernelLaw::Rubber;
+    #[inline(always)]
+    fn piola<T: Real, const ENERGY: bool, const FMA: bool>(
+        mat: &Material,
+        d: &Deformation<T>,
+    ) -> (Mat3<T>, T) {
+        match &mat.rubber {
+            Some(r) => rubber::rubber_piola::<T, ENERGY>(r, &d.f, d.j),
+            // `Material::rubber` is the one constructor of a rubber model's material.
+            None => unreachable!("a rubber model's material holds its constants"),
+        }
+    }
+
+    #[inline(always)]
+    fn modulus_bound(_: &Material, _: &[[f64; 3]; 3], _: &[[f64; 3]; 3]) -> f64 {
+        f64::INFINITY
+    }
+
+    #[inline(always)]
+    fn modulus_lanes(_: &Material, _: &Lanes3, _: &Lanes3) -> [f64; 8] {
+        [f64::INFINITY; 8]
+    }
 }
 
 /// First Piola–Kirchhoff stress P and energy density ψ (ψ only if `ENERGY`, else 0) of the law
-/// `L` at a point deformed by `d` (model §1.3, §1.4, §1.10): [`saint_venant_kirchhoff`] of
-/// 2E = H + Hᵀ + HᵀH, then P = F·S = S + H·S, or [`neo_hookean`], or
-/// [`rubber::rubber_piola`]; multiply–adds fused when `FMA` (`d` is formed with the same
-/// `FMA`; the rubbers write none). The one place every evaluation of a stress goes through.
+/// `L` at a point deformed by `d` (model §1.3, §1.4, §1.10): [`Law::piola`]. The one place every
+/// evaluation of a stress goes through.
 #[inline(always)]
 pub fn first_piola<L: Law, T: Real, const ENERGY: bool, const FMA: bool>(
     mat: &Material,
     d: &Deformation<T>,
 ) -> (Mat3<T>, T) {
-    match L::KERNEL {
-        KernelLaw::Svk => {
-            let g = doubled_green_lagrange::<T, FMA>(&d.h);
-            let (s, psi) = saint_venant_kirchhoff::<T, ENERGY, FMA>(mat.lambda, mat.mu, &g);
-            (f_times_s::<T, FMA>(&d.h, &s), psi)
-        }
-        KernelLaw::NeoHookean => neo_hookean::<T, ENERGY>(mat.lambda, mat.mu, &d.f, d.j),
-        KernelLaw::Rubber => match &mat.rubber {
-            Some(r) => rubber::rubber_piola::<T, ENERGY>(r, &d.f, d.j),
-            // `Material::rubber` is the one constructor of a rubber model's material.
-            None => unreachable!("a rubber model's material holds its constants"),
-        },
-    }
+    L::piola::<T, ENERGY, FMA>(mat, d)
+}
+
+/// Gershgorin's bound of the largest eigenvalue of a symmetric 3×3 matrix: the largest row sum
+/// of |entries|.
+#[inline(always)]
+pub(crate) fn gershgorin(c: &[[f64; 3]; 3]) -> f64 {
+    let row = |r: &[f64; 3]| r[0].abs() + r[1].abs() + r[2].abs();
+    row(&c[0]).max(row(&c[1])).max(row(&c[2]))
+}
+
+/// [`gershgorin`] of lane q of a lane matrix `m[r][s][q]`.
+#[inline(always)]
+pub(crate) fn gershgorin_lane(m: &Lanes3, q: usize) -> f64 {
+    gershgorin(&[
+        [m[0][0][q], m[0][1][q], m[0][2][q]],
+        [m[1][0][q], m[1][1][q], m[1][2][q]],
+        [m[2][0][q], m[2][1][q], m[2][2][q]],
+    ])
 }
 
 /// `with_law!(model, L => expr)` evaluates `expr` with the type `L` standing for the [`Law`] of
@@ -340,71 +371,6 @@ macro_rules! with_law {
     };
 }
 pub(crate) use with_law;
-
-/// Saint-Venant–Kirchhoff (model §1.3, paper eq. 9): second Piola–Kirchhoff stress
-/// S = λ tr(E) I + 2μE and energy density ψ = ½λ(tr E)² + μ E:E, from G = 2E
-/// ([`kinematics::doubled_green_lagrange`]): S = ½λ tr(G) I + μG and
-/// ψ = ⅛λ(tr G)² + ¼μ G:G with G:G = (G₀₀² + G₁₁² + G₂₂²) + 2(G₀₁² + G₀₂² + G₁₂²) (G symmetric:
-/// only its entries i ≤ j are read, and S is formed on them and mirrored). Multiply–adds fused
-/// when `FMA`. ψ only if `ENERGY` (else 0). The one definition of the model: every kernel
-/// calls it.
-#[inline(always)]
-pub fn saint_venant_kirchhoff<T: Real, const ENERGY: bool, const FMA: bool>(
-    lambda: f64,
-    mu: f64,
-    g: &Mat3<T>,
-) -> (Mat3<T>, T) {
-    let m = T::splat(mu);
-    let tr = (g[0][0] + g[1][1]) + g[2][2];
-    let lt = T::splat(0.5 * lambda) * tr;
-    let mut s = *g;
-    for i in 0..3 {
-        s[i][i] = m.fmadd::<FMA>(g[i][i], lt);
-        for j in i + 1..3 {
-            s[i][j] = m * g[i][j];
-            s[j][i] = s[i][j];
-        }
-    }
-    let mut psi = T::splat(0.0);
-    if ENERGY {
-        let diag = g[2][2].fmadd::<FMA>(g[2][2], g[1][1].fmadd::<FMA>(g[1][1], g[0][0] * g[0][0]));
-        let off = g[1][2].fmadd::<FMA>(g[1][2], g[0][2].fmadd::<FMA>(g[0][2], g[0][1] * g[0][1]));
-        let gg = off.fmadd::<FMA>(T::splat(2.0), diag);
-        psi = (T::splat(0.125 * lambda) * tr).fmadd::<FMA>(tr, T::splat(0.25 * mu) * gg);
-    }
-    (s, psi)
-}
-
-/// Compressible neo-Hookean (model §1.4): ψ = ½μ(tr C − 3) − μ ln J + ½λ(ln J)² and
-/// S = μ(I − C⁻¹) + λ ln J C⁻¹, C = FᵀF, evaluated as the first Piola–Kirchhoff stress
-/// P = F·S = μ(F − F⁻ᵀ) + λ ln J F⁻ᵀ with F⁻ᵀ = cof(F)/J, i.e. P = μF + (λ ln J − μ)·(1/J)·cof F,
-/// and tr C = Σᵢₖ Fᵢₖ². ψ only if `ENERGY` (else 0). J ≤ 0 (an inverted element) gives NaN or
-/// infinities: the caller checks J. The one definition of the model: every kernel calls it.
-#[inline(always)]
-pub fn neo_hookean<T: Real, const ENERGY: bool>(
-    lambda: f64,
-    mu: f64,
-    f: &Mat3<T>,
-    j: T,
-) -> (Mat3<T>, T) {
-    let lnj = j.ln();
-    let cof = cofactor(f);
-    let coef = (T::splat(lambda) * lnj - T::splat(mu)) * (T::splat(1.0) / j);
-    let mut p = cof;
-    let mut trc = T::splat(0.0);
-    for i in 0..3 {
-        for k in 0..3 {
-            p[i][k] = T::splat(mu) * f[i][k] + coef * cof[i][k];
-            trc = trc + f[i][k] * f[i][k];
-        }
-    }
-    let mut psi = T::splat(0.0);
-    if ENERGY {
-        psi = T::splat(0.5 * mu) * (trc - T::splat(3.0)) - T::splat(mu) * lnj
-            + T::splat(0.5 * lambda) * lnj * lnj;
-    }
-    (p, psi)
-}
 
 /// Von Mises equivalent stress σ_vm = √(3/2 s:s), s = σ − ⅓ tr σ I the deviator of σ [Pa].
 pub fn von_mises_equivalent(sigma: &Matrix3<f64>) -> f64 {
@@ -451,7 +417,7 @@ mod tests {
                     psi8.0[l].to_bits(),
                     psi.to_bits(),
                     "{:?} lane {l}",
-                    L::KERNEL
+                    mat.model
                 );
                 for i in 0..3 {
                     for j in 0..3 {

@@ -24,7 +24,7 @@ use crate::kernels::Planes;
 // The AVX builds exist on x86_64 only (wasm32 runs the portable one).
 #[cfg_attr(not(target_arch = "x86_64"), allow(unused_imports))]
 use crate::kernels::simd::{simd_dispatch, ISA_AVX2, ISA_AVX512};
-use crate::material::{Material, MaterialModel};
+use crate::material::{with_law, Law, Material};
 use crate::mesh::ElementClasses;
 use crate::model::Integration;
 use crate::tunables::{BOUND_ELEMENT_CHUNK, BOUND_ROUNDING_SLACK};
@@ -41,18 +41,10 @@ pub(super) struct BoundCache {
 }
 
 /// Upper bound a(F) of the pointwise tangent modulus, G : A(F) : G ≤ a(F) |G|² for every G,
-/// A = ∂P/∂F of the model ([`crate::material`]); C = FᵀF, ĉ ≥ λ_max(C) and ŝ ≥ λ_max(C⁻¹) by
-/// Gershgorin's row sums (exact for a diagonal C):
-///
-/// - SVK, P = F S, S = λ tr E I + 2μE: G:A:G = S:(GᵀG) + λ(tr Y)² + 2μ|Y|² with
-///   Y = sym(FᵀG), tr Y = F:G, so (tr Y)² ≤ tr C |G|² (Cauchy–Schwarz), |Y|² ≤ ĉ|G|² and
-///   λ_max(S) ≤ λ tr E + μ(ĉ − 1): a = max(λ, 0) tr C + 2μĉ + λ tr E + μ(ĉ − 1).
-/// - neo-Hookean, P = μF + (λ ln J − μ)F⁻ᵀ: G:A:G = μ|G|² + λ(tr B)² + (μ − λ ln J) tr(B²) with
-///   B = F⁻¹G, tr B = F⁻ᵀ:G, so (tr B)² ≤ |F⁻ᵀ|²|G|² = tr C⁻¹ |G|², |tr B²| ≤ |B|² ≤ ŝ|G|²:
-///   a = μ + max(λ, 0) tr C⁻¹ + |μ − λ ln J| ŝ, C⁻¹ = adj C/J².
-///
-/// Both give 3λ + 2μ at F = I (a pure dilatation G = I attains it). Clipped at 0; a
-/// non-positive J gives +∞ (an inverted element: no bound).
+/// A = ∂P/∂F of the model: [`Law::modulus_bound`] of its law (each material's file states its
+/// derivation; SVK and the compressible neo-Hookean give 3λ + 2μ at F = I, which a pure
+/// dilatation G = I attains), with C = FᵀF formed here, clipped at 0; a non-positive J gives +∞
+/// (an inverted element: no bound).
 ///
 /// The rubber models (model §1.10) declare no bound: +∞, and [`Simulation::stiffness_bound`]
 /// then certifies no update, so every estimate of the stable step is a converged Lanczos
@@ -65,64 +57,7 @@ pub fn modulus_bound(mat: &Material, f: &[[f64; 3]; 3]) -> f64 {
             c[i][j] = f[0][i] * f[0][j] + f[1][i] * f[1][j] + f[2][i] * f[2][j];
         }
     }
-    let (lambda, mu) = (mat.lambda, mat.mu);
-    let a = match mat.model {
-        MaterialModel::Rubber(_) => return f64::INFINITY,
-        MaterialModel::Svk => {
-            let c_hat = gershgorin(&c);
-            let tr_c = c[0][0] + c[1][1] + c[2][2];
-            let tr_e = 0.5 * (tr_c - 3.0);
-            lambda.max(0.0) * tr_c + 2.0 * mu * c_hat + lambda * tr_e + mu * (c_hat - 1.0)
-        }
-        MaterialModel::NeoHookean => {
-            let j = f[0][0] * (f[1][1] * f[2][2] - f[1][2] * f[2][1])
-                - f[0][1] * (f[1][0] * f[2][2] - f[1][2] * f[2][0])
-                + f[0][2] * (f[1][0] * f[2][1] - f[1][1] * f[2][0]);
-            if !(j > 0.0) {
-                return f64::INFINITY;
-            }
-            // C⁻¹ = adj(C)/det C, det C = J².
-            let adj = [
-                [
-                    c[1][1] * c[2][2] - c[1][2] * c[2][1],
-                    c[0][2] * c[2][1] - c[0][1] * c[2][2],
-                    c[0][1] * c[1][2] - c[0][2] * c[1][1],
-                ],
-                [
-                    c[1][2] * c[2][0] - c[1][0] * c[2][2],
-                    c[0][0] * c[2][2] - c[0][2] * c[2][0],
-                    c[0][2] * c[1][0] - c[0][0] * c[1][2],
-                ],
-                [
-                    c[1][0] * c[2][1] - c[1][1] * c[2][0],
-                    c[0][1] * c[2][0] - c[0][0] * c[2][1],
-                    c[0][0] * c[1][1] - c[0][1] * c[1][0],
-                ],
-            ];
-            let s_hat = gershgorin(&adj) / (j * j);
-            let tr_c_inv = (adj[0][0] + adj[1][1] + adj[2][2]) / (j * j);
-            mu + lambda.max(0.0) * tr_c_inv + (mu - lambda * j.ln()).abs() * s_hat
-        }
-    };
-    a.max(0.0)
-}
-
-/// Gershgorin's bound of the largest eigenvalue of a symmetric 3×3 matrix: the largest row sum
-/// of |entries|.
-#[inline(always)]
-fn gershgorin(c: &[[f64; 3]; 3]) -> f64 {
-    let row = |r: &[f64; 3]| r[0].abs() + r[1].abs() + r[2].abs();
-    row(&c[0]).max(row(&c[1])).max(row(&c[2]))
-}
-
-/// [`gershgorin`] of point q of a lane matrix `m[r][s][q]`.
-#[inline(always)]
-fn gershgorin_lane(m: &[[[f64; 8]; 3]; 3], q: usize) -> f64 {
-    gershgorin(&[
-        [m[0][0][q], m[0][1][q], m[0][2][q]],
-        [m[1][0][q], m[1][1][q], m[1][2][q]],
-        [m[2][0][q], m[2][1][q], m[2][2][q]],
-    ])
+    with_law!(mat.model, L => L::modulus_bound(mat, f, &c)).max(0.0)
 }
 
 /// max_q a(F_q) over the 8 Gauss points of an element, F_q = I + Σₐ uₐ ⊗ ∇ₓNₐ(ξ_q)
@@ -147,13 +82,11 @@ fn full_modulus(mat: &Material, grad: &[[[f64; 8]; 3]; 8], ue: &[[f64; 3]; 8]) -
 }
 
 /// a(F) of [`modulus_bound`] for 8 deformation gradients at once, `f[i][j][lane]` (the 8 Gauss
-/// points of an element, or the centres of 8 elements): the same arithmetic on lanes, which
-/// the compiler vectorises; only the neo-Hookean ln J is called lane by lane. When a lane
-/// has a non-positive J it gives +∞ and the others 0: the callers take the maximum, which is
-/// then +∞ whatever the others.
+/// points of an element, or the centres of 8 elements): [`Law::modulus_lanes`], the same
+/// arithmetic on lanes. When a lane has a non-positive J it gives +∞: the callers take the
+/// maximum, which is then +∞ whatever the others.
 #[inline(always)]
 fn modulus_lanes(mat: &Material, f: &[[[f64; 8]; 3]; 3]) -> [f64; 8] {
-    type Lanes = [f64; 8];
     let mut c = [[[0.0f64; 8]; 3]; 3];
     for i in 0..3 {
         for j in 0..3 {
@@ -163,47 +96,7 @@ fn modulus_lanes(mat: &Material, f: &[[[f64; 8]; 3]; 3]) -> [f64; 8] {
             }
         }
     }
-    let (lambda, mu) = (mat.lambda, mat.mu);
-    let mut a: Lanes = [0.0; 8];
-    match mat.model {
-        MaterialModel::Rubber(_) => return [f64::INFINITY; 8],
-        MaterialModel::Svk => {
-            for q in 0..8 {
-                let c_hat = gershgorin_lane(&c, q);
-                let tr_c = c[0][0][q] + c[1][1][q] + c[2][2][q];
-                let tr_e = 0.5 * (tr_c - 3.0);
-                a[q] =
-                    lambda.max(0.0) * tr_c + 2.0 * mu * c_hat + lambda * tr_e + mu * (c_hat - 1.0);
-            }
-        }
-        MaterialModel::NeoHookean => {
-            let mut j: Lanes = [0.0; 8];
-            let mut adj = [[[0.0f64; 8]; 3]; 3];
-            for q in 0..8 {
-                let m = |r: usize, s: usize| c[r][s][q];
-                for r in 0..3 {
-                    for s in 0..3 {
-                        let (r1, r2, s1, s2) = ((s + 1) % 3, (s + 2) % 3, (r + 1) % 3, (r + 2) % 3);
-                        adj[r][s][q] = m(r1, s1) * m(r2, s2) - m(r1, s2) * m(r2, s1);
-                    }
-                }
-                let fm = |r: usize, s: usize| f[r][s][q];
-                j[q] = fm(0, 0) * (fm(1, 1) * fm(2, 2) - fm(1, 2) * fm(2, 1))
-                    - fm(0, 1) * (fm(1, 0) * fm(2, 2) - fm(1, 2) * fm(2, 0))
-                    + fm(0, 2) * (fm(1, 0) * fm(2, 1) - fm(1, 1) * fm(2, 0));
-            }
-            if j.iter().any(|&jq| !(jq > 0.0)) {
-                return j.map(|jq| if jq > 0.0 { 0.0 } else { f64::INFINITY });
-            }
-            let ln_j: Lanes = j.map(f64::ln);
-            for q in 0..8 {
-                let s_hat = gershgorin_lane(&adj, q) / (j[q] * j[q]);
-                let tr_c_inv = (adj[0][0][q] + adj[1][1][q] + adj[2][2][q]) / (j[q] * j[q]);
-                a[q] = mu + lambda.max(0.0) * tr_c_inv + (mu - lambda * ln_j[q]).abs() * s_hat;
-            }
-        }
-    }
-    a.map(|x| x.max(0.0))
+    with_law!(mat.model, L => L::modulus_lanes(mat, f, &c)).map(|x| x.max(0.0))
 }
 
 /// What the bound's element pass reads, shared by its chunks.

@@ -2,6 +2,7 @@
 //! lanes are the element bound, and a(F) bounds the tangent modulus of both models.
 
 use super::*;
+use crate::material::MaterialModel;
 
 /// A pseudo-random number in [−1, 1) (splitmix64).
 fn rand(k: u64) -> f64 {
