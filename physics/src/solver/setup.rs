@@ -2,9 +2,10 @@
 //! prescribed entries per boundary node, the first stable-step estimate (model §6), and the start
 //! of the leapfrog at t₀ (model §4.11: V_{−½}, then the first impulses give V_{½}).
 
+use super::bond::BondNode;
 use super::boundary::{Boundary, NONE};
 use super::ledger::StepSums;
-use super::mass_scaling::class_factors;
+use super::mass_scaling::{class_factors, MassScalingReport};
 use super::stable_step::{capped_step, StepControl};
 use super::stages::StepScratch;
 use super::state::{ContactNode, InterfaceNode, PeakReaction, RunStats, SolverError, State};
@@ -162,6 +163,138 @@ fn prescribed_components(model: &Model) -> Result<BTreeMap<u32, [u16; 3]>, Solve
     Ok(prescribed)
 }
 
+/// The lumped masses of a model, scaled where mass scaling asks for it (model §1.7, §6.8).
+struct Masses {
+    /// mₐ with the density factors s_e.
+    mass: Vec<f64>,
+    /// s_e per hexahedron class and per tetrahedron (empty without mass scaling).
+    class_density: Vec<f64>,
+    tet_density: Vec<f64>,
+    /// (node, mₐ − mₐ⁰) where scaling added mass.
+    added_mass: Vec<(u32, f64)>,
+    mass_scaling: Option<MassScalingReport>,
+}
+
+impl Masses {
+    fn of(model: &Model, classes: &ElementClasses) -> Result<Masses, SolverError> {
+        let (class_density, tet_density, mut mass_scaling) = match class_factors(model, classes) {
+            Some((f, r)) => (f.class, f.tet, Some(r)),
+            None => (vec![], vec![], None),
+        };
+        let mass = lumped_masses(model, classes, &class_density, &tet_density)?;
+        let added_mass = match mass_scaling.as_mut() {
+            None => vec![],
+            Some(report) => {
+                let unscaled = lumped_masses(model, classes, &[], &[])?;
+                report.mass = unscaled.iter().sum();
+                report.added_mass = mass.iter().sum::<f64>() - report.mass;
+                (mass.iter().zip(&unscaled).enumerate())
+                    .filter(|(_, (m, m0))| m > m0)
+                    .map(|(i, (m, m0))| (i as u32, m - m0))
+                    .collect()
+            }
+        };
+        Ok(Masses {
+            mass,
+            class_density,
+            tet_density,
+            added_mass,
+            mass_scaling,
+        })
+    }
+}
+
+/// The boundary nodes of a model: glued interface nodes, contact nodes, their entries per node
+/// with the tractions and prescribed components (one constraint count each), the bonded pairs
+/// (on nodes no other condition takes), and the glue that forms on contact (model §8).
+struct BoundaryEntries {
+    interface_nodes: Vec<InterfaceNode>,
+    contact_nodes: Vec<ContactNode>,
+    bond_nodes: Vec<BondNode>,
+    boundary: Boundary,
+}
+
+impl BoundaryEntries {
+    fn of(model: &Model) -> Result<BoundaryEntries, SolverError> {
+        let interface_nodes = glued_nodes(model)?;
+        let contact_nodes = contact_nodes(model)?;
+        let mut boundary = Boundary::gather(
+            interface_nodes.iter().map(|i| i.node),
+            contact_nodes.iter().map(|c| c.node),
+            traction_entries(model)?,
+            &prescribed_components(model)?,
+        );
+        super::boundary::check_constraint_count(&boundary.nodes)?;
+        let mut taken: Vec<u32> = boundary.nodes.iter().map(|b| b.node).collect();
+        taken.sort_unstable();
+        let bond_nodes = super::bond::bond_nodes(model, &taken)?;
+        boundary.forming = (0..interface_nodes.len() as u32)
+            .filter(|&j| !interface_nodes[j as usize].formed)
+            .collect();
+        Ok(BoundaryEntries {
+            interface_nodes,
+            contact_nodes,
+            bond_nodes,
+            boundary,
+        })
+    }
+}
+
+impl State {
+    /// The state before t₀'s start: U₀ and V₀ as given, the boundary entries, every sum and
+    /// estimate zero (`Simulation::start` fills them).
+    fn at_start(u0: Vec<[f64; 3]>, v0: Vec<[f64; 3]>, entries: BoundaryEntries) -> State {
+        let n_nodes = u0.len();
+        State {
+            bulk_viscosity: None,
+            u: Planes::from_rows(&u0),
+            v: Planes::from_rows(&v0),
+            f_int: Planes::zeros(n_nodes),
+            interface_nodes: entries.interface_nodes,
+            contact_nodes: entries.contact_nodes,
+            bond_nodes: entries.bond_nodes,
+            boundary: entries.boundary,
+            moulds: MouldStep::default(),
+            time: 0.0,
+            step_count: 0,
+            h: 0.0,
+            h_crit: 0.0,
+            ledger: Ledger::default(),
+            min_jacobian: 1.0,
+            stress_jacobian: 1.0,
+            ritz_vector: Vec::new(),
+            h_crit_bulk: None,
+            jacobian_at_estimate: 1.0,
+            step_control: StepControl {
+                try_certify: true,
+                ..Default::default()
+            },
+            kinetic_half: 0.0,
+            energy_budget: 0.0,
+            last_external_work: 0.0,
+        }
+    }
+}
+
+/// The statistics at t = 0: one peak-reaction record per prescribed displacement.
+fn initial_stats(model: &Model) -> RunStats {
+    RunStats {
+        peaks: model
+            .displacements
+            .iter()
+            .map(|d| PeakReaction {
+                faces: d.faces.clone(),
+                component: ["x", "y", "z"][d.component].into(),
+                force: 0.0,
+                imposed_displacement: d.history.value(0.0)[0],
+                time: 0.0,
+            })
+            .collect(),
+        reactions: vec![0.0; model.displacements.len()],
+        ..Default::default()
+    }
+}
+
 impl Simulation {
     /// Builds the simulation: reference gradients, colours, lumped masses, boundary bookkeeping,
     /// the first stable-step estimate, and the start of the leapfrog (V_{−½}, V_{½}).
@@ -216,38 +349,8 @@ impl Simulation {
         let classes = mesh
             .element_classes()
             .map_err(|e| SolverError::Setup(e.to_string()))?;
-        let (class_density, tet_density, mut mass_scaling) = match class_factors(&model, &classes) {
-            Some((f, r)) => (f.class, f.tet, Some(r)),
-            None => (vec![], vec![], None),
-        };
-        let mass = lumped_masses(&model, &classes, &class_density, &tet_density)?;
-        let added_mass = match mass_scaling.as_mut() {
-            None => vec![],
-            Some(report) => {
-                let unscaled = lumped_masses(&model, &classes, &[], &[])?;
-                report.mass = unscaled.iter().sum();
-                report.added_mass = mass.iter().sum::<f64>() - report.mass;
-                (mass.iter().zip(&unscaled).enumerate())
-                    .filter(|(_, (m, m0))| m > m0)
-                    .map(|(i, (m, m0))| (i as u32, m - m0))
-                    .collect()
-            }
-        };
-        let interface_nodes = glued_nodes(&model)?;
-        let contact_nodes = contact_nodes(&model)?;
-        let mut boundary = Boundary::gather(
-            interface_nodes.iter().map(|i| i.node),
-            contact_nodes.iter().map(|c| c.node),
-            traction_entries(&model)?,
-            &prescribed_components(&model)?,
-        );
-        super::boundary::check_constraint_count(&boundary.nodes)?;
-        let mut taken: Vec<u32> = boundary.nodes.iter().map(|b| b.node).collect();
-        taken.sort_unstable();
-        let bond_nodes = super::bond::bond_nodes(&model, &taken)?;
-        boundary.forming = (0..interface_nodes.len() as u32)
-            .filter(|&j| !interface_nodes[j as usize].formed)
-            .collect();
+        let masses = Masses::of(&model, &classes)?;
+        let entries = BoundaryEntries::of(&model)?;
         let volume: f64 = classes
             .class_of
             .iter()
@@ -273,12 +376,12 @@ impl Simulation {
         let mut sim = Simulation {
             setup: Setup {
                 start_offsets,
-                inv_mass: mass.iter().map(|m| 1.0 / m).collect(),
-                mass,
-                class_density,
-                tet_density,
-                added_mass,
-                mass_scaling,
+                inv_mass: masses.mass.iter().map(|m| 1.0 / m).collect(),
+                mass: masses.mass,
+                class_density: masses.class_density,
+                tet_density: masses.tet_density,
+                added_mass: masses.added_mass,
+                mass_scaling: masses.mass_scaling,
                 energy_floor: model.material.young * volume * 1e-14,
                 coordinate_scale,
                 fingerprint: std::sync::OnceLock::new(),
@@ -295,49 +398,8 @@ impl Simulation {
                 step: StepScratch::default(),
                 cold_mould_queries: false,
             },
-            state: State {
-                bulk_viscosity: None,
-                u: Planes::from_rows(&u0),
-                v: Planes::from_rows(&v0),
-                f_int: Planes::zeros(n_nodes),
-                interface_nodes,
-                contact_nodes,
-                bond_nodes,
-                boundary,
-                moulds: MouldStep::default(),
-                time: 0.0,
-                step_count: 0,
-                h: 0.0,
-                h_crit: 0.0,
-                ledger: Ledger::default(),
-                min_jacobian: 1.0,
-                stress_jacobian: 1.0,
-                ritz_vector: Vec::new(),
-                h_crit_bulk: None,
-                jacobian_at_estimate: 1.0,
-                step_control: StepControl {
-                    try_certify: true,
-                    ..Default::default()
-                },
-                kinetic_half: 0.0,
-                energy_budget: 0.0,
-                last_external_work: 0.0,
-            },
-            stats: RunStats {
-                peaks: model
-                    .displacements
-                    .iter()
-                    .map(|d| PeakReaction {
-                        faces: d.faces.clone(),
-                        component: ["x", "y", "z"][d.component].into(),
-                        force: 0.0,
-                        imposed_displacement: d.history.value(0.0)[0],
-                        time: 0.0,
-                    })
-                    .collect(),
-                reactions: vec![0.0; model.displacements.len()],
-                ..Default::default()
-            },
+            state: State::at_start(u0, v0, entries),
+            stats: initial_stats(&model),
             model,
         };
         sim.state.moulds = MouldStep::new(&sim.model.moulds, 0.0);
