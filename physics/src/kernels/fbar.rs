@@ -283,7 +283,7 @@ unsafe fn chunk_forces_fbar_impl<const FMA: bool, const ISA: u8>(
     let mut e_sum = 0.0;
     let mut min_j = f64::INFINITY;
     let mut min_e = 0usize;
-    let mut ul = [[[0.0; 8]; 3]; 8];
+    let mut ul = super::gather::NodeLanes::zeros();
     let mut fl = [[F64x8([0.0; 8]); 3]; 8];
     let mut lanes = LaneGauss::default();
     let mut staged = [u32::MAX; 8];
@@ -300,11 +300,11 @@ unsafe fn chunk_forces_fbar_impl<const FMA: bool, const ISA: u8>(
             }
             boxes += classes.data.get_unchecked(c as usize).axis_aligned as usize;
         }
-        let row = gather_padded(mesh, classes, u, group, &mut ul);
+        let row = gather_padded(mesh, classes, u, group, &mut ul.0);
         let (en, det) = if boxes == 8 {
-            fbar_group::<FMA, true>(mat, &lanes, &ul, &mut fl, &mut work, energy)
+            fbar_group::<FMA, true>(mat, &lanes, &ul.0, &mut fl, &mut work, energy)
         } else {
-            fbar_group::<FMA, false>(mat, &lanes, &ul, &mut fl, &mut work, energy)
+            fbar_group::<FMA, false>(mat, &lanes, &ul.0, &mut fl, &mut work, energy)
         };
         for (l, &e) in group.iter().enumerate() {
             e_sum += en.0[l];

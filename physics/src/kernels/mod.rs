@@ -318,8 +318,8 @@ unsafe fn chunk_forces_reduced_impl<const FMA: bool, const ISA: u8, const PREFET
     let rest = groups.remainder();
     let mut lanes = LaneElements::default();
     let mut corner_lanes = corners::LaneCorners::default();
-    let mut ul = [[[0.0; 8]; 3]; 8];
-    let mut fl = [[[0.0; 8]; 3]; 8];
+    let mut ul = NodeLanes::zeros();
+    let mut fl = NodeLanes::zeros();
     // Class whose data sits in each lane: most meshes have few classes (a structured box has
     // one), so the lane data is rarely rewritten.
     let mut staged = [u32::MAX; 8];
@@ -342,19 +342,19 @@ unsafe fn chunk_forces_reduced_impl<const FMA: bool, const ISA: u8, const PREFET
             boxes = (boxes & !(1 << l)) | ((cd.axis_aligned as u8) << l);
         }
         let row = group_is_row(&classes.row_start, group);
-        gather_group(mesh, u, group, row, &mut ul);
+        gather_group(mesh, u, group, row, &mut ul.0);
         let [en, hg, det] = match (ISA == ISA_AVX2, boxes == u8::MAX) {
             (true, true) => {
-                reduced_group::<FMA, true, true>(mat, &lanes, &ul, &mut fl, work, energy)
+                reduced_group::<FMA, true, true>(mat, &lanes, &ul.0, &mut fl.0, work, energy)
             }
             (false, true) => {
-                reduced_group::<FMA, false, true>(mat, &lanes, &ul, &mut fl, work, energy)
+                reduced_group::<FMA, false, true>(mat, &lanes, &ul.0, &mut fl.0, work, energy)
             }
             (true, false) => {
-                reduced_group::<FMA, true, false>(mat, &lanes, &ul, &mut fl, work, energy)
+                reduced_group::<FMA, true, false>(mat, &lanes, &ul.0, &mut fl.0, work, energy)
             }
             (false, false) => {
-                reduced_group::<FMA, false, false>(mat, &lanes, &ul, &mut fl, work, energy)
+                reduced_group::<FMA, false, false>(mat, &lanes, &ul.0, &mut fl.0, work, energy)
             }
         };
         // The corners' J too (hourglassing turns corners, not the centre); a NaN centre stays.
@@ -365,7 +365,7 @@ unsafe fn chunk_forces_reduced_impl<const FMA: bool, const ISA: u8, const PREFET
             skipped += 1;
             bound
         } else {
-            let mut j = corner_lanes.min_jacobian::<FMA>(&ul);
+            let mut j = corner_lanes.min_jacobian::<FMA>(&ul.0);
             for l in 0..8 {
                 if !(j[l] < det[l]) {
                     j[l] = det[l];
@@ -388,7 +388,7 @@ unsafe fn chunk_forces_reduced_impl<const FMA: bool, const ISA: u8, const PREFET
                 keep_min_j(det[l], e, &mut min_jc, &mut min_ec);
             }
         }
-        scatter_group::<ISA>(f, &mesh.elements, group, row, &fl);
+        scatter_group::<ISA>(f, &mesh.elements, group, row, &fl.0);
     }
     let mut fe = [[0.0; 3]; 8];
     for &e in rest {
@@ -479,7 +479,7 @@ unsafe fn chunk_forces_impl<const FMA: bool, const ISA: u8, const PREFETCH: bool
         chunk.len() / 8 * 8
     };
     let (grouped, rest) = chunk.split_at(lanes_end);
-    let mut ul = [[[0.0; 8]; 3]; 8];
+    let mut ul = NodeLanes::zeros();
     let mut fl = [[F64x8([0.0; 8]); 3]; 8];
     // Lanes of several classes: each lane's data, rewritten when its class changes.
     let mut lanes = full::LaneGauss::default();
@@ -490,7 +490,7 @@ unsafe fn chunk_forces_impl<const FMA: bool, const ISA: u8, const PREFETCH: bool
             prefetch_group(mesh, u, f, next);
         }
         let row = group_is_row(&classes.row_start, group);
-        gather_group(mesh, u, group, row, &mut ul);
+        gather_group(mesh, u, group, row, &mut ul.0);
         let class = *classes.class_of.get_unchecked(group[0] as usize);
         let one_class = group
             .iter()
@@ -499,9 +499,9 @@ unsafe fn chunk_forces_impl<const FMA: bool, const ISA: u8, const PREFETCH: bool
             let gd = classes.data.get_unchecked(class as usize);
             let g = full::OneClass(gd);
             if gd.axis_aligned {
-                full_group::<FMA, true, _>(mat, &g, &ul, &mut fl, &mut work, energy)
+                full_group::<FMA, true, _>(mat, &g, &ul.0, &mut fl, &mut work, energy)
             } else {
-                full_group::<FMA, false, _>(mat, &g, &ul, &mut fl, &mut work, energy)
+                full_group::<FMA, false, _>(mat, &g, &ul.0, &mut fl, &mut work, energy)
             }
         } else {
             let mut boxes = 0;
@@ -514,8 +514,8 @@ unsafe fn chunk_forces_impl<const FMA: bool, const ISA: u8, const PREFETCH: bool
                 boxes += classes.data.get_unchecked(c as usize).axis_aligned as usize;
             }
             match boxes {
-                0 => full_group::<FMA, false, _>(mat, &lanes, &ul, &mut fl, &mut work, energy),
-                8 => full_group::<FMA, true, _>(mat, &lanes, &ul, &mut fl, &mut work, energy),
+                0 => full_group::<FMA, false, _>(mat, &lanes, &ul.0, &mut fl, &mut work, energy),
+                8 => full_group::<FMA, true, _>(mat, &lanes, &ul.0, &mut fl, &mut work, energy),
                 _ => {
                     // Boxes and other shapes in one group: the lane kernel takes the box path
                     // (through the modes) or the general one for all 8 lanes, the scalar kernel

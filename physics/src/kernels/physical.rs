@@ -329,7 +329,7 @@ unsafe fn chunk_forces_physical_impl<const FMA: bool, const ISA: u8>(
         min_stress_j: f64::INFINITY,
         min_stress_element: 0,
     };
-    let mut ul = [[[0.0; 8]; 3]; 8];
+    let mut ul = super::gather::NodeLanes::zeros();
     let mut fl = [[F64x8([0.0; 8]); 3]; 8];
     let mut lanes = PhysicalLanes::default();
     let mut corner_lanes = LaneCorners::default();
@@ -346,9 +346,9 @@ unsafe fn chunk_forces_physical_impl<const FMA: bool, const ISA: u8>(
                 corner_lanes.set(l, cd);
             }
         }
-        let row = gather_padded(mesh, classes, u, group, &mut ul);
-        let [strain, hourglass, det] = physical_group::<FMA>(mat, &lanes, &ul, &mut fl, energy);
-        let corner = corner_lanes.min_jacobian::<FMA>(&ul);
+        let row = gather_padded(mesh, classes, u, group, &mut ul.0);
+        let [strain, hourglass, det] = physical_group::<FMA>(mat, &lanes, &ul.0, &mut fl, energy);
+        let corner = corner_lanes.min_jacobian::<FMA>(&ul.0);
         for (l, &e) in group.iter().enumerate() {
             sums.strain += strain.0[l];
             sums.hourglass += hourglass.0[l];
