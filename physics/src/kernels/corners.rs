@@ -103,8 +103,10 @@ pub fn min_corner_jacobian(cd: &CentreData, u: &[[f64; 3]; 8]) -> f64 {
         .fold(f64::INFINITY, |m, &x| if x < m { x } else { m })
 }
 
-/// The corner data of 8 elements, one per lane, staged as [`crate::material::LaneElements`].
+/// The corner data of 8 elements, one per lane, staged as [`crate::material::LaneElements`]
+/// (aligned to a cache line as it is).
 #[derive(Debug, Clone, Copy)]
+#[repr(align(64))]
 pub struct LaneCorners {
     edges: [[[f64; 8]; 3]; 12],
     inv_det: [[f64; 8]; 8],

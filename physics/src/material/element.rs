@@ -261,8 +261,10 @@ fn box_one_point<const ENERGY: bool>(
 }
 
 /// The one-point data of 8 elements, one per lane (`x[..][lane]`), for
-/// [`element_forces_reduced_lanes`].
+/// [`element_forces_reduced_lanes`]. Aligned to a cache line: every field is rows of 8 lanes
+/// (64 bytes), so each row the kernel loads is one line.
 #[derive(Debug, Clone, Copy, Default)]
+#[repr(align(64))]
 pub struct LaneElements {
     /// Mean gradients bₐ [1/m].
     pub b: [[[f64; 8]; 3]; 8],
