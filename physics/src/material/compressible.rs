@@ -2,7 +2,7 @@
 //! and the bound of its tangent modulus that certifies the stable step (model §6.4).
 
 use super::kinematics::cofactor;
-use super::{gershgorin, gershgorin_lane, Deformation, Lanes3, Law, Mat3, Material, Real};
+use super::{gershgorin, gershgorin_lane, Deformation, Law, Mat3, Material, Real};
 
 /// The compressible neo-Hookean as a [`Law`]: P and ψ of [`neo_hookean`] from F and J.
 pub struct NeoHookeanLaw;
@@ -55,7 +55,7 @@ impl Law for NeoHookeanLaw {
     /// Only ln J is called lane by lane. When a lane has a non-positive J it gives +∞ and the
     /// others 0.
     #[inline(always)]
-    fn modulus_lanes(mat: &Material, f: &Lanes3, c: &Lanes3) -> [f64; 8] {
+    fn modulus_lanes(mat: &Material, f: &Mat3<[f64; 8]>, c: &Mat3<[f64; 8]>) -> [f64; 8] {
         type Lanes = [f64; 8];
         let (lambda, mu) = (mat.lambda, mat.mu);
         let mut a: Lanes = [0.0; 8];

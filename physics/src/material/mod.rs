@@ -286,11 +286,8 @@ pub trait Law {
     /// [`Law::modulus_bound`] for 8 deformation gradients at once (`f[i][j][lane]`, C likewise):
     /// the same arithmetic on lanes, which the compiler vectorises. A lane with a non-positive
     /// J gives +∞ and may leave the others 0: the callers take the maximum.
-    fn modulus_lanes(mat: &Material, f: &Lanes3, c: &Lanes3) -> [f64; 8];
+    fn modulus_lanes(mat: &Material, f: &Mat3<[f64; 8]>, c: &Mat3<[f64; 8]>) -> [f64; 8];
 }
-
-/// A 3×3 matrix of 8 lanes, `m[i][j][lane]`.
-pub type Lanes3 = [[[f64; 8]; 3]; 3];
 
 /// The rubber models ([`rubber`]) as one [`Law`]: one more copy of each kernel for all of
 /// them, not one per family; the family is matched at run time (all the lanes of a kernel
@@ -316,7 +313,7 @@ impl Law for RubberLaw {
     }
 
     #[inline(always)]
-    fn modulus_lanes(_: &Material, _: &Lanes3, _: &Lanes3) -> [f64; 8] {
+    fn modulus_lanes(_: &Material, _: &Mat3<[f64; 8]>, _: &Mat3<[f64; 8]>) -> [f64; 8] {
         [f64::INFINITY; 8]
     }
 }
@@ -342,7 +339,7 @@ pub(crate) fn gershgorin(c: &[[f64; 3]; 3]) -> f64 {
 
 /// [`gershgorin`] of lane q of a lane matrix `m[r][s][q]`.
 #[inline(always)]
-pub(crate) fn gershgorin_lane(m: &Lanes3, q: usize) -> f64 {
+pub(crate) fn gershgorin_lane(m: &Mat3<[f64; 8]>, q: usize) -> f64 {
     gershgorin(&[
         [m[0][0][q], m[0][1][q], m[0][2][q]],
         [m[1][0][q], m[1][1][q], m[1][2][q]],

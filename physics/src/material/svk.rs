@@ -2,7 +2,7 @@
 //! [`Real`], and the bound of its tangent modulus that certifies the stable step (model §6.4).
 
 use super::kinematics::{doubled_green_lagrange, f_times_s};
-use super::{gershgorin, gershgorin_lane, Deformation, Lanes3, Law, Mat3, Material, Real};
+use super::{gershgorin, gershgorin_lane, Deformation, Law, Mat3, Material, Real};
 
 /// Saint-Venant–Kirchhoff as a [`Law`]: P = F·S with S of [`saint_venant_kirchhoff`].
 pub struct SvkLaw;
@@ -33,7 +33,7 @@ impl Law for SvkLaw {
     }
 
     #[inline(always)]
-    fn modulus_lanes(mat: &Material, _: &Lanes3, c: &Lanes3) -> [f64; 8] {
+    fn modulus_lanes(mat: &Material, _: &Mat3<[f64; 8]>, c: &Mat3<[f64; 8]>) -> [f64; 8] {
         let (lambda, mu) = (mat.lambda, mat.mu);
         let mut a = [0.0; 8];
         for q in 0..8 {
