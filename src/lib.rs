@@ -17,7 +17,7 @@
 
 // The physics crate's modules, under the names the command line, the outputs and the tests use.
 pub use decohesion_physics::{
-    energy, gmsh, interface, kernels, law, material, mesh, model, scene, solver, team,
+    element, energy, gmsh, interface, kernels, law, material, mesh, model, scene, solver, team,
 };
 // The run crate's modules, likewise.
 #[cfg(not(target_arch = "wasm32"))]

@@ -6,10 +6,11 @@
 //! of every homogeneous δu = G X) and Σₐ fₐ = 0, the strain energy is ψ V and J = det F.
 
 use crate::by_hand::{deformations, lame, piola_energy, stress_scale};
-use decohesion::material::{
+use decohesion::element::hex8::{
     element_forces, element_forces_reduced, element_forces_reduced_lanes, hourglass_stiffness,
-    LaneElements, Material, MaterialModel,
+    LaneElements,
 };
+use decohesion::material::{Material, MaterialModel};
 use decohesion::mesh::{CentreData, GaussData, HEX_CORNERS};
 use nalgebra::{Matrix3, Vector3};
 

@@ -11,7 +11,7 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 pub use decohesion_physics::{
-    energy, gmsh, interface, kernels, law, material, mesh, model, scene, solver, team,
+    element, energy, gmsh, interface, kernels, law, material, mesh, model, scene, solver, team,
 };
 #[cfg(not(target_arch = "wasm32"))]
 pub use decohesion_run::{checkpoint, driver, fit, outputs, record, tradeoff, vtk};

@@ -13,6 +13,7 @@
 // `!(x > 0.0)` is used on purpose: it is also true for NaN, which must be caught.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
+pub mod element;
 pub mod energy;
 /// Gmsh `.msh` 4.1 hexahedral meshes in and out.
 pub mod gmsh;
@@ -39,3 +40,4 @@ pub mod team;
 pub mod timing;
 /// The numbers the solver chose rather than derived: meaning, unit and source of each.
 pub mod tunables;
+pub mod vec3;

@@ -4,9 +4,10 @@
 //! which still closes; the pull-off still tears off like with full integration.
 
 use crate::common::*;
-use decohesion_physics::material::{
-    element_forces, element_forces_reduced, hourglass_stiffness, Material, MaterialModel,
+use decohesion_physics::element::hex8::{
+    element_forces, element_forces_reduced, hourglass_stiffness,
 };
+use decohesion_physics::material::{Material, MaterialModel};
 use decohesion_physics::mesh::{hourglass_vectors, CentreData, GaussData, HEX_CORNERS};
 use decohesion_physics::model::Integration;
 use decohesion_physics::scene::load_scene;

@@ -14,7 +14,7 @@
 
 // The physics crate's modules, under the names the outputs and the front ends use.
 pub use decohesion_physics::{
-    energy, gmsh, interface, kernels, law, material, mesh, model, scene, solver, team,
+    element, energy, gmsh, interface, kernels, law, material, mesh, model, scene, solver, team,
 };
 
 /// Checkpoints of a run (`run --checkpoint`, `run --resume`): the folder, the interval, the

@@ -49,6 +49,7 @@ mod moulds;
 
 pub use moulds::VTK_TRIANGLE;
 
+use crate::element::{Element, Hex8, Tet4};
 use crate::law::InterfaceState;
 use crate::model::Model;
 use crate::output::fields::centre_fields;
@@ -68,9 +69,9 @@ use std::time::{Duration, Instant};
 pub const NOT_INTERFACE: i8 = -1;
 
 /// VTK cell type of the 8-node hexahedron (`VTK_HEXAHEDRON`).
-pub const VTK_HEXAHEDRON: u8 = 12;
+pub const VTK_HEXAHEDRON: u8 = <Hex8 as Element>::VTK_TYPE;
 /// VTK cell type of the 4-node tetrahedron (`VTK_TETRA`).
-pub const VTK_TETRA: u8 = 10;
+pub const VTK_TETRA: u8 = <Tet4 as Element>::VTK_TYPE;
 
 /// Opening and closing of the `.pvd` collection.
 const PVD_HEAD: &str = "<?xml version=\"1.0\"?>\n\

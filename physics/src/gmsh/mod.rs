@@ -32,7 +32,8 @@
 mod header;
 mod write;
 
-use crate::mesh::{GaussData, Mesh};
+use crate::element::{Element, Hex8, Tet4};
+use crate::mesh::Mesh;
 use header::{check_data_size, is_binary, physical_names, syntax_error};
 use std::collections::{BTreeMap, HashMap};
 use std::path::Path;
@@ -43,8 +44,8 @@ pub use write::{msh_text, write_msh};
 pub const GMSH_HEX8_ORDER: [usize; 8] = [0, 1, 2, 3, 4, 5, 6, 7];
 
 /// Gmsh element type numbers used here.
-const HEX8: i32 = 5;
-const TET4: i32 = 4;
+const HEX8: i32 = <Hex8 as Element>::GMSH_TYPE;
+const TET4: i32 = <Tet4 as Element>::GMSH_TYPE;
 const QUAD4: i32 = 3;
 const TRI3: i32 = 2;
 
@@ -340,7 +341,7 @@ fn volume_mesh(
         .collect();
     for (e, (_, tag)) in hexes.iter().enumerate() {
         let x = elements[e].map(|n| nodes[n as usize]);
-        if let Err(det) = GaussData::new(&x) {
+        if let Err(det) = Hex8::reference(&x) {
             return Err(err.at(format!(
                 "element {tag} (hexahedron) is inverted or degenerate: det J₀ = {det:e} at a \
                  Gauss point; Gmsh orders its nodes 0–3 counter-clockwise on one face seen from \

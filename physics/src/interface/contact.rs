@@ -4,8 +4,8 @@
 //! Conventions: n is the surface's unit normal pointing into the solid, a gap g > 0 is open,
 //! velocities are relative to the surface's material point, impulses are W R (N·s).
 
-use crate::mesh::{dot, norm};
 pub use crate::tunables::{JOINT_MAX_CONSTRAINTS, JOINT_MAX_SWEEPS, JOINT_TOLERANCE};
+use crate::vec3::{dot, norm};
 
 /// Contact status of a node against a plane, for output and debugging.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize, Default)]

@@ -12,7 +12,7 @@
 //! signs of the normal jump loaded (every g_N(α) family by default) these are the formulas of
 //! paper eqs. 15–16, evaluated by the same operations.
 
-use crate::mesh::dot;
+use crate::vec3::dot;
 
 /// Damage driving measure f = |[u]| with only the positive part of the normal jump counted:
 /// a negative normal jump can only come from the velocity-level contact's position drift

@@ -9,7 +9,8 @@
 //! products per element, on the same 8 lanes as the kernel.
 
 use super::corner_bound::corner_lower_bound;
-use crate::material::{F64x8, OnePointScratch, Real};
+use crate::element::hex8::OnePointScratch;
+use crate::material::{F64x8, Real};
 use crate::mesh::{CentreData, CORNER_EDGES, ORIENTED_EDGES};
 
 /// det[c₀, c₁, c₂] = c₀·(c₁ × c₂).
@@ -103,7 +104,7 @@ pub fn min_corner_jacobian(cd: &CentreData, u: &[[f64; 3]; 8]) -> f64 {
         .fold(f64::INFINITY, |m, &x| if x < m { x } else { m })
 }
 
-/// The corner data of 8 elements, one per lane, staged as [`crate::material::LaneElements`]
+/// The corner data of 8 elements, one per lane, staged as [`crate::element::hex8::LaneElements`]
 /// (aligned to a cache line as it is).
 #[derive(Debug, Clone, Copy)]
 #[repr(align(64))]

@@ -25,10 +25,12 @@ use super::{
     full::{GaussLanes, LaneGauss},
     gather_padded, keep_min_j, scatter_padded, PlanesPtr,
 };
+use crate::element::hex8::{
+    box_factors, box_forces, box_gradient, first_piola_lanes_into, parent_forces, parent_gradient,
+};
 use crate::material::{
-    box_factors, box_forces, box_gradient, cofactor, deformation_gradient, determinant,
-    first_piola_lanes_into, parent_forces, parent_gradient, row_dot, with_law, F64x8, Law, Mat3,
-    Material, Real,
+    cofactor, deformation_gradient, determinant, row_dot, with_law, F64x8, Law, Mat3, Material,
+    Real,
 };
 use crate::mesh::{ElementClasses, Mesh};
 

@@ -12,10 +12,13 @@
 
 use super::corners::corner_jacobians;
 use super::fbar::{add_pressure_correction, halley_cube_root, scale_stress, scaled_gradient};
+use crate::element::hex8::{
+    box_factors, box_forces, box_gradient, centre_norms_of, modes_to_nodes, node_modes,
+    parent_forces, parent_gradient,
+};
 use crate::material::{
-    box_factors, box_forces, box_gradient, centre_norms_of, deformation_gradient, determinant,
-    displacement_gradient, first_piola, modes_to_nodes, node_modes, parent_forces, parent_gradient,
-    row_dot, with_law, Deformation, Law, Material, MaterialModel, Real,
+    deformation_gradient, determinant, displacement_gradient, first_piola, row_dot, with_law,
+    Deformation, Law, Material, MaterialModel, Real,
 };
 use std::cell::Cell;
 use std::ops::{Add, Div, Mul, Sub};
@@ -148,7 +151,7 @@ fn point(model: MaterialModel) -> (u64, u64, u64) {
 /// points; Q = P·(⅛ w det J₀ J₀⁻ᵀ) at the 8 points, the transpose to the nodes, and the energy.
 /// On an axis-aligned box (`axis_aligned`: [`crate::mesh::GaussData::axis_aligned`]) ⅛ J₀⁻¹
 /// and ⅛ w det J₀ J₀⁻ᵀ are one diagonal at every point, and H and the forces go through the
-/// modes of the trilinear field ([`crate::material::box_gradient`], `box_forces`), each with
+/// modes of the trilinear field ([`crate::element::hex8::box_gradient`], `box_forces`), each with
 /// its factors (c, cg, cg²) formed per element.
 pub fn full(model: MaterialModel, axis_aligned: bool) -> KernelFlops {
     let (_, stress, logs) = point(model);
@@ -283,10 +286,10 @@ pub fn physical(model: MaterialModel) -> KernelFlops {
 const BOUND_FORMULA: u64 = 9;
 
 /// One element-step of the one-point kernel with hourglass control
-/// ([`crate::material::element_forces_reduced_lanes`]) and its corner check
+/// ([`crate::element::hex8::element_forces_reduced_lanes`]) and its corner check
 /// ([`super::corners`]). On an axis-aligned box (`axis_aligned`,
 /// [`crate::mesh::CentreData::axis_aligned`]) the kernel goes through the modes of the trilinear
-/// field ([`crate::material::element_forces_reduced_lanes_in`]'s `BOXES`): per component (T3), 3 products for
+/// field ([`crate::element::hex8::element_forces_reduced_lanes_in`]'s `BOXES`): per component (T3), 3 products for
 /// H and, for the forces, 7 products and the transpose of (T3).
 pub fn one_point(model: MaterialModel, axis_aligned: bool) -> KernelFlops {
     let (general_gradient, stress, logs) = point(model);

@@ -1,22 +1,22 @@
 //! The full-integration (2×2×2 Gauss) kernel on 8 elements at once, one element per SIMD lane
 //! (model §1.5): the parent derivatives of the displacement at the 8 Gauss points by sum
-//! factorisation (`material::tensor`), then for each Gauss point q in turn
+//! factorisation (`element::hex8::tensor`), then for each Gauss point q in turn
 //! H_q = Σₐ uₐ ⊗ ∇ₓNₐ(ξ_q), P_q = P(I + H_q) and J_q on the 8 elements; the forces
 //! fₐ = Σ_q P_q (w_q det J₀ ∇ₓNₐ(ξ_q)) by the transpose, Ψ = Σ_q w_q det J₀ ψ_q, and min_q J_q
 //! per element. On 8 axis-aligned boxes H and the forces go through the modes of the trilinear
-//! field instead ((T4) of `material::tensor` and its transpose).
+//! field instead ((T4) of `element::hex8::tensor` and its transpose).
 //!
 //! Each lane carries out the operations of the scalar kernel
-//! ([`crate::material::element_forces`], whose lanes are the Gauss points of one element) in
+//! ([`crate::element::hex8::element_forces`], whose lanes are the Gauss points of one element) in
 //! the same order: the same sum factorisation (one function for both), the same pointwise
-//! stress ([`crate::material::first_piola_lanes_into`]), each row product (r₀g₀ + r₁g₁) + r₂g₂,
+//! stress ([`crate::element::hex8::first_piola_lanes_into`]), each row product (r₀g₀ + r₁g₁) + r₂g₂,
 //! the energy point after point and min J by the same tree. So every element gets the scalar
 //! kernel's bits.
 
-use crate::material::{
+use crate::element::hex8::{
     box_factors, box_forces, box_gradient, first_piola_lanes_into, parent_forces, parent_gradient,
-    row_dot, F64x8, Law, Material, Real,
 };
+use crate::material::{row_dot, F64x8, Law, Material, Real};
 use crate::mesh::GaussData;
 
 /// The reference data of the 8 elements of a lane group at the Gauss points.
@@ -130,10 +130,10 @@ impl Default for FullScratch {
 
 /// Internal nodal forces of 8 elements, fₐ = Σ_q w_q det J₀ P(F_q) ∇ₓNₐ(ξ_q) (model §1.5),
 /// element l in lane l: `u[a][i][l]` the displacement of its node a, `f[a][i].0[l]` its force.
-/// By sum factorisation (`material::tensor`): the parent derivatives D_q = 8 ∂u/∂ξ (T1), then
+/// By sum factorisation (`element::hex8::tensor`): the parent derivatives D_q = 8 ∂u/∂ξ (T1), then
 /// per point H_q = D_q·(⅛ J₀⁻¹), P_q and Q_q = P_q·(⅛ w_q det J₀ J₀⁻ᵀ), then the forces by the
 /// transpose (T2). Returns per lane (strain energy Σ_q w_q det J₀ ψ_q if `ENERGY`, else 0;
-/// min_q J_q), each lane bit-identical to [`crate::material::element_forces`] on that element.
+/// min_q J_q), each lane bit-identical to [`crate::element::hex8::element_forces`] on that element.
 /// `DIAG`: every lane is an axis-aligned box ([`GaussData::axis_aligned`]: ⅛ J₀⁻¹ one diagonal
 /// at every point), so H and the forces go through the modes of the trilinear field
 /// ([`box_gradient`], [`box_forces`]), as the scalar kernel does for a box.
@@ -157,7 +157,7 @@ pub(crate) fn full_lanes<
     let mut energy = zero;
     // An axis-aligned box's ⅛ J₀⁻¹ and ⅛ w det J₀ J₀⁻ᵀ are one diagonal at every point
     // (`GaussData::axis_aligned`): H and the forces go through the modes of the trilinear field
-    // ((T4) of `material::tensor` and its transpose), `dq` holds H and `pq` P. (No copies
+    // ((T4) of `element::hex8::tensor` and its transpose), `dq` holds H and `pq` P. (No copies
     // between the arrays: each is a `memcpy` call in the AVX2 build.)
     if DIAG {
         let k = box_factors([g.jinv(0, 0, 0), g.jinv(1, 1, 0), g.jinv(2, 2, 0)]);

@@ -132,7 +132,7 @@ fn scalar_forces_law<L: crate::material::Law, const FMA: bool>(
     fe: &mut [[f64; 3]; 8],
     energy: bool,
 ) -> (f64, f64) {
-    use crate::material::element_forces_law;
+    use crate::element::hex8::element_forces_law;
     if energy {
         element_forces_law::<L, true, FMA>(mat, gd, ue, fe)
     } else {

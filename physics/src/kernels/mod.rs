@@ -26,11 +26,12 @@ pub(crate) use nodes::{free_velocity_chunk, internal_and_gravity_impulses, NodeS
 
 // The web page calls the scalar full kernel per law (`groups::scalar_element`).
 #[cfg_attr(target_arch = "wasm32", allow(unused_imports))]
-use crate::material::element_forces;
-use crate::material::{
-    element_forces_reduced, element_forces_reduced_lanes_in, hourglass_stiffness, with_law, F64x8,
-    LaneElements, Material, OnePointScratch,
+use crate::element::hex8::element_forces;
+use crate::element::hex8::{
+    element_forces_reduced, element_forces_reduced_lanes_in, hourglass_stiffness, LaneElements,
+    OnePointScratch,
 };
+use crate::material::{with_law, F64x8, Material};
 use crate::mesh::{CentreData, ElementClasses, GaussData, Mesh};
 use crate::model::Integration;
 use crate::team::Team;

@@ -28,9 +28,8 @@ use super::simd::{simd_dispatch, ISA_AVX2, ISA_AVX512};
 use super::{
     corners::LaneCorners, gather_padded, keep_min_j, scatter_padded, ElementSums, PlanesPtr,
 };
-use crate::material::{
-    cofactor, first_piola_lanes_into, with_law, F64x8, Law, Mat3, Material, Real,
-};
+use crate::element::hex8::first_piola_lanes_into;
+use crate::material::{cofactor, with_law, F64x8, Law, Mat3, Material, Real};
 use crate::mesh::{CentreData, ElementClasses, Mesh};
 
 /// The pairs of hourglass components that are the two normal strains varying linearly along

@@ -348,7 +348,7 @@ fn full_chunk_builds(
 
 /// An axis-aligned box (one class, J₀ diagonal and the same at every point): every build's lane
 /// and scalar kernels, which then form H and the forces through the modes of the trilinear field
-/// ((T4) of `material::tensor` and its transpose, [`GaussData::axis_aligned`]), give the general
+/// ((T4) of `element::hex8::tensor` and its transpose, [`GaussData::axis_aligned`]), give the general
 /// kernel's results (the class data with the flag cleared), scattered in chunk order: the
 /// forces to 1e-13 of the largest nodal force and the strain energy to 1e-13 (round-off of sums
 /// of ~10 terms in another order: measured 3e-16; a misplaced mode amplitude gives 3e-4 and
@@ -405,7 +405,7 @@ fn axis_aligned_kernels_give_the_row_products_values() {
 
 /// One point on an axis-aligned box (one class, `CentreData::axis_aligned`): every build's lane
 /// kernel and the scalar kernel, which go through the modes of the trilinear field
-/// (`material::tensor`, (T3)), give the forces and energies of the general kernel (the class
+/// (`element::hex8::tensor`, (T3)), give the forces and energies of the general kernel (the class
 /// data with the flag cleared, bₐ and γᵅ as stored) under a large non-affine displacement, which
 /// excites all four hourglass modes. They sum in another order: to 1e-12 of the largest nodal
 /// force and of each energy (round-off of sums of ~10 terms; a wrong mode, sign or node is an

@@ -1,5 +1,4 @@
-//! Hyperelastic bulk materials (model §1.3, §1.4, §1.10) and the per-element internal-force
-//! kernels.
+//! Hyperelastic bulk materials (model §1.3, §1.4, §1.10).
 //!
 //! Each constitutive model is written once, over any [`Real`] number type, in a file of its own
 //! with the bound of its tangent modulus that the stable step reads ([`Law`]):
@@ -8,38 +7,25 @@
 //! kernel law for all of them).
 //! [`first_piola`] picks one by a [`Law`] type ([`with_law!`] turns a [`MaterialModel`] into
 //! one), and everything that evaluates a stress goes through it: the pointwise
-//! [`Material::piola_energy`] (post-processing and tests) and the kernels of [`element`] — full
-//! 2×2×2 integration with the 8 Gauss points in the 8 lanes of an [`F64x8`], one point on one
-//! element, one point on 8 elements in lanes.
+//! [`Material::piola_energy`] (post-processing and tests) and the element kernels of
+//! [`crate::element`] — full 2×2×2 integration with the 8 Gauss points in the 8 lanes of an
+//! [`F64x8`], one point on one element, one point on 8 elements in lanes.
 //!
 //! - [`real`]: the [`Real`] trait, for `f64` and [`F64x8`];
-//! - `kinematics`: H = ∂U/∂X, F, J, cof F, E, P = F·S, hourglass modes, shared by the kernels;
-//! - [`element`]: the element kernels and the hourglass stiffness.
+//! - `kinematics`: H = ∂U/∂X, F, J, cof F, E, P = F·S, hourglass modes, shared by the element
+//!   kernels.
 
 pub mod compressible;
-pub mod element;
-mod kinematics;
+pub(crate) mod kinematics;
 pub mod real;
 pub mod rubber;
 pub mod svk;
-mod tensor;
 
-#[cfg(target_arch = "wasm32")]
-pub(crate) use element::element_forces_law;
-pub(crate) use element::first_piola_lanes_into;
-pub use element::{
-    centre_norms_of, element_forces, element_forces_reduced, element_forces_reduced_lanes,
-    element_forces_reduced_lanes_in, hourglass_stiffness, LaneElements, OnePointScratch,
-};
 pub(crate) use kinematics::{
     cofactor, deformation_gradient, determinant, displacement_gradient, hourglass_energy,
     hourglass_modes, row_dot,
 };
 pub use real::{F64x8, Lanes, Mat3, Real};
-pub(crate) use tensor::{
-    box_factors, box_forces, box_gradient, modes_to_nodes, node_modes, parent_forces,
-    parent_gradient,
-};
 
 pub use crate::tunables::RUBBER_HOURGLASS_SHEAR;
 pub use compressible::{neo_hookean, NeoHookeanLaw};

@@ -8,31 +8,23 @@
 //! counter-clockwise seen from +ζ, nodes 4–7 above them.
 
 use std::collections::BTreeMap;
-mod element;
+mod classes;
 mod order;
 pub mod planes;
 pub mod rows;
 pub mod split;
 pub mod tet;
 
-pub use element::{
+pub use crate::element::hex8::{
     corner_bound_constant, gauss_points, hourglass_vectors, shape, shape_derivatives, CentreData,
-    ElementClasses, GaussData, GeometryError, CORNER_EDGES, HEX_CORNERS, ORIENTED_EDGES,
+    GaussData, CORNER_EDGES, HEX_CORNERS, ORIENTED_EDGES,
 };
+use crate::element::{Element, Hex8, Tet4};
+pub use crate::vec3::{cross, dot, norm, sub};
+pub use classes::{ElementClasses, GeometryError};
 pub use order::Slabs;
 pub use planes::{NodalField, Planes};
 pub use tet::{TetData, TET_FACES};
-
-/// Local faces of a hexahedron, each outward (counter-clockwise seen from outside; the node
-/// order of [`HEX_CORNERS`]).
-const HEX_FACES: [[usize; 4]; 6] = [
-    [0, 3, 2, 1],
-    [4, 5, 6, 7],
-    [0, 1, 5, 4],
-    [1, 2, 6, 5],
-    [2, 3, 7, 6],
-    [3, 0, 4, 7],
-];
 
 /// A mesh of hexahedra and tetrahedra in its reference configuration. Lengths in metres.
 #[derive(Debug, Clone)]
@@ -51,21 +43,6 @@ pub struct Mesh {
     pub face_sets: BTreeMap<String, Vec<[u32; 4]>>,
 }
 
-/// The 12 edges of a hex8 (local node pairs).
-const HEX_EDGES: [(usize, usize); 12] = [
-    (0, 1),
-    (1, 2),
-    (2, 3),
-    (3, 0),
-    (4, 5),
-    (5, 6),
-    (6, 7),
-    (7, 4),
-    (0, 4),
-    (1, 5),
-    (2, 6),
-    (3, 7),
-];
 impl Mesh {
     /// A structured box [origin, origin + size] with `cells` hexahedra per axis, and the six face
     /// sets `x-`, `x+`, `y-`, `y+`, `z-`, `z+`.
@@ -231,56 +208,23 @@ impl Mesh {
     /// quad ordered counter-clockwise seen from outside (outward normal), and the element it
     /// belongs to. Used to draw the surface; not needed by the time loop.
     pub fn boundary_faces(&self) -> Vec<([u32; 4], u32)> {
-        // The elements around each node (compressed rows): 4 bytes per node and 32 per
-        // element. A face is interior when another element holds its 4 nodes; the candidates
-        // are the few elements around one of them. (A hash map of every face, as before, took
-        // many times that per element at its peak, while the recorder starts beside the
-        // solver's setup; docs: performance log.)
-        let n = self.nodes.len();
-        let mut start = vec![0u32; n + 1];
-        for conn in &self.elements {
-            for &a in conn {
-                start[a as usize + 1] += 1;
-            }
-        }
-        for i in 0..n {
-            start[i + 1] += start[i];
-        }
-        let mut around = vec![0u32; start[n] as usize];
-        let mut fill = start.clone();
-        for (e, conn) in self.elements.iter().enumerate() {
-            for &a in conn {
-                around[fill[a as usize] as usize] = e as u32;
-                fill[a as usize] += 1;
-            }
-        }
-        drop(fill);
-        let mut out = Vec::new();
-        for (e, conn) in self.elements.iter().enumerate() {
-            for f in HEX_FACES {
-                let quad = f.map(|a| conn[a]);
-                let a0 = quad[0] as usize;
-                let shared = around[start[a0] as usize..start[a0 + 1] as usize]
-                    .iter()
-                    .any(|&e2| {
-                        e2 as usize != e
-                            && quad.iter().all(|q| self.elements[e2 as usize].contains(q))
-                    });
-                if !shared {
-                    out.push((quad, e as u32));
-                }
-            }
-        }
+        let mut out = exposed_faces(self.nodes.len(), &self.elements, Hex8::FACES);
         out.sort_unstable_by_key(|v| (v.1, v.0));
         // The tetrahedra's faces, as degenerate quads [a, b, c, c], numbered after the
         // hexahedra ([`Mesh::element_count`]).
         let first = self.elements.len() as u32;
-        out.extend(
-            self.boundary_triangles()
-                .into_iter()
-                .map(|(t, e)| ([t[0], t[1], t[2], t[2]], first + e)),
-        );
+        let tets = exposed_faces(self.nodes.len(), &self.tets, Tet4::FACES);
+        out.extend(tets.into_iter().map(|(q, e)| (q, first + e)));
         out
+    }
+
+    /// Every element's nodes with its type's topology: the hexahedra, then the tetrahedra (the
+    /// numbering of [`Mesh::element_count`]).
+    pub fn cells(&self) -> impl Iterator<Item = (&[u32], Topology)> + '_ {
+        let hex = Topology::of::<Hex8>();
+        let tet = Topology::of::<Tet4>();
+        (self.elements.iter().map(move |c| (&c[..], hex)))
+            .chain(self.tets.iter().map(move |c| (&c[..], tet)))
     }
 
     /// The nodes of element `e` in the numbering of [`Mesh::element_count`]: a hexahedron's 8,
@@ -369,49 +313,25 @@ impl Mesh {
 
     /// Largest ratio of the longest to the shortest edge over the elements (1 for cubes).
     pub fn max_aspect_ratio(&self) -> f64 {
-        self.elements
-            .iter()
-            .map(|conn| {
+        self.cells()
+            .map(|(conn, top)| {
                 let (lo, hi) =
-                    HEX_EDGES
-                        .iter()
-                        .fold((f64::INFINITY, 0.0f64), |(lo, hi), &(a, b)| {
-                            let l = norm(sub(
-                                self.nodes[conn[a] as usize],
-                                self.nodes[conn[b] as usize],
-                            ));
-                            (lo.min(l), hi.max(l))
-                        });
+                    (top.edges.iter()).fold((f64::INFINITY, 0.0f64), |(lo, hi), &(a, b)| {
+                        let l = norm(sub(
+                            self.nodes[conn[a] as usize],
+                            self.nodes[conn[b] as usize],
+                        ));
+                        (lo.min(l), hi.max(l))
+                    });
                 hi / lo
             })
-            .chain(self.tets.iter().map(|conn| {
-                let (lo, hi) =
-                    tet::TET_EDGES
-                        .iter()
-                        .fold((f64::INFINITY, 0.0f64), |(lo, hi), &(a, b)| {
-                            let l = norm(sub(
-                                self.nodes[conn[a] as usize],
-                                self.nodes[conn[b] as usize],
-                            ));
-                            (lo.min(l), hi.max(l))
-                        });
-                hi / lo
-            }))
             .fold(0.0, f64::max)
     }
 
     pub fn min_edge(&self) -> f64 {
         let mut m = f64::INFINITY;
-        for conn in &self.elements {
-            for &(a, b) in &HEX_EDGES {
-                m = m.min(norm(sub(
-                    self.nodes[conn[a] as usize],
-                    self.nodes[conn[b] as usize],
-                )));
-            }
-        }
-        for conn in &self.tets {
-            for &(a, b) in &tet::TET_EDGES {
+        for (conn, top) in self.cells() {
+            for &(a, b) in top.edges {
                 m = m.min(norm(sub(
                     self.nodes[conn[a] as usize],
                     self.nodes[conn[b] as usize],
@@ -422,25 +342,72 @@ impl Mesh {
     }
 }
 
-#[inline]
-pub fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+/// An element type's faces and edges, as the mesh's loops read them ([`Element`]).
+#[derive(Debug, Clone, Copy)]
+pub struct Topology {
+    /// [`Element::FACES`].
+    pub faces: &'static [&'static [usize]],
+    /// [`Element::EDGES`].
+    pub edges: &'static [(usize, usize)],
 }
-#[inline]
-pub fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+impl Topology {
+    pub const fn of<E: Element>() -> Topology {
+        Topology {
+            faces: E::FACES,
+            edges: E::EDGES,
+        }
+    }
+
+    /// Local face `f` of the element of nodes `conn` as mesh nodes, a triangle [a, b, c] as the
+    /// degenerate quadrilateral [a, b, c, c] of the face sets ([`Mesh::face_sets`]).
+    pub fn face(conn: &[u32], f: &[usize]) -> [u32; 4] {
+        [conn[f[0]], conn[f[1]], conn[f[2]], conn[f[f.len() - 1]]]
+    }
 }
-#[inline]
-pub fn norm(a: [f64; 3]) -> f64 {
-    dot(a, a).sqrt()
-}
-#[inline]
-pub fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
+
+/// The faces (`faces`, [`Element::FACES`]) of the elements `conns` that belong to one of them
+/// only, as [`Topology::face`] quadrilaterals with their element's index in `conns`, by element
+/// and in the order of `faces`. A face is interior when another element holds its nodes; the
+/// candidates are the few elements around its first node (compressed rows, 4 bytes per node and
+/// per element node: a hash map of every face took many times that at its peak, while the
+/// recorder starts beside the solver's set-up).
+fn exposed_faces<const N: usize>(
+    nodes: usize,
+    conns: &[[u32; N]],
+    faces: &[&[usize]],
+) -> Vec<([u32; 4], u32)> {
+    let mut start = vec![0u32; nodes + 1];
+    for conn in conns {
+        for &a in conn {
+            start[a as usize + 1] += 1;
+        }
+    }
+    for i in 0..nodes {
+        start[i + 1] += start[i];
+    }
+    let mut around = vec![0u32; start[nodes] as usize];
+    let mut fill = start.clone();
+    for (e, conn) in conns.iter().enumerate() {
+        for &a in conn {
+            around[fill[a as usize] as usize] = e as u32;
+            fill[a as usize] += 1;
+        }
+    }
+    drop(fill);
+    let mut out = Vec::new();
+    for (e, conn) in conns.iter().enumerate() {
+        for f in faces {
+            let quad = Topology::face(conn, f);
+            let a0 = quad[0] as usize;
+            let shared = (around[start[a0] as usize..start[a0 + 1] as usize].iter())
+                .any(|&e2| e2 as usize != e && quad.iter().all(|q| conns[e2 as usize].contains(q)));
+            if !shared {
+                out.push((quad, e as u32));
+            }
+        }
+    }
+    out
 }
 
 #[cfg(test)]
@@ -465,7 +432,7 @@ mod tests {
         let mut count: std::collections::HashMap<[u32; 4], (usize, [u32; 4], u32)> =
             std::collections::HashMap::new();
         for (e, conn) in m.elements.iter().enumerate() {
-            for f in HEX_FACES {
+            for f in crate::element::hex8::FACES {
                 let quad = f.map(|a| conn[a]);
                 let mut key = quad;
                 key.sort_unstable();

@@ -5,7 +5,7 @@
 //! `split+`, the upper side's (outward normal −e_a), which a `[[bond]]` joins again node by
 //! node.
 
-use super::{Mesh, HEX_FACES, TET_FACES};
+use super::{Mesh, Topology};
 use std::collections::{BTreeMap, BTreeSet};
 
 /// The face sets a split adds, lower side first.
@@ -61,12 +61,8 @@ impl Mesh {
                 cut.extend(conn.iter().filter(|&&n| on(n)));
             }
         };
-        for conn in &self.elements {
-            side(conn, &mut HEX_FACES.iter().map(|f| f.map(|a| conn[a])));
-        }
-        for conn in &self.tets {
-            let tri = |f: &[usize; 3]| [conn[f[0]], conn[f[1]], conn[f[2]], conn[f[2]]];
-            side(conn, &mut TET_FACES.iter().map(tri));
+        for (conn, top) in self.cells() {
+            side(conn, &mut top.faces.iter().map(|f| Topology::face(conn, f)));
         }
         if lower.is_empty() || upper.is_empty() {
             return Err(format!(

@@ -5,13 +5,8 @@
 //! Node numbering: Gmsh's, with a positive volume V = det[X₁ − X₀, X₂ − X₀, X₃ − X₀]/6.
 
 use super::{GeometryError, Mesh};
-
-/// Local faces of a tetrahedron, each outward (counter-clockwise seen from outside): the faces
-/// opposite nodes 3, 2, 0 and 1.
-pub const TET_FACES: [[usize; 3]; 4] = [[0, 2, 1], [0, 1, 3], [1, 2, 3], [0, 3, 2]];
-
-/// The 6 edges of a tetrahedron (local node pairs).
-pub const TET_EDGES: [(usize, usize); 6] = [(0, 1), (1, 2), (2, 0), (0, 3), (1, 3), (2, 3)];
+pub use crate::element::tet4::{tet_deformation_gradient, tet_gradients, TET_EDGES, TET_FACES};
+use crate::element::{Element, Tet4};
 
 /// Reference data of the tetrahedra of a mesh (model §1.13), one entry per tetrahedron in the
 /// order of [`Mesh::tets`].
@@ -26,83 +21,7 @@ pub struct TetData {
     pub node_volume: Vec<f64>,
 }
 
-/// det[X₁ − X₀, X₂ − X₀, X₃ − X₀] = 6V of a tetrahedron, and its inverse matrix D⁻¹ of
-/// D = [X₁ − X₀ | X₂ − X₀ | X₃ − X₀] (columns), from which ∇ₓNₐ are the rows of D⁻¹
-/// (a = 1, 2, 3) and ∇ₓN₀ = −Σ of them: X = X₀ + D ξ, N₀ = 1 − ξ₁ − ξ₂ − ξ₃, Nₖ = ξₖ, so
-/// ∇ₓNₐ = D⁻ᵀ ∂Nₐ/∂ξ.
-pub fn tet_gradients(x: &[[f64; 3]; 4]) -> (f64, [[f64; 3]; 4]) {
-    let d = nalgebra::Matrix3::from_fn(|i, k| x[k + 1][i] - x[0][i]);
-    let det = d.determinant();
-    let inv = d
-        .try_inverse()
-        .unwrap_or_else(|| nalgebra::Matrix3::from_element(f64::NAN));
-    let mut g = [[0.0; 3]; 4];
-    for k in 0..3 {
-        for j in 0..3 {
-            g[k + 1][j] = inv[(k, j)];
-            g[0][j] -= inv[(k, j)];
-        }
-    }
-    (det, g)
-}
-
-/// F = I + Σₐ uₐ ⊗ ∇ₓNₐ of a tetrahedron (model §1.13), constant over it.
-#[inline]
-pub fn tet_deformation_gradient(g: &[[f64; 3]; 4], ue: &[[f64; 3]; 4]) -> [[f64; 3]; 3] {
-    let mut f = [[0.0; 3]; 3];
-    for (i, row) in f.iter_mut().enumerate() {
-        row[i] = 1.0;
-        for (j, fij) in row.iter_mut().enumerate() {
-            for a in 0..4 {
-                *fij += ue[a][i] * g[a][j];
-            }
-        }
-    }
-    f
-}
-
 impl Mesh {
-    /// Faces of the tetrahedra that belong to one tetrahedron only, each ordered outward
-    /// ([`TET_FACES`]), with its tetrahedron's index among [`Mesh::tets`]; sorted by
-    /// tetrahedron. A face shared with another tetrahedron is interior (a triangle never
-    /// matches a hexahedron's quadrilateral face).
-    pub fn boundary_triangles(&self) -> Vec<([u32; 3], u32)> {
-        let n = self.nodes.len();
-        let mut start = vec![0u32; n + 1];
-        for conn in &self.tets {
-            for &a in conn {
-                start[a as usize + 1] += 1;
-            }
-        }
-        for i in 0..n {
-            start[i + 1] += start[i];
-        }
-        let mut around = vec![0u32; start[n] as usize];
-        let mut fill = start.clone();
-        for (t, conn) in self.tets.iter().enumerate() {
-            for &a in conn {
-                around[fill[a as usize] as usize] = t as u32;
-                fill[a as usize] += 1;
-            }
-        }
-        let mut out = Vec::new();
-        for (t, conn) in self.tets.iter().enumerate() {
-            for f in TET_FACES {
-                let tri = f.map(|a| conn[a]);
-                let a0 = tri[0] as usize;
-                let shared = around[start[a0] as usize..start[a0 + 1] as usize]
-                    .iter()
-                    .any(|&t2| {
-                        t2 as usize != t && tri.iter().all(|q| self.tets[t2 as usize].contains(q))
-                    });
-                if !shared {
-                    out.push((tri, t as u32));
-                }
-            }
-        }
-        out
-    }
-
     /// The same body with each hexahedron cut into the 6 tetrahedra of Kuhn's (Freudenthal's)
     /// decomposition — the paths from the local corner (−1, −1, −1) to (1, 1, 1) along the
     /// three axes in each order — and each face-set quadrilateral into the 2 triangles of that
@@ -199,19 +118,17 @@ impl Mesh {
             ],
         };
         for (t, conn) in self.tets.iter().enumerate() {
-            let (det, g) = tet_gradients(&self.tet_coords(t));
-            if !(det > 0.0) {
-                return Err(GeometryError {
-                    element: self.elements.len() + t,
-                    det_j0: det,
-                });
+            let r = Tet4::reference(&self.tet_coords(t)).map_err(|det_j0| GeometryError {
+                element: self.elements.len() + t,
+                det_j0,
+            })?;
+            let mut lumped = [0.0; 4];
+            Tet4::lumped_volumes(&r, &mut lumped);
+            for (&a, v) in conn.iter().zip(lumped) {
+                data.node_volume[a as usize] += v;
             }
-            let v = det / 6.0;
-            for &a in conn {
-                data.node_volume[a as usize] += 0.25 * v;
-            }
-            data.grad.push(g);
-            data.volume.push(v);
+            data.grad.push(r.grad);
+            data.volume.push(r.volume);
         }
         Ok(data)
     }

@@ -248,7 +248,7 @@ pub(super) fn class_bounds(
                         cd.volume * (0..3).map(|j| cd.b[a][j] * cd.b[b][j]).sum::<f64>()
                     };
                     if !full {
-                        let k = crate::material::element::hourglass_stiffness(mat, cd, kappa);
+                        let k = crate::element::hex8::hourglass_stiffness(mat, cd, kappa);
                         hg[a][b] = k
                             * (0..4)
                                 .map(|al| cd.gamma[al][a] * cd.gamma[al][b])

@@ -2,12 +2,11 @@
 //! functions, the 2×2×2 Gauss points, and what the total Lagrangian formulation computes once
 //! per element shape — gradients ∇ₓNₐ (the stable-step bound's), ⅛J₀⁻¹ (the full kernel's) and
 //! weights w·det J₀ at the Gauss points ([`GaussData`]),
-//! the one-point data with hourglass vectors ([`CentreData`]), lumped volumes — grouped by shape
-//! into [`ElementClasses`].
+//! the one-point data with hourglass vectors ([`CentreData`]), lumped volumes, and the constant
+//! of the corner-Jacobian bound ([`corner_bound_constant`]).
 
-use super::{cross, dot, sub, Mesh};
+use crate::vec3::{cross, dot, sub};
 use nalgebra::{Matrix3, Matrix4, RowVector3};
-use std::collections::HashMap;
 
 /// Parent coordinates (ξ, η, ζ) of the 8 nodes of the reference hexahedron.
 pub const HEX_CORNERS: [[f64; 3]; 8] = [
@@ -63,14 +62,14 @@ pub struct GaussData {
     /// Integration weight times reference Jacobian, w_q det J₀(ξ_q) [m³].
     pub wdet: [f64; 8],
     /// ⅛ ∂ξ_d/∂Xⱼ at each Gauss point, `jinv[d][j][q]` [1/m]: what the sum-factorised kernels
-    /// turn the parent derivatives 8 ∂u/∂ξ into H with (`material::tensor`, (T1)).
+    /// turn the parent derivatives 8 ∂u/∂ξ into H with (`element::hex8::tensor`, (T1)).
     pub jinv: [[[f64; 8]; 3]; 3],
-    /// The same times w_q det J₀(ξ_q), `wjinv[d][j][q]` [m²] (`material::tensor`, (T2)).
+    /// The same times w_q det J₀(ξ_q), `wjinv[d][j][q]` [m²] (`element::hex8::tensor`, (T2)).
     pub wjinv: [[[f64; 8]; 3]; 3],
     /// J₀ is diagonal at every Gauss point (an axis-aligned box), and then the same at every
     /// point (the mean of the eight computed, which differ by rounding): ∂ξ_d/∂Xⱼ = 0 for d ≠ j,
     /// so the full kernels form H and the forces through the modes of the trilinear field with
-    /// the factors ⅛ ∂ξ_d/∂X_d and ⅛ w det J₀ ∂ξ_d/∂X_d (`material::tensor`, (T4)).
+    /// the factors ⅛ ∂ξ_d/∂X_d and ⅛ w det J₀ ∂ξ_d/∂X_d (`element::hex8::tensor`, (T4)).
     pub axis_aligned: bool,
 }
 
@@ -84,14 +83,6 @@ fn zero_within_rounding(sum: f64, magnitude: f64) -> f64 {
     } else {
         sum
     }
-}
-
-/// Error in the reference geometry of an element (inverted or degenerate hexahedron).
-#[derive(Debug, Clone, thiserror::Error)]
-#[error("element {element} is degenerate or inverted in the reference configuration (det J₀ = {det_j0:e} at a Gauss point); check the node order")]
-pub struct GeometryError {
-    pub element: usize,
-    pub det_j0: f64,
 }
 
 impl GaussData {
@@ -134,7 +125,7 @@ impl GaussData {
         // ∂X_r/∂ξ_c, c ≠ r, vanish at the 8 points has no such terms): an axis-aligned box, whose
         // J₀ is one constant diagonal matrix in exact arithmetic. The 8 computed ones differ from
         // it by rounding; each point takes their mean, so that the kernels may apply ⅛ J₀⁻¹ and
-        // ⅛ w det J₀ J₀⁻ᵀ to sums over points (`material::tensor`, (T4)).
+        // ⅛ w det J₀ J₀⁻ᵀ to sums over points (`element::hex8::tensor`, (T4)).
         if gd.axis_aligned {
             let mean = nalgebra::Matrix3::from_diagonal(
                 &(jacobians
@@ -190,6 +181,33 @@ impl GaussData {
     }
 }
 
+/// Local faces of a hexahedron, each outward (counter-clockwise seen from outside; the node
+/// order of [`HEX_CORNERS`]).
+pub const FACES: [[usize; 4]; 6] = [
+    [0, 3, 2, 1],
+    [4, 5, 6, 7],
+    [0, 1, 5, 4],
+    [1, 2, 6, 5],
+    [2, 3, 7, 6],
+    [3, 0, 4, 7],
+];
+
+/// The 12 edges of a hex8 (local node pairs).
+pub const EDGES: [(usize, usize); 12] = [
+    (0, 1),
+    (1, 2),
+    (2, 3),
+    (3, 0),
+    (4, 5),
+    (5, 6),
+    (6, 7),
+    (7, 4),
+    (0, 4),
+    (1, 5),
+    (2, 6),
+    (3, 7),
+];
+
 /// Hourglass base vectors hᵅ of the hexahedron (α = 1..4: ξη, ηζ, ζξ, ξηζ at the nodes), in the
 /// node order of [`HEX_CORNERS`] (Flanagan & Belytschko 1981).
 pub fn hourglass_vectors() -> [[f64; 8]; 4] {
@@ -218,7 +236,7 @@ pub struct CentreData {
     pub bb: f64,
     /// An axis-aligned box ([`GaussData::axis_aligned`]): then bₐ = sₐ ⊙ β (sₐ the node's signs,
     /// [`HEX_CORNERS`]) and γᵅ = hᵅ hold exactly, and the one-point kernels take the modal
-    /// path (`material::tensor`, (T3)).
+    /// path (`element::hex8::tensor`, (T3)).
     pub axis_aligned: bool,
     /// β_d = |b_{a,d}| on an axis-aligned box, 1/(8 ∂X_d/∂ξ_d) [1/m] (the mean of the eight
     /// |b_{a,d}|); 0 on other shapes.
@@ -350,70 +368,6 @@ impl CentreData {
             cd.jinv0 = std::array::from_fn(|d| std::array::from_fn(|i| inv[(d, i)]));
         }
         cd
-    }
-}
-
-/// Element shapes deduplicated: elements that are translates of each other share their
-/// Gauss data (a structured box has a single class), which keeps memory per element small and
-/// the gradients hot in cache.
-#[derive(Debug, Clone)]
-pub struct ElementClasses {
-    pub data: Vec<GaussData>,
-    /// One-point data of the same classes.
-    pub centre: Vec<CentreData>,
-    /// Class index of each element.
-    pub class_of: Vec<u32>,
-    /// Per element e: the elements numbered e, …, e + 7 are a row along x of a structured
-    /// numbering ([`crate::kernels::row_starts`]), whose lane group the element loops gather
-    /// and scatter line by line.
-    pub row_start: Vec<bool>,
-    /// The tetrahedra's reference data (model §1.13; empty without tetrahedra).
-    pub tets: super::TetData,
-}
-
-impl Mesh {
-    /// Reference coordinates of the nodes of element `e`.
-    pub fn element_coords(&self, e: usize) -> [[f64; 3]; 8] {
-        self.elements[e].map(|n| self.nodes[n as usize])
-    }
-
-    /// Groups elements by shape (translation-invariant, tolerance 1e-9 of the element size) and
-    /// computes the Gauss data of each class once.
-    pub fn element_classes(&self) -> Result<ElementClasses, GeometryError> {
-        let mut index: HashMap<[i64; 21], u32> = HashMap::new();
-        let mut data = Vec::new();
-        let mut centre = Vec::new();
-        let mut class_of = Vec::with_capacity(self.elements.len());
-        for e in 0..self.elements.len() {
-            let x = self.element_coords(e);
-            let size = (1..8)
-                .flat_map(|a| (0..3).map(move |c| (a, c)))
-                .map(|(a, c)| (x[a][c] - x[0][c]).abs())
-                .fold(0.0, f64::max);
-            let tol = (size * 1e-9).max(f64::MIN_POSITIVE);
-            let mut key = [0i64; 21];
-            for a in 1..8 {
-                for c in 0..3 {
-                    key[(a - 1) * 3 + c] = ((x[a][c] - x[0][c]) / tol).round() as i64;
-                }
-            }
-            let next = data.len() as u32;
-            let class = *index.entry(key).or_insert(next);
-            if class == next {
-                let gd =
-                    GaussData::new(&x).map_err(|det_j0| GeometryError { element: e, det_j0 })?;
-                centre.push(CentreData::new(&x, &gd));
-                data.push(gd);
-            }
-            class_of.push(class);
-        }
-        Ok(ElementClasses {
-            data,
-            centre,
-            class_of,
-            row_start: super::rows::row_starts(&self.elements),
-            tets: self.tet_data()?,
-        })
     }
 }
 

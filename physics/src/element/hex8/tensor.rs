@@ -46,7 +46,7 @@
 //! P, summed over the directions into the modes of the nodal field, then the transpose of (T3)
 //! ([`box_forces`]).
 
-use super::real::Real;
+use crate::material::Real;
 use std::ops::{Add, Sub};
 
 /// The Gauss coordinate g = 1/√3 (`mesh::gauss_points`; equal bits, tested).
@@ -423,8 +423,8 @@ pub(crate) fn modes_to_nodes<T: Copy + Add<Output = T> + Sub<Output = T>>(mut m:
 
 #[cfg(test)]
 mod tests {
+    use super::super::reference::{gauss_points, shape_derivatives, HEX_CORNERS};
     use super::*;
-    use crate::mesh::{gauss_points, shape_derivatives, HEX_CORNERS};
 
     #[test]
     fn gauss_coordinate_is_the_mesh_one() {

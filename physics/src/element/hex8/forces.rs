@@ -7,17 +7,17 @@
 //! [`super::kinematics`]; what stays here is each kernel's data layout and its sums. The lane
 //! kernels are compiled once per [`Law`], so that their bodies are straight-line code.
 
-use super::kinematics::{
-    displacement_gradient, hourglass_energy, hourglass_modes, lane_sums_by_halves, row_dot,
-    Deformation,
-};
-use super::real::{F64x8, Lanes, Mat3, Real};
+use super::reference::{CentreData, GaussData};
 use super::tensor::{
     box_factors, box_forces, box_gradient, modes_to_nodes, node_modes, parent_forces,
     parent_gradient, HOURGLASS_AT, NODE_AT,
 };
-use super::{first_piola, with_law, Law, Material};
-use crate::mesh::{CentreData, GaussData};
+use crate::material::kinematics::{
+    displacement_gradient, hourglass_energy, hourglass_modes, lane_sums_by_halves, row_dot,
+    Deformation,
+};
+use crate::material::{first_piola, with_law, Law, Material};
+use crate::material::{F64x8, Lanes, Mat3, Real};
 
 /// Hourglass stiffness of one element, k = κ M V Σₐ bₐ·bₐ / 8 [N/m] with
 /// M = [`Material::hourglass_modulus`] (λ + 2μ; 11μ₀ for a rubber, model §1.10)
@@ -94,10 +94,10 @@ pub(crate) fn element_forces_law<L: Law, const ENERGY: bool, const FMA: bool>(
 }
 
 /// [`element_forces`] for the law `L`: the parent derivatives by sum factorisation
-/// ([`parent_gradient`], (T1) of `material::tensor`), H_q = D_q·(⅛ J₀⁻¹) and P at the 8 points
+/// ([`parent_gradient`], (T1) of `element::hex8::tensor`), H_q = D_q·(⅛ J₀⁻¹) and P at the 8 points
 /// in lanes, Q_q = P_q·(w_q det J₀ ⅛ J₀⁻ᵀ), the forces by the transpose ([`parent_forces`], (T2));
 /// on an axis-aligned box H and the forces through the modes of the trilinear field
-/// ([`box_gradient`], [`box_forces`]: (T4) of `material::tensor` and its transpose).
+/// ([`box_gradient`], [`box_forces`]: (T4) of `element::hex8::tensor` and its transpose).
 #[inline(always)]
 fn full<L: Law, const ENERGY: bool, const FMA: bool>(
     mat: &Material,
@@ -209,7 +209,7 @@ pub fn element_forces_reduced<const ENERGY: bool>(
 }
 
 /// [`element_forces_reduced`] on an axis-aligned box ([`CentreData::axis_aligned`]), through the
-/// modes of the trilinear field (`material::tensor`, (T3)): per component i the 8 modal
+/// modes of the trilinear field (`element::hex8::tensor`, (T3)): per component i the 8 modal
 /// amplitudes m of uᵢ, H_id = β_d m_{d}, qᵅᵢ = m_{hᵅ}; then P, and the forces as the nodal
 /// field of the amplitudes V β_d P_id and k qᵅᵢ ([`modes_to_nodes`]). The equations of the
 /// general kernel with bₐ = sₐ ⊙ β and γᵅ = hᵅ, summed in another order.
@@ -506,9 +506,9 @@ fn box_lanes<L: Law, const ENERGY: bool, const FMA: bool, const W: usize>(
 
 #[cfg(test)]
 mod tests {
+    use super::super::reference::HEX_CORNERS;
     use super::*;
     use crate::material::MaterialModel;
-    use crate::mesh::HEX_CORNERS;
 
     /// The 8-lane one-point kernel gives the scalar kernel's forces and energies on 8
     /// different distorted elements with large displacements (both models, with and without
