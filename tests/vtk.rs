@@ -332,3 +332,42 @@ fn an_unwritable_directory_is_named_before_the_run() {
     // Nothing ran: no summary table.
     assert!(!String::from_utf8_lossy(&out.stdout).contains("status"));
 }
+
+/// A tetrahedral mesh (the `rubber_peel` strip from Gmsh) in ParaView: every cell a
+/// tetrahedron (VTK type 10) in the mesh's node order, four nodes each, one cell per element of
+/// the summary, and no inverted element in the frame (J > 0).
+#[test]
+fn tetrahedra_read_back_as_vtk_tetra() {
+    let scene = "scenes/rubber_peel.toml";
+    let dir = scratch("tetrahedra");
+    let (json, vtk) = (dir.join("summary.json"), dir.join("vtk"));
+    let out = decohesion(&[
+        "run",
+        scene,
+        "--quiet",
+        "--set",
+        "end_time=2e-6",
+        "--vtk",
+        vtk.to_str().unwrap(),
+        "--summary",
+        json.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let s = summary(&json);
+    let model = load_scene(Path::new(scene), &["end_time=2e-6".into()])
+        .unwrap()
+        .model;
+    let mesh = &model.mesh;
+    assert!(mesh.elements.is_empty() && !mesh.tets.is_empty());
+    let entries = read_pvd(&vtk.join("rubber_peel.pvd"));
+    let g = read_vtu(&vtk.join(&entries.last().unwrap().1));
+    let flat_conn: Vec<u64> = mesh.tets.iter().flatten().map(|&n| n as u64).collect();
+    assert_eq!(g.connectivity, flat_conn);
+    assert_eq!(g.types.len(), s["elements"].as_u64().unwrap() as usize);
+    assert!(g.types.iter().all(|&t| t == CellType::Tetra));
+    assert!(g.cell["J"].iter().all(|&j| j > 0.0));
+}

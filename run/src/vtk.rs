@@ -49,7 +49,6 @@ mod moulds;
 
 pub use moulds::VTK_TRIANGLE;
 
-use crate::element::{Element, Hex8, Tet4};
 use crate::law::InterfaceState;
 use crate::model::Model;
 use crate::output::fields::centre_fields;
@@ -67,11 +66,6 @@ use std::time::{Duration, Instant};
 /// Value of `alpha` and `state` on nodes that are not interface nodes (α ≥ 0 and states ≥ 0
 /// otherwise, so ParaView's *Threshold* on `state` ≥ 0 selects the interface).
 pub const NOT_INTERFACE: i8 = -1;
-
-/// VTK cell type of the 8-node hexahedron (`VTK_HEXAHEDRON`).
-pub const VTK_HEXAHEDRON: u8 = <Hex8 as Element>::VTK_TYPE;
-/// VTK cell type of the 4-node tetrahedron (`VTK_TETRA`).
-pub const VTK_TETRA: u8 = <Tet4 as Element>::VTK_TYPE;
 
 /// Opening and closing of the `.pvd` collection.
 const PVD_HEAD: &str = "<?xml version=\"1.0\"?>\n\
@@ -293,20 +287,17 @@ impl Series {
             &points,
         );
         mesh_xml.push_str("      </Points>\n      <Cells>\n");
-        // The mesh's node order (0–3 on ζ = −1 counter-clockwise seen from +ζ, 4–7 above)
-        // is VTK's for a hexahedron.
-        // Then the tetrahedra (VTK_TETRA), whose node order (positive volume) is VTK's too.
-        let connectivity: Vec<i64> = (mesh.elements.iter().flatten())
-            .chain(mesh.tets.iter().flatten())
-            .map(|&n| n as i64)
-            .collect();
-        let n_hex = mesh.elements.len() as i64;
-        let offsets: Vec<i64> = (1..=n_hex)
-            .map(|k| 8 * k)
-            .chain((1..=mesh.tets.len() as i64).map(|k| 8 * n_hex + 4 * k))
-            .collect();
-        let mut types = vec![VTK_HEXAHEDRON; mesh.elements.len()];
-        types.resize(mesh.element_count(), VTK_TETRA);
+        // Each element type's node order is VTK's for its cell type (`Element::VTK_TYPE`):
+        // for the hexahedron 0–3 on ζ = −1 counter-clockwise seen from +ζ, 4–7 above; for the
+        // tetrahedron a positive volume.
+        let mut connectivity: Vec<i64> = Vec::new();
+        let mut offsets: Vec<i64> = Vec::with_capacity(mesh.element_count());
+        let mut types: Vec<u8> = Vec::with_capacity(mesh.element_count());
+        for (conn, top) in mesh.cells() {
+            connectivity.extend(conn.iter().map(|&n| n as i64));
+            offsets.push(connectivity.len() as i64);
+            types.push(top.vtk_type);
+        }
         data_array(
             &mut mesh_xml,
             &mut bytes,

@@ -102,10 +102,12 @@ pub fn read_vtu(path: &Path) -> Grid {
         data,
     } = *piece;
     let (connectivity, offsets) = cells.cell_verts.into_xml();
-    // Hexahedra (the body) or triangles (a mould).
+    // Hexahedra and tetrahedra (the body) or triangles (a mould).
     let corners = |t: &CellType| match t {
         CellType::Triangle => 3,
-        _ => 8,
+        CellType::Tetra => 4,
+        CellType::Hexahedron => 8,
+        other => panic!("unexpected VTK cell type {other:?}"),
     };
     let ends: Vec<u64> = cells
         .types

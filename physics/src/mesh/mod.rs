@@ -349,6 +349,8 @@ pub struct Topology {
     pub faces: &'static [&'static [usize]],
     /// [`Element::EDGES`].
     pub edges: &'static [(usize, usize)],
+    /// [`Element::VTK_TYPE`].
+    pub vtk_type: u8,
 }
 
 impl Topology {
@@ -356,6 +358,7 @@ impl Topology {
         Topology {
             faces: E::FACES,
             edges: E::EDGES,
+            vtk_type: E::VTK_TYPE,
         }
     }
 
