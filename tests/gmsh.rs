@@ -347,6 +347,22 @@ fn non_hexahedral_volume_element_is_named() {
     let m = parse_msh(text.as_bytes(), "dir/mixed.msh").unwrap();
     assert_eq!((m.elements.len(), m.tets.len()), (1, 1));
     assert!((m.tet_data().unwrap().volume[0] - 1.0 / 6.0).abs() < 1e-15);
+    // A prism (type 6) beside it: refused, with the types that are read.
+    let text = one_hex(HEX, "", 0)
+        .replace(
+            "3 1 5 1\n1 11 13 15 17 19 21 23 25\n",
+            "3 1 5 1\n1 11 13 15 17 19 21 23 25\n3 1 6 1\n4 11 13 15 17 19 21\n",
+        )
+        .replace("$Elements\n3 3 1 3", "$Elements\n4 4 1 4");
+    let e = msh_error(&text);
+    assert_has(
+        &e,
+        &[
+            "dir/bad.msh",
+            "element 4 (type 6, 6-node prism, in volume 1)",
+            "the 8-node hexahedron (type 5) and the 4-node tetrahedron (type 4)",
+        ],
+    );
 }
 
 #[test]

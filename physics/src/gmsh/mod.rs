@@ -208,6 +208,31 @@ impl FileNodes {
     }
 }
 
+/// The element types a volume may hold, for messages: "8-node hexahedron (type 5){join}4-node
+/// tetrahedron (type 4)".
+fn volume_types(join: &str) -> String {
+    format!(
+        "{} (type {HEX8}){join}{} (type {TET4})",
+        Hex8::NAME,
+        Tet4::NAME
+    )
+}
+
+/// The `N` nodes of element `tag` as file node indices, in the mesh's order (Gmsh's, for the
+/// hexahedron [`GMSH_HEX8_ORDER`] and the tetrahedron alike).
+fn element_nodes<const N: usize>(
+    file_nodes: &[u64],
+    tag: u64,
+    nodes: &FileNodes,
+    err: &MeshErr,
+) -> Result<[usize; N], MshError> {
+    let mut conn = [0usize; N];
+    for (a, slot) in conn.iter_mut().enumerate() {
+        *slot = nodes.get(file_nodes[a], tag, err)?;
+    }
+    Ok(conn)
+}
+
 /// Hexahedra and tetrahedra (file node indices, element tag), and the faces of each physical
 /// surface group (quads; a triangle [a, b, c] as [a, b, c, c]).
 struct Elements {
@@ -243,28 +268,24 @@ fn read_elements(
         match block.entity_dim {
             3 => {
                 for el in &block.elements {
-                    if ty == TET4 {
-                        let mut conn = [0usize; 4];
-                        for (a, slot) in conn.iter_mut().enumerate() {
-                            *slot = nodes.get(el.nodes[a], el.element_tag, err)?;
+                    let tag = el.element_tag;
+                    match ty {
+                        HEX8 => out
+                            .hexes
+                            .push((element_nodes(&el.nodes, tag, nodes, err)?, tag)),
+                        TET4 => out
+                            .tets
+                            .push((element_nodes(&el.nodes, tag, nodes, err)?, tag)),
+                        _ => {
+                            return Err(err.at(format!(
+                                "element {tag} ({}, in volume {}): the volume elements read \
+                                 are the {}",
+                                type_name(ty),
+                                block.entity_tag,
+                                volume_types(" and the ")
+                            )))
                         }
-                        out.tets.push((conn, el.element_tag));
-                        continue;
                     }
-                    if ty != HEX8 {
-                        return Err(err.at(format!(
-                            "element {} ({}, in volume {}): only 8-node hexahedra (type 5) \
-                             and 4-node tetrahedra (type 4) are supported",
-                            el.element_tag,
-                            type_name(ty),
-                            block.entity_tag
-                        )));
-                    }
-                    let mut conn = [0usize; 8];
-                    for (a, slot) in conn.iter_mut().enumerate() {
-                        *slot = nodes.get(el.nodes[GMSH_HEX8_ORDER[a]], el.element_tag, err)?;
-                    }
-                    out.hexes.push((conn, el.element_tag));
                 }
             }
             2 => {
@@ -317,11 +338,10 @@ fn volume_mesh(
     err: &MeshErr,
 ) -> Result<(Mesh, Vec<u32>), MshError> {
     if hexes.is_empty() && tets.is_empty() {
-        return Err(err.at(
-            "no 8-node hexahedron (type 5) or 4-node tetrahedron (type 4) in the file: the \
-             body must be meshed with hexahedra or tetrahedra"
-                .into(),
-        ));
+        return Err(err.at(format!(
+            "no {} in the file: the body must be meshed with hexahedra or tetrahedra",
+            volume_types(" or ")
+        )));
     }
     let mut new_index = vec![u32::MAX; coords.len()];
     let used = (hexes.iter().flat_map(|h| h.0.iter())).chain(tets.iter().flat_map(|t| t.0.iter()));
