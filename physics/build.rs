@@ -1,15 +1,17 @@
 //! The registries generated from the files that declare their entries: the interface-law
-//! families (`src/interface/laws/*.rs`), the mould shapes (`src/mould/shapes/*.rs`) and the
-//! rubber families (`src/material/rubber/families/*.rs`).
+//! families (`src/interface/laws/*.rs`), the mould shapes (`src/mould/shapes/*.rs`), the
+//! rubber families (`src/material/rubber/families/*.rs`) and the compressible bulk laws
+//! (`src/material/compressible/*.rs`).
 //!
 //! Every file `<dir>/<name>.rs` other than `mod.rs` is one entry: it declares a type named after
 //! the file in CamelCase (`plateau_linear.rs` → `PlateauLinear`, `half_space.rs` → `HalfSpace`)
 //! that implements the folder's trait (`interface::family::Family`, `mould::shapes::MouldShape`,
-//! `material::rubber::Family`).
+//! `material::rubber::Family`, `material::compressible::Compressible`).
 //! This script writes `$OUT_DIR/<registry>.rs`, which the folder's `mod.rs` includes: one `mod`
 //! line per file and one line of the folder's macro (`families!`, `shapes!`,
-//! `rubber_families!`) per entry (its index
-//! in the table, its type, its module and its file name as a string — the scene key of a shape),
+//! `rubber_families!`, `compressible_laws!`) per entry (its index
+//! in the table, its type, its module and its file name as a string — the scene key of a shape
+//! or of a compressible law),
 //! in the order of the file names. Adding an entry is adding its file: no list is edited by hand.
 //! (Being declared in a generated file, the entries are not reached by `cargo fmt`: `.ci/run`
 //! runs `rustfmt --check` on them by path.)
@@ -39,6 +41,13 @@ fn main() {
         "rubber_families.rs",
         "rubber_families",
         false,
+    );
+    register(
+        &manifest,
+        "src/material/compressible",
+        "compressible_laws.rs",
+        "compressible_laws",
+        true,
     );
 }
 
@@ -85,6 +94,11 @@ fn register(manifest: &str, folder: &str, out: &str, macro_name: &str, with_key:
     )
     .unwrap();
     writeln!(text, "{macro_name}! {{").unwrap();
+    // A `$` for the macros the registry's macro defines in turn (`with_law!`): a nested
+    // `macro_rules!` cannot write its own `$` otherwise.
+    if macro_name == "compressible_laws" {
+        writeln!(text, "    $;").unwrap();
+    }
     for (index, name) in names.iter().enumerate() {
         let key = if with_key {
             format!(" {name:?}")

@@ -220,11 +220,7 @@ impl App {
             .selected_text(s.material.as_str())
             .show_ui(ui, |ui| {
                 for model in MaterialModel::all() {
-                    let label = match (model, model.rubber_spec()) {
-                        (MaterialModel::Svk, _) => "svk (Saint-Venant–Kirchhoff)".to_string(),
-                        (_, Some(spec)) => format!("{} ({})", spec.key, spec.label),
-                        (_, None) => model.key().to_string(),
-                    };
+                    let label = format!("{} ({})", model.key(), model.label());
                     let takes_scene = match rubber {
                         None => model.rubber_spec().is_none(),
                         Some(_) => Some(model) == current,

@@ -1,10 +1,10 @@
 //! Hyperelastic bulk materials (model §1.3, §1.4, §1.10).
 //!
 //! Each constitutive model is written once, over any [`Real`] number type, in a file of its own
-//! with the bound of its tangent modulus that the stable step reads ([`Law`]):
-//! [`svk`] (S and ψ from E), [`compressible`] (the compressible neo-Hookean: P and ψ from F and
-//! J) and the nearly incompressible rubbers of [`rubber`] (one file per isochoric family, one
-//! kernel law for all of them).
+//! with the bound of its tangent modulus that the stable step reads ([`Law`]): the compressible
+//! laws of [`compressible`] from E and ν (`svk.rs`: S and ψ from E; `neo_hookean.rs`: P and ψ
+//! from F and J) and the nearly incompressible rubbers of [`rubber`] (one file per isochoric
+//! family, one kernel law for all of them); `physics/build.rs` registers the files of both.
 //! [`first_piola`] picks one by a [`Law`] type ([`with_law!`] turns a [`MaterialModel`] into
 //! one), and everything that evaluates a stress goes through it: the pointwise
 //! [`Material::piola_energy`] (post-processing and tests) and the element kernels of
@@ -19,7 +19,6 @@ pub mod compressible;
 pub(crate) mod kinematics;
 pub mod real;
 pub mod rubber;
-pub mod svk;
 
 pub(crate) use kinematics::{
     cofactor, deformation_gradient, determinant, displacement_gradient, hourglass_energy,
@@ -28,35 +27,23 @@ pub(crate) use kinematics::{
 pub use real::{F64x8, Lanes, Mat3, Real};
 
 pub use crate::tunables::RUBBER_HOURGLASS_SHEAR;
-pub use compressible::{neo_hookean, NeoHookeanLaw};
+pub use compressible::svk::saint_venant_kirchhoff;
+pub(crate) use compressible::with_law;
+pub use compressible::{neo_hookean::neo_hookean, MaterialModel, COMPRESSIBLE_KEYS};
 use kinematics::id;
 pub use kinematics::Deformation;
 use nalgebra::Matrix3;
 use serde::{Deserialize, Serialize};
-pub use svk::{saint_venant_kirchhoff, SvkLaw};
-
-/// Constitutive model.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum MaterialModel {
-    /// Saint-Venant–Kirchhoff ([`saint_venant_kirchhoff`]).
-    Svk,
-    /// Compressible neo-Hookean ([`neo_hookean`]).
-    NeoHookean,
-    /// A rubber with the isochoric/volumetric split, of one of the families of [`rubber`].
-    Rubber(rubber::RubberModel),
-}
 
 impl MaterialModel {
-    /// Every model: SVK, the compressible neo-Hookean, then the rubber families in the order
-    /// of [`rubber::RUBBERS`].
+    /// Every model: the compressible laws in the order of their files, then the rubber
+    /// families in the order of [`rubber::RUBBERS`].
     pub fn all() -> impl Iterator<Item = MaterialModel> {
-        [MaterialModel::Svk, MaterialModel::NeoHookean]
-            .into_iter()
-            .chain(
-                rubber::RubberModel::ALL
-                    .iter()
-                    .map(|&r| MaterialModel::Rubber(r)),
-            )
+        (MaterialModel::COMPRESSIBLE.iter().copied()).chain(
+            rubber::RubberModel::ALL
+                .iter()
+                .map(|&r| MaterialModel::Rubber(r)),
+        )
     }
 
     /// The keys of every model, in the order of [`MaterialModel::all`].
@@ -64,38 +51,33 @@ impl MaterialModel {
         &MODEL_KEYS
     }
 
-    /// The key of the model in scene files (`svk`, `mooney_rivlin`).
-    pub fn key(self) -> &'static str {
-        match self {
-            MaterialModel::Svk => "svk",
-            MaterialModel::NeoHookean => "neo_hookean",
-            MaterialModel::Rubber(r) => r.spec().key,
-        }
-    }
-
     /// The model of that key.
     pub fn from_key(key: &str) -> Option<MaterialModel> {
         MaterialModel::all().find(|m| m.key() == key)
     }
 
-    /// A rubber family's row ([`rubber::RUBBERS`]), None for SVK and the compressible
-    /// neo-Hookean (which take E and ν).
+    /// A rubber family's row ([`rubber::RUBBERS`]), None for a compressible law (which takes
+    /// E and ν).
     pub fn rubber_spec(self) -> Option<&'static rubber::RubberSpec> {
         match self {
             MaterialModel::Rubber(r) => Some(r.spec()),
-            MaterialModel::Svk | MaterialModel::NeoHookean => None,
+            _ => None,
         }
     }
 }
 
-/// The keys of every model (`material.model`): SVK, the compressible neo-Hookean, then the rubber
-/// families in the order of [`rubber::RUBBERS`] (so a family's file adds its key here).
-pub const MODEL_KEYS: [&str; 2 + rubber::RUBBERS.len()] = {
-    let mut keys = ["svk"; 2 + rubber::RUBBERS.len()];
-    keys[1] = "neo_hookean";
+/// The keys of every model (`material.model`): the compressible laws in the order of their files,
+/// then the rubber families in the order of [`rubber::RUBBERS`] (so a law's or a family's file
+/// adds its key here).
+pub const MODEL_KEYS: [&str; COMPRESSIBLE_KEYS.len() + rubber::RUBBERS.len()] = {
+    let mut keys = [""; COMPRESSIBLE_KEYS.len() + rubber::RUBBERS.len()];
     let mut i = 0;
-    while i < rubber::RUBBERS.len() {
-        keys[2 + i] = rubber::RUBBERS[i].key;
+    while i < COMPRESSIBLE_KEYS.len() {
+        keys[i] = COMPRESSIBLE_KEYS[i];
+        i += 1;
+    }
+    while i < keys.len() {
+        keys[i] = rubber::RUBBERS[i - COMPRESSIBLE_KEYS.len()].key;
         i += 1;
     }
     keys
@@ -332,28 +314,6 @@ pub(crate) fn gershgorin_lane(m: &Mat3<[f64; 8]>, q: usize) -> f64 {
         [m[2][0][q], m[2][1][q], m[2][2][q]],
     ])
 }
-
-/// `with_law!(model, L => expr)` evaluates `expr` with the type `L` standing for the [`Law`] of
-/// `model` (a [`MaterialModel`]): the one place where a model value becomes a type.
-macro_rules! with_law {
-    ($model:expr, $law:ident => $body:expr) => {
-        match $model {
-            $crate::material::MaterialModel::Svk => {
-                type $law = $crate::material::SvkLaw;
-                $body
-            }
-            $crate::material::MaterialModel::NeoHookean => {
-                type $law = $crate::material::NeoHookeanLaw;
-                $body
-            }
-            $crate::material::MaterialModel::Rubber(_) => {
-                type $law = $crate::material::RubberLaw;
-                $body
-            }
-        }
-    };
-}
-pub(crate) use with_law;
 
 /// Von Mises equivalent stress σ_vm = √(3/2 s:s), s = σ − ⅓ tr σ I the deviator of σ [Pa].
 pub fn von_mises_equivalent(sigma: &Matrix3<f64>) -> f64 {

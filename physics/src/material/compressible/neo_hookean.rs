@@ -1,13 +1,18 @@
 //! The compressible neo-Hookean (model §1.4): its stress and energy density over any [`Real`],
 //! and the bound of its tangent modulus that certifies the stable step (model §6.4).
 
-use super::kinematics::cofactor;
-use super::{gershgorin, gershgorin_lane, Deformation, Law, Mat3, Material, Real};
+use super::Compressible;
+use crate::material::kinematics::cofactor;
+use crate::material::{gershgorin, gershgorin_lane, Deformation, Law, Mat3, Material, Real};
 
 /// The compressible neo-Hookean as a [`Law`]: P and ψ of [`neo_hookean`] from F and J.
-pub struct NeoHookeanLaw;
+pub struct NeoHookean;
 
-impl Law for NeoHookeanLaw {
+impl Compressible for NeoHookean {
+    const LABEL: &'static str = "compressible neo-Hookean";
+}
+
+impl Law for NeoHookean {
     #[inline(always)]
     fn piola<T: Real, const ENERGY: bool, const FMA: bool>(
         mat: &Material,

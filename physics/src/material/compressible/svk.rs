@@ -1,13 +1,18 @@
 //! Saint-Venant–Kirchhoff (model §1.3, paper eq. 9): its stress and energy density over any
 //! [`Real`], and the bound of its tangent modulus that certifies the stable step (model §6.4).
 
-use super::kinematics::{doubled_green_lagrange, f_times_s};
-use super::{gershgorin, gershgorin_lane, Deformation, Law, Mat3, Material, Real};
+use super::Compressible;
+use crate::material::kinematics::{doubled_green_lagrange, f_times_s};
+use crate::material::{gershgorin, gershgorin_lane, Deformation, Law, Mat3, Material, Real};
 
 /// Saint-Venant–Kirchhoff as a [`Law`]: P = F·S with S of [`saint_venant_kirchhoff`].
-pub struct SvkLaw;
+pub struct Svk;
 
-impl Law for SvkLaw {
+impl Compressible for Svk {
+    const LABEL: &'static str = "Saint-Venant–Kirchhoff";
+}
+
+impl Law for Svk {
     /// 2E = H + Hᵀ + HᵀH, S of [`saint_venant_kirchhoff`], then P = F·S = S + H·S.
     #[inline(always)]
     fn piola<T: Real, const ENERGY: bool, const FMA: bool>(
