@@ -27,6 +27,7 @@ fn main() {
         "law_families.rs",
         "families",
         false,
+        false,
     );
     register(
         &manifest,
@@ -34,12 +35,14 @@ fn main() {
         "mould_shapes.rs",
         "shapes",
         true,
+        false,
     );
     register(
         &manifest,
         "src/material/rubber/families",
         "rubber_families.rs",
         "rubber_families",
+        false,
         false,
     );
     register(
@@ -48,13 +51,22 @@ fn main() {
         "compressible_laws.rs",
         "compressible_laws",
         true,
+        true,
     );
 }
 
 /// Writes `$OUT_DIR/<out>` for the files of `<manifest>/<folder>`: the `mod` lines, the
 /// `GENERATED_IN` guard and one `<macro_name>!` line per file (with its name as a string literal
-/// when `with_key`).
-fn register(manifest: &str, folder: &str, out: &str, macro_name: &str, with_key: bool) {
+/// when `with_key`), after a `$;` line when `with_dollar` (for a registry macro that defines a
+/// macro in turn, `with_law!`: a nested `macro_rules!` cannot write its own `$` otherwise).
+fn register(
+    manifest: &str,
+    folder: &str,
+    out: &str,
+    macro_name: &str,
+    with_key: bool,
+    with_dollar: bool,
+) {
     let dir = Path::new(manifest).join(folder);
     // A directory: cargo reruns this script when any file in it is added, removed or changed.
     println!("cargo::rerun-if-changed={folder}");
@@ -94,9 +106,7 @@ fn register(manifest: &str, folder: &str, out: &str, macro_name: &str, with_key:
     )
     .unwrap();
     writeln!(text, "{macro_name}! {{").unwrap();
-    // A `$` for the macros the registry's macro defines in turn (`with_law!`): a nested
-    // `macro_rules!` cannot write its own `$` otherwise.
-    if macro_name == "compressible_laws" {
+    if with_dollar {
         writeln!(text, "    $;").unwrap();
     }
     for (index, name) in names.iter().enumerate() {
