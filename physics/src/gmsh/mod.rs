@@ -372,7 +372,7 @@ fn volume_mesh(
     let tets: Vec<[u32; 4]> = (tets.iter())
         .map(|(conn, tag)| {
             let t = conn.map(|n| new_index[n]);
-            let (det, _) = crate::mesh::tet::tet_gradients(&t.map(|n| nodes[n as usize]));
+            let (det, _) = crate::element::tet4::tet_gradients(&t.map(|n| nodes[n as usize]));
             if det > 0.0 {
                 Ok(t)
             } else {

@@ -24,8 +24,8 @@
 //! not tuned yet.
 
 use super::ElementSums;
+use crate::element::tet4::tet_deformation_gradient;
 use crate::material::{first_piola, rubber, with_law, Deformation, Material};
-use crate::mesh::tet::tet_deformation_gradient;
 use crate::mesh::{Mesh, TetData};
 use crate::team::Team;
 pub use crate::tunables::TET_ELEMENT_SHARE;

@@ -24,7 +24,7 @@ pub use crate::vec3::{cross, dot, norm, sub};
 pub use classes::{ElementClasses, GeometryError};
 pub use order::Slabs;
 pub use planes::{NodalField, Planes};
-pub use tet::{TetData, TET_FACES};
+pub use tet::TetData;
 
 /// A mesh of hexahedra and tetrahedra in its reference configuration. Lengths in metres.
 #[derive(Debug, Clone)]
@@ -246,9 +246,9 @@ impl Mesh {
     ) -> [[f64; 3]; 3] {
         if e >= self.elements.len() {
             let t = e - self.elements.len();
-            let (_, g) = tet::tet_gradients(&self.tet_coords(t));
+            let (_, g) = crate::element::tet4::tet_gradients(&self.tet_coords(t));
             let ue = self.tets[t].map(|n| u.at(n as usize));
-            return tet::tet_deformation_gradient(&g, &ue);
+            return crate::element::tet4::tet_deformation_gradient(&g, &ue);
         }
         let x = self.element_coords(e);
         let d = shape_derivatives([0.0; 3]);

@@ -5,7 +5,7 @@
 //! Node numbering: Gmsh's, with a positive volume V = det[X₁ − X₀, X₂ − X₀, X₃ − X₀]/6.
 
 use super::{GeometryError, Mesh};
-pub use crate::element::tet4::{tet_deformation_gradient, tet_gradients, TET_EDGES, TET_FACES};
+use crate::element::tet4::tet_gradients;
 use crate::element::{Element, Tet4};
 
 /// Reference data of the tetrahedra of a mesh (model §1.13), one entry per tetrahedron in the
@@ -137,6 +137,7 @@ impl Mesh {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::element::tet4::TET_FACES;
 
     /// Σₐ Xₐ ⊗ ∇ₓNₐ = I and Σₐ ∇ₓNₐ = 0 on a distorted tetrahedron; V of the unit corner
     /// tetrahedron is 1/6; the faces point away from the opposite node.

@@ -290,7 +290,7 @@ fn tet_bound(
     let mut worst = 0.0f64;
     for (t, conn) in mesh.tets.iter().enumerate() {
         let g = &data.grad[t];
-        let f = crate::mesh::tet::tet_deformation_gradient(g, &conn.map(|n| u.get(n as usize)));
+        let f = crate::element::tet4::tet_deformation_gradient(g, &conn.map(|n| u.get(n as usize)));
         let rho = mat.density * density_factor.get(t).copied().unwrap_or(1.0);
         worst = worst.max(modulus_bound(mat, &f) * tet_g(g, rho));
     }
